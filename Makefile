@@ -1,0 +1,32 @@
+# Two commands do everything on a fresh Debian/Ubuntu machine:
+#   make run    install what is missing, build, show the default clay scene
+#   make test   install what is missing, build, run the whole suite (validation on)
+
+CARGO ?= cargo
+# The Vulkan window-system code warns without a runtime directory; give it a private one.
+export XDG_RUNTIME_DIR ?= /tmp/argil-runtime-$(shell id -u)
+
+.PHONY: setup build run test verify clean
+
+setup:
+	@bash scripts/setup.sh
+	@mkdir -p -m 700 "$(XDG_RUNTIME_DIR)"
+
+build: setup
+	$(CARGO) build --release --locked
+
+# A window when a display exists, otherwise a PNG.
+run: build
+	@if [ -n "$$DISPLAY$$WAYLAND_DISPLAY" ]; then \
+		target/release/argil view; \
+	else \
+		echo "argil: no display; rendering the default scene to clay.png"; \
+		target/release/argil render --out clay.png && echo "argil: wrote $(CURDIR)/clay.png"; \
+	fi
+
+# Release build, shared with `make run`; the tests turn the validation layer on themselves.
+test: setup
+	$(CARGO) test --release --locked
+
+clean:
+	$(CARGO) clean

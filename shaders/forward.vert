@@ -1,0 +1,22 @@
+#version 460
+#include "scene_data.glsl"
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec2 in_uv;
+layout(location = 3) in vec4 in_tangent;
+
+layout(location = 0) out vec3 out_world_position;
+layout(location = 1) out vec3 out_normal;
+layout(location = 2) out vec2 out_uv;
+layout(location = 3) out vec4 out_tangent;
+
+void main() {
+    vec4 world = object.model * vec4(in_position, 1.0);
+    mat3 normal_matrix = mat3(object.normal_matrix[0].xyz, object.normal_matrix[1].xyz, object.normal_matrix[2].xyz);
+    out_world_position = world.xyz;
+    out_normal = normal_matrix * in_normal;
+    out_uv = in_uv;
+    out_tangent = vec4(mat3(object.model) * in_tangent.xyz, in_tangent.w);
+    gl_Position = frame.view_proj * world;
+}

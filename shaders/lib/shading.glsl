@@ -1,0 +1,93 @@
+// Shading of one surface point: the material's models put together, for point lights and
+// for a uniform environment. Shared by the forward pass and compute test harnesses.
+#ifndef ARGIL_SHADING_GLSL
+#define ARGIL_SHADING_GLSL
+#include "brdf.glsl"
+
+// Values of the models' specialization constants: `as u32` of the Rust enums in
+// src/scene/material.rs.
+const uint DIFFUSE_LAMBERT = 0u;
+const uint DIFFUSE_OREN_NAYAR = 1u;
+const uint DIFFUSE_EON = 2u;
+const uint SPECULAR_COOK_TORRANCE = 0u;
+const uint SPECULAR_TORRANCE_SPARROW = 1u;
+const uint SPECULAR_BLINN_PHONG = 2u;
+const uint SPECULAR_NONE = 3u;
+
+struct ShadingModels {
+    uint diffuse;
+    uint specular;
+    uint distribution;
+    uint geometry;
+};
+
+// A light closer than 1e-4 to a surface point would give unbounded irradiance.
+const float MIN_LIGHT_DISTANCE2 = 1e-8;
+// Below this squared length an interpolated normal has no direction.
+const float MIN_NORMAL_LENGTH2 = 1e-12;
+
+// The unit shading normal on the viewer's side of the surface; a zero interpolated normal
+// (degenerate mesh data) falls back to the triangle's geometric normal.
+vec3 shading_normal(vec3 interpolated, vec3 world_position, bool front_facing) {
+    float len2 = dot(interpolated, interpolated);
+    if (len2 > MIN_NORMAL_LENGTH2) {
+        vec3 n = interpolated * inversesqrt(len2);
+        return front_facing ? n : -n;
+    }
+    // With the y-flipped projection, dFdx × dFdy points away from the viewer.
+    vec3 g = -cross(dFdx(world_position), dFdy(world_position));
+    float g2 = dot(g, g);
+    return g2 > 0.0 ? g * inversesqrt(g2) : vec3(0.0, 0.0, 1.0);
+}
+
+// The diffuse lobe f_d (without the cosine), albedo included.
+vec3 diffuse_lobe(uint model, Material m, vec3 n, vec3 v, vec3 l, float n_dot_v, float n_dot_l) {
+    if (model == DIFFUSE_LAMBERT) return m.base_color.rgb * diffuse_lambert();
+    if (model == DIFFUSE_OREN_NAYAR) return m.base_color.rgb * diffuse_oren_nayar(m.diffuse_roughness, n, v, l);
+    if (model == DIFFUSE_EON) return diffuse_eon(m.base_color.rgb, m.diffuse_roughness, n_dot_v, n_dot_l, dot(v, l));
+    return vec3(0.0);
+}
+
+// The specular lobe f_s (without the cosine), tinted by the material's specular colour.
+vec3 specular_lobe(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l, float n_dot_v, float n_dot_l) {
+    if (models.specular == SPECULAR_NONE) return vec3(0.0);
+    float alpha = clamp_alpha(m.roughness * m.roughness);
+    vec3 h = safe_half_vector(v, l, n);
+    vec3 n_cross_h = cross(n, h);
+    float n_dot_h = max(dot(n, h), 0.0);
+    float len2 = dot(n_cross_h, n_cross_h);
+    float v_dot_h = max(dot(v, h), 0.0);
+    vec3 f0 = vec3(m.f0);
+    vec3 f;
+    if (models.specular == SPECULAR_COOK_TORRANCE) {
+        f = spec_cook_torrance(alpha, n_dot_v, n_dot_l, n_dot_h, len2, f0, v_dot_h,
+                               int(models.distribution), int(models.geometry));
+    } else if (models.specular == SPECULAR_TORRANCE_SPARROW) {
+        f = spec_torrance_sparrow(alpha, n_dot_v, n_dot_l, n_dot_h, len2, f0, v_dot_h);
+    } else {
+        f = spec_blinn_phong(alpha, n_dot_h, f0, v_dot_h);
+    }
+    return m.specular_color.rgb * f;
+}
+
+// Reflected radiance per unit irradiance E⊥ arriving along l: f(n, v, l)(n·l), plus the
+// wrap term of seed eq. 18 (colour × intensity/π × s), which lights where n·l ≤ 0 too.
+vec3 brdf_cos(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l) {
+    float n_dot_l = dot(n, l);
+    vec3 wrap = m.wrap_color.a > 0.0
+        ? m.wrap_color.rgb * (m.wrap_color.a / PI) * wrap_seed(n_dot_l, m.wrap, m.wrap_width)
+        : vec3(0.0);
+    if (n_dot_l <= 0.0) return wrap;
+    float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+    vec3 f = diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l)
+           + specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l);
+    return f * n_dot_l + wrap;
+}
+
+// Radiance reflected from a uniform environment of radiance L by the diffuse lobe, taken
+// as Lambertian: ∫ (ρ/π) L cos dω = ρ L (exact for Lambert).
+vec3 uniform_environment(ShadingModels models, Material m, vec3 radiance) {
+    return models.diffuse <= DIFFUSE_EON ? m.base_color.rgb * radiance : vec3(0.0);
+}
+
+#endif

@@ -1,0 +1,112 @@
+//! Specular lobes: BRDF values f (without the cosine) for a given F0.
+
+use super::distribution::{d_beckmann, d_ggx};
+use super::fresnel::f_schlick;
+use super::geometry::{
+    g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
+    g2_smith_separable_ggx, g2_v_cavity,
+};
+use super::{clamp_alpha, Vec3, FP16_MAX, MIN_N_DOT_V, PI};
+
+/// Normal distribution of `spec_cook_torrance`; the value is the GLSL `int distribution`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Distribution {
+    Ggx = 0,
+    Beckmann = 1,
+}
+
+/// Smith masking-shadowing of `spec_cook_torrance`; the value is the GLSL `int geometry`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Geometry {
+    SmithCorrelated = 0,
+    SmithSeparable = 1,
+}
+
+/// Cook & Torrance 1982, seed eq. 11 without F: D·G/(4 n·v n·l), G the Smith G2 matching D,
+/// clamped to `FP16_MAX`; for callers that apply Fresnel themselves (F ≤ 1 keeps the cap).
+pub fn spec_cook_torrance_df(
+    alpha: f64,
+    n_dot_v: f64,
+    n_dot_l: f64,
+    n_dot_h: f64,
+    n_cross_h_len2: f64,
+    distribution: Distribution,
+    geometry: Geometry,
+) -> f64 {
+    let nv = n_dot_v.clamp(MIN_N_DOT_V, 1.0);
+    let nl = n_dot_l.clamp(MIN_N_DOT_V, 1.0);
+    let d_g = match distribution {
+        Distribution::Ggx => {
+            d_ggx(alpha, n_dot_h, n_cross_h_len2)
+                * match geometry {
+                    Geometry::SmithCorrelated => g2_smith_correlated_ggx(alpha, nv, nl),
+                    Geometry::SmithSeparable => g2_smith_separable_ggx(alpha, nv, nl),
+                }
+        }
+        Distribution::Beckmann => {
+            d_beckmann(alpha, n_dot_h, n_cross_h_len2)
+                * match geometry {
+                    Geometry::SmithCorrelated => g2_smith_correlated_beckmann(alpha, nv, nl),
+                    Geometry::SmithSeparable => g2_smith_separable_beckmann(alpha, nv, nl),
+                }
+        }
+    };
+    (d_g / (4.0 * nv * nl)).min(FP16_MAX)
+}
+
+/// Cook & Torrance 1982, seed eq. 11: D·G·F/(4 n·v n·l), G the Smith G2 matching D;
+/// F times `spec_cook_torrance_df`.
+#[allow(clippy::too_many_arguments)]
+pub fn spec_cook_torrance(
+    alpha: f64,
+    n_dot_v: f64,
+    n_dot_l: f64,
+    n_dot_h: f64,
+    n_cross_h_len2: f64,
+    f0: Vec3,
+    v_dot_h: f64,
+    distribution: Distribution,
+    geometry: Geometry,
+) -> Vec3 {
+    let df = spec_cook_torrance_df(
+        alpha,
+        n_dot_v,
+        n_dot_l,
+        n_dot_h,
+        n_cross_h_len2,
+        distribution,
+        geometry,
+    );
+    f_schlick(f0, v_dot_h).map(|f| f * df)
+}
+
+/// Torrance & Sparrow 1967 (seed eq. 10 corrected): Beckmann D, V-cavity G, F over
+/// 4 n·v n·l, because eq. 10's 4π(n·ωr) does not integrate D's projected area to 1.
+/// D·G/(4 n·v n·l) is clamped to `FP16_MAX` before F.
+pub fn spec_torrance_sparrow(
+    alpha: f64,
+    n_dot_v: f64,
+    n_dot_l: f64,
+    n_dot_h: f64,
+    n_cross_h_len2: f64,
+    f0: Vec3,
+    v_dot_h: f64,
+) -> Vec3 {
+    let nv = n_dot_v.clamp(MIN_N_DOT_V, 1.0);
+    let nl = n_dot_l.clamp(MIN_N_DOT_V, 1.0);
+    let d_g = d_beckmann(alpha, n_dot_h, n_cross_h_len2) * g2_v_cavity(n_dot_h, nv, nl, v_dot_h);
+    let df = (d_g / (4.0 * nv * nl)).min(FP16_MAX);
+    f_schlick(f0, v_dot_h).map(|f| f * df)
+}
+
+/// Blinn 1977 (seed eq. 5) normalised: (n+8)/(8π) (n·h)ⁿ F(v·h), n = 2/α² − 2.
+/// Peaks at 1.94e4 for `MIN_ALPHA`, so it needs no cap.
+pub fn spec_blinn_phong(alpha: f64, n_dot_h: f64, f0: Vec3, v_dot_h: f64) -> Vec3 {
+    if n_dot_h <= 0.0 {
+        return [0.0; 3];
+    }
+    let a = clamp_alpha(alpha);
+    let n = 2.0 / (a * a) - 2.0;
+    let lobe = (n + 8.0) / (8.0 * PI) * n_dot_h.clamp(f64::MIN_POSITIVE, 1.0).powf(n);
+    f_schlick(f0, v_dot_h).map(|f| f * lobe)
+}

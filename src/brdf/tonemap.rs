@@ -1,0 +1,39 @@
+//! Display transform: Khronos PBR Neutral tone mapping and the sRGB encoding.
+
+use super::Vec3;
+
+/// PBR Neutral's K_s = 0.8 − F₉₀ with F₉₀ = 0.04: compression starts at this peak.
+pub const START_COMPRESSION: f64 = 0.8 - 0.04;
+/// PBR Neutral's K_d: speed of the desaturation of compressed highlights.
+pub const DESATURATION: f64 = 0.15;
+
+/// Khronos PBR Neutral tone mapper (Khronos 2024); negative input is clamped to 0.
+pub fn tonemap_pbr_neutral(color: Vec3) -> Vec3 {
+    let c = color.map(|x| x.max(0.0));
+    let x = c[0].min(c[1]).min(c[2]);
+    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+    let c = c.map(|v| v - offset);
+    let peak = c[0].max(c[1]).max(c[2]);
+    if peak < START_COMPRESSION {
+        return c;
+    }
+    let d = 1.0 - START_COMPRESSION;
+    let new_peak = 1.0 - d * d / (peak + d - START_COMPRESSION);
+    let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+    c.map(|v| v * new_peak / peak * (1.0 - g) + new_peak * g)
+}
+
+/// sRGB OETF, IEC 61966-2-1: 12.92 L below 0.0031308, else 1.055 L^(1/2.4) − 0.055; L in [0, 1].
+pub fn srgb_oetf(linear: f64) -> f64 {
+    let l = linear.clamp(0.0, 1.0);
+    if l <= 0.0031308 {
+        12.92 * l
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// `srgb_oetf` per channel (GLSL's vec3 overload).
+pub fn srgb_oetf_rgb(linear: Vec3) -> Vec3 {
+    linear.map(srgb_oetf)
+}

@@ -1,0 +1,13 @@
+//! argil: a real-time renderer of physically based clay on explicit Vulkan.
+//!
+//! - [`vk`]: the explicit Vulkan pieces, one concept a file.
+//! - [`render`]: passes built from them, and the renderer that owns device and pipelines.
+//! - [`scene`]: scene files, meshes, materials, lights, camera.
+//! - [`brdf`]: f64 reference models, twins of the GLSL in `shaders/lib`.
+//! - [`viewer`]: the interactive window.
+
+pub mod brdf;
+pub mod render;
+pub mod scene;
+pub mod viewer;
+pub mod vk;

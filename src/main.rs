@@ -1,0 +1,142 @@
+//! The `argil` command line.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use anyhow::{bail, Context, Result};
+use ash::vk;
+use clap::{Parser, Subcommand};
+
+use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
+use argil::scene::Scene;
+use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
+
+#[derive(Parser)]
+#[command(name = "argil", version, about = "A real-time renderer of physically based clay on explicit Vulkan")]
+struct Cli {
+    /// Vulkan device: an index or part of a name from `argil devices`.
+    /// Default: discrete GPU, then integrated, then CPU (lavapipe).
+    #[arg(long, global = true, value_name = "N|NAME")]
+    device: Option<DeviceChoice>,
+    /// Enable the Khronos validation layer (also: ARGIL_VALIDATION=1; always on in debug builds).
+    /// Any validation error makes the command fail.
+    #[arg(long, global = true)]
+    validation: bool,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render one frame offscreen to a PNG (tone-mapped sRGB) or an EXR (linear radiance).
+    Render {
+        /// Scene file (TOML); without one, the embedded default clay scene.
+        scene: Option<PathBuf>,
+        /// Output file: .png (tone-mapped, 8-bit sRGB) or .exr (linear radiance, RGBA32F,
+        /// no tone mapping, no exposure).
+        #[arg(long, short)]
+        out: PathBuf,
+        #[arg(long, default_value_t = 1280)]
+        width: u32,
+        #[arg(long, default_value_t = 720)]
+        height: u32,
+        /// Exposure multiplier applied before tone mapping (PNG only).
+        #[arg(long, default_value_t = 1.0)]
+        exposure: f32,
+    },
+    /// Open a window on a scene.
+    View {
+        /// Scene file (TOML); without one, the embedded default clay scene.
+        scene: Option<PathBuf>,
+        /// Close after this many frames.
+        #[arg(long)]
+        frames: Option<u64>,
+        /// Exposure multiplier applied before tone mapping.
+        #[arg(long, default_value_t = 1.0)]
+        exposure: f32,
+    },
+    /// List the Vulkan devices on this machine.
+    Devices,
+}
+
+fn load_scene(path: Option<&Path>) -> Result<Scene> {
+    match path {
+        Some(p) => Ok(Scene::load(p)?),
+        None => Ok(Scene::default_scene()),
+    }
+}
+
+fn check_exposure(exposure: f32) -> Result<()> {
+    if !(exposure.is_finite() && exposure > 0.0) {
+        bail!("--exposure {exposure}: must be a finite number > 0");
+    }
+    Ok(())
+}
+
+fn render(cli_device: DeviceChoice, validation: bool, scene: Option<PathBuf>, out: PathBuf, width: u32, height: u32, exposure: f32) -> Result<()> {
+    check_exposure(exposure)?;
+    let scene = load_scene(scene.as_deref())?;
+    let device = Arc::new(Device::new(DeviceOptions { choice: cli_device, validation }, None)?);
+    let mut renderer = Renderer::new(device.clone(), 1)?;
+    let gpu = renderer.upload(&scene)?;
+    let frame = renderer.render_offscreen(&scene, &gpu, vk::Extent2D { width, height }, exposure)?;
+    let bad = count_non_finite(&frame.hdr);
+    if bad > 0 {
+        eprintln!("argil: warning: {bad} NaN/Inf values in the frame");
+    }
+    write_frame(&frame, &out)?;
+    let times = frame.gpu_ms.as_ref().map(|ms| {
+        PASS_NAMES.iter().zip(ms).map(|(n, t)| format!("{n} {t:.2} ms")).collect::<Vec<_>>().join(", ")
+    });
+    println!("{}", out.display());
+    eprintln!(
+        "argil: {width}x{height} on {}{}",
+        device.info.name,
+        times.map(|t| format!(" (GPU: {t})")).unwrap_or_default()
+    );
+    drop(gpu);
+    drop(renderer);
+    if let Some(report) = device.validation() {
+        if report.error_count() > 0 {
+            bail!("the validation layer reported {} error(s)", report.error_count());
+        }
+    }
+    Ok(())
+}
+
+fn run(cli: Cli) -> Result<()> {
+    let validation = cli.validation || argil::vk::instance::validation_requested();
+    let choice = cli.device.unwrap_or(DeviceChoice::Best);
+    match cli.command {
+        Command::Render { scene, out, width, height, exposure } => render(choice, validation, scene, out, width, height, exposure),
+        Command::View { scene, frames, exposure } => {
+            check_exposure(exposure)?;
+            let loaded = load_scene(scene.as_deref())?;
+            argil::viewer::run(
+                loaded,
+                argil::viewer::ViewOptions { device: choice, validation, frames, exposure, scene_path: scene },
+            )
+        }
+        Command::Devices => {
+            let devices = device::list_devices().context("cannot list Vulkan devices")?;
+            if devices.is_empty() {
+                bail!("no Vulkan device found");
+            }
+            for d in devices {
+                println!("{d}");
+            }
+            Ok(())
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("argil: error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

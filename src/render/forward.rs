@@ -1,0 +1,228 @@
+//! The forward pass: every object, shaded by every point light, into the HDR target.
+//!
+//! Set 0: binding 0 the `FrameData` uniform buffer, binding 1 the `Materials` storage
+//! buffer; push constants: `ObjectPush` (see shaders/lib/scene_data.glsl). One pipeline
+//! per combination of BRDF models in use, chosen by specialization constants.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use anyhow::{Context, Result};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
+use super::shaders;
+use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
+use crate::scene::{Material, Scene, Vertex};
+use crate::vk::{
+    Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
+    GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization,
+};
+
+/// The specialization constants of `forward.frag` for a material.
+pub fn material_specialization(m: &Material) -> Specialization {
+    Specialization(vec![m.diffuse as u32, m.specular as u32, m.distribution as u32, m.geometry as u32])
+}
+
+/// What one frame in flight owns: its uniforms, materials and the set pointing at them.
+struct FrameSlot {
+    frame_data: Buffer,
+    materials: Buffer,
+    set: vk::DescriptorSet,
+}
+
+pub struct ForwardPass {
+    device: Arc<Device>,
+    /// Kept alive for the sets allocated with it.
+    _set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
+    vertex: ShaderModule,
+    fragment: ShaderModule,
+    pipelines: HashMap<Specialization, Pipeline>,
+    /// Owns the slots' sets.
+    _pool: DescriptorPool,
+    slots: Vec<FrameSlot>,
+}
+
+impl ForwardPass {
+    pub fn new(device: &Arc<Device>, frames_in_flight: u32) -> Result<Self> {
+        let set_layout = DescriptorSetLayoutBuilder::default()
+            .binding(vk::DescriptorType::UNIFORM_BUFFER, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
+            .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::FRAGMENT)
+            .build(device, "forward set")?;
+        let layout = PipelineLayout::new(
+            device,
+            &[&set_layout],
+            std::mem::size_of::<ObjectPush>() as u32,
+            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+        )?;
+        let vertex = ShaderModule::new(device, shaders::FORWARD_VERT, "forward.vert")?;
+        let fragment = ShaderModule::new(device, shaders::FORWARD_FRAG, "forward.frag")?;
+        let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
+        let slots = (0..frames_in_flight)
+            .map(|_| {
+                let frame_data = Buffer::new(
+                    device,
+                    std::mem::size_of::<FrameData>() as u64,
+                    vk::BufferUsageFlags::UNIFORM_BUFFER,
+                    MemoryLocation::CpuToGpu,
+                    "frame data",
+                )?;
+                let materials = Self::material_buffer(device, 1)?;
+                let set = pool.allocate(&set_layout)?;
+                Self::write_set(device, set, &frame_data, &materials);
+                Ok(FrameSlot { frame_data, materials, set })
+            })
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            device: device.clone(),
+            _set_layout: set_layout,
+            layout,
+            vertex,
+            fragment,
+            pipelines: HashMap::new(),
+            _pool: pool,
+            slots,
+        })
+    }
+
+    fn material_buffer(device: &Arc<Device>, count: usize) -> Result<Buffer> {
+        Buffer::new(
+            device,
+            (count.max(1) * std::mem::size_of::<MaterialData>()) as u64,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            MemoryLocation::CpuToGpu,
+            "materials",
+        )
+    }
+
+    fn write_set(device: &Device, set: vk::DescriptorSet, frame_data: &Buffer, materials: &Buffer) {
+        DescriptorWriter::new()
+            .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, frame_data.handle)
+            .buffer(1, vk::DescriptorType::STORAGE_BUFFER, materials.handle)
+            .write(device, set);
+    }
+
+    fn pipeline(&mut self, specialization: &Specialization) -> Result<vk::Pipeline> {
+        if let Some(p) = self.pipelines.get(specialization) {
+            return Ok(p.handle);
+        }
+        let stride = std::mem::size_of::<Vertex>() as u32;
+        let pipeline = GraphicsPipelineBuilder::new(&self.vertex, &self.fragment, HDR_FORMAT)
+            .vertex_layout(
+                stride,
+                &[
+                    (vk::Format::R32G32B32_SFLOAT, 0),
+                    (vk::Format::R32G32B32_SFLOAT, 12),
+                    (vk::Format::R32G32_SFLOAT, 24),
+                    (vk::Format::R32G32B32A32_SFLOAT, 32),
+                ],
+            )
+            .depth(DEPTH_FORMAT)
+            .specialization(specialization.clone())
+            .build(&self.device, &self.layout, &format!("forward {:?}", specialization.0))?;
+        let handle = pipeline.handle;
+        self.pipelines.insert(specialization.clone(), pipeline);
+        Ok(handle)
+    }
+
+    /// Writes this frame's uniforms and materials into `slot` (whose previous use the
+    /// caller has waited for) and creates any pipeline the scene's materials need.
+    pub fn prepare(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<()> {
+        let frame_data = FrameData::new(scene, aspect)?;
+        let materials: Vec<MaterialData> = scene.materials.iter().map(MaterialData::from).collect();
+        for m in &scene.materials {
+            self.pipeline(&material_specialization(m))?;
+        }
+        let s = &mut self.slots[slot];
+        s.frame_data.write(bytemuck::bytes_of(&frame_data))?;
+        let bytes: &[u8] = bytemuck::cast_slice(&materials);
+        if bytes.len() as u64 > s.materials.size {
+            s.materials = Self::material_buffer(&self.device, materials.len())?;
+            Self::write_set(&self.device, s.set, &s.frame_data, &s.materials);
+        }
+        s.materials.write(bytes)
+    }
+
+    /// Records the pass. The target's colour and depth must be in attachment layouts.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        scene: &Scene,
+        gpu: &GpuScene,
+        target: &RenderTarget,
+        clear: [f32; 4],
+    ) -> Result<()> {
+        let d = &self.device.handle;
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(target.color.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } })];
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
+        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&depth);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: target.extent.width as f32,
+            height: target.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        unsafe {
+            d.cmd_begin_rendering(cmd, &rendering);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[area]);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.handle,
+                0,
+                &[self.slots[slot].set],
+                &[],
+            );
+        }
+        let mut bound = vk::Pipeline::null();
+        for object in &scene.objects {
+            let material = &scene.materials[object.material];
+            let pipeline = self
+                .pipelines
+                .get(&material_specialization(material))
+                .context("forward pipeline missing: prepare() was not called for this scene")?
+                .handle;
+            let mesh = &gpu.meshes[object.mesh];
+            let push = ObjectPush::new(object);
+            unsafe {
+                if pipeline != bound {
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                    bound = pipeline;
+                }
+                d.cmd_push_constants(
+                    cmd,
+                    self.layout.handle,
+                    vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                    0,
+                    bytemuck::bytes_of(&push),
+                );
+                d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
+                d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
+                d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
+            }
+        }
+        unsafe { d.cmd_end_rendering(cmd) };
+        Ok(())
+    }
+}

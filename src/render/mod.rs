@@ -1,0 +1,14 @@
+//! Passes built from the Vulkan pieces, and the renderer that owns them.
+
+pub mod forward;
+pub mod gpu_scene;
+pub mod output;
+pub mod renderer;
+pub mod shaders;
+pub mod target;
+pub mod tonemap;
+
+pub use gpu_scene::GpuScene;
+pub use output::{count_non_finite, write_frame};
+pub use renderer::{DisplayOutput, OffscreenFrame, Renderer, PASS_NAMES};
+pub use target::RenderTarget;

@@ -1,0 +1,167 @@
+//! The renderer: owns the device's passes and records a frame from the scene into the HDR
+//! target, then through the display transform into an 8-bit image.
+
+use std::sync::Arc;
+
+use anyhow::Result;
+use ash::vk;
+
+use super::forward::ForwardPass;
+use super::gpu_scene::GpuScene;
+use super::target::RenderTarget;
+use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
+use crate::scene::{Environment, Scene};
+use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
+
+/// The passes of a frame, in order; GPU times are reported with these names.
+pub const PASS_NAMES: [&str; 2] = ["forward", "tonemap"];
+const PASS_FORWARD: u32 = 0;
+const PASS_TONEMAP: u32 = 1;
+
+/// Where the display transform writes: an image in use `from` before this frame, and how
+/// the frame leaves it (`to`).
+pub struct DisplayOutput {
+    pub image: vk::Image,
+    pub view: vk::ImageView,
+    pub format: vk::Format,
+    pub extent: vk::Extent2D,
+    pub from: ImageUse,
+}
+
+/// One offscreen frame read back to the CPU.
+pub struct OffscreenFrame {
+    pub width: u32,
+    pub height: u32,
+    /// Linear radiance, RGBA, row-major from the top-left pixel.
+    pub hdr: Vec<f32>,
+    /// Tone-mapped sRGB, RGBA8.
+    pub display: Vec<u8>,
+    /// Milliseconds per pass of [`PASS_NAMES`], when the device has timestamps.
+    pub gpu_ms: Option<Vec<f64>>,
+}
+
+pub struct Renderer {
+    pub device: Arc<Device>,
+    one_shot: OneShot,
+    forward: ForwardPass,
+    tonemap: TonemapPass,
+    /// One query pool per frame in flight; empty when the device has no timestamps.
+    timestamps: Vec<Timestamps>,
+}
+
+impl Renderer {
+    pub fn new(device: Arc<Device>, frames_in_flight: u32) -> Result<Self> {
+        let timestamps = (0..frames_in_flight)
+            .filter_map(|_| Timestamps::new(&device, PASS_NAMES.len() as u32).transpose())
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            one_shot: OneShot::new(&device)?,
+            forward: ForwardPass::new(&device, frames_in_flight)?,
+            tonemap: TonemapPass::new(&device, frames_in_flight)?,
+            timestamps,
+            device,
+        })
+    }
+
+    /// Uploads the scene's meshes.
+    pub fn upload(&self, scene: &Scene) -> Result<GpuScene> {
+        GpuScene::upload(&self.device, &self.one_shot, scene)
+    }
+
+    /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has
+    /// waited for the slot's previous frame.
+    pub fn prepare(&mut self, slot: usize, scene: &Scene, target: &RenderTarget, output_format: vk::Format) -> Result<()> {
+        self.forward.prepare(slot, scene, target.aspect())?;
+        self.tonemap.prepare(slot, target, output_format)
+    }
+
+    /// Records the whole frame: forward pass into `target`, display transform into `output`,
+    /// which is left as a colour attachment. `target.color` is left readable by shaders.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        scene: &Scene,
+        gpu: &GpuScene,
+        target: &RenderTarget,
+        output: &DisplayOutput,
+        exposure: f32,
+    ) -> Result<()> {
+        let d = &self.device;
+        let timestamps = self.timestamps.get(slot);
+        if let Some(t) = timestamps {
+            t.reset(cmd);
+        }
+        transition(d, cmd, target.color.handle, target.color.aspect, ImageUse::UNDEFINED, ImageUse::COLOR_ATTACHMENT);
+        transition(d, cmd, target.depth.handle, target.depth.aspect, ImageUse::UNDEFINED, ImageUse::DEPTH_ATTACHMENT);
+        if let Some(t) = timestamps {
+            t.begin(cmd, PASS_FORWARD);
+        }
+        self.forward.record(cmd, slot, scene, gpu, target, background(scene))?;
+        if let Some(t) = timestamps {
+            t.end(cmd, PASS_FORWARD);
+        }
+
+        transition(d, cmd, target.color.handle, target.color.aspect, ImageUse::COLOR_ATTACHMENT, ImageUse::FRAGMENT_READ);
+        transition(d, cmd, output.image, vk::ImageAspectFlags::COLOR, output.from, ImageUse::COLOR_ATTACHMENT);
+        if let Some(t) = timestamps {
+            t.begin(cmd, PASS_TONEMAP);
+        }
+        self.tonemap.record(cmd, slot, output.view, output.format, output.extent, exposure)?;
+        if let Some(t) = timestamps {
+            t.end(cmd, PASS_TONEMAP);
+        }
+        Ok(())
+    }
+
+    /// GPU milliseconds per pass of the last completed frame of `slot`.
+    pub fn gpu_times(&self, slot: usize) -> Result<Option<Vec<f64>>> {
+        self.timestamps.get(slot).map(Timestamps::read_ms).transpose()
+    }
+
+    /// Renders one frame of `scene` offscreen and reads both the HDR and the display
+    /// image back.
+    pub fn render_offscreen(&mut self, scene: &Scene, gpu: &GpuScene, extent: vk::Extent2D, exposure: f32) -> Result<OffscreenFrame> {
+        let target = RenderTarget::new(&self.device, extent)?;
+        let display = Image::new_2d(
+            &self.device,
+            extent,
+            DISPLAY_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageAspectFlags::COLOR,
+            "display frame",
+        )?;
+        let hdr_readback = Readback::new(&self.device, &target.color, 16)?;
+        let display_readback = Readback::new(&self.device, &display, 4)?;
+        self.prepare(0, scene, &target, DISPLAY_FORMAT)?;
+        let output = DisplayOutput {
+            image: display.handle,
+            view: display.view,
+            format: DISPLAY_FORMAT,
+            extent,
+            from: ImageUse::UNDEFINED,
+        };
+        self.one_shot.run(|cmd| -> Result<()> {
+            self.record(cmd, 0, scene, gpu, &target, &output, exposure)?;
+            hdr_readback.record(&self.device, cmd, &target.color, ImageUse::FRAGMENT_READ);
+            display_readback.record(&self.device, cmd, &display, ImageUse::COLOR_ATTACHMENT);
+            Ok(())
+        })??;
+        Ok(OffscreenFrame {
+            width: extent.width,
+            height: extent.height,
+            hdr: bytemuck::pod_collect_to_vec(hdr_readback.bytes()?),
+            display: display_readback.bytes()?.to_vec(),
+            gpu_ms: self.gpu_times(0)?,
+        })
+    }
+}
+
+/// What pixels that no object covers show: the uniform environment's radiance, or black;
+/// alpha is coverage, so 0.
+fn background(scene: &Scene) -> [f32; 4] {
+    match &scene.environment {
+        Environment::Uniform { radiance } => radiance.extend(0.0).to_array(),
+        _ => [0.0; 4],
+    }
+}

@@ -1,0 +1,146 @@
+use glam::{Mat4, Vec3};
+
+/// A right-handed, y-up perspective camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub position: Vec3,
+    pub target: Vec3,
+    /// Vertical field of view, in degrees, in (0, 180).
+    pub fov_y_degrees: f32,
+}
+
+impl Camera {
+    /// Near clipping distance in world units.
+    pub const NEAR: f32 = 0.05;
+    /// Far clipping distance in world units.
+    pub const FAR: f32 = 200.0;
+
+    /// World-to-view matrix (right-handed look-at, +y up; the camera looks
+    /// down its -z axis).
+    ///
+    /// When looking straight up or down, +y cannot serve as the up vector, so
+    /// the screen's up becomes the horizontal direction the view was tilting
+    /// away from (-z looking down, +z looking up).
+    pub fn view(&self) -> Mat4 {
+        let forward = (self.target - self.position).normalize_or(Vec3::NEG_Z);
+        let up = if forward.y.abs() > 0.9999 {
+            Vec3::new(0.0, 0.0, forward.y.signum())
+        } else {
+            Vec3::Y
+        };
+        Mat4::look_at_rh(self.position, self.position + forward, up)
+    }
+
+    /// View-to-clip matrix for Vulkan: depth 0 at [`Camera::NEAR`] and 1 at
+    /// [`Camera::FAR`], and y negated because Vulkan's NDC +y points down the
+    /// screen, so world-up stays up on screen.
+    ///
+    /// `aspect` is width / height; a non-positive or non-finite aspect (a
+    /// minimised window) is treated as 1 so the matrix stays finite.
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        let aspect = if aspect.is_finite() && aspect > 0.0 {
+            aspect
+        } else {
+            1.0
+        };
+        let mut projection = Mat4::perspective_rh(
+            self.fov_y_degrees.to_radians(),
+            aspect,
+            Self::NEAR,
+            Self::FAR,
+        );
+        projection.y_axis.y = -projection.y_axis.y;
+        projection
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec4Swizzles;
+
+    /// Normalised device coordinates of a world-space point. In Vulkan, x = -1
+    /// is the left of the screen, y = -1 the top, and depth runs 0..1.
+    fn ndc(camera: &Camera, aspect: f32, point: Vec3) -> Vec3 {
+        let clip = camera.projection(aspect) * camera.view() * point.extend(1.0);
+        clip.xyz() / clip.w
+    }
+
+    const CAMERA: Camera = Camera {
+        position: Vec3::new(1.0, 2.0, 6.0),
+        target: Vec3::new(0.0, 0.5, 0.0),
+        fov_y_degrees: 30.0,
+    };
+
+    #[test]
+    fn target_projects_to_the_centre() {
+        let p = ndc(&CAMERA, 16.0 / 9.0, CAMERA.target);
+        assert!(p.x.abs() < 1e-5 && p.y.abs() < 1e-5, "{p}");
+        assert!(p.z > 0.0 && p.z < 1.0, "{p}");
+    }
+
+    #[test]
+    fn up_is_up_and_right_is_right_on_screen() {
+        let above = ndc(&CAMERA, 1.5, CAMERA.target + Vec3::Y * 0.5);
+        assert!(above.y < -0.1 && above.x.abs() < 1e-5, "{above}");
+        // The camera sits at +x and +z of the target, so world +x is
+        // towards the right of the screen.
+        let right = ndc(&CAMERA, 1.5, CAMERA.target + Vec3::X * 0.5);
+        assert!(right.x > 0.1, "{right}");
+    }
+
+    #[test]
+    fn fov_is_vertical_and_aspect_widens() {
+        let camera = Camera {
+            position: Vec3::ZERO,
+            target: Vec3::NEG_Z,
+            fov_y_degrees: 90.0,
+        };
+        // At 90°, a point 45° up is on the top edge whatever the aspect.
+        let top = ndc(&camera, 2.0, Vec3::new(0.0, 1.0, -1.0));
+        assert!((top.y + 1.0).abs() < 1e-5, "{top}");
+        let side = ndc(&camera, 2.0, Vec3::new(2.0, 0.0, -1.0));
+        assert!((side.x - 1.0).abs() < 1e-5, "{side}");
+    }
+
+    #[test]
+    fn depth_is_zero_at_near_and_one_at_far() {
+        let camera = Camera {
+            position: Vec3::ZERO,
+            target: Vec3::NEG_Z,
+            fov_y_degrees: 45.0,
+        };
+        assert!(
+            ndc(&camera, 1.0, Vec3::new(0.0, 0.0, -Camera::NEAR))
+                .z
+                .abs()
+                < 1e-5
+        );
+        assert!((ndc(&camera, 1.0, Vec3::new(0.0, 0.0, -Camera::FAR)).z - 1.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn looking_straight_down_or_up_stays_finite() {
+        for (position, screen_up) in [
+            (Vec3::new(0.0, 5.0, 0.0), Vec3::NEG_Z),
+            (Vec3::new(0.0, -5.0, 0.0), Vec3::Z),
+        ] {
+            let camera = Camera {
+                position,
+                target: Vec3::ZERO,
+                fov_y_degrees: 30.0,
+            };
+            assert!(camera.view().is_finite());
+            let centre = ndc(&camera, 1.0, Vec3::ZERO);
+            assert!(centre.x.abs() < 1e-5 && centre.y.abs() < 1e-5);
+            assert!(ndc(&camera, 1.0, screen_up * 0.5).y < -0.1);
+        }
+    }
+
+    #[test]
+    fn unusable_aspect_gives_a_finite_projection() {
+        for aspect in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(CAMERA.projection(aspect), CAMERA.projection(1.0));
+        }
+    }
+}

@@ -1,0 +1,59 @@
+use std::path::PathBuf;
+
+/// Everything that can go wrong while loading a scene or a mesh.
+///
+/// Every message starts with the file (or the mesh/scene name for in-memory
+/// input) and is complete on its own: the underlying error's text is part of
+/// the message rather than a chained `source`, so `{:#}` in anyhow does not
+/// print it twice.
+#[derive(thiserror::Error, Debug)]
+pub enum SceneError {
+    #[error("{}: cannot read: {error}", path.display())]
+    Io {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+
+    /// Syntax errors, unknown keys, wrong types and unknown kinds; toml's
+    /// message carries the line, column and offending key.
+    #[error("{origin}: {error}")]
+    Toml {
+        origin: String,
+        error: toml::de::Error,
+    },
+
+    /// A value that parsed but is out of range, or a reference that does not
+    /// resolve. `field` is a dotted path such as `materials.clay.roughness`.
+    #[error("{origin}: {field} = {value}: {reason}")]
+    Invalid {
+        origin: String,
+        field: String,
+        value: String,
+        reason: String,
+    },
+
+    #[error("{origin}: the scene has no objects; add at least one [[objects]] table")]
+    NoObjects { origin: String },
+
+    /// tobj rejected the OBJ text.
+    #[error("{}: invalid OBJ: {error}", path.display())]
+    Obj {
+        path: PathBuf,
+        error: tobj::LoadError,
+    },
+
+    /// Geometry that cannot be rendered: no triangles, an index out of range,
+    /// a non-finite coordinate. `origin` is the mesh name (its file for OBJ).
+    #[error("{origin}: {problem}")]
+    InvalidMesh { origin: String, problem: String },
+
+    /// A mesh referenced by the scene failed to load; `error` names the mesh
+    /// file and the scene part names the object that referenced it.
+    #[error("{origin}: {field} = {value:?}: {error}")]
+    ObjectMesh {
+        origin: String,
+        field: String,
+        value: String,
+        error: Box<SceneError>,
+    },
+}

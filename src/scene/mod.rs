@@ -1,0 +1,112 @@
+//! Scenes: the TOML scene format (see docs/scene-format.md), its validation,
+//! and the runtime data the renderer draws: meshes, materials, lights and a
+//! camera.
+
+mod camera;
+mod error;
+pub mod file;
+mod light;
+mod material;
+mod mesh;
+mod obj;
+mod resolve;
+mod tangents;
+
+#[cfg(test)]
+mod tests;
+
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec3};
+
+pub use camera::Camera;
+pub use error::SceneError;
+pub use file::SceneFile;
+pub use light::{Environment, PointLight};
+pub use material::{DiffuseModel, Distribution, Geometry, Material, SpecularModel};
+pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
+
+/// The scene used when none is given; it needs no files on disk.
+pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");
+
+/// One instance of a mesh in the world.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Object {
+    /// Index into [`Scene::meshes`].
+    pub mesh: usize,
+    pub position: Vec3,
+    /// Uniform scale, > 0.
+    pub scale: f32,
+    /// Index into [`Scene::materials`].
+    pub material: usize,
+}
+
+impl Object {
+    /// Object-to-world matrix: scale about the mesh origin, then translate.
+    pub fn model_matrix(&self) -> Mat4 {
+        Mat4::from_translation(self.position) * Mat4::from_scale(Vec3::splat(self.scale))
+    }
+}
+
+/// A validated scene with its meshes loaded.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub camera: Camera,
+    pub lights: Vec<PointLight>,
+    pub environment: Environment,
+    /// Each distinct `mesh` string of the file, loaded once.
+    pub meshes: Vec<Mesh>,
+    pub objects: Vec<Object>,
+    /// Every material the file defines (in name order), plus the built-in
+    /// `default` material if an object uses it.
+    pub materials: Vec<Material>,
+    /// The file this scene was loaded from, if any.
+    pub source: Option<PathBuf>,
+}
+
+impl Scene {
+    /// Reads, parses and validates a scene file; relative paths in it are
+    /// resolved against the file's folder.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
+            path: path.to_path_buf(),
+            error,
+        })?;
+        let base_dir = path.parent().unwrap_or(Path::new(""));
+        let mut scene = Scene::from_toml(&text, &path.display().to_string(), base_dir)?;
+        scene.source = Some(path.to_path_buf());
+        Ok(scene)
+    }
+
+    /// Parses and validates scene TOML. `origin` names the text in error
+    /// messages; relative paths are resolved against `base_dir`.
+    pub fn from_toml(text: &str, origin: &str, base_dir: &Path) -> Result<Scene, SceneError> {
+        let file: SceneFile = toml::from_str(text).map_err(|error| SceneError::Toml {
+            origin: origin.to_owned(),
+            error,
+        })?;
+        Scene::from_file(&file, origin, base_dir)
+    }
+
+    /// Validates a parsed scene file and loads its meshes.
+    pub fn from_file(file: &SceneFile, origin: &str, base_dir: &Path) -> Result<Scene, SceneError> {
+        resolve::resolve(file, origin, base_dir)
+    }
+
+    /// The embedded [`DEFAULT_SCENE_TOML`]: a terracotta sphere and a blue
+    /// clay torus on a pale ground.
+    pub fn default_scene() -> Scene {
+        Scene::from_toml(DEFAULT_SCENE_TOML, "<default scene>", Path::new(""))
+            .expect("the embedded default scene is valid (checked by the tests)")
+    }
+
+    /// The scene as a file for saving with `toml::to_string_pretty`. Paths
+    /// inside the folder of [`Scene::source`] are written relative to it,
+    /// others as they are; every object names its material explicitly.
+    ///
+    /// # Panics
+    /// If an object's `mesh` or `material` index is out of range.
+    pub fn to_file(&self) -> SceneFile {
+        resolve::to_file(self)
+    }
+}

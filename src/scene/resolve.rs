@@ -1,0 +1,382 @@
+//! SceneFile ⇄ Scene: validation and mesh loading in one direction, the
+//! saveable file in the other.
+
+use std::collections::HashMap;
+use std::fmt::Debug;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use super::file::{CameraDef, EnvironmentDef, LightDef, MaterialDef, ObjectDef};
+use super::{
+    Camera, Environment, Material, Mesh, Object, PointLight, Scene, SceneError, SceneFile,
+    BUILTIN_PREFIX,
+};
+
+/// Name of the built-in neutral material, used by objects without a
+/// `material` key unless the file defines `[materials.default]` itself.
+const DEFAULT_MATERIAL: &str = "default";
+
+/// The camera must be at least this far from its target for a view
+/// direction to exist.
+const MIN_CAMERA_DISTANCE: f32 = 1e-4;
+
+/// Validates values and narrows them to f32, with errors that name the
+/// scene and the offending field. Ranges are checked on the narrowed value,
+/// so a number too large for f32 is not finite and one too small for it is
+/// zero; errors show the value as written.
+struct Checker<'a> {
+    origin: &'a str,
+}
+
+impl Checker<'_> {
+    fn invalid(&self, field: &str, value: impl Debug, reason: impl Into<String>) -> SceneError {
+        SceneError::Invalid {
+            origin: self.origin.to_owned(),
+            field: field.to_owned(),
+            value: format!("{value:?}"),
+            reason: reason.into(),
+        }
+    }
+
+    fn vector(&self, field: &str, v: [f64; 3]) -> Result<Vec3, SceneError> {
+        let narrowed = narrow3(v);
+        if narrowed.is_finite() {
+            Ok(narrowed)
+        } else {
+            Err(self.invalid(field, v, "every component must be a finite number"))
+        }
+    }
+
+    fn color(&self, field: &str, v: [f64; 3]) -> Result<Vec3, SceneError> {
+        let narrowed = narrow3(v);
+        if narrowed.is_finite() && narrowed.min_element() >= 0.0 {
+            Ok(narrowed)
+        } else {
+            Err(self.invalid(field, v, "every component must be a finite number >= 0"))
+        }
+    }
+
+    fn unit(&self, field: &str, x: f64) -> Result<f32, SceneError> {
+        self.scalar(
+            field,
+            x,
+            |x| (0.0..=1.0).contains(&x),
+            "must be a finite number in [0, 1]",
+        )
+    }
+
+    fn non_negative(&self, field: &str, x: f64) -> Result<f32, SceneError> {
+        self.scalar(
+            field,
+            x,
+            |x| x.is_finite() && x >= 0.0,
+            "must be a finite number >= 0",
+        )
+    }
+
+    fn positive(&self, field: &str, x: f64) -> Result<f32, SceneError> {
+        self.scalar(
+            field,
+            x,
+            |x| x.is_finite() && x > 0.0,
+            "must be a finite number > 0",
+        )
+    }
+
+    fn scalar(
+        &self,
+        field: &str,
+        x: f64,
+        valid: impl Fn(f32) -> bool,
+        reason: &str,
+    ) -> Result<f32, SceneError> {
+        let narrowed = x as f32;
+        if valid(narrowed) {
+            Ok(narrowed)
+        } else {
+            Err(self.invalid(field, x, reason))
+        }
+    }
+}
+
+fn narrow3(v: [f64; 3]) -> Vec3 {
+    Vec3::from(v.map(|x| x as f32))
+}
+
+/// The f64 whose shortest decimal form is the f32's, so that saved files
+/// read `0.6` rather than `0.6000000238418579`; it narrows back to `x`.
+fn widen(x: f32) -> f64 {
+    x.to_string().parse().unwrap_or(f64::from(x))
+}
+
+fn widen3(v: Vec3) -> [f64; 3] {
+    v.to_array().map(widen)
+}
+
+pub(super) fn resolve(
+    file: &SceneFile,
+    origin: &str,
+    base_dir: &Path,
+) -> Result<Scene, SceneError> {
+    let check = Checker { origin };
+    let camera = camera(&check, &file.camera)?;
+    let lights = file
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, light)| match light {
+            LightDef::Point {
+                position,
+                intensity,
+            } => Ok(PointLight {
+                position: check.vector(&format!("lights[{i}].position"), *position)?,
+                intensity: check.color(&format!("lights[{i}].intensity"), *intensity)?,
+            }),
+        })
+        .collect::<Result<_, _>>()?;
+    let environment = environment(&check, &file.environment, base_dir)?;
+
+    let mut materials = file
+        .materials
+        .iter()
+        .map(|(name, def)| material(&check, name, def))
+        .collect::<Result<Vec<_>, _>>()?;
+
+    if file.objects.is_empty() {
+        return Err(SceneError::NoObjects {
+            origin: origin.to_owned(),
+        });
+    }
+    let mut meshes = Vec::new();
+    let mut mesh_indices = HashMap::new();
+    let mut objects = Vec::with_capacity(file.objects.len());
+    for (i, object) in file.objects.iter().enumerate() {
+        let position = check.vector(&format!("objects[{i}].position"), object.position)?;
+        let scale = check.positive(&format!("objects[{i}].scale"), object.scale)?;
+        let material_name = object.material.as_deref().unwrap_or(DEFAULT_MATERIAL);
+        let material = match materials.iter().position(|m| m.name == material_name) {
+            Some(index) => index,
+            None if material_name == DEFAULT_MATERIAL => {
+                materials.push(material(&check, DEFAULT_MATERIAL, &MaterialDef::default())?);
+                materials.len() - 1
+            }
+            None => {
+                let defined: Vec<&str> = file.materials.keys().map(String::as_str).collect();
+                let defined = if defined.is_empty() {
+                    "none".to_owned()
+                } else {
+                    defined.join(", ")
+                };
+                return Err(check.invalid(
+                    &format!("objects[{i}].material"),
+                    material_name,
+                    format!("no [materials.{material_name}] table is defined (defined: {defined})"),
+                ));
+            }
+        };
+        // Meshes load last, so cheap mistakes are reported without waiting
+        // for a large OBJ.
+        let mesh = match mesh_indices.get(object.mesh.as_str()) {
+            Some(&index) => index,
+            None => {
+                let field = format!("objects[{i}].mesh");
+                meshes.push(load_mesh(&check, &field, &object.mesh, base_dir)?);
+                mesh_indices.insert(object.mesh.as_str(), meshes.len() - 1);
+                meshes.len() - 1
+            }
+        };
+        objects.push(Object {
+            mesh,
+            position,
+            scale,
+            material,
+        });
+    }
+
+    Ok(Scene {
+        camera,
+        lights,
+        environment,
+        meshes,
+        objects,
+        materials,
+        source: None,
+    })
+}
+
+fn camera(check: &Checker, def: &CameraDef) -> Result<Camera, SceneError> {
+    let position = check.vector("camera.position", def.position)?;
+    let target = check.vector("camera.target", def.target)?;
+    let fov_y_degrees = check.scalar(
+        "camera.fov_y_degrees",
+        def.fov_y_degrees,
+        |fov| fov > 0.0 && fov < 180.0,
+        "must be a finite number of degrees in (0, 180)",
+    )?;
+    let distance = position.distance(target);
+    if !(distance.is_finite() && distance >= MIN_CAMERA_DISTANCE) {
+        return Err(check.invalid(
+            "camera.position",
+            def.position,
+            format!("must differ from camera.target {:?}", def.target),
+        ));
+    }
+    Ok(Camera {
+        position,
+        target,
+        fov_y_degrees,
+    })
+}
+
+fn environment(
+    check: &Checker,
+    def: &EnvironmentDef,
+    base_dir: &Path,
+) -> Result<Environment, SceneError> {
+    Ok(match def {
+        EnvironmentDef::None => Environment::None,
+        EnvironmentDef::Uniform { radiance } => Environment::Uniform {
+            radiance: check.color("environment.radiance", *radiance)?,
+        },
+        EnvironmentDef::Map { path } => {
+            let is_image = path
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| e.eq_ignore_ascii_case("hdr") || e.eq_ignore_ascii_case("exr"));
+            if !is_image {
+                return Err(check.invalid(
+                    "environment.path",
+                    path,
+                    "must be an equirectangular .hdr or .exr image",
+                ));
+            }
+            let resolved = base_dir.join(path);
+            if !resolved.is_file() {
+                return Err(check.invalid(
+                    "environment.path",
+                    path,
+                    format!("no such file: {}", resolved.display()),
+                ));
+            }
+            Environment::Map { path: resolved }
+        }
+    })
+}
+
+fn material(check: &Checker, name: &str, def: &MaterialDef) -> Result<Material, SceneError> {
+    let field = |key: &str| format!("materials.{name}.{key}");
+    Ok(Material {
+        name: name.to_owned(),
+        base_color: check.color(&field("base_color"), def.base_color)?,
+        diffuse: def.diffuse,
+        specular: def.specular,
+        distribution: def.distribution,
+        geometry: def.geometry,
+        roughness: check.unit(&field("roughness"), def.roughness)?,
+        f0: check.unit(&field("f0"), def.f0)?,
+        diffuse_roughness: check.unit(&field("diffuse_roughness"), def.diffuse_roughness)?,
+        specular_color: check.color(&field("specular_color"), def.specular_color)?,
+        wrap: check.unit(&field("wrap"), def.wrap)?,
+        wrap_width: check.positive(&field("wrap_width"), def.wrap_width)?,
+        wrap_color: check.color(&field("wrap_color"), def.wrap_color)?,
+        wrap_intensity: check.non_negative(&field("wrap_intensity"), def.wrap_intensity)?,
+    })
+}
+
+fn load_mesh(
+    check: &Checker,
+    field: &str,
+    name: &str,
+    base_dir: &Path,
+) -> Result<Mesh, SceneError> {
+    if name.starts_with(BUILTIN_PREFIX) {
+        return Mesh::builtin(name).ok_or_else(|| {
+            check.invalid(
+                field,
+                name,
+                "unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube",
+            )
+        });
+    }
+    Mesh::load_obj(&base_dir.join(name)).map_err(|error| SceneError::ObjectMesh {
+        origin: check.origin.to_owned(),
+        field: field.to_owned(),
+        value: name.to_owned(),
+        error: Box::new(error),
+    })
+}
+
+pub(super) fn to_file(scene: &Scene) -> SceneFile {
+    let folder = scene.source.as_deref().and_then(Path::parent);
+    let relative = |path: &Path| -> PathBuf {
+        folder
+            .and_then(|folder| path.strip_prefix(folder).ok())
+            .unwrap_or(path)
+            .to_path_buf()
+    };
+    let camera = &scene.camera;
+    SceneFile {
+        camera: CameraDef {
+            position: widen3(camera.position),
+            target: widen3(camera.target),
+            fov_y_degrees: widen(camera.fov_y_degrees),
+        },
+        lights: scene
+            .lights
+            .iter()
+            .map(|light| LightDef::Point {
+                position: widen3(light.position),
+                intensity: widen3(light.intensity),
+            })
+            .collect(),
+        environment: match &scene.environment {
+            Environment::None => EnvironmentDef::None,
+            Environment::Uniform { radiance } => EnvironmentDef::Uniform {
+                radiance: widen3(*radiance),
+            },
+            Environment::Map { path } => EnvironmentDef::Map {
+                path: relative(path),
+            },
+        },
+        objects: scene
+            .objects
+            .iter()
+            .map(|object| {
+                let mesh = &scene.meshes[object.mesh].name;
+                ObjectDef {
+                    mesh: if mesh.starts_with(BUILTIN_PREFIX) {
+                        mesh.clone()
+                    } else {
+                        relative(Path::new(mesh)).to_string_lossy().into_owned()
+                    },
+                    position: widen3(object.position),
+                    scale: widen(object.scale),
+                    material: Some(scene.materials[object.material].name.clone()),
+                }
+            })
+            .collect(),
+        materials: scene
+            .materials
+            .iter()
+            .map(|m| {
+                let def = MaterialDef {
+                    base_color: widen3(m.base_color),
+                    diffuse: m.diffuse,
+                    specular: m.specular,
+                    distribution: m.distribution,
+                    geometry: m.geometry,
+                    roughness: widen(m.roughness),
+                    f0: widen(m.f0),
+                    diffuse_roughness: widen(m.diffuse_roughness),
+                    specular_color: widen3(m.specular_color),
+                    wrap: widen(m.wrap),
+                    wrap_width: widen(m.wrap_width),
+                    wrap_color: widen3(m.wrap_color),
+                    wrap_intensity: widen(m.wrap_intensity),
+                };
+                (m.name.clone(), def)
+            })
+            .collect(),
+    }
+}

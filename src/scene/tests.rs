@@ -1,0 +1,749 @@
+//! Scene-file and OBJ tests; mesh, tangent and camera tests live beside
+//! their code.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use glam::{Vec3, Vec4};
+
+use super::file::{EnvironmentDef, LightDef, MaterialDef, ObjectDef};
+use super::*;
+
+/// A fresh folder under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new() -> TempDir {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let path = std::env::temp_dir().join(format!(
+            "argil-scene-test-{}-{}",
+            std::process::id(),
+            COUNTER.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&path).unwrap();
+        TempDir(path)
+    }
+
+    fn write(&self, name: &str, contents: &str) -> PathBuf {
+        let path = self.0.join(name);
+        std::fs::write(&path, contents).unwrap();
+        path
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn parse(text: &str) -> Result<Scene, SceneError> {
+    Scene::from_toml(text, "scene.toml", Path::new("."))
+}
+
+fn error(text: &str) -> String {
+    parse(text).unwrap_err().to_string()
+}
+
+const CUBE: &str = "[[objects]]\nmesh = \"builtin:cube\"\n";
+
+// ---------------------------------------------------------------- scene files
+
+#[test]
+fn minimal_scene_gets_the_documented_defaults() {
+    let scene = parse(CUBE).unwrap();
+    assert_eq!(
+        scene.camera,
+        Camera {
+            position: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            fov_y_degrees: 30.0
+        }
+    );
+    assert!(scene.lights.is_empty());
+    assert_eq!(scene.environment, Environment::None);
+    assert_eq!(scene.meshes.len(), 1);
+    assert_eq!(scene.meshes[0].name, "builtin:cube");
+    assert_eq!(
+        scene.objects,
+        [Object {
+            mesh: 0,
+            position: Vec3::ZERO,
+            scale: 1.0,
+            material: 0
+        }]
+    );
+    assert_eq!(
+        scene.materials,
+        [Material {
+            name: "default".into(),
+            base_color: Vec3::splat(0.8),
+            diffuse: DiffuseModel::Lambert,
+            specular: SpecularModel::CookTorrance,
+            distribution: Distribution::Ggx,
+            geometry: Geometry::SmithCorrelated,
+            roughness: 0.5,
+            f0: 0.04,
+            diffuse_roughness: 0.0,
+            specular_color: Vec3::ONE,
+            wrap: 0.0,
+            wrap_width: 0.3,
+            wrap_color: Vec3::ONE,
+            wrap_intensity: 0.0,
+        }]
+    );
+    assert_eq!(scene.source, None);
+}
+
+#[test]
+fn full_scene_is_read_field_by_field() {
+    let scene = parse(
+        r#"
+[camera]
+position = [1, 2, 3]        # integers are accepted as floats
+target = [0.0, 0.5, 0.0]
+fov_y_degrees = 45.0
+
+[[lights]]
+kind = "point"
+position = [2.0, 2.0, 3.0]
+intensity = [10.0, 9.0, 8.0]
+
+[environment]
+kind = "uniform"
+radiance = [0.1, 0.2, 0.3]
+
+[[objects]]
+mesh = "builtin:sphere"
+position = [0.0, 1.0, 0.0]
+scale = 2.5
+material = "clay"
+
+[[objects]]
+mesh = "builtin:sphere"
+material = "default"
+
+[[objects]]
+mesh = "builtin:torus"
+
+[materials.clay]
+base_color = [0.8, 0.45, 0.3]
+diffuse = "oren-nayar"
+specular = "torrance-sparrow"
+distribution = "beckmann"
+geometry = "smith-separable"
+roughness = 0.25
+f0 = 0.5
+diffuse_roughness = 0.3
+specular_color = [0.5, 0.6, 0.7]
+wrap = 0.4
+wrap_width = 0.2
+wrap_color = [0.9, 0.3, 0.2]
+wrap_intensity = 2.0
+
+[materials.unused]
+diffuse = "eon"
+specular = "blinn-phong"
+"#,
+    )
+    .unwrap();
+    assert_eq!(scene.camera.position, Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(scene.camera.fov_y_degrees, 45.0);
+    assert_eq!(
+        scene.lights,
+        [PointLight {
+            position: Vec3::new(2.0, 2.0, 3.0),
+            intensity: Vec3::new(10.0, 9.0, 8.0)
+        }]
+    );
+    assert_eq!(
+        scene.environment,
+        Environment::Uniform {
+            radiance: Vec3::new(0.1, 0.2, 0.3)
+        }
+    );
+    // The sphere is loaded once for both objects.
+    let names: Vec<&str> = scene.meshes.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["builtin:sphere", "builtin:torus"]);
+    let meshes: Vec<usize> = scene.objects.iter().map(|o| o.mesh).collect();
+    assert_eq!(meshes, [0, 0, 1]);
+    // Defined materials in name order, then the built-in default once.
+    let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["clay", "unused", "default"]);
+    let materials: Vec<usize> = scene.objects.iter().map(|o| o.material).collect();
+    assert_eq!(materials, [0, 2, 2]);
+    assert_eq!(scene.objects[0].scale, 2.5);
+    let clay = &scene.materials[0];
+    assert_eq!(clay.diffuse, DiffuseModel::OrenNayar);
+    assert_eq!(clay.specular, SpecularModel::TorranceSparrow);
+    assert_eq!(clay.distribution, Distribution::Beckmann);
+    assert_eq!(clay.geometry, Geometry::SmithSeparable);
+    assert_eq!(
+        (clay.roughness, clay.f0, clay.diffuse_roughness, clay.wrap),
+        (0.25, 0.5, 0.3, 0.4)
+    );
+    assert_eq!((clay.wrap_width, clay.wrap_intensity), (0.2, 2.0));
+    assert_eq!(clay.specular_color, Vec3::new(0.5, 0.6, 0.7));
+    assert_eq!(clay.wrap_color, Vec3::new(0.9, 0.3, 0.2));
+    assert_eq!(scene.materials[1].diffuse, DiffuseModel::Eon);
+    assert_eq!(scene.materials[1].specular, SpecularModel::BlinnPhong);
+}
+
+#[test]
+fn a_defined_default_material_overrides_the_builtin_one() {
+    let scene = parse(&format!("{CUBE}[materials.default]\nroughness = 0.9\n")).unwrap();
+    assert_eq!(scene.materials.len(), 1);
+    assert_eq!(scene.materials[0].roughness, 0.9);
+}
+
+#[test]
+fn shader_constants_are_stable() {
+    let diffuse = [
+        DiffuseModel::Lambert,
+        DiffuseModel::OrenNayar,
+        DiffuseModel::Eon,
+        DiffuseModel::None,
+    ];
+    assert_eq!(diffuse.map(|d| d as u32), [0, 1, 2, 3]);
+    let specular = [
+        SpecularModel::CookTorrance,
+        SpecularModel::TorranceSparrow,
+        SpecularModel::BlinnPhong,
+        SpecularModel::None,
+    ];
+    assert_eq!(specular.map(|s| s as u32), [0, 1, 2, 3]);
+    assert_eq!(
+        [Distribution::Ggx as u32, Distribution::Beckmann as u32],
+        [0, 1]
+    );
+    assert_eq!(
+        [
+            Geometry::SmithCorrelated as u32,
+            Geometry::SmithSeparable as u32
+        ],
+        [0, 1]
+    );
+}
+
+#[test]
+fn unknown_keys_are_named_with_their_line() {
+    let message = error(&format!("{CUBE}\n[materials.clay]\nroughnes = 0.5\n"));
+    assert!(message.starts_with("scene.toml: "), "{message}");
+    assert!(message.contains("line 5"), "{message}");
+    assert!(message.contains("unknown field `roughnes`"), "{message}");
+
+    for (text, key, line) in [
+        (format!("[camera]\nfov = 30.0\n{CUBE}"), "fov", 2),
+        (format!("{CUBE}scael = 2.0\n"), "scael", 3),
+        (format!("{CUBE}[[lights]]\nkind = \"point\"\nposition = [0.0, 0.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\ncolor = [1.0, 1.0, 1.0]\n"), "color", 3),
+        (format!("{CUBE}[environment]\nkind = \"uniform\"\nradiance = [1.0, 1.0, 1.0]\npath = \"x.hdr\"\n"), "path", 3),
+        (format!("{CUBE}[extras]\nfoo = 1\n"), "extras", 3),
+    ] {
+        let message = error(&text);
+        assert!(message.starts_with("scene.toml: "), "{message}");
+        assert!(message.contains(&format!("`{key}`")), "{message}");
+        assert!(message.contains(&format!("line {line}")), "{message}");
+    }
+}
+
+#[test]
+fn unknown_kinds_are_named() {
+    for (text, kind) in [
+        (
+            format!("{CUBE}[materials.m]\ndiffuse = \"phong\"\n"),
+            "phong",
+        ),
+        (
+            format!("{CUBE}[materials.m]\nspecular = \"ward\"\n"),
+            "ward",
+        ),
+        (
+            format!("{CUBE}[materials.m]\ndistribution = \"gtr\"\n"),
+            "gtr",
+        ),
+        (
+            format!("{CUBE}[materials.m]\ngeometry = \"kelemen\"\n"),
+            "kelemen",
+        ),
+        (format!("{CUBE}[environment]\nkind = \"sky\"\n"), "sky"),
+        (format!("{CUBE}[[lights]]\nkind = \"spot\"\n"), "spot"),
+    ] {
+        let message = error(&text);
+        assert!(message.starts_with("scene.toml: "), "{message}");
+        assert!(message.contains(&format!("`{kind}`")), "{message}");
+    }
+}
+
+#[test]
+fn broken_toml_reports_its_line_and_column() {
+    let message = error("[camera]\nposition = [0.0, 0.0, 5.0]\nfov_y_degrees = = 3\n");
+    assert!(message.starts_with("scene.toml: "), "{message}");
+    assert!(message.contains("line 3, column 17"), "{message}");
+    let message = error(&format!("{CUBE}[camera]\nposition = \"up\"\n"));
+    assert!(
+        message.contains("line 4") && message.contains("invalid type"),
+        "{message}"
+    );
+}
+
+#[test]
+fn missing_required_keys_are_named() {
+    assert!(error("[[objects]]\nscale = 2.0\n").contains("missing field `mesh`"));
+    let message = error(&format!(
+        "{CUBE}[[lights]]\nkind = \"point\"\nposition = [0.0, 1.0, 0.0]\n"
+    ));
+    assert!(message.contains("missing field `intensity`"), "{message}");
+    assert!(error(&format!(
+        "{CUBE}[environment]\nradiance = [1.0, 1.0, 1.0]\n"
+    ))
+    .contains("missing field `kind`"));
+}
+
+#[test]
+fn out_of_range_values_name_the_field() {
+    assert_eq!(
+        error(&format!("{CUBE}[materials.clay]\nroughness = nan\n")),
+        "scene.toml: materials.clay.roughness = NaN: must be a finite number in [0, 1]"
+    );
+    let cases = [
+        ("[materials.m]\nf0 = 1.5", "materials.m.f0 = 1.5: must be a finite number in [0, 1]"),
+        ("[materials.m]\nroughness = -0.1", "materials.m.roughness = -0.1: must be a finite number in [0, 1]"),
+        ("[materials.m]\ndiffuse_roughness = inf", "materials.m.diffuse_roughness = inf: must be a finite number in [0, 1]"),
+        ("[materials.m]\nwrap = 2", "materials.m.wrap = 2.0: must be a finite number in [0, 1]"),
+        ("[materials.m]\nwrap_width = 0.0", "materials.m.wrap_width = 0.0: must be a finite number > 0"),
+        ("[materials.m]\nwrap_intensity = -1.0", "materials.m.wrap_intensity = -1.0: must be a finite number >= 0"),
+        ("[materials.m]\nbase_color = [0.5, -0.1, 0.5]", "materials.m.base_color = [0.5, -0.1, 0.5]: every component must be a finite number >= 0"),
+        ("[materials.m]\nspecular_color = [nan, 1.0, 1.0]", "materials.m.specular_color = [NaN, 1.0, 1.0]: every component must be a finite number >= 0"),
+        ("[materials.m]\nwrap_color = [1.0, 1.0, inf]", "materials.m.wrap_color = [1.0, 1.0, inf]: every component must be a finite number >= 0"),
+        // Too large or too small for f32.
+        ("[materials.m]\nroughness = 1e39", "materials.m.roughness = 1e39: must be a finite number in [0, 1]"),
+        ("[[objects]]\nmesh = \"builtin:cube\"\nscale = 1e-50", "objects[1].scale = 1e-50: must be a finite number > 0"),
+        ("[[objects]]\nmesh = \"builtin:cube\"\nposition = [0.0, 1e39, 0.0]", "objects[1].position = [0.0, 1e39, 0.0]: every component must be a finite number"),
+        ("[camera]\nfov_y_degrees = 180.0", "camera.fov_y_degrees = 180.0: must be a finite number of degrees in (0, 180)"),
+        ("[camera]\nfov_y_degrees = 0.0", "camera.fov_y_degrees = 0.0: must be a finite number of degrees in (0, 180)"),
+        ("[camera]\nfov_y_degrees = nan", "camera.fov_y_degrees = NaN: must be a finite number of degrees in (0, 180)"),
+        ("[camera]\nposition = [1.0, 2.0, 3.0]\ntarget = [1.0, 2.0, 3.0]", "camera.position = [1.0, 2.0, 3.0]: must differ from camera.target [1.0, 2.0, 3.0]"),
+        ("[camera]\nposition = [3e38, 0.0, 0.0]\ntarget = [-3e38, 0.0, 0.0]", "camera.position = [3e38, 0.0, 0.0]: must differ from camera.target [-3e38, 0.0, 0.0]"),
+        ("[camera]\ntarget = [0.0, -inf, 0.0]", "camera.target = [0.0, -inf, 0.0]: every component must be a finite number"),
+        ("[[lights]]\nkind = \"point\"\nposition = [0.0, 0.0, 0.0]\nintensity = [1.0, -1.0, 1.0]", "lights[0].intensity = [1.0, -1.0, 1.0]: every component must be a finite number >= 0"),
+        ("[[lights]]\nkind = \"point\"\nposition = [0.0, nan, 0.0]\nintensity = [1.0, 1.0, 1.0]", "lights[0].position = [0.0, NaN, 0.0]: every component must be a finite number"),
+        ("[environment]\nkind = \"uniform\"\nradiance = [-1.0, 0.0, 0.0]", "environment.radiance = [-1.0, 0.0, 0.0]: every component must be a finite number >= 0"),
+        ("[[objects]]\nmesh = \"builtin:cube\"\nscale = 0.0", "objects[1].scale = 0.0: must be a finite number > 0"),
+        ("[[objects]]\nmesh = \"builtin:cube\"\nscale = -2.0", "objects[1].scale = -2.0: must be a finite number > 0"),
+        ("[[objects]]\nmesh = \"builtin:cube\"\nscale = inf", "objects[1].scale = inf: must be a finite number > 0"),
+        ("[[objects]]\nmesh = \"builtin:cube\"\nposition = [0.0, 0.0, nan]", "objects[1].position = [0.0, 0.0, NaN]: every component must be a finite number"),
+        ("[[objects]]\nmesh = \"builtin:cone\"", "objects[1].mesh = \"builtin:cone\": unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube"),
+    ];
+    for (extra, expected) in cases {
+        assert_eq!(
+            error(&format!("{CUBE}{extra}\n")),
+            format!("scene.toml: {expected}")
+        );
+    }
+}
+
+#[test]
+fn undefined_material_is_named() {
+    assert_eq!(
+        error("[[objects]]\nmesh = \"builtin:cube\"\nmaterial = \"stone\"\n[materials.clay]\n[materials.wood]\n"),
+        "scene.toml: objects[0].material = \"stone\": no [materials.stone] table is defined (defined: clay, wood)"
+    );
+    assert_eq!(
+        error("[[objects]]\nmesh = \"builtin:cube\"\nmaterial = \"stone\"\n"),
+        "scene.toml: objects[0].material = \"stone\": no [materials.stone] table is defined (defined: none)"
+    );
+}
+
+#[test]
+fn a_scene_needs_objects() {
+    let expected = "scene.toml: the scene has no objects; add at least one [[objects]] table";
+    assert_eq!(error(""), expected);
+    assert_eq!(error("[camera]\nfov_y_degrees = 40.0\n"), expected);
+}
+
+#[test]
+fn default_scene_is_a_valid_clay_scene() {
+    let scene = Scene::default_scene();
+    assert_eq!(scene.objects.len(), 3);
+    let names: Vec<&str> = scene.meshes.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["builtin:sphere", "builtin:torus", "builtin:plane"]);
+    for material in &scene.materials {
+        assert!((0.6..=0.8).contains(&material.roughness), "{material:?}");
+        assert_eq!(material.f0, 0.04);
+    }
+    assert_eq!(scene.lights.len(), 1);
+    let light = scene.lights[0];
+    assert!(light.intensity.min_element() >= 20.0 && light.intensity.max_element() <= 40.0);
+    // Up, left and in front of the objects.
+    assert!(light.position.y > 0.0 && light.position.x < 0.0 && light.position.z > 0.0);
+    let camera = scene.camera;
+    assert!(camera.position.y > camera.target.y, "the camera looks down");
+    // The camera is above the ground plane at y = -1 and outside the
+    // sphere's and the torus's bounding spheres.
+    let ground = scene.objects[2];
+    assert_eq!(ground.position.y, -1.0);
+    assert!(camera.position.y > ground.position.y + 1.0);
+    for (object, radius) in scene.objects.iter().zip([1.0, 1.35]) {
+        let distance = camera.position.distance(object.position);
+        assert!(distance > radius * object.scale + 1.0, "{object:?}");
+    }
+    // The sphere and torus rest on the ground and each object's centre is
+    // in front of the camera and on screen.
+    assert_eq!(scene.objects[0].position.y, 0.0);
+    assert!((scene.objects[1].position.y - (-1.0 + 0.35)).abs() < 1e-6);
+    let view_projection = camera.projection(16.0 / 9.0) * camera.view();
+    for object in &scene.objects[..2] {
+        let clip = view_projection * object.position.extend(1.0);
+        assert!(clip.w > 0.0);
+        assert!(clip.x.abs() < clip.w * 0.8 && clip.y.abs() < clip.w * 0.8);
+    }
+}
+
+#[test]
+fn scene_file_round_trips_through_toml() {
+    for text in [
+        DEFAULT_SCENE_TOML.to_owned(),
+        format!("{CUBE}[environment]\nkind = \"map\"\npath = \"sky/studio.exr\"\n[[objects]]\nmesh = \"models/pot.obj\"\nmaterial = \"clay\"\n[materials.clay]\nwrap = 0.5\n"),
+        CUBE.to_owned(),
+    ] {
+        let file: SceneFile = toml::from_str(&text).unwrap();
+        for saved in [toml::to_string_pretty(&file).unwrap(), file.to_toml().unwrap()] {
+            let reread: SceneFile = toml::from_str(&saved).unwrap();
+            assert_eq!(reread, file, "{saved}");
+        }
+    }
+    let file: SceneFile = toml::from_str(DEFAULT_SCENE_TOML).unwrap();
+    assert_eq!(file.objects.len(), 3);
+    assert_eq!(
+        file.objects[2],
+        ObjectDef {
+            mesh: "builtin:plane".into(),
+            position: [0.0, -1.0, 0.0],
+            scale: 8.0,
+            material: Some("ground".into())
+        }
+    );
+    assert_eq!(file.materials["ground"].roughness, 0.8);
+    assert_eq!(file.materials["ground"].base_color, [0.72, 0.68, 0.6]);
+    assert_eq!(
+        file.materials["ground"].wrap_width,
+        MaterialDef::default().wrap_width
+    );
+    assert!(
+        matches!(file.lights[0], LightDef::Point { intensity, .. } if intensity == [32.0, 30.0, 27.0])
+    );
+    assert!(matches!(file.environment, EnvironmentDef::Uniform { .. }));
+}
+
+#[test]
+fn saved_scene_reloads_identically_with_relative_paths() {
+    let dir = TempDir::new();
+    dir.write("pot.obj", TRIANGLE_OBJ);
+    dir.write("sky.hdr", "");
+    let path = dir.write(
+        "scene.toml",
+        &format!("{CUBE}[environment]\nkind = \"map\"\npath = \"sky.hdr\"\n[[objects]]\nmesh = \"pot.obj\"\n[[objects]]\nmesh = \"pot.obj\"\nscale = 2.0\n"),
+    );
+    let scene = Scene::load(&path).unwrap();
+    assert_eq!(scene.source.as_deref(), Some(path.as_path()));
+    assert_eq!(
+        scene.environment,
+        Environment::Map {
+            path: dir.0.join("sky.hdr")
+        }
+    );
+    assert_eq!(scene.meshes.len(), 2);
+
+    let file = scene.to_file();
+    assert_eq!(file.objects[1].mesh, "pot.obj");
+    assert_eq!(file.objects[1].material.as_deref(), Some("default"));
+    assert_eq!(
+        file.environment,
+        EnvironmentDef::Map {
+            path: "sky.hdr".into()
+        }
+    );
+    let saved = dir.write("saved.toml", &toml::to_string_pretty(&file).unwrap());
+    let mut reloaded = Scene::load(&saved).unwrap();
+    reloaded.source = scene.source.clone();
+    assert_eq!(reloaded, scene);
+}
+
+#[test]
+fn edited_scene_saves_its_edits() {
+    let mut scene = Scene::default_scene();
+    scene.camera.fov_y_degrees = 50.0;
+    scene.materials[0].roughness = 0.3;
+    scene.objects[1].scale = 1.5;
+    let text = scene.to_file().to_toml().unwrap();
+    // Saved numbers are the shortest decimals of the f32 values.
+    assert!(text.contains("position = [0.0, 1.6, 7.5]\n"), "{text}");
+    assert!(text.contains("scale = 1.5\n"), "{text}");
+    let reloaded = parse(&text).unwrap();
+    assert_eq!(reloaded, scene);
+}
+
+#[test]
+fn environment_map_is_resolved_and_checked() {
+    let dir = TempDir::new();
+    let scene =
+        |env: &str| Scene::from_toml(&format!("{CUBE}[environment]\n{env}\n"), "s.toml", &dir.0);
+    dir.write("studio.EXR", "");
+    assert_eq!(
+        scene("kind = \"map\"\npath = \"studio.EXR\"")
+            .unwrap()
+            .environment,
+        Environment::Map {
+            path: dir.0.join("studio.EXR")
+        }
+    );
+    assert_eq!(
+        scene("kind = \"map\"\npath = \"missing.hdr\"")
+            .unwrap_err()
+            .to_string(),
+        format!(
+            "s.toml: environment.path = \"missing.hdr\": no such file: {}",
+            dir.0.join("missing.hdr").display()
+        )
+    );
+    assert_eq!(
+        scene("kind = \"map\"\npath = \"sky.png\"")
+            .unwrap_err()
+            .to_string(),
+        "s.toml: environment.path = \"sky.png\": must be an equirectangular .hdr or .exr image"
+    );
+    assert_eq!(
+        scene("kind = \"none\"").unwrap().environment,
+        Environment::None
+    );
+}
+
+#[test]
+fn missing_scene_file_names_it() {
+    let dir = TempDir::new();
+    let path = dir.0.join("nope.toml");
+    let message = Scene::load(&path).unwrap_err().to_string();
+    assert!(
+        message.starts_with(&format!("{}: cannot read: ", path.display())),
+        "{message}"
+    );
+    let broken = dir.write("broken.toml", "[[objects]\n");
+    let message = Scene::load(&broken).unwrap_err().to_string();
+    assert!(
+        message.starts_with(&format!("{}: TOML parse error at line 1", broken.display())),
+        "{message}"
+    );
+}
+
+#[test]
+fn object_model_matrix_scales_then_translates() {
+    let object = Object {
+        mesh: 0,
+        position: Vec3::new(1.0, 2.0, 3.0),
+        scale: 2.0,
+        material: 0,
+    };
+    let p = object.model_matrix() * Vec4::new(1.0, 0.0, -1.0, 1.0);
+    assert_eq!(p, Vec4::new(3.0, 2.0, 1.0, 1.0));
+}
+
+// ------------------------------------------------------------------------ OBJ
+
+const TRIANGLE_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+fn load(contents: &str) -> Result<Mesh, SceneError> {
+    let dir = TempDir::new();
+    Mesh::load_obj(&dir.write("model.obj", contents))
+}
+
+fn obj_error(contents: &str) -> String {
+    let dir = TempDir::new();
+    let path = dir.write("model.obj", contents);
+    let message = Mesh::load_obj(&path).unwrap_err().to_string();
+    let prefix = format!("{}: ", path.display());
+    message
+        .strip_prefix(&prefix)
+        .unwrap_or_else(|| panic!("{message}"))
+        .to_owned()
+}
+
+/// The guarantees every loaded vertex must meet.
+fn assert_valid(mesh: &Mesh) {
+    for v in &mesh.vertices {
+        let n = Vec3::from(v.normal);
+        let t = Vec4::from(v.tangent);
+        assert!(n.is_finite() && t.is_finite());
+        assert!((n.length() - 1.0).abs() < 1e-5 && (t.truncate().length() - 1.0).abs() < 1e-5);
+        assert!(
+            n.dot(t.truncate()).abs() < 1e-5 && t.w.abs() == 1.0,
+            "{v:?}"
+        );
+    }
+}
+
+#[test]
+fn obj_quad_with_normals_and_uvs() {
+    let mesh = load(
+        "# a unit quad\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+         vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n\
+         f 1/1/1 2/2/1 3/3/1 4/4/1\n",
+    )
+    .unwrap();
+    assert!(mesh.name.ends_with("model.obj"));
+    assert_eq!(mesh.vertices.len(), 4);
+    assert_eq!(mesh.indices, [0, 1, 2, 0, 2, 3]);
+    assert_eq!(mesh.vertices[2].position, [1.0, 1.0, 0.0]);
+    assert_eq!(mesh.vertices[2].uv, [1.0, 1.0]);
+    for v in &mesh.vertices {
+        assert_eq!(v.normal, [0.0, 0.0, 1.0]);
+        assert_eq!(v.tangent, [1.0, 0.0, 0.0, 1.0]);
+    }
+}
+
+#[test]
+fn obj_mirrored_uvs_flip_handedness() {
+    let mesh = load(
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+         vt 1 0\nvt 0 0\nvt 0 1\nvt 1 1\n\
+         f 1/1 2/2 3/3 4/4\n",
+    )
+    .unwrap();
+    assert_valid(&mesh);
+    for v in &mesh.vertices {
+        assert_eq!(v.tangent, [-1.0, 0.0, 0.0, -1.0]);
+    }
+}
+
+#[test]
+fn obj_without_normals_gets_smooth_normals() {
+    // A tetrahedron corner: three faces meeting at the origin, facing
+    // -x, -y and -z, so the shared vertex's normal is their average.
+    let mesh = load(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+         f 1 3 2\nf 1 4 3\nf 1 2 4\n",
+    )
+    .unwrap();
+    assert_valid(&mesh);
+    assert_eq!(mesh.vertices.len(), 4);
+    let corner = Vec3::from(mesh.vertices[0].normal);
+    assert!(
+        corner.abs_diff_eq(Vec3::splat(-1.0).normalize(), 1e-6),
+        "{corner}"
+    );
+    // Without UVs the tangent is some unit vector orthogonal to the normal.
+    assert!(mesh.vertices.iter().all(|v| v.uv == [0.0, 0.0]));
+}
+
+#[test]
+fn obj_zero_normal_is_replaced_by_the_face_normal() {
+    let mesh = load("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 0\nf 1//1 2//1 3//1\n").unwrap();
+    assert_valid(&mesh);
+    for v in &mesh.vertices {
+        assert_eq!(v.normal, [0.0, 0.0, 1.0]);
+    }
+}
+
+#[test]
+fn obj_degenerate_faces_stay_finite() {
+    let mesh = load(
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nvt 0 0\nvt 0 0\nvt 0 0\nvn 0 0 0\n\
+         f 1/1/1 2/2/1 3/3/1\nf 1/1 2/2 4/3\n",
+    )
+    .unwrap();
+    assert_valid(&mesh);
+}
+
+#[test]
+fn obj_models_are_merged() {
+    let mesh = load(
+        "o first\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n\
+         o second\nv 0 0 1\nv 1 0 1\nv 0 1 1\nvt 0 0\nvt 1 0\nvt 0 1\nf 4/1 5/2 6/3\n\
+         g third\nusemtl missing\nmtllib missing.mtl\nf -3/1 -2/2 -1/3\nl 1 2\np 3\n",
+    )
+    .unwrap();
+    assert_valid(&mesh);
+    assert_eq!(mesh.indices.len(), 9);
+    assert_eq!(mesh.vertices.len(), 9);
+    assert!(mesh
+        .indices
+        .iter()
+        .all(|&i| (i as usize) < mesh.vertices.len()));
+    let positions: Vec<[f32; 3]> = mesh
+        .indices
+        .iter()
+        .map(|&i| mesh.vertices[i as usize].position)
+        .collect();
+    assert_eq!(positions[3], [0.0, 0.0, 1.0]);
+    assert_eq!(positions[8], [0.0, 1.0, 1.0]);
+    // The first object had no UVs: fallback tangents, zero UVs; the others
+    // follow theirs.
+    assert_eq!(mesh.vertices[mesh.indices[0] as usize].uv, [0.0, 0.0]);
+    assert_eq!(
+        mesh.vertices[mesh.indices[4] as usize].tangent,
+        [1.0, 0.0, 0.0, 1.0]
+    );
+}
+
+#[test]
+fn broken_obj_files_are_reported() {
+    assert_eq!(obj_error(""), "no triangles");
+    assert_eq!(obj_error("v 0 0 0\nv 1 0 0\n"), "no triangles");
+    assert_eq!(obj_error("v 0 0 0\nv 1 0 0\nl 1 2\n"), "no triangles");
+    assert_eq!(
+        obj_error("v 0 0\nf 1 1 1\n"),
+        "invalid OBJ: position parse error"
+    );
+    assert_eq!(
+        obj_error("v 0 0 0\nv 1 0 0\nf 1 2 x\n"),
+        "invalid OBJ: face parse error"
+    );
+    assert!(
+        obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n").starts_with("invalid OBJ: face vertex")
+    );
+    assert!(obj_error(&format!("{TRIANGLE_OBJ}vt 0 0\nf 1/2 2/1 3/1\n"))
+        .starts_with("invalid OBJ: face texcoord"));
+    assert_eq!(
+        obj_error("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
+        "vertex 1: position [NaN, 0.0, 0.0] is not finite"
+    );
+    assert_eq!(
+        obj_error("v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n"),
+        "vertex 2: position [0.0, inf, 0.0] is not finite"
+    );
+    assert_eq!(
+        obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 nan 1\nf 1//1 2//1 3//1\n"),
+        "vertex 0: normal [0.0, NaN, 1.0] is not finite"
+    );
+    // Lines tobj does not recognise are skipped.
+    assert_eq!(obj_error("\u{0}\u{1}binary\n"), "no triangles");
+}
+
+#[test]
+fn missing_obj_is_reported_with_the_object_and_the_file() {
+    let dir = TempDir::new();
+    let message = Scene::from_toml("[[objects]]\nmesh = \"models/pot.obj\"\n", "s.toml", &dir.0)
+        .unwrap_err()
+        .to_string();
+    let expected = format!(
+        "s.toml: objects[0].mesh = \"models/pot.obj\": {}: cannot read: ",
+        dir.0.join("models/pot.obj").display()
+    );
+    assert!(message.starts_with(&expected), "{message}");
+}
+
+#[test]
+fn broken_obj_in_a_scene_is_reported_with_the_object_and_the_file() {
+    let dir = TempDir::new();
+    let obj = dir.write("bad.obj", "v 0 0 0\nf 1 2 3\n");
+    let message = Scene::from_toml(
+        &format!("{CUBE}[[objects]]\nmesh = \"bad.obj\"\n"),
+        "s.toml",
+        &dir.0,
+    )
+    .unwrap_err()
+    .to_string();
+    assert_eq!(
+        message,
+        format!("s.toml: objects[1].mesh = \"bad.obj\": {}: invalid OBJ: face vertex index out of bounds", obj.display())
+    );
+}

@@ -1,0 +1,28 @@
+//! Explicit Vulkan, one concept a file. Every wrapper owns its handle and destroys it in
+//! `Drop`; resources hold an `Arc<Device>` so the device outlives them.
+
+pub mod buffer;
+pub mod commands;
+pub mod descriptors;
+pub mod device;
+pub mod image;
+pub mod instance;
+pub mod pipeline;
+pub mod readback;
+pub mod shader;
+pub mod surface;
+pub mod swapchain;
+pub mod sync;
+pub mod timestamps;
+
+pub use buffer::Buffer;
+pub use commands::{CommandPool, OneShot};
+pub use descriptors::{DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter};
+pub use device::{Device, DeviceChoice, DeviceInfo, DeviceOptions, WindowHandles};
+pub use image::Image;
+pub use pipeline::{GraphicsPipelineBuilder, Pipeline, PipelineLayout, Specialization};
+pub use readback::Readback;
+pub use shader::ShaderModule;
+pub use swapchain::{Acquired, Swapchain};
+pub use sync::{transition, Fence, ImageUse, Semaphore};
+pub use timestamps::Timestamps;

@@ -1,0 +1,60 @@
+//! Copying an image back to the CPU: a host-visible buffer, a copy recorded after the
+//! image's last write, and the bytes once the frame's fence has signalled.
+
+use std::sync::Arc;
+
+use anyhow::Result;
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::Buffer;
+use super::device::Device;
+use super::image::Image;
+use super::sync::{transition, ImageUse};
+
+pub struct Readback {
+    buffer: Buffer,
+    pub extent: vk::Extent2D,
+}
+
+impl Readback {
+    /// A buffer for a tightly packed copy of `image` (`bytes_per_pixel` per texel).
+    pub fn new(device: &Arc<Device>, image: &Image, bytes_per_pixel: u32) -> Result<Self> {
+        let size = u64::from(image.extent.width) * u64::from(image.extent.height) * u64::from(bytes_per_pixel);
+        let buffer = Buffer::new(device, size, vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuToCpu, "readback")?;
+        Ok(Self { buffer, extent: image.extent })
+    }
+
+    /// Records the copy. The image is in use `from` and is left in `TRANSFER_SRC`; the
+    /// buffer write is made visible to the host.
+    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, image: &Image, from: ImageUse) {
+        transition(device, cmd, image.handle, image.aspect, from, ImageUse::TRANSFER_SRC);
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(
+                vk::ImageSubresourceLayers::default().aspect_mask(image.aspect).layer_count(1),
+            )
+            .image_extent(vk::Extent3D { width: image.extent.width, height: image.extent.height, depth: 1 });
+        unsafe {
+            device.handle.cmd_copy_image_to_buffer(
+                cmd,
+                image.handle,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                self.buffer.handle,
+                &[region],
+            );
+        }
+        let to_host = vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ);
+        let barriers = [to_host];
+        let dependency = vk::DependencyInfo::default().memory_barriers(&barriers);
+        unsafe { device.handle.cmd_pipeline_barrier2(cmd, &dependency) };
+    }
+
+    /// The copied bytes; valid once the submission that recorded the copy has completed.
+    pub fn bytes(&self) -> Result<&[u8]> {
+        self.buffer.read()
+    }
+}

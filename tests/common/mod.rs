@@ -1,0 +1,139 @@
+//! What the rendering tests share: one Vulkan device per test binary (lavapipe start-up is
+//! not free) with the validation layer on, frames rendered one at a time so that every
+//! validation error is charged to the test whose frame caused it, and image comparison.
+
+#![allow(dead_code)] // each test binary uses its own part of this module
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, OnceLock};
+
+use argil::render::{count_non_finite, OffscreenFrame, Renderer};
+use argil::scene::Scene;
+use argil::vk::{Device, DeviceChoice, DeviceOptions};
+use ash::vk;
+
+pub struct Gpu {
+    pub device: Arc<Device>,
+    renderer: Mutex<Renderer>,
+}
+
+/// The device of this test binary: `ARGIL_TEST_DEVICE` (index or name) or the default choice.
+pub fn gpu() -> &'static Gpu {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    GPU.get_or_init(|| {
+        let choice = std::env::var("ARGIL_TEST_DEVICE")
+            .map(|s| s.parse().expect("infallible"))
+            .unwrap_or(DeviceChoice::Best);
+        let device = Arc::new(
+            Device::new(DeviceOptions { choice, validation: true }, None)
+                .expect("a Vulkan device with the validation layer (run `make setup`)"),
+        );
+        let renderer = Mutex::new(Renderer::new(device.clone(), 1).expect("renderer"));
+        Gpu { device, renderer }
+    })
+}
+
+impl Gpu {
+    /// Runs `work` alone on the device and fails if the validation layer reported an error
+    /// meanwhile.
+    pub fn exclusive<R>(&self, work: impl FnOnce(&mut Renderer) -> R) -> R {
+        let mut renderer = self.renderer.lock().unwrap_or_else(|e| e.into_inner());
+        let report = self.device.validation().expect("tests run with validation on");
+        let (errors, first_message) = (report.error_count(), report.message_count());
+        let result = work(&mut renderer);
+        let new_errors = report.error_count() - errors;
+        assert_eq!(
+            new_errors,
+            0,
+            "the validation layer reported {new_errors} error(s):\n{}",
+            report.messages_since(first_message).join("\n")
+        );
+        result
+    }
+}
+
+/// Renders `scene` at `width`×`height` and checks the frame has no NaN/Inf value.
+pub fn render(scene: &Scene, width: u32, height: u32) -> OffscreenFrame {
+    let frame = gpu().exclusive(|renderer| {
+        let gpu_scene = renderer.upload(scene).expect("upload");
+        renderer
+            .render_offscreen(scene, &gpu_scene, vk::Extent2D { width, height }, 1.0)
+            .expect("render")
+    });
+    assert_eq!(count_non_finite(&frame.hdr), 0, "NaN/Inf values in the rendered frame");
+    frame
+}
+
+pub fn project_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Where failing image tests leave `NAME-actual.png` and `NAME-diff.png` for a human.
+pub fn failure_dir() -> PathBuf {
+    project_dir().join("target").join("test-failures")
+}
+
+/// Root-mean-square difference in 8-bit units over RGB, and the largest channel difference.
+pub fn rgb_difference(a: &[u8], b: &[u8]) -> (f64, u8) {
+    assert_eq!(a.len(), b.len());
+    let mut sum = 0.0f64;
+    let mut max = 0u8;
+    let mut n = 0usize;
+    for (pa, pb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        for c in 0..3 {
+            let d = pa[c].abs_diff(pb[c]);
+            sum += f64::from(d) * f64::from(d);
+            max = max.max(d);
+            n += 1;
+        }
+    }
+    ((sum / n as f64).sqrt(), max)
+}
+
+/// Compares a frame's display image with `tests/golden/NAME.png`.
+///
+/// Tolerance: RMSE ≤ 1.0 in 8-bit units. The renderer is deterministic on one machine;
+/// across Mesa/LLVM versions and CPUs, fp contraction and transcendental approximations
+/// move tone-mapped values by at most one code value on some pixels (RMSE < 1), while a
+/// 2% change of any lobe's radiance moves lit pixels by 2–5 code values.
+/// `ARGIL_BLESS=1` writes the golden instead (review the image before committing it).
+pub fn assert_matches_golden(frame: &OffscreenFrame, name: &str) {
+    const MAX_RMSE: f64 = 1.0;
+    let golden_path = project_dir().join("tests/golden").join(format!("{name}.png"));
+    let actual = image::RgbaImage::from_raw(frame.width, frame.height, frame.display.clone()).expect("size");
+    if std::env::var_os("ARGIL_BLESS").is_some() {
+        actual.save(&golden_path).expect("write golden");
+        eprintln!("wrote golden {}", golden_path.display());
+        return;
+    }
+    let golden = image::open(&golden_path)
+        .unwrap_or_else(|e| panic!("cannot read golden {}: {e} (ARGIL_BLESS=1 creates it)", golden_path.display()))
+        .to_rgba8();
+    assert_eq!(golden.dimensions(), actual.dimensions(), "golden {name} has another size");
+    let (rmse, max) = rgb_difference(golden.as_raw(), actual.as_raw());
+    if rmse > MAX_RMSE {
+        let dir = failure_dir();
+        std::fs::create_dir_all(&dir).expect("create failure dir");
+        let actual_path = dir.join(format!("{name}-actual.png"));
+        let diff_path = dir.join(format!("{name}-diff.png"));
+        actual.save(&actual_path).expect("write actual");
+        let diff = image::RgbaImage::from_fn(frame.width, frame.height, |x, y| {
+            let (a, g) = (actual.get_pixel(x, y), golden.get_pixel(x, y));
+            let d = (0..3).map(|c| a[c].abs_diff(g[c])).max().unwrap_or(0);
+            image::Rgba([d.saturating_mul(8), 0, 0, 255])
+        });
+        diff.save(&diff_path).expect("write diff");
+        panic!(
+            "{name}: RMSE {rmse:.3} > {MAX_RMSE} (max channel difference {max}); see {} and {}",
+            actual_path.display(),
+            diff_path.display()
+        );
+    }
+    eprintln!("{name}: RMSE {rmse:.3} (max channel difference {max})");
+}
+
+/// A scene from TOML text, with paths relative to `tests/`.
+pub fn scene(toml: &str) -> Scene {
+    Scene::from_toml(toml, "test scene", Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").as_path())
+        .expect("test scene parses")
+}
