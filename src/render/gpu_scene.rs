@@ -46,8 +46,12 @@ impl FrameData {
             slot.intensity = light.intensity.extend(0.0).to_array();
         }
         let ambient = match &scene.environment {
+            Environment::None => Vec4::ZERO,
             Environment::Uniform { radiance } => radiance.extend(0.0),
-            _ => Vec4::ZERO,
+            Environment::Map { path } => anyhow::bail!(
+                "{}: environment maps are not rendered yet; use kind = \"none\" or \"uniform\"",
+                path.display()
+            ),
         };
         Ok(Self {
             view_proj: view_proj.to_cols_array_2d(),
