@@ -4,9 +4,12 @@
 
 CARGO ?= cargo
 # The Vulkan window-system code warns without a runtime directory; give it a private one.
-export XDG_RUNTIME_DIR ?= /tmp/argil-runtime-$(shell id -u)
+ifeq ($(strip $(XDG_RUNTIME_DIR)),)
+XDG_RUNTIME_DIR := /tmp/argil-runtime-$(shell id -u)
+endif
+export XDG_RUNTIME_DIR
 
-.PHONY: setup build run test verify clean
+.PHONY: setup build run test clean
 
 setup:
 	@bash scripts/setup.sh
