@@ -21,7 +21,8 @@ void main() {
     Material m = materials[object.material_index];
     ShadingModels models = ShadingModels(DIFFUSE_MODEL, SPECULAR_MODEL, DISTRIBUTION, GEOMETRY);
     vec3 v = normalize(frame.camera_position.xyz - in_world_position);
-    vec3 n = shading_normal(in_normal, in_world_position, gl_FrontFacing);
+    vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
+    vec3 n = view_facing_normal(n_geometric, v);
 
     vec3 radiance = vec3(0.0);
     for (uint i = 0; i < frame.counts.x; ++i) {
@@ -30,7 +31,7 @@ void main() {
         vec3 l = to_light * inversesqrt(distance2);
         // Point light irradiance on a surface facing it: I / d^2.
         vec3 irradiance = frame.lights[i].intensity.rgb / distance2;
-        radiance += irradiance * brdf_cos(models, m, n, v, l);
+        radiance += irradiance * brdf_cos(models, m, n, n_geometric, v, l);
     }
     radiance += uniform_environment(models, m, frame.ambient_radiance.rgb);
     out_radiance = vec4(radiance, 1.0);

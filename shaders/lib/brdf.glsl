@@ -247,7 +247,9 @@ float diffuse_lambert() {
 }
 
 // Qualitative Oren-Nayar, seed eq. 12 with a = max(θi, θr), b = min(θi, θr) as angles:
-// (A + B max(0, cos(φi − φr)) sin a tan b)/π per unit albedo, σ in radians.
+// (A + B max(0, cos(φi − φr)) sin a tan b)/π per unit albedo, σ in radians. sin a and tan b
+// come from the tangent-plane projections (|v_t| = sin θr) rather than acos/tan, which lose
+// precision near the normal in fp32.
 float diffuse_oren_nayar(float sigma, vec3 n, vec3 v, vec3 l) {
     float s2 = sigma * sigma;
     float a_coef = 1.0 - 0.5 * s2 / (s2 + 0.33);
@@ -256,13 +258,18 @@ float diffuse_oren_nayar(float sigma, vec3 n, vec3 v, vec3 l) {
     float n_dot_l = dot(n, l);
     vec3 v_t = v - n * n_dot_v;
     vec3 l_t = l - n * n_dot_l;
-    float len2 = dot(v_t, v_t) * dot(l_t, l_t);
+    float v_t2 = dot(v_t, v_t);
+    float l_t2 = dot(l_t, l_t);
+    float len2 = v_t2 * l_t2;
     float cos_phi = len2 > MIN_TANGENT_LEN2 ? clamp(dot(v_t, l_t) * inversesqrt(len2), 0.0, 1.0) : 0.0;
-    float theta_r = acos(clamp(n_dot_v, MIN_N_DOT_V, 1.0));
-    float theta_i = acos(clamp(n_dot_l, MIN_N_DOT_V, 1.0));
-    float a = max(theta_i, theta_r);
-    float b = min(theta_i, theta_r);
-    return (a_coef + b_coef * cos_phi * sin(a) * tan(b)) / PI;
+    float sin_r = min(sqrt(v_t2), 1.0);
+    float sin_i = min(sqrt(l_t2), 1.0);
+    float cos_r = clamp(n_dot_v, MIN_N_DOT_V, 1.0);
+    float cos_i = clamp(n_dot_l, MIN_N_DOT_V, 1.0);
+    // The larger angle has the larger sine, the smaller angle the larger cosine.
+    float sin_a = max(sin_r, sin_i);
+    float tan_b = min(sin_r, sin_i) / max(cos_r, cos_i);
+    return (a_coef + b_coef * cos_phi * sin_a * tan_b) / PI;
 }
 
 // EON's polynomial fit of the FON directional albedo E_FON(μ) (Portsmouth et al. 2025).

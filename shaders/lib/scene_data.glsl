@@ -2,26 +2,13 @@
 // layouts in src/render/gpu_scene.rs (FrameData, MaterialData, ObjectPush).
 #ifndef ARGIL_SCENE_DATA_GLSL
 #define ARGIL_SCENE_DATA_GLSL
+#include "material.glsl"
 
 #define MAX_POINT_LIGHTS 16
 
 struct PointLight {
     vec4 position;   // xyz world position
     vec4 intensity;  // rgb radiant intensity (W/sr)
-};
-
-struct Material {
-    vec4 base_color;      // rgb linear albedo
-    vec4 specular_color;  // rgb tint of the specular lobe
-    vec4 wrap_color;      // rgb colour of the wrap term, a = its intensity
-    float roughness;      // perceptual; alpha = roughness^2
-    float f0;             // Schlick reflectance at normal incidence
-    float diffuse_roughness;
-    float wrap;
-    float wrap_width;
-    float pad0;
-    float pad1;
-    float pad2;
 };
 
 layout(set = 0, binding = 0, std140) uniform FrameData {

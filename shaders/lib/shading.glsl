@@ -1,11 +1,13 @@
 // Shading of one surface point: the material's models put together, for point lights and
-// for a uniform environment. Shared by the forward pass and compute test harnesses.
+// for a uniform environment. Shared by the forward pass and compute test harnesses; the
+// f64 twins are in src/brdf/shading.rs.
 #ifndef ARGIL_SHADING_GLSL
 #define ARGIL_SHADING_GLSL
 #include "brdf.glsl"
+#include "material.glsl"
 
 // Values of the models' specialization constants: `as u32` of the Rust enums in
-// src/scene/material.rs.
+// src/brdf/shading.rs.
 const uint DIFFUSE_LAMBERT = 0u;
 const uint DIFFUSE_OREN_NAYAR = 1u;
 const uint DIFFUSE_EON = 2u;
@@ -25,10 +27,12 @@ struct ShadingModels {
 const float MIN_LIGHT_DISTANCE2 = 1e-8;
 // Below this squared length an interpolated normal has no direction.
 const float MIN_NORMAL_LENGTH2 = 1e-12;
+// Smallest n·v of a shading normal after it is turned towards the viewer.
+const float MIN_SHADING_N_DOT_V = 1e-3;
 
-// The unit shading normal on the viewer's side of the surface; a zero interpolated normal
-// (degenerate mesh data) falls back to the triangle's geometric normal.
-vec3 shading_normal(vec3 interpolated, vec3 world_position, bool front_facing) {
+// The unit interpolated normal on the viewer's side of the surface; a zero interpolated
+// normal (degenerate mesh data) falls back to the triangle's geometric normal.
+vec3 surface_normal(vec3 interpolated, vec3 world_position, bool front_facing) {
     float len2 = dot(interpolated, interpolated);
     if (len2 > MIN_NORMAL_LENGTH2) {
         vec3 n = interpolated * inversesqrt(len2);
@@ -38,6 +42,24 @@ vec3 shading_normal(vec3 interpolated, vec3 world_position, bool front_facing) {
     vec3 g = -cross(dFdx(world_position), dFdy(world_position));
     float g2 = dot(g, g);
     return g2 > 0.0 ? g * inversesqrt(g2) : vec3(0.0, 0.0, 1.0);
+}
+
+// A visible point's shading normal cannot face away from the eye: one that does (normal
+// maps, interpolated normals at silhouettes) is turned towards v, continuously, until
+// n·v = MIN_SHADING_N_DOT_V (before normalisation).
+vec3 view_facing_normal(vec3 n, vec3 v) {
+    float n_dot_v = dot(n, v);
+    if (n_dot_v >= MIN_SHADING_N_DOT_V) return n;
+    return normalize(n + v * (MIN_SHADING_N_DOT_V - n_dot_v));
+}
+
+// Chiang, Li & Burley 2019 ("Taming the Shadow Terminator"): the shadowing of a bumped
+// surface whose shading normal n_s leans away from its geometric normal n_g,
+// G = min(1, (n_g·l)/((n_s·l)(n_g·n_s))), smoothed as −G³ + G² + G; 0 below n_g's horizon.
+float shadow_terminator(float ng_dot_l, float ns_dot_l, float ng_dot_ns) {
+    if (ng_dot_l <= 0.0 || ns_dot_l <= 0.0) return 0.0;
+    float g = min(ng_dot_l / (ns_dot_l * max(ng_dot_ns, MIN_N_DOT_V)), 1.0);
+    return g * (1.0 + g * (1.0 - g));
 }
 
 // The diffuse lobe f_d (without the cosine), albedo included.
@@ -70,9 +92,11 @@ vec3 specular_lobe(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l, flo
     return m.specular_color.rgb * f;
 }
 
-// Reflected radiance per unit irradiance E⊥ arriving along l: f(n, v, l)(n·l), plus the
-// wrap term of seed eq. 18 (colour × intensity/π × s), which lights where n·l ≤ 0 too.
-vec3 brdf_cos(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l) {
+// Reflected radiance per unit irradiance E⊥ arriving along l, for shading normal n
+// (already facing the viewer) on a surface of geometric normal n_geometric:
+// f(n, v, l)(n·l) times the terminator shadowing, plus the wrap term of seed eq. 18
+// (colour × intensity/π × s), which lights where n·l ≤ 0 too.
+vec3 brdf_cos(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec3 l) {
     float n_dot_l = dot(n, l);
     vec3 wrap = m.wrap_color.a > 0.0
         ? m.wrap_color.rgb * (m.wrap_color.a / PI) * wrap_seed(n_dot_l, m.wrap, m.wrap_width)
@@ -81,7 +105,8 @@ vec3 brdf_cos(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     vec3 f = diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l)
            + specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l);
-    return f * n_dot_l + wrap;
+    float shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, dot(n_geometric, n));
+    return f * (n_dot_l * shadowing) + wrap;
 }
 
 // Radiance reflected from a uniform environment of radiance L by the diffuse lobe, taken

@@ -18,7 +18,9 @@ pub fn diffuse_lambert() -> f64 {
 }
 
 /// Qualitative Oren-Nayar, seed eq. 12 with a = max(θi, θr), b = min(θi, θr) as angles:
-/// (A + B max(0, cos(φi − φr)) sin a tan b)/π per unit albedo, σ in radians.
+/// (A + B max(0, cos(φi − φr)) sin a tan b)/π per unit albedo, σ in radians. sin a and
+/// tan b come from the tangent-plane projections (|v_t| = sin θr) rather than acos/tan,
+/// which lose precision near the normal in fp32.
 pub fn diffuse_oren_nayar(sigma: f64, n: Vec3, v: Vec3, l: Vec3) -> f64 {
     let s2 = sigma * sigma;
     let a_coef = 1.0 - 0.5 * s2 / (s2 + 0.33);
@@ -35,17 +37,19 @@ pub fn diffuse_oren_nayar(sigma: f64, n: Vec3, v: Vec3, l: Vec3) -> f64 {
         l[1] - n[1] * n_dot_l,
         l[2] - n[2] * n_dot_l,
     ];
-    let len2 = dot(v_t, v_t) * dot(l_t, l_t);
+    let (v_t2, l_t2) = (dot(v_t, v_t), dot(l_t, l_t));
+    let len2 = v_t2 * l_t2;
     let cos_phi = if len2 > MIN_TANGENT_LEN2 {
         (dot(v_t, l_t) / len2.sqrt()).clamp(0.0, 1.0)
     } else {
         0.0
     };
-    let theta_r = n_dot_v.clamp(MIN_N_DOT_V, 1.0).acos();
-    let theta_i = n_dot_l.clamp(MIN_N_DOT_V, 1.0).acos();
-    let a = theta_i.max(theta_r);
-    let b = theta_i.min(theta_r);
-    (a_coef + b_coef * cos_phi * a.sin() * b.tan()) / PI
+    let (sin_r, sin_i) = (v_t2.sqrt().min(1.0), l_t2.sqrt().min(1.0));
+    let (cos_r, cos_i) = (n_dot_v.clamp(MIN_N_DOT_V, 1.0), n_dot_l.clamp(MIN_N_DOT_V, 1.0));
+    // The larger angle has the larger sine, the smaller angle the larger cosine.
+    let sin_a = sin_r.max(sin_i);
+    let tan_b = sin_r.min(sin_i) / cos_r.max(cos_i);
+    (a_coef + b_coef * cos_phi * sin_a * tan_b) / PI
 }
 
 /// EON's polynomial fit of the FON directional albedo E_FON(μ) (Portsmouth et al. 2025).

@@ -12,6 +12,7 @@ pub mod distribution;
 pub mod fresnel;
 pub mod geometry;
 pub mod quadrature;
+pub mod shading;
 pub mod specular;
 pub mod tonemap;
 pub mod wrap;

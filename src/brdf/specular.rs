@@ -7,17 +7,26 @@ use super::geometry::{
     g2_smith_separable_ggx, g2_v_cavity,
 };
 use super::{clamp_alpha, Vec3, FP16_MAX, MIN_N_DOT_V, PI};
+use serde::{Deserialize, Serialize};
 
-/// Normal distribution of `spec_cook_torrance`; the value is the GLSL `int distribution`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Normal distribution of `spec_cook_torrance`; the value is the GLSL `int distribution`
+/// and a shader specialization constant: never renumber.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
 pub enum Distribution {
+    #[default]
     Ggx = 0,
     Beckmann = 1,
 }
 
-/// Smith masking-shadowing of `spec_cook_torrance`; the value is the GLSL `int geometry`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// Smith masking-shadowing of `spec_cook_torrance`; the value is the GLSL `int geometry`
+/// and a shader specialization constant: never renumber.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
 pub enum Geometry {
+    #[default]
     SmithCorrelated = 0,
     SmithSeparable = 1,
 }

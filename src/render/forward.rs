@@ -22,7 +22,13 @@ use crate::vk::{
 
 /// The specialization constants of `forward.frag` for a material.
 pub fn material_specialization(m: &Material) -> Specialization {
-    Specialization(vec![m.diffuse as u32, m.specular as u32, m.distribution as u32, m.geometry as u32])
+    let models = m.shading_models();
+    Specialization(vec![
+        models.diffuse as u32,
+        models.specular as u32,
+        models.distribution as u32,
+        models.geometry as u32,
+    ])
 }
 
 /// What one frame in flight owns: its uniforms, materials and the set pointing at them.

@@ -1,53 +1,7 @@
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
 
-// The `as u32` values of these enums are shader specialization constants:
-// never reorder or renumber the variants.
-
-/// Diffuse lobe. `diffuse_roughness` is sigma in radians for Oren-Nayar and
-/// the roughness r of EON (energy-preserving Oren-Nayar).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[repr(u32)]
-pub enum DiffuseModel {
-    #[default]
-    Lambert = 0,
-    OrenNayar = 1,
-    Eon = 2,
-    None = 3,
-}
-
-/// Specular lobe.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[repr(u32)]
-pub enum SpecularModel {
-    #[default]
-    CookTorrance = 0,
-    TorranceSparrow = 1,
-    BlinnPhong = 2,
-    None = 3,
-}
-
-/// Microfacet normal distribution of the specular lobe.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[repr(u32)]
-pub enum Distribution {
-    #[default]
-    Ggx = 0,
-    Beckmann = 1,
-}
-
-/// Smith masking-shadowing form of the specular lobe.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[repr(u32)]
-pub enum Geometry {
-    #[default]
-    SmithCorrelated = 0,
-    SmithSeparable = 1,
-}
+pub use crate::brdf::shading::{DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
+pub use crate::brdf::specular::{Distribution, Geometry};
 
 /// A validated material; see docs/scene-format.md for the meaning and range
 /// of each field.
@@ -71,4 +25,32 @@ pub struct Material {
     pub wrap_width: f32,
     pub wrap_color: Vec3,
     pub wrap_intensity: f32,
+}
+
+impl Material {
+    /// The models this material selects, as the shaders' specialization constants see them.
+    pub fn shading_models(&self) -> ShadingModels {
+        ShadingModels {
+            diffuse: self.diffuse,
+            specular: self.specular,
+            distribution: self.distribution,
+            geometry: self.geometry,
+        }
+    }
+
+    /// The parameters in f64, for the reference models in `crate::brdf`.
+    pub fn shading_params(&self) -> ShadingParams {
+        let rgb = |c: Vec3| c.as_dvec3().to_array();
+        ShadingParams {
+            base_color: rgb(self.base_color),
+            specular_color: rgb(self.specular_color),
+            wrap_color: rgb(self.wrap_color),
+            wrap_intensity: f64::from(self.wrap_intensity),
+            roughness: f64::from(self.roughness),
+            f0: f64::from(self.f0),
+            diffuse_roughness: f64::from(self.diffuse_roughness),
+            wrap: f64::from(self.wrap),
+            wrap_width: f64::from(self.wrap_width),
+        }
+    }
 }

@@ -1,0 +1,160 @@
+//! The material's lobes put together: twins of `shaders/lib/shading.glsl`.
+
+use serde::{Deserialize, Serialize};
+
+use super::diffuse::{diffuse_eon, diffuse_lambert, diffuse_oren_nayar};
+use super::specular::{spec_blinn_phong, spec_cook_torrance, spec_torrance_sparrow, Distribution, Geometry};
+use super::wrap::wrap_seed;
+use super::{clamp_alpha, cross, dot, safe_half_vector, Vec3, MIN_N_DOT_V, PI};
+
+// The `as u32` values of these enums are shader specialization constants (the
+// `DIFFUSE_*`/`SPECULAR_*` constants of shading.glsl): never reorder or renumber.
+
+/// Diffuse lobe. `diffuse_roughness` is σ in radians for Oren-Nayar and the roughness r
+/// of EON (energy-preserving Oren-Nayar).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum DiffuseModel {
+    #[default]
+    Lambert = 0,
+    OrenNayar = 1,
+    Eon = 2,
+    None = 3,
+}
+
+/// Specular lobe.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum SpecularModel {
+    #[default]
+    CookTorrance = 0,
+    TorranceSparrow = 1,
+    BlinnPhong = 2,
+    None = 3,
+}
+
+/// The models of a material (`ShadingModels` in GLSL).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ShadingModels {
+    pub diffuse: DiffuseModel,
+    pub specular: SpecularModel,
+    pub distribution: Distribution,
+    pub geometry: Geometry,
+}
+
+/// A material's parameters in f64 (`Material` in GLSL).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingParams {
+    pub base_color: Vec3,
+    pub specular_color: Vec3,
+    pub wrap_color: Vec3,
+    pub wrap_intensity: f64,
+    pub roughness: f64,
+    pub f0: f64,
+    pub diffuse_roughness: f64,
+    pub wrap: f64,
+    pub wrap_width: f64,
+}
+
+/// Smallest n·v of a shading normal after it is turned towards the viewer.
+pub const MIN_SHADING_N_DOT_V: f64 = 1e-3;
+
+fn scale(a: Vec3, s: f64) -> Vec3 {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
+fn add(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn mul(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] * b[0], a[1] * b[1], a[2] * b[2]]
+}
+
+/// A visible point's shading normal cannot face away from the eye: one that does (normal
+/// maps, interpolated normals at silhouettes) is turned towards v, continuously, until
+/// n·v = `MIN_SHADING_N_DOT_V` (before normalisation).
+pub fn view_facing_normal(n: Vec3, v: Vec3) -> Vec3 {
+    let n_dot_v = dot(n, v);
+    if n_dot_v >= MIN_SHADING_N_DOT_V {
+        return n;
+    }
+    let bent = add(n, scale(v, MIN_SHADING_N_DOT_V - n_dot_v));
+    scale(bent, 1.0 / dot(bent, bent).sqrt())
+}
+
+/// Chiang, Li & Burley 2019 ("Taming the Shadow Terminator"): the shadowing of a bumped
+/// surface whose shading normal n_s leans away from its geometric normal n_g,
+/// G = min(1, (n_g·l)/((n_s·l)(n_g·n_s))), smoothed as −G³ + G² + G; 0 below n_g's horizon.
+pub fn shadow_terminator(ng_dot_l: f64, ns_dot_l: f64, ng_dot_ns: f64) -> f64 {
+    if ng_dot_l <= 0.0 || ns_dot_l <= 0.0 {
+        return 0.0;
+    }
+    let g = (ng_dot_l / (ns_dot_l * ng_dot_ns.max(MIN_N_DOT_V))).min(1.0);
+    g * (1.0 + g * (1.0 - g))
+}
+
+/// The diffuse lobe f_d (without the cosine), albedo included.
+pub fn diffuse_lobe(model: DiffuseModel, m: &ShadingParams, n: Vec3, v: Vec3, l: Vec3, n_dot_v: f64, n_dot_l: f64) -> Vec3 {
+    match model {
+        DiffuseModel::Lambert => scale(m.base_color, diffuse_lambert()),
+        DiffuseModel::OrenNayar => scale(m.base_color, diffuse_oren_nayar(m.diffuse_roughness, n, v, l)),
+        DiffuseModel::Eon => diffuse_eon(m.base_color, m.diffuse_roughness, n_dot_v, n_dot_l, dot(v, l)),
+        DiffuseModel::None => [0.0; 3],
+    }
+}
+
+/// The specular lobe f_s (without the cosine), tinted by the specular colour.
+pub fn specular_lobe(models: ShadingModels, m: &ShadingParams, n: Vec3, v: Vec3, l: Vec3, n_dot_v: f64, n_dot_l: f64) -> Vec3 {
+    if models.specular == SpecularModel::None {
+        return [0.0; 3];
+    }
+    let alpha = clamp_alpha(m.roughness * m.roughness);
+    let h = safe_half_vector(v, l, n);
+    let n_cross_h = cross(n, h);
+    let n_dot_h = dot(n, h).max(0.0);
+    let len2 = dot(n_cross_h, n_cross_h);
+    let v_dot_h = dot(v, h).max(0.0);
+    let f0 = [m.f0; 3];
+    let f = match models.specular {
+        SpecularModel::CookTorrance => spec_cook_torrance(
+            alpha,
+            n_dot_v,
+            n_dot_l,
+            n_dot_h,
+            len2,
+            f0,
+            v_dot_h,
+            models.distribution,
+            models.geometry,
+        ),
+        SpecularModel::TorranceSparrow => spec_torrance_sparrow(alpha, n_dot_v, n_dot_l, n_dot_h, len2, f0, v_dot_h),
+        SpecularModel::BlinnPhong | SpecularModel::None => spec_blinn_phong(alpha, n_dot_h, f0, v_dot_h),
+    };
+    mul(m.specular_color, f)
+}
+
+/// Reflected radiance per unit irradiance E⊥ arriving along l, for shading normal `n`
+/// (already facing the viewer) on a surface of geometric normal `n_geometric`:
+/// f(n, v, l)(n·l) times the terminator shadowing, plus the wrap term of seed eq. 18
+/// (colour × intensity/π × s), which lights where n·l ≤ 0 too.
+pub fn brdf_cos(models: ShadingModels, m: &ShadingParams, n: Vec3, n_geometric: Vec3, v: Vec3, l: Vec3) -> Vec3 {
+    let n_dot_l = dot(n, l);
+    let wrap = if m.wrap_intensity > 0.0 {
+        scale(m.wrap_color, m.wrap_intensity / PI * wrap_seed(n_dot_l, m.wrap, m.wrap_width))
+    } else {
+        [0.0; 3]
+    };
+    if n_dot_l <= 0.0 {
+        return wrap;
+    }
+    let n_dot_v = dot(n, v).max(MIN_N_DOT_V);
+    let f = add(
+        diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l),
+        specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l),
+    );
+    let shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, dot(n_geometric, n));
+    add(scale(f, n_dot_l * shadowing), wrap)
+}
