@@ -11,6 +11,7 @@ pub mod diffuse;
 pub mod distribution;
 pub mod fresnel;
 pub mod geometry;
+pub mod normal_mapping;
 pub mod quadrature;
 pub mod shading;
 pub mod specular;

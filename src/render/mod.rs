@@ -6,6 +6,7 @@ pub mod output;
 pub mod renderer;
 pub mod shaders;
 pub mod target;
+pub mod textures;
 pub mod tonemap;
 
 pub use gpu_scene::GpuScene;

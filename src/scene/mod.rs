@@ -11,6 +11,7 @@ mod mesh;
 mod obj;
 mod resolve;
 mod tangents;
+mod texture;
 
 #[cfg(test)]
 mod tests;
@@ -25,6 +26,7 @@ pub use file::SceneFile;
 pub use light::{Environment, PointLight};
 pub use material::{DiffuseModel, Distribution, Geometry, Material, SpecularModel};
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
+pub use texture::{TexelFormat, TextureData};
 
 /// The scene used when none is given; it needs no files on disk.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");

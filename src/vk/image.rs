@@ -1,4 +1,4 @@
-//! 2D images with a view and their memory, freed in `Drop`.
+//! 2D images (with or without mip chains) with a view and their memory, freed in `Drop`.
 
 use std::sync::Arc;
 
@@ -17,12 +17,32 @@ pub struct Image {
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub aspect: vk::ImageAspectFlags,
+    pub mip_levels: u32,
+}
+
+/// The number of levels of a full mip chain down to 1×1.
+pub fn mip_count(extent: vk::Extent2D) -> u32 {
+    32 - extent.width.max(extent.height).max(1).leading_zeros()
 }
 
 impl Image {
+    /// A single-level image.
     pub fn new_2d(
         device: &Arc<Device>,
         extent: vk::Extent2D,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+        name: &str,
+    ) -> Result<Self> {
+        Self::with_mips(device, extent, 1, format, usage, aspect, name)
+    }
+
+    /// An image with `mip_levels` levels, the view covering all of them.
+    pub fn with_mips(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        mip_levels: u32,
         format: vk::Format,
         usage: vk::ImageUsageFlags,
         aspect: vk::ImageAspectFlags,
@@ -32,7 +52,7 @@ impl Image {
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
             .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
-            .mip_levels(1)
+            .mip_levels(mip_levels)
             .array_layers(1)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
@@ -64,6 +84,7 @@ impl Image {
             format,
             extent,
             aspect,
+            mip_levels,
         };
         let a = image.allocation.as_ref().expect("allocated above");
         unsafe { device.handle.bind_image_memory(handle, a.memory(), a.offset()) }
@@ -72,7 +93,7 @@ impl Image {
             .image(handle)
             .view_type(vk::ImageViewType::TYPE_2D)
             .format(format)
-            .subresource_range(full_range(aspect));
+            .subresource_range(full_range(aspect).level_count(mip_levels));
         image.view = unsafe { device.handle.create_image_view(&view_info, None) }
             .with_context(|| format!("cannot create a view of image '{name}'"))?;
         device.set_name(handle, name);
@@ -80,7 +101,7 @@ impl Image {
     }
 }
 
-/// The whole of a single-mip, single-layer image.
+/// The first mip level of a single-layer image (`.level_count(n)` for more).
 pub fn full_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange::default().aspect_mask(aspect).level_count(1).layer_count(1)
 }

@@ -100,9 +100,18 @@ impl ImageUse {
         stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
         access: vk::AccessFlags2::SHADER_SAMPLED_READ,
     };
+    pub const TRANSFER_DST: Self = Self {
+        layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        stage: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::COPY.as_raw() | vk::PipelineStageFlags2::BLIT.as_raw(),
+        ),
+        access: vk::AccessFlags2::TRANSFER_WRITE,
+    };
     pub const TRANSFER_SRC: Self = Self {
         layout: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-        stage: vk::PipelineStageFlags2::COPY,
+        stage: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::COPY.as_raw() | vk::PipelineStageFlags2::BLIT.as_raw(),
+        ),
         access: vk::AccessFlags2::TRANSFER_READ,
     };
     pub const PRESENT: Self = Self {
@@ -112,7 +121,7 @@ impl ImageUse {
     };
 }
 
-/// Records a layout transition of a whole single-mip image from `from` to `to`.
+/// Records a layout transition of the first mip level of an image from `from` to `to`.
 pub fn transition(
     device: &Device,
     cmd: vk::CommandBuffer,
@@ -121,9 +130,21 @@ pub fn transition(
     from: ImageUse,
     to: ImageUse,
 ) {
+    transition_levels(device, cmd, image, full_range(aspect), from, to);
+}
+
+/// Records a layout transition of the mip levels and layers in `range`.
+pub fn transition_levels(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    image: vk::Image,
+    range: vk::ImageSubresourceRange,
+    from: ImageUse,
+    to: ImageUse,
+) {
     let barrier = vk::ImageMemoryBarrier2::default()
         .image(image)
-        .subresource_range(full_range(aspect))
+        .subresource_range(range)
         .old_layout(from.layout)
         .new_layout(to.layout)
         .src_stage_mask(from.stage)
