@@ -17,7 +17,7 @@ use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::scene::{Material, Scene, Vertex};
 use crate::vk::{
     Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
-    GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization, set_full_viewport,
 };
 
 /// The specialization constants of `forward.frag` for a material.
@@ -180,18 +180,11 @@ impl ForwardPass {
             .layer_count(1)
             .color_attachments(&color)
             .depth_attachment(&depth);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: target.extent.width as f32,
-            height: target.extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
         unsafe {
             d.cmd_begin_rendering(cmd, &rendering);
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[area]);
+        }
+        set_full_viewport(&self.device, cmd, target.extent);
+        unsafe {
             d.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::GRAPHICS,

@@ -12,7 +12,7 @@ use super::shaders;
 use super::target::RenderTarget;
 use crate::vk::{
     DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
-    GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization, set_full_viewport,
 };
 
 /// The format of 8-bit tone-mapped frames written to files: the hardware sRGB-encodes.
@@ -103,18 +103,11 @@ impl TonemapPass {
             .store_op(vk::AttachmentStoreOp::STORE)];
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
         let rendering = vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&color);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: extent.width as f32,
-            height: extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
         unsafe {
             d.cmd_begin_rendering(cmd, &rendering);
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[area]);
+        }
+        set_full_viewport(&self.device, cmd, extent);
+        unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.handle);
             d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout.handle, 0, &[self.sets[slot]], &[]);
             d.cmd_push_constants(cmd, self.layout.handle, vk::ShaderStageFlags::FRAGMENT, 0, &exposure.to_ne_bytes());

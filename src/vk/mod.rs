@@ -21,7 +21,7 @@ pub use commands::{CommandPool, OneShot};
 pub use descriptors::{DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter};
 pub use device::{Device, DeviceChoice, DeviceInfo, DeviceOptions, WindowHandles};
 pub use image::{full_range, mip_count, Image};
-pub use pipeline::{GraphicsPipelineBuilder, Pipeline, PipelineLayout, Specialization};
+pub use pipeline::{set_full_viewport, GraphicsPipelineBuilder, Pipeline, PipelineLayout, Specialization};
 pub use readback::Readback;
 pub use sampler::Sampler;
 pub use shader::ShaderModule;

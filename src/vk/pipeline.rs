@@ -218,3 +218,20 @@ impl<'a> GraphicsPipelineBuilder<'a> {
         Ok(Pipeline { device: device.clone(), handle })
     }
 }
+
+/// Sets the dynamic viewport and scissor to the whole of `extent` (depth range 0..1).
+pub fn set_full_viewport(device: &Device, cmd: vk::CommandBuffer, extent: vk::Extent2D) {
+    let viewport = vk::Viewport {
+        x: 0.0,
+        y: 0.0,
+        width: extent.width as f32,
+        height: extent.height as f32,
+        min_depth: 0.0,
+        max_depth: 1.0,
+    };
+    let scissor = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+    unsafe {
+        device.handle.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.handle.cmd_set_scissor(cmd, 0, &[scissor]);
+    }
+}
