@@ -21,7 +21,7 @@ pub use descriptors::{DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBu
 pub use device::{Device, DeviceChoice, DeviceInfo, DeviceOptions, WindowHandles};
 pub use image::Image;
 pub use pipeline::{GraphicsPipelineBuilder, Pipeline, PipelineLayout, Specialization};
-pub use readback::Readback;
+pub use readback::{ImageRegion, Readback};
 pub use shader::ShaderModule;
 pub use swapchain::{Acquired, Swapchain};
 pub use sync::{transition, Fence, ImageUse, Semaphore};
