@@ -4,6 +4,7 @@
 // so each pipeline holds only the code its materials need.
 #include "scene_data.glsl"
 #include "shading.glsl"
+#include "debug_views.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
@@ -34,4 +35,8 @@ void main() {
     }
     radiance += uniform_environment(models, m, frame.ambient_radiance.rgb);
     out_radiance = vec4(radiance, 1.0);
+    if (frame.counts.y != DEBUG_VIEW_SHADED) {
+        out_radiance.rgb = debug_view_radiance(frame.counts.y, models, m, n, v, in_world_position,
+                                               in_normal, in_uv, in_tangent, radiance);
+    }
 }
