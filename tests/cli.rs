@@ -248,3 +248,62 @@ fn view_rejects_bad_arguments_before_opening_a_window() {
     assert_clean_failure(&argil(&["view", "--width", "0"]), &["--width"]);
     assert_clean_failure(&argil(&["view", "/nonexistent/scene.toml"]), &["/nonexistent/scene.toml"]);
 }
+
+/// The scene file is reloaded when it changes on disk: a broken edit is reported and the
+/// last good scene stays on screen; the next good edit is shown, with the camera kept.
+#[test]
+fn view_reloads_the_scene_when_its_file_changes() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let dir = temp_dir("reload");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
+    let shot = dir.join("window.png");
+    let runtime = temp_dir("xvfb-runtime");
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view", "--frames", "80"])
+        .args(["--width", "480", "--height", "270", "--screenshot", path_str(&shot), path_str(&scene)])
+        .env("ARGIL_VALIDATION", "1")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run xvfb-run");
+    let mut lines = BufReader::new(child.stderr.take().expect("stderr")).lines().map_while(Result::ok);
+    let mut log = String::new();
+    let mut wait_for = |what: &str| {
+        for line in lines.by_ref() {
+            log.push_str(&line);
+            log.push('\n');
+            if line.contains(what) {
+                return;
+            }
+        }
+        panic!("argil never printed {what:?}: {log}");
+    };
+    wait_for("rendering on");
+    let good = argil::scene::DEFAULT_SCENE_TOML.replace("base_color = [0.6, 0.22, 0.1]", "base_color = [0.1, 0.5, 0.2]");
+    std::fs::write(&scene, good.replace("roughness = 0.7", "roughness = 7.0")).expect("write a broken scene");
+    wait_for("materials.terracotta.roughness = 7.0");
+    // The file's camera moves too, but the viewer keeps its own.
+    std::fs::write(&scene, good.replace("position = [0.0, 1.6, 7.5]", "position = [3.0, 3.0, 3.0]")).expect("write");
+    wait_for("argil: reloaded");
+    wait_for("argil: wrote");
+    // Leaks are reported after the last line of the run, when the device is destroyed.
+    log.extend(lines.map(|l| l + "\n"));
+    let status = child.wait().expect("wait for argil");
+    assert!(status.success() && !log.contains("vulkan validation"), "{log}");
+
+    let expected = dir.join("expected.toml");
+    std::fs::write(&expected, &good).expect("write");
+    let headless = dir.join("headless.png");
+    let size = ["--width", "480", "--height", "270"];
+    assert_clean_success(&argil(&[&["render", path_str(&expected), "--out", path_str(&headless)], &size[..]].concat()));
+    let window = image::open(&shot).expect("read screenshot").to_rgb8();
+    let reference = image::open(&headless).expect("read render").to_rgb8();
+    let panel = argil::viewer::PANEL_WIDTH as u32 + 1;
+    let differing = (panel..480)
+        .flat_map(|x| (0..270).map(move |y| (x, y)))
+        .filter(|&(x, y)| window.get_pixel(x, y) != reference.get_pixel(x, y))
+        .count();
+    assert_eq!(differing, 0, "the window does not show the reloaded scene");
+}

@@ -22,7 +22,7 @@ use glam::Vec2;
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
-use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
@@ -124,6 +124,8 @@ struct InputState {
     modifiers: ModifiersState,
     /// The right button went down over the scene and is still down.
     looking: bool,
+    /// Where the cursor was last seen in the window, in pixels.
+    cursor: Option<Vec2>,
     look: Vec2,
     wheel: f32,
 }
@@ -263,6 +265,7 @@ impl App {
                 self.scene = scene;
                 self.view.clamp_selection(&self.scene);
                 self.view.error = None;
+                eprintln!("argil: reloaded {}", path.display());
                 self.view.notice = Some(format!("reloaded {}", path.display()));
             }
             Err(e) => {
@@ -437,6 +440,15 @@ impl ApplicationHandler for App {
                     }
                 }
             }
+            // Cursor motion rather than raw device motion: it also arrives on Wayland and
+            // from synthetic input (Xvfb), and looking stops at the window's edge anyway.
+            WindowEvent::CursorMoved { position, .. } => {
+                let position = Vec2::new(position.x as f32, position.y as f32);
+                if let (true, Some(last)) = (self.input.looking, self.input.cursor) {
+                    self.input.look += position - last;
+                }
+                self.input.cursor = Some(position);
+            }
             WindowEvent::MouseInput { button: MouseButton::Right, state: button, .. } => {
                 self.input.looking = button == ElementState::Pressed && !self.egui.egui_wants_pointer_input();
             }
@@ -453,14 +465,6 @@ impl ApplicationHandler for App {
                 }
             }
             _ => {}
-        }
-    }
-
-    fn device_event(&mut self, _event_loop: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
-        if let DeviceEvent::MouseMotion { delta } = event {
-            if self.input.looking {
-                self.input.look += Vec2::new(delta.0 as f32, delta.1 as f32);
-            }
         }
     }
 
