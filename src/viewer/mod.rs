@@ -415,7 +415,17 @@ impl ApplicationHandler for App {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(state) = self.state.as_mut() else { return };
-        let response = state.egui.on_window_event(&state.window, &event);
+        let tab = matches!(
+            &event,
+            WindowEvent::KeyboardInput { event: KeyEvent { physical_key: PhysicalKey::Code(KeyCode::Tab), .. }, .. }
+        );
+        // egui moves its keyboard focus with Tab and then takes every key; here Tab toggles
+        // the camera mode instead, unless a text field is being edited.
+        let response = if tab && !self.egui.egui_wants_keyboard_input() {
+            egui_winit::EventResponse::default()
+        } else {
+            state.egui.on_window_event(&state.window, &event)
+        };
         match event {
             WindowEvent::CloseRequested => self.close(event_loop),
             WindowEvent::Resized(size) => state.frames.resize(vk::Extent2D { width: size.width, height: size.height }),
