@@ -4,6 +4,8 @@
 // so each pipeline holds only the code its materials need.
 #include "scene_data.glsl"
 #include "shading.glsl"
+#include "lights.glsl"
+#include "debug_views.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
@@ -24,15 +26,11 @@ void main() {
     vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
     vec3 n = view_facing_normal(n_geometric, v);
 
-    vec3 radiance = vec3(0.0);
-    for (uint i = 0; i < frame.counts.x; ++i) {
-        vec3 to_light = frame.lights[i].position.xyz - in_world_position;
-        float distance2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE2);
-        vec3 l = to_light * inversesqrt(distance2);
-        // Point light irradiance on a surface facing it: I / d^2.
-        vec3 irradiance = frame.lights[i].intensity.rgb / distance2;
-        radiance += irradiance * brdf_cos(models, m, n, n_geometric, v, l);
-    }
+    vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position);
     radiance += uniform_environment(models, m, frame.ambient_radiance.rgb);
     out_radiance = vec4(radiance, 1.0);
+    if (frame.counts.y != DEBUG_VIEW_SHADED) {
+        out_radiance.rgb = debug_view_radiance(frame.counts.y, models, m, n, n_geometric, v, in_world_position,
+                                               in_normal, in_uv, in_tangent, radiance);
+    }
 }

@@ -55,6 +55,18 @@ enum Command {
         /// Exposure multiplier applied before tone mapping.
         #[arg(long, default_value_t = 1.0)]
         exposure: f32,
+        /// Initial window width in pixels.
+        #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        width: u32,
+        /// Initial window height in pixels.
+        #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        height: u32,
+        /// After the last frame, write what the window shows (UI included) to this PNG.
+        #[arg(long, value_name = "FILE.png", requires = "frames")]
+        screenshot: Option<PathBuf>,
+        /// Resize, minimise and restore the window while rendering (for tests).
+        #[arg(long, hide = true)]
+        resize_storm: bool,
     },
     /// List the Vulkan devices on this machine.
     Devices,
@@ -110,13 +122,23 @@ fn run(cli: Cli) -> Result<()> {
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
     match cli.command {
         Command::Render { scene, out, width, height, exposure } => render(choice, validation, scene, out, width, height, exposure),
-        Command::View { scene, frames, exposure } => {
+        Command::View { scene, frames, exposure, width, height, screenshot, resize_storm } => {
             check_exposure(exposure)?;
-            let loaded = load_scene(scene.as_deref())?;
-            argil::viewer::run(
-                loaded,
-                argil::viewer::ViewOptions { device: choice, validation, frames, exposure, scene_path: scene },
-            )
+            let loaded = match scene.as_deref() {
+                Some(path) => argil::viewer::load_scene(path)?,
+                None => Scene::default_scene(),
+            };
+            let options = argil::viewer::ViewOptions {
+                device: choice,
+                validation,
+                frames,
+                exposure,
+                scene_path: scene,
+                size: (width, height),
+                screenshot,
+                resize_storm,
+            };
+            argil::viewer::run(loaded, options)
         }
         Command::Devices => {
             let devices = device::list_devices().context("cannot list Vulkan devices")?;

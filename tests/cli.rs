@@ -163,3 +163,147 @@ fn view_opens_a_window_under_xvfb() {
         .expect("run xvfb-run");
     assert_clean_success(&o);
 }
+
+/// `argil view` under Xvfb with its own arguments; validation on.
+fn view_under_xvfb(args: &[&str]) -> Output {
+    let runtime = temp_dir("xvfb-runtime");
+    Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
+        .args(args)
+        .env("ARGIL_VALIDATION", "1")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .output()
+        .expect("run xvfb-run")
+}
+
+/// The window shows the frame `argil render` writes: its screenshot, UI included, matches
+/// the headless render of the same scene at the same size outside the UI panel.
+///
+/// Threshold: RMSE ≤ 0.5 code values. Both frames come from the same device, shaders and
+/// camera, and both targets are 8-bit sRGB encoded by the hardware (B8G8R8A8 vs R8G8B8A8
+/// differ only in channel order), so they agree exactly when the window shows the right
+/// frame; a moved camera, a stale scene or UI drawn outside its panel gives RMSE > 2.
+#[test]
+fn view_screenshot_matches_the_headless_render_outside_the_ui() {
+    let dir = temp_dir("screenshot");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
+    let shot = dir.join("window.png");
+    let (w, h) = (640u32, 400u32);
+    let (width, height) = (w.to_string(), h.to_string());
+    let size = ["--width", width.as_str(), "--height", height.as_str()];
+    let o = view_under_xvfb(&[&["--frames", "3", "--screenshot", path_str(&shot), path_str(&scene)], &size[..]].concat());
+    assert_clean_success(&o);
+    let headless = dir.join("headless.png");
+    assert_clean_success(&argil(&[&["render", path_str(&scene), "--out", path_str(&headless)], &size[..]].concat()));
+
+    let window = image::open(&shot).expect("read screenshot").to_rgb8();
+    let reference = image::open(&headless).expect("read render").to_rgb8();
+    assert_eq!(window.dimensions(), (w, h));
+    assert_eq!(reference.dimensions(), (w, h));
+    // The panel's border line straddles its edge.
+    let panel = argil::viewer::PANEL_WIDTH as u32 + 1;
+    let rmse = |xs: std::ops::Range<u32>| {
+        let mut sum = 0.0;
+        let mut n = 0.0;
+        for y in 0..h {
+            for x in xs.clone() {
+                for c in 0..3 {
+                    let d = f64::from(window.get_pixel(x, y)[c]) - f64::from(reference.get_pixel(x, y)[c]);
+                    sum += d * d;
+                    n += 1.0;
+                }
+            }
+        }
+        (sum / n).sqrt()
+    };
+    let scene_rmse = rmse(panel..w);
+    let ui_rmse = rmse(0..panel);
+    eprintln!("window vs headless: RMSE {scene_rmse:.3} right of the UI, {ui_rmse:.1} under it");
+    assert!(scene_rmse <= 0.5, "the window shows another frame: RMSE {scene_rmse:.3}");
+    assert!(ui_rmse > 5.0, "the screenshot has no UI: RMSE {ui_rmse:.3} under the panel");
+}
+
+/// Resizes to sizes from 1×1 to 1024×640, minimise and restore, while rendering with the
+/// validation layer on: no validation message (leaks included), and the swapchain was
+/// recreated for the new sizes.
+#[test]
+fn view_survives_a_resize_storm() {
+    let frames = (argil::viewer::RESIZE_STORM_TICKS + 6).to_string();
+    let o = view_under_xvfb(&["--frames", &frames, "--resize-storm", "--width", "480", "--height", "270"]);
+    assert_clean_success(&o);
+    let err = stderr(&o);
+    let recreations: u64 = err
+        .split(" swapchain recreations")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no recreation count in: {err}"));
+    assert!(recreations >= 5, "only {recreations} swapchain recreations: {err}");
+}
+
+#[test]
+fn view_rejects_bad_arguments_before_opening_a_window() {
+    assert_clean_failure(&argil(&["view", "--screenshot", "x.png"]), &["--frames"]);
+    assert_clean_failure(&argil(&["view", "--width", "0"]), &["--width"]);
+    assert_clean_failure(&argil(&["view", "/nonexistent/scene.toml"]), &["/nonexistent/scene.toml"]);
+}
+
+/// The scene file is reloaded when it changes on disk: a broken edit is reported and the
+/// last good scene stays on screen; the next good edit is shown, with the camera kept.
+#[test]
+fn view_reloads_the_scene_when_its_file_changes() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let dir = temp_dir("reload");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
+    let shot = dir.join("window.png");
+    let runtime = temp_dir("xvfb-runtime");
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view", "--frames", "80"])
+        .args(["--width", "480", "--height", "270", "--screenshot", path_str(&shot), path_str(&scene)])
+        .env("ARGIL_VALIDATION", "1")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run xvfb-run");
+    let mut lines = BufReader::new(child.stderr.take().expect("stderr")).lines().map_while(Result::ok);
+    let mut log = String::new();
+    let mut wait_for = |what: &str| {
+        for line in lines.by_ref() {
+            log.push_str(&line);
+            log.push('\n');
+            if line.contains(what) {
+                return;
+            }
+        }
+        panic!("argil never printed {what:?}: {log}");
+    };
+    wait_for("rendering on");
+    let good = argil::scene::DEFAULT_SCENE_TOML.replace("base_color = [0.6, 0.22, 0.1]", "base_color = [0.1, 0.5, 0.2]");
+    std::fs::write(&scene, good.replace("roughness = 0.7", "roughness = 7.0")).expect("write a broken scene");
+    wait_for("materials.terracotta.roughness = 7.0");
+    // The file's camera moves too, but the viewer keeps its own.
+    std::fs::write(&scene, good.replace("position = [0.0, 1.6, 7.5]", "position = [3.0, 3.0, 3.0]")).expect("write");
+    wait_for("argil: reloaded");
+    wait_for("argil: wrote");
+    // Leaks are reported after the last line of the run, when the device is destroyed.
+    log.extend(lines.map(|l| l + "\n"));
+    let status = child.wait().expect("wait for argil");
+    assert!(status.success() && !log.contains("vulkan validation"), "{log}");
+
+    let expected = dir.join("expected.toml");
+    std::fs::write(&expected, &good).expect("write");
+    let headless = dir.join("headless.png");
+    let size = ["--width", "480", "--height", "270"];
+    assert_clean_success(&argil(&[&["render", path_str(&expected), "--out", path_str(&headless)], &size[..]].concat()));
+    let window = image::open(&shot).expect("read screenshot").to_rgb8();
+    let reference = image::open(&headless).expect("read render").to_rgb8();
+    let panel = argil::viewer::PANEL_WIDTH as u32 + 1;
+    let differing = (panel..480)
+        .flat_map(|x| (0..270).map(move |y| (x, y)))
+        .filter(|&(x, y)| window.get_pixel(x, y) != reference.get_pixel(x, y))
+        .count();
+    assert_eq!(differing, 0, "the window does not show the reloaded scene");
+}

@@ -11,6 +11,7 @@ use anyhow::{Context, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use super::debug_view::DebugView;
 use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
 use super::shaders;
 use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
@@ -135,8 +136,9 @@ impl ForwardPass {
 
     /// Writes this frame's uniforms and materials into `slot` (whose previous use the
     /// caller has waited for) and creates any pipeline the scene's materials need.
-    pub fn prepare(&mut self, slot: usize, scene: &Scene, aspect: f32) -> Result<()> {
-        let frame_data = FrameData::new(scene, aspect)?;
+    pub fn prepare(&mut self, slot: usize, scene: &Scene, aspect: f32, debug_view: DebugView) -> Result<()> {
+        let mut frame_data = FrameData::new(scene, aspect)?;
+        frame_data.counts[1] = debug_view as u32;
         let materials: Vec<MaterialData> = scene.materials.iter().map(MaterialData::from).collect();
         for m in &scene.materials {
             self.pipeline(&material_specialization(m))?;

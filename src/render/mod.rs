@@ -1,5 +1,6 @@
 //! Passes built from the Vulkan pieces, and the renderer that owns them.
 
+pub mod debug_view;
 pub mod forward;
 pub mod gpu_scene;
 pub mod output;
@@ -9,6 +10,7 @@ pub mod target;
 pub mod textures;
 pub mod tonemap;
 
+pub use debug_view::DebugView;
 pub use gpu_scene::GpuScene;
 pub use output::{count_non_finite, write_frame};
 pub use renderer::{DisplayOutput, OffscreenFrame, Renderer, PASS_NAMES};

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use anyhow::Result;
 use ash::vk;
 
+use super::debug_view::DebugView;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
 use super::target::RenderTarget;
@@ -47,6 +48,8 @@ pub struct Renderer {
     tonemap: TonemapPass,
     /// One query pool per frame in flight; empty when the device has no timestamps.
     timestamps: Vec<Timestamps>,
+    /// What the forward pass shows; `Shaded` except in the viewer's debug views.
+    pub debug_view: DebugView,
 }
 
 impl Renderer {
@@ -59,6 +62,7 @@ impl Renderer {
             forward: ForwardPass::new(&device, frames_in_flight)?,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
             timestamps,
+            debug_view: DebugView::Shaded,
             device,
         })
     }
@@ -71,7 +75,7 @@ impl Renderer {
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has
     /// waited for the slot's previous frame.
     pub fn prepare(&mut self, slot: usize, scene: &Scene, target: &RenderTarget, output_format: vk::Format) -> Result<()> {
-        self.forward.prepare(slot, scene, target.aspect())?;
+        self.forward.prepare(slot, scene, target.aspect(), self.debug_view)?;
         self.tonemap.prepare(slot, target, output_format)
     }
 

@@ -18,7 +18,8 @@ use crate::vk::{
 /// The format of 8-bit tone-mapped frames written to files: the hardware sRGB-encodes.
 pub const DISPLAY_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
-fn is_srgb(format: vk::Format) -> bool {
+/// Whether writes to `format` are sRGB-encoded by the hardware.
+pub fn is_srgb(format: vk::Format) -> bool {
     matches!(
         format,
         vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_SRGB | vk::Format::A8B8G8R8_SRGB_PACK32

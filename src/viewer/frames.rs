@@ -1,35 +1,87 @@
 //! Frames in flight on a swapchain: each slot has its command buffer, fence, acquire
-//! semaphore and HDR target; the swapchain has one present semaphore per image.
+//! semaphore, HDR target, UI timestamps and pending screenshot; the swapchain has one
+//! present semaphore per image. A frame is the renderer's (forward, tone map into the
+//! swapchain image) followed by the UI pass over it.
 
+use std::path::PathBuf;
 use std::sync::Arc;
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use ash::vk;
+use egui::{ClippedPrimitive, TexturesDelta};
 
-use crate::render::{DisplayOutput, GpuScene, RenderTarget, Renderer};
+use super::overlay::Overlay;
+use crate::render::{DisplayOutput, GpuScene, RenderTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
-use crate::vk::{transition, Acquired, CommandPool, Device, Fence, ImageUse, Semaphore, Swapchain};
+use crate::vk::{
+    transition, Acquired, CommandPool, Device, Fence, ImageRegion, ImageUse, Readback, Semaphore, Swapchain, Timestamps,
+};
 
 /// Two frames in flight: the CPU records one while the GPU renders the other.
 pub const FRAMES_IN_FLIGHT: usize = 2;
+
+/// Names of the GPU times [`FrameLoop::gpu_ms`] reports: the renderer's passes, then the UI.
+pub fn gpu_pass_names() -> Vec<&'static str> {
+    PASS_NAMES.iter().copied().chain(["ui"]).collect()
+}
+
+/// When a frame's swapchain image is copied for a screenshot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CaptureStage {
+    /// The tone-mapped frame alone.
+    BeforeUi,
+    /// What the window shows.
+    AfterUi,
+}
+
+/// A screenshot request for one frame.
+pub struct Capture {
+    pub path: PathBuf,
+    pub stage: CaptureStage,
+}
+
+/// The UI of one frame, tessellated by egui.
+pub struct UiFrame {
+    pub primitives: Vec<ClippedPrimitive>,
+    pub textures: TexturesDelta,
+    pub pixels_per_point: f32,
+}
+
+/// A screenshot being copied: written once its slot's fence has signalled.
+struct PendingCapture {
+    readback: Readback,
+    path: PathBuf,
+    format: vk::Format,
+}
 
 struct Slot {
     cmd: vk::CommandBuffer,
     done: Fence,
     image_acquired: Semaphore,
     target: RenderTarget,
+    ui_timestamps: Option<Timestamps>,
+    /// Whether a frame was submitted with this slot, so its queries hold results.
+    submitted: bool,
+    capture: Option<PendingCapture>,
 }
 
 pub struct FrameLoop {
+    // Dropped before the device; `Drop` waits for the GPU first.
+    overlay: Overlay,
     slots: Vec<Slot>,
     // Owns the slots' command buffers.
     _pool: CommandPool,
     swapchain: Option<Swapchain>,
     wanted: vk::Extent2D,
     stale: bool,
+    /// Frames submitted so far; frame `n` uses slot `n % FRAMES_IN_FLIGHT`.
     frame: u64,
+    recreations: u64,
     gpu: GpuScene,
-    renderer: Renderer,
+    pub renderer: Renderer,
+    gpu_ms: Option<Vec<f64>>,
+    /// Screenshots written (or failed) since the last [`FrameLoop::take_screenshots`].
+    screenshots: Vec<(PathBuf, Result<()>)>,
     device: Arc<Device>,
 }
 
@@ -40,6 +92,7 @@ impl FrameLoop {
         let pool = CommandPool::new(&device)?;
         let cmds = pool.allocate(FRAMES_IN_FLIGHT as u32)?;
         let swapchain = Swapchain::new(&device, size, None)?;
+        let overlay = Overlay::new(&device, swapchain.format, FRAMES_IN_FLIGHT)?;
         let slots = cmds
             .into_iter()
             .map(|cmd| {
@@ -48,19 +101,62 @@ impl FrameLoop {
                     done: Fence::new(&device, true)?,
                     image_acquired: Semaphore::new(&device)?,
                     target: RenderTarget::new(&device, swapchain.extent)?,
+                    ui_timestamps: Timestamps::new(&device, 1)?,
+                    submitted: false,
+                    capture: None,
                 })
             })
             .collect::<Result<_>>()?;
-        Ok(Self { slots, _pool: pool, swapchain: Some(swapchain), wanted: size, stale: false, frame: 0, gpu, renderer, device })
+        Ok(Self {
+            overlay,
+            slots,
+            _pool: pool,
+            swapchain: Some(swapchain),
+            wanted: size,
+            stale: false,
+            frame: 0,
+            recreations: 0,
+            gpu,
+            renderer,
+            gpu_ms: None,
+            screenshots: Vec::new(),
+            device,
+        })
     }
 
     pub fn frame_count(&self) -> u64 {
         self.frame
     }
 
+    pub fn recreations(&self) -> u64 {
+        self.recreations
+    }
+
+    /// GPU milliseconds per pass ([`gpu_pass_names`]) of the last completed frame.
+    pub fn gpu_ms(&self) -> Option<&[f64]> {
+        self.gpu_ms.as_deref()
+    }
+
+    /// The screenshots written since the last call, with their outcome.
+    pub fn take_screenshots(&mut self) -> Vec<(PathBuf, Result<()>)> {
+        std::mem::take(&mut self.screenshots)
+    }
+
     pub fn resize(&mut self, size: vk::Extent2D) {
         self.wanted = size;
         self.stale = true;
+    }
+
+    /// Whether the window has an area to draw into (not while minimised).
+    pub fn has_area(&self) -> bool {
+        self.wanted.width > 0 && self.wanted.height > 0
+    }
+
+    /// Replaces the scene's meshes on the GPU (after a reload).
+    pub fn set_scene(&mut self, scene: &Scene) -> Result<()> {
+        self.device.wait_idle()?;
+        self.gpu = self.renderer.upload(scene)?;
+        Ok(())
     }
 
     fn recreate(&mut self) -> Result<()> {
@@ -71,74 +167,145 @@ impl FrameLoop {
         for slot in &mut self.slots {
             slot.target = RenderTarget::new(&self.device, swapchain.extent)?;
         }
+        self.overlay.set_format(swapchain.format)?;
         self.swapchain = Some(swapchain);
         self.stale = false;
+        self.recreations += 1;
         Ok(())
     }
 
-    /// Draws one frame; does nothing while the window has no area (minimised).
-    pub fn draw(&mut self, scene: &Scene, exposure: f32) -> Result<()> {
-        if self.wanted.width == 0 || self.wanted.height == 0 {
-            return Ok(());
+    /// What a slot's last frame left once its fence has signalled: GPU times, a screenshot.
+    fn collect(&mut self, index: usize) -> Result<()> {
+        let slot = &mut self.slots[index];
+        if slot.submitted {
+            let passes = self.renderer.gpu_times(index)?;
+            let ui = slot.ui_timestamps.as_ref().map(Timestamps::read_ms).transpose()?;
+            self.gpu_ms = passes.zip(ui).map(|(p, u)| p.into_iter().chain(u).collect());
+        }
+        if let Some(capture) = slot.capture.take() {
+            let written = write_screenshot(&capture);
+            self.screenshots.push((capture.path, written));
+        }
+        Ok(())
+    }
+
+    /// Draws one frame with `ui` over it; returns whether a frame was submitted (not while
+    /// the window has no area, nor when the swapchain turned out to be out of date).
+    pub fn draw(&mut self, scene: &Scene, exposure: f32, ui: UiFrame, capture: Option<Capture>) -> Result<bool> {
+        self.overlay.update_textures(self.frame, ui.textures)?;
+        if !self.has_area() {
+            return Ok(false);
         }
         if self.stale {
             self.recreate()?;
         }
         let index = (self.frame % FRAMES_IN_FLIGHT as u64) as usize;
         self.slots[index].done.wait()?;
+        self.collect(index)?;
+        // Frame `frame - FRAMES_IN_FLIGHT` used this slot, so it and every frame before it are done.
+        if let Some(completed) = self.frame.checked_sub(FRAMES_IN_FLIGHT as u64) {
+            self.overlay.free_textures(completed)?;
+        }
         let Some(swapchain) = self.swapchain.as_ref() else { bail!("no swapchain") };
         let image = match swapchain.acquire(self.slots[index].image_acquired.handle)? {
             Acquired::OutOfDate => {
                 self.stale = true;
-                return Ok(());
+                return Ok(false);
             }
             Acquired::Image { index, suboptimal } => {
                 self.stale |= suboptimal;
                 index as usize
             }
         };
-        let slot = &self.slots[index];
-        slot.done.reset()?;
-        self.renderer.prepare(index, scene, &slot.target, swapchain.format)?;
-
-        let d = &self.device.handle;
-        unsafe {
-            d.reset_command_buffer(slot.cmd, vk::CommandBufferResetFlags::empty())?;
-            d.begin_command_buffer(slot.cmd, &vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT))?;
-        }
+        let (format, extent) = (swapchain.format, swapchain.extent);
         let output = DisplayOutput {
             image: swapchain.images[image],
             view: swapchain.views[image],
-            format: swapchain.format,
-            extent: swapchain.extent,
+            format,
+            extent,
             from: ImageUse::ACQUIRED,
         };
-        self.renderer.record(slot.cmd, index, scene, &self.gpu, &slot.target, &output, exposure)?;
-        transition(&self.device, slot.cmd, output.image, vk::ImageAspectFlags::COLOR, ImageUse::COLOR_ATTACHMENT, ImageUse::PRESENT);
-        unsafe { d.end_command_buffer(slot.cmd)? };
+        let region = ImageRegion { handle: output.image, extent, aspect: vk::ImageAspectFlags::COLOR };
+        let readback = capture
+            .map(|c| {
+                Ok::<_, anyhow::Error>((
+                    c.stage,
+                    PendingCapture { readback: Readback::new(&self.device, region, 4)?, path: c.path, format },
+                ))
+            })
+            .transpose()?;
 
+        let slot = &mut self.slots[index];
+        slot.done.reset()?;
+        self.renderer.prepare(index, scene, &slot.target, format)?;
+        let d = &self.device.handle;
+        let cmd = slot.cmd;
+        unsafe {
+            d.reset_command_buffer(cmd, vk::CommandBufferResetFlags::empty())?;
+            d.begin_command_buffer(
+                cmd,
+                &vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+            )?;
+        }
+        if let Some(t) = &slot.ui_timestamps {
+            t.reset(cmd);
+        }
+        self.renderer.record(cmd, index, scene, &self.gpu, &slot.target, &output, exposure)?;
+
+        // The tone-mapped image is a colour attachment here; a capture leaves it a transfer source.
+        let copy = |stage: CaptureStage| -> ImageUse {
+            match &readback {
+                Some((s, c)) if *s == stage => {
+                    c.readback.record(&self.device, cmd, region, ImageUse::COLOR_ATTACHMENT);
+                    ImageUse::TRANSFER_SRC
+                }
+                _ => ImageUse::COLOR_ATTACHMENT,
+            }
+        };
+        // The UI loads what the tone-map pass stored.
+        let before_ui = copy(CaptureStage::BeforeUi);
+        transition(&self.device, cmd, output.image, vk::ImageAspectFlags::COLOR, before_ui, ImageUse::COLOR_ATTACHMENT);
+        if let Some(t) = &slot.ui_timestamps {
+            t.begin(cmd, 0);
+        }
+        self.overlay.record(cmd, output.view, extent, ui.pixels_per_point, &ui.primitives)?;
+        if let Some(t) = &slot.ui_timestamps {
+            t.end(cmd, 0);
+        }
+        let after_ui = copy(CaptureStage::AfterUi);
+        transition(&self.device, cmd, output.image, vk::ImageAspectFlags::COLOR, after_ui, ImageUse::PRESENT);
+        unsafe { d.end_command_buffer(cmd)? };
+
+        let Some(swapchain) = self.swapchain.as_ref() else { bail!("no swapchain") };
         let waits = [vk::SemaphoreSubmitInfo::default()
             .semaphore(slot.image_acquired.handle)
             .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)];
         let signals = [vk::SemaphoreSubmitInfo::default()
             .semaphore(swapchain.ready_to_present[image].handle)
             .stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)];
-        let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(slot.cmd)];
+        let cmds = [vk::CommandBufferSubmitInfo::default().command_buffer(cmd)];
         let submit = vk::SubmitInfo2::default()
             .wait_semaphore_infos(&waits)
             .command_buffer_infos(&cmds)
             .signal_semaphore_infos(&signals);
         self.device.submit(&[submit], slot.done.handle)?;
+        slot.submitted = true;
+        slot.capture = readback.map(|(_, c)| c);
         if !swapchain.present(image as u32)? {
             self.stale = true;
         }
         self.frame += 1;
-        Ok(())
+        Ok(true)
     }
 
-    /// Waits for the GPU and reports validation errors of the session as an error.
-    pub fn finish(&self) -> Result<()> {
+    /// Waits for the GPU, writes pending screenshots and reports validation errors of the
+    /// session as an error.
+    pub fn finish(&mut self) -> Result<()> {
         self.device.wait_idle()?;
+        for index in 0..self.slots.len() {
+            self.collect(index)?;
+        }
+        self.overlay.free_textures(u64::MAX)?;
         if let Some(report) = self.device.validation() {
             if report.error_count() > 0 {
                 bail!("the validation layer reported {} error(s)", report.error_count());
@@ -148,9 +315,40 @@ impl FrameLoop {
     }
 }
 
+/// RGBA8 from a swapchain image's bytes (B8G8R8A8 formats swap red and blue), opaque.
+pub fn display_rgba(bytes: &[u8], format: vk::Format) -> Vec<u8> {
+    let bgra = matches!(format, vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM);
+    bytes.chunks_exact(4).flat_map(|p| if bgra { [p[2], p[1], p[0], 255] } else { [p[0], p[1], p[2], 255] }).collect()
+}
+
+fn write_screenshot(capture: &PendingCapture) -> Result<()> {
+    let extent = capture.readback.extent;
+    let rgba = display_rgba(capture.readback.bytes()?, capture.format);
+    let image =
+        image::RgbaImage::from_raw(extent.width, extent.height, rgba).context("screenshot has the wrong size")?;
+    image.save(&capture.path).with_context(|| format!("cannot write {}", capture.path.display()))
+}
+
 impl Drop for FrameLoop {
     fn drop(&mut self) {
-        // Fences, semaphores and targets may still be in use by the last frames.
+        // Fences, semaphores, targets and UI buffers may still be in use by the last frames.
         let _ = self.device.wait_idle();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn swapchain_bytes_become_opaque_rgba() {
+        let bytes = [10, 20, 30, 0, 1, 2, 3, 128];
+        assert_eq!(display_rgba(&bytes, vk::Format::B8G8R8A8_SRGB), vec![30, 20, 10, 255, 3, 2, 1, 255]);
+        assert_eq!(display_rgba(&bytes, vk::Format::R8G8B8A8_SRGB), vec![10, 20, 30, 255, 1, 2, 3, 255]);
+    }
+
+    #[test]
+    fn gpu_times_name_every_pass_and_the_ui() {
+        assert_eq!(gpu_pass_names(), vec!["forward", "tonemap", "ui"]);
     }
 }

@@ -22,7 +22,7 @@ pub use descriptors::{DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBu
 pub use device::{Device, DeviceChoice, DeviceInfo, DeviceOptions, WindowHandles};
 pub use image::{full_range, mip_count, Image};
 pub use pipeline::{set_full_viewport, GraphicsPipelineBuilder, Pipeline, PipelineLayout, Specialization};
-pub use readback::Readback;
+pub use readback::{ImageRegion, Readback};
 pub use sampler::Sampler;
 pub use shader::ShaderModule;
 pub use swapchain::{Acquired, Swapchain};

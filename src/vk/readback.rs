@@ -12,6 +12,20 @@ use super::device::Device;
 use super::image::Image;
 use super::sync::{transition, ImageUse};
 
+/// What a copy needs to know of an image: an [`Image`] of ours, or a swapchain's.
+#[derive(Clone, Copy)]
+pub struct ImageRegion {
+    pub handle: vk::Image,
+    pub extent: vk::Extent2D,
+    pub aspect: vk::ImageAspectFlags,
+}
+
+impl From<&Image> for ImageRegion {
+    fn from(image: &Image) -> Self {
+        Self { handle: image.handle, extent: image.extent, aspect: image.aspect }
+    }
+}
+
 pub struct Readback {
     buffer: Buffer,
     pub extent: vk::Extent2D,
@@ -19,7 +33,8 @@ pub struct Readback {
 
 impl Readback {
     /// A buffer for a tightly packed copy of `image` (`bytes_per_pixel` per texel).
-    pub fn new(device: &Arc<Device>, image: &Image, bytes_per_pixel: u32) -> Result<Self> {
+    pub fn new(device: &Arc<Device>, image: impl Into<ImageRegion>, bytes_per_pixel: u32) -> Result<Self> {
+        let image = image.into();
         let size = u64::from(image.extent.width) * u64::from(image.extent.height) * u64::from(bytes_per_pixel);
         let buffer = Buffer::new(device, size, vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuToCpu, "readback")?;
         Ok(Self { buffer, extent: image.extent })
@@ -27,7 +42,8 @@ impl Readback {
 
     /// Records the copy. The image is in use `from` and is left in `TRANSFER_SRC`; the
     /// buffer write is made visible to the host.
-    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, image: &Image, from: ImageUse) {
+    pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, image: impl Into<ImageRegion>, from: ImageUse) {
+        let image = image.into();
         transition(device, cmd, image.handle, image.aspect, from, ImageUse::TRANSFER_SRC);
         let region = vk::BufferImageCopy::default()
             .image_subresource(

@@ -1,0 +1,75 @@
+// Debug views of the forward pass, selected by FrameData.counts.y: geometry as colours, or
+// one term of the shading alone. The values are `as u32` of DebugView in
+// src/render/debug_view.rs. Lobes are isolated by calling the shading code itself with the
+// other terms switched off, so a lobe view shows exactly what the shaded image adds up.
+#ifndef ARGIL_DEBUG_VIEWS_GLSL
+#define ARGIL_DEBUG_VIEWS_GLSL
+#include "scene_data.glsl"
+#include "shading.glsl"
+#include "lights.glsl"
+
+const uint DEBUG_VIEW_SHADED = 0u;
+const uint DEBUG_VIEW_NORMALS = 1u;
+const uint DEBUG_VIEW_TANGENTS = 2u;
+const uint DEBUG_VIEW_BITANGENTS = 3u;
+const uint DEBUG_VIEW_UVS = 4u;
+const uint DEBUG_VIEW_N_DOT_L = 5u;
+const uint DEBUG_VIEW_DIFFUSE = 6u;
+const uint DEBUG_VIEW_SPECULAR = 7u;
+const uint DEBUG_VIEW_WRAP = 8u;
+const uint DEBUG_VIEW_ENVIRONMENT = 9u;
+const uint DEBUG_VIEW_NAN = 10u;
+
+// The model value that turns a lobe off (DiffuseModel::None, SpecularModel::None).
+const uint MODEL_NONE = 3u;
+
+// A direction as a colour: [-1, 1] → [0, 1] per component.
+vec3 direction_color(vec3 d) {
+    float len2 = dot(d, d);
+    return (len2 > MIN_NORMAL_LENGTH2 ? d * inversesqrt(len2) : vec3(0.0)) * 0.5 + 0.5;
+}
+
+// What debug view `view` shows at a surface point; `shaded` is the normal result there.
+// `n` is the shading normal, `n_geometric` the surface's, `normal` and `tangent` the
+// interpolated vertex attributes.
+vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
+                         vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 shaded) {
+    if (view == DEBUG_VIEW_NORMALS) return direction_color(n);
+    if (view == DEBUG_VIEW_TANGENTS) return direction_color(tangent.xyz);
+    if (view == DEBUG_VIEW_BITANGENTS) {
+        return direction_color(cross(normal, tangent.xyz) * (tangent.w < 0.0 ? -1.0 : 1.0));
+    }
+    if (view == DEBUG_VIEW_UVS) return vec3(fract(uv), 0.0);
+    if (view == DEBUG_VIEW_N_DOT_L) {
+        float sum = 0.0;
+        for (uint i = 0; i < frame.counts.x; ++i) {
+            vec3 l;
+            point_light_irradiance(i, p, l);
+            sum += max(dot(n, l), 0.0);
+        }
+        return vec3(min(sum, 1.0));
+    }
+    Material no_wrap = m;
+    no_wrap.wrap_color.a = 0.0;
+    if (view == DEBUG_VIEW_DIFFUSE) {
+        ShadingModels diffuse_only = models;
+        diffuse_only.specular = MODEL_NONE;
+        return point_lights_radiance(diffuse_only, no_wrap, n, n_geometric, v, p);
+    }
+    if (view == DEBUG_VIEW_SPECULAR) {
+        ShadingModels specular_only = models;
+        specular_only.diffuse = MODEL_NONE;
+        return point_lights_radiance(specular_only, no_wrap, n, n_geometric, v, p);
+    }
+    if (view == DEBUG_VIEW_WRAP) {
+        ShadingModels neither = ShadingModels(MODEL_NONE, MODEL_NONE, models.distribution, models.geometry);
+        return point_lights_radiance(neither, m, n, n_geometric, v, p);
+    }
+    if (view == DEBUG_VIEW_ENVIRONMENT) return uniform_environment(models, m, frame.ambient_radiance.rgb);
+    if (view == DEBUG_VIEW_NAN) {
+        return any(isnan(shaded)) || any(isinf(shaded)) ? vec3(1.0, 0.0, 1.0) : shaded;
+    }
+    return shaded;
+}
+
+#endif

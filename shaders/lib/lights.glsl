@@ -1,0 +1,27 @@
+// The scene's point lights at a surface point.
+#ifndef ARGIL_LIGHTS_GLSL
+#define ARGIL_LIGHTS_GLSL
+#include "scene_data.glsl"
+#include "shading.glsl"
+
+// Unit direction l from p towards point light i, and its irradiance on a surface facing
+// it, E⊥ = I / d² (the scene format's radiant intensity I).
+vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
+    vec3 to_light = frame.lights[i].position.xyz - p;
+    float distance2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE2);
+    l = to_light * inversesqrt(distance2);
+    return frame.lights[i].intensity.rgb / distance2;
+}
+
+// Radiance from the point lights through brdf_cos with the given models and material.
+vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec3 p) {
+    vec3 radiance = vec3(0.0);
+    for (uint i = 0; i < frame.counts.x; ++i) {
+        vec3 l;
+        vec3 irradiance = point_light_irradiance(i, p, l);
+        radiance += irradiance * brdf_cos(models, m, n, n_geometric, v, l);
+    }
+    return radiance;
+}
+
+#endif

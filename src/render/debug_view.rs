@@ -1,0 +1,82 @@
+//! Debug views of the forward pass: geometry shown as colours, or one term of the shading
+//! alone. The value travels in `FrameData.counts.y` to shaders/lib/debug_views.glsl,
+//! whose `DEBUG_VIEW_*` constants are the `as u32` values here.
+
+/// What the forward pass writes into the HDR target. Every view goes through the same
+/// display transform as the shaded image.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum DebugView {
+    /// The normal image.
+    #[default]
+    Shaded = 0,
+    /// World-space shading normal, n·0.5 + 0.5.
+    Normals = 1,
+    /// World-space tangent, t·0.5 + 0.5.
+    Tangents = 2,
+    /// World-space bitangent (n × t, times the tangent's handedness), ·0.5 + 0.5.
+    Bitangents = 3,
+    /// Texture coordinates, fract(u) in red and fract(v) in green.
+    Uvs = 4,
+    /// Σ max(n·l, 0) over the point lights, grey.
+    NDotL = 5,
+    /// The diffuse lobe alone under the point lights.
+    Diffuse = 6,
+    /// The specular lobe alone under the point lights.
+    Specular = 7,
+    /// The wrap (subsurface) term alone under the point lights.
+    Wrap = 8,
+    /// The uniform environment's contribution alone.
+    Environment = 9,
+    /// The shaded image with NaN/Inf pixels in magenta.
+    NanHighlight = 10,
+}
+
+impl DebugView {
+    pub const ALL: [DebugView; 11] = [
+        DebugView::Shaded,
+        DebugView::Normals,
+        DebugView::Tangents,
+        DebugView::Bitangents,
+        DebugView::Uvs,
+        DebugView::NDotL,
+        DebugView::Diffuse,
+        DebugView::Specular,
+        DebugView::Wrap,
+        DebugView::Environment,
+        DebugView::NanHighlight,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            DebugView::Shaded => "shaded",
+            DebugView::Normals => "normals",
+            DebugView::Tangents => "tangents",
+            DebugView::Bitangents => "bitangents",
+            DebugView::Uvs => "UVs",
+            DebugView::NDotL => "n·l",
+            DebugView::Diffuse => "diffuse lobe",
+            DebugView::Specular => "specular lobe",
+            DebugView::Wrap => "wrap (subsurface) term",
+            DebugView::Environment => "environment",
+            DebugView::NanHighlight => "NaN/Inf highlight",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_lists_every_view_once_in_shader_order() {
+        for (i, view) in DebugView::ALL.iter().enumerate() {
+            assert_eq!(*view as u32, i as u32);
+        }
+        let shader = include_str!("../../shaders/lib/debug_views.glsl");
+        for view in DebugView::ALL {
+            let name = format!("= {}u;", view as u32);
+            assert!(shader.contains(&name), "debug_views.glsl has no constant {name}");
+        }
+    }
+}
