@@ -247,7 +247,9 @@ float diffuse_lambert() {
 }
 
 // Qualitative Oren-Nayar, seed eq. 12 with a = max(θi, θr), b = min(θi, θr) as angles:
-// (A + B max(0, cos(φi − φr)) sin a tan b)/π per unit albedo, σ in radians.
+// (A + B max(0, cos(φi − φr)) sin a tan b)/π per unit albedo, σ in radians. sin a and tan b
+// come from the cosines (a is the angle of the smaller one): fp32 acos then tan lose 1e-3
+// near the horizon, where π/2 − θ is tiny; sin²θ = (1 − cos θ)(1 + cos θ) does not cancel.
 float diffuse_oren_nayar(float sigma, vec3 n, vec3 v, vec3 l) {
     float s2 = sigma * sigma;
     float a_coef = 1.0 - 0.5 * s2 / (s2 + 0.33);
@@ -258,11 +260,13 @@ float diffuse_oren_nayar(float sigma, vec3 n, vec3 v, vec3 l) {
     vec3 l_t = l - n * n_dot_l;
     float len2 = dot(v_t, v_t) * dot(l_t, l_t);
     float cos_phi = len2 > MIN_TANGENT_LEN2 ? clamp(dot(v_t, l_t) * inversesqrt(len2), 0.0, 1.0) : 0.0;
-    float theta_r = acos(clamp(n_dot_v, MIN_N_DOT_V, 1.0));
-    float theta_i = acos(clamp(n_dot_l, MIN_N_DOT_V, 1.0));
-    float a = max(theta_i, theta_r);
-    float b = min(theta_i, theta_r);
-    return (a_coef + b_coef * cos_phi * sin(a) * tan(b)) / PI;
+    float mu_r = clamp(n_dot_v, MIN_N_DOT_V, 1.0);
+    float mu_i = clamp(n_dot_l, MIN_N_DOT_V, 1.0);
+    float cos_a = min(mu_i, mu_r);
+    float cos_b = max(mu_i, mu_r);
+    float sin_a = sqrt((1.0 - cos_a) * (1.0 + cos_a));
+    float tan_b = sqrt((1.0 - cos_b) * (1.0 + cos_b)) / cos_b;
+    return (a_coef + b_coef * cos_phi * sin_a * tan_b) / PI;
 }
 
 // EON's polynomial fit of the FON directional albedo E_FON(μ) (Portsmouth et al. 2025).

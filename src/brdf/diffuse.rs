@@ -18,7 +18,9 @@ pub fn diffuse_lambert() -> f64 {
 }
 
 /// Qualitative Oren-Nayar, seed eq. 12 with a = max(θi, θr), b = min(θi, θr) as angles:
-/// (A + B max(0, cos(φi − φr)) sin a tan b)/π per unit albedo, σ in radians.
+/// (A + B max(0, cos(φi − φr)) sin a tan b)/π per unit albedo, σ in radians. sin a and tan b
+/// come from the cosines (a is the angle of the smaller one), as in the GLSL, where fp32
+/// acos then tan would lose 1e-3 near the horizon.
 pub fn diffuse_oren_nayar(sigma: f64, n: Vec3, v: Vec3, l: Vec3) -> f64 {
     let s2 = sigma * sigma;
     let a_coef = 1.0 - 0.5 * s2 / (s2 + 0.33);
@@ -41,11 +43,13 @@ pub fn diffuse_oren_nayar(sigma: f64, n: Vec3, v: Vec3, l: Vec3) -> f64 {
     } else {
         0.0
     };
-    let theta_r = n_dot_v.clamp(MIN_N_DOT_V, 1.0).acos();
-    let theta_i = n_dot_l.clamp(MIN_N_DOT_V, 1.0).acos();
-    let a = theta_i.max(theta_r);
-    let b = theta_i.min(theta_r);
-    (a_coef + b_coef * cos_phi * a.sin() * b.tan()) / PI
+    let mu_r = n_dot_v.clamp(MIN_N_DOT_V, 1.0);
+    let mu_i = n_dot_l.clamp(MIN_N_DOT_V, 1.0);
+    let cos_a = mu_i.min(mu_r);
+    let cos_b = mu_i.max(mu_r);
+    let sin_a = ((1.0 - cos_a) * (1.0 + cos_a)).sqrt();
+    let tan_b = ((1.0 - cos_b) * (1.0 + cos_b)).sqrt() / cos_b;
+    (a_coef + b_coef * cos_phi * sin_a * tan_b) / PI
 }
 
 /// EON's polynomial fit of the FON directional albedo E_FON(μ) (Portsmouth et al. 2025).
