@@ -5,9 +5,11 @@
 //! - [`scene`]: scene files, meshes, materials, lights, camera.
 //! - [`brdf`]: f64 reference models, twins of the GLSL in `shaders/lib`.
 //! - [`viewer`]: the interactive window.
+//! - [`verify`]: `argil verify`, the GPU and f64 checks of every BRDF.
 
 pub mod brdf;
 pub mod render;
 pub mod scene;
+pub mod verify;
 pub mod viewer;
 pub mod vk;

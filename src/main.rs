@@ -70,6 +70,19 @@ enum Command {
     },
     /// List the Vulkan devices on this machine.
     Devices,
+    /// Check every BRDF model and term: GPU against f64, positivity, reciprocity, energy,
+    /// stress inputs. Prints one table; fails if any check fails.
+    Verify {
+        /// Also write the table as JSON to this file.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+        /// Random input tuples per function (at least 10⁶ for the accuracy check).
+        #[arg(long, default_value_t = argil::verify::DEFAULT_SAMPLES)]
+        samples: usize,
+        /// Seed of the random input tuples.
+        #[arg(long, default_value_t = argil::verify::DEFAULT_SEED)]
+        seed: u64,
+    },
 }
 
 fn load_scene(path: Option<&Path>) -> Result<Scene> {
@@ -117,6 +130,24 @@ fn render(cli_device: DeviceChoice, validation: bool, scene: Option<PathBuf>, ou
     Ok(())
 }
 
+fn verify(choice: DeviceChoice, validation: bool, json: Option<PathBuf>, options: argil::verify::Options) -> Result<()> {
+    let device = Arc::new(Device::new(DeviceOptions { choice, validation }, None)?);
+    let report = argil::verify::run(&device, &options)?;
+    print!("{}", report.table());
+    if let Some(path) = json {
+        std::fs::write(&path, report.json()).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    if let Some(validation) = device.validation() {
+        if validation.error_count() > 0 {
+            bail!("the validation layer reported {} error(s)", validation.error_count());
+        }
+    }
+    if report.failures() > 0 {
+        bail!("{} verification check(s) failed", report.failures());
+    }
+    Ok(())
+}
+
 fn run(cli: Cli) -> Result<()> {
     let validation = cli.validation || argil::vk::instance::validation_requested();
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
@@ -140,6 +171,7 @@ fn run(cli: Cli) -> Result<()> {
             };
             argil::viewer::run(loaded, options)
         }
+        Command::Verify { json, samples, seed } => verify(choice, validation, json, argil::verify::Options { samples, seed }),
         Command::Devices => {
             let devices = device::list_devices().context("cannot list Vulkan devices")?;
             if devices.is_empty() {

@@ -20,9 +20,14 @@ vec3 tonemap_pbr_neutral(vec3 color) {
     if (peak < START_COMPRESSION) {
         return c;
     }
+    // Khronos' new_peak = 1 − d²/(peak − K_s + d) and g = 1 − 1/(K_d (peak − new_peak) + 1),
+    // rearranged so nothing cancels just above the compression start: with q = peak − K_s,
+    // peak − new_peak = q²/(q + d) and g = k/(k + 1), k = K_d (peak − new_peak).
     const float d = 1.0 - START_COMPRESSION;
-    float new_peak = 1.0 - d * d / (peak + d - START_COMPRESSION);
-    float g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+    float q = peak - START_COMPRESSION;
+    float new_peak = 1.0 - d * d / (q + d);
+    float k = DESATURATION * q * (q / (q + d));
+    float g = k / (k + 1.0);
     return mix(c * (new_peak / peak), vec3(new_peak), g);
 }
 

@@ -149,13 +149,23 @@ pub fn weak_white_furnace(
     alpha: f64,
     theta_o: f64,
 ) -> f64 {
+    weak_white_furnace_microfacet(d, |alpha, o, _| g1(alpha, o[2]), alpha, theta_o)
+}
+
+/// `weak_white_furnace` for a masking function of the microfacet normal too,
+/// G1(alpha, o, h), like the V-cavity's min(1, 2 (n·h)(n·o)/(o·h)).
+pub fn weak_white_furnace_microfacet(
+    d: impl Fn(f64, f64, f64) -> f64,
+    g1: impl Fn(f64, Vec3, Vec3) -> f64,
+    alpha: f64,
+    theta_o: f64,
+) -> f64 {
     let (sin_o, cos_o) = theta_o.sin_cos();
     let o = [sin_o, 0.0, cos_o];
-    let masking = g1(alpha, cos_o);
     // o·h > 0 ⇔ sin θo sin θ cos φ > −cos θo cos θ.
     let region = |theta: f64| (sin_o * theta.sin(), -cos_o * theta.cos());
     integrate_half_vectors(QUADRATURE_ORDER, region, |h, sin2| {
-        d(alpha, h[2], sin2) * masking * dot(o, h) / cos_o
+        d(alpha, h[2], sin2) * g1(alpha, o, h) * dot(o, h) / cos_o
     })
 }
 

@@ -108,6 +108,12 @@ pub fn spec_torrance_sparrow(
     f_schlick(f0, v_dot_h).map(|f| f * df)
 }
 
+/// ln x for x clamped to (0, 1]. The GLSL twin sums the atanh series near 1, where fp32 log2
+/// is only absolutely precise; f64's ln is relatively precise there already.
+pub fn log_near_one(x: f64) -> f64 {
+    x.clamp(f64::MIN_POSITIVE, 1.0).ln()
+}
+
 /// Blinn 1977 (seed eq. 5) normalised: (n+8)/(8π) (n·h)ⁿ F(v·h), n = 2/α² − 2.
 /// Peaks at 1.94e4 for `MIN_ALPHA`, so it needs no cap.
 pub fn spec_blinn_phong(alpha: f64, n_dot_h: f64, f0: Vec3, v_dot_h: f64) -> Vec3 {
@@ -116,6 +122,6 @@ pub fn spec_blinn_phong(alpha: f64, n_dot_h: f64, f0: Vec3, v_dot_h: f64) -> Vec
     }
     let a = clamp_alpha(alpha);
     let n = 2.0 / (a * a) - 2.0;
-    let lobe = (n + 8.0) / (8.0 * PI) * n_dot_h.clamp(f64::MIN_POSITIVE, 1.0).powf(n);
+    let lobe = (n + 8.0) / (8.0 * PI) * (n * log_near_one(n_dot_h)).exp();
     f_schlick(f0, v_dot_h).map(|f| f * lobe)
 }

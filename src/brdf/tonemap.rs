@@ -17,9 +17,12 @@ pub fn tonemap_pbr_neutral(color: Vec3) -> Vec3 {
     if peak < START_COMPRESSION {
         return c;
     }
+    // Rearranged as in the GLSL, where 1 − 1/(1 + x) and peak − new_peak cancel in fp32.
     let d = 1.0 - START_COMPRESSION;
-    let new_peak = 1.0 - d * d / (peak + d - START_COMPRESSION);
-    let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+    let q = peak - START_COMPRESSION;
+    let new_peak = 1.0 - d * d / (q + d);
+    let k = DESATURATION * q * (q / (q + d));
+    let g = k / (k + 1.0);
     c.map(|v| v * new_peak / peak * (1.0 - g) + new_peak * g)
 }
 

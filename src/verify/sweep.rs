@@ -1,0 +1,345 @@
+//! Checks 1, 2 and 4 on the GPU sweep of one function: GPU against the f64 twin on the same
+//! f32 inputs, positivity and range, reciprocity, and the stress inputs.
+
+use super::functions::{Function, Tuple, Values, MIN_RECIPROCAL_HALF_LEN};
+use super::{Row, Status};
+
+/// Values below this are compared absolutely: |a − b| / max(|b|, floor). The functions'
+/// natural scale is 1 (a white Lambert is 1/π, masking and Fresnel are fractions, display
+/// values reach 1), and 1e-3 of it times the 1e-4 tolerance is 1e-7, one fp32 ulp at 1.
+/// Smaller absolute errors occur where a function crosses zero with a slope (Walter's Λ fit
+/// where its numerator cancels, a wrap band's edge, Schlick's (1 − v·h)⁵ for F0 = 0): fp32
+/// rounding of O(1) quantities, not defects, and 1/3000 of the darkest 8-bit sRGB step (3e-4).
+pub const RELATIVE_FLOOR: f64 = 1e-3;
+
+/// Check 1's tolerances, from the brief: the error of fp32 arithmetic on smooth functions.
+const P99_TOLERANCE: f64 = 1e-5;
+const MAX_TOLERANCE: f64 = 1e-4;
+/// Check 2: the f64 twin is reciprocal to rounding; the GPU rounds v·h and l·h differently.
+const RECIPROCITY_F64: f64 = 1e-12;
+const RECIPROCITY_GPU: f64 = 1e-5;
+
+/// Relative error of `a` against the reference `b`, with `RELATIVE_FLOOR`. NaN/Inf
+/// disagreement is an infinite error.
+pub fn relative_error(a: f64, b: f64) -> f64 {
+    if a == b {
+        return 0.0;
+    }
+    let error = (a - b).abs() / b.abs().max(RELATIVE_FLOOR);
+    if error.is_nan() {
+        f64::INFINITY
+    } else {
+        error
+    }
+}
+
+/// Largest error over the function's channels of one tuple's value.
+fn tuple_error(function: Function, a: &[f64; 4], b: &[f64; 4]) -> f64 {
+    (0..function.channels())
+        .map(|c| relative_error(a[c], b[c]))
+        .fold(0.0, f64::max)
+}
+
+fn widen(values: &Values<f32>) -> Values<f64> {
+    values.map(|v| v.map(f64::from))
+}
+
+/// How many halves of a result hold values: models also have f(l, v).
+fn halves(function: Function) -> usize {
+    match function {
+        Function::Model(_) => 2,
+        Function::Term(_) => 1,
+    }
+}
+
+/// How many channel values (both halves for models) are NaN, Inf, negative or above the cap.
+fn bad_values(function: Function, results: impl Iterator<Item = Values<f64>>) -> usize {
+    let cap = function.cap().value;
+    results
+        .map(|r| {
+            r[..halves(function)]
+                .iter()
+                .flat_map(|v| &v[..function.channels()])
+                .filter(|&&x| !(x.is_finite() && (0.0..=cap).contains(&x)))
+                .count()
+        })
+        .sum()
+}
+
+/// The p-quantile of `values` (reordered).
+fn quantile(values: &mut [f64], p: f64) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let k = ((values.len() - 1) as f64 * p).round() as usize;
+    *values.select_nth_unstable_by(k, f64::total_cmp).1
+}
+
+fn sci(x: f64) -> String {
+    format!("{x:.2e}")
+}
+
+/// The rows of one function: `tuples[..samples]` are random, the rest stress inputs;
+/// `gpu` and `cpu` hold the harness's results for every tuple.
+pub fn rows(
+    function: Function,
+    tuples: &[Tuple],
+    samples: usize,
+    gpu: &[Values<f32>],
+    cpu: &[Values<f64>],
+) -> Vec<Row> {
+    let name = function.name();
+    let row =
+        |check: &str, measured: String, tolerance: String, status: Status, note: String| Row {
+            model: name.to_owned(),
+            check: check.to_owned(),
+            measured,
+            tolerance,
+            status,
+            note,
+        };
+    let pass = |ok: bool| if ok { Status::Pass } else { Status::Fail };
+    let mut rows = Vec::new();
+
+    // 1. GPU against f64 on the same inputs, where the harness's own fp32 derivation of the
+    // arguments cannot spoil the tolerance; elsewhere against a bound that includes it.
+    let error = |i: usize| tuple_error(function, &widen(&gpu[i])[0], &cpu[i][0]);
+    let (exact, rounded): (Vec<usize>, Vec<usize>) =
+        (0..samples).partition(|&i| function.argument_rounding(&tuples[i]) <= P99_TOLERANCE);
+    let mut errors: Vec<f64> = exact.iter().map(|&i| error(i)).collect();
+    let worst = (0..exact.len()).max_by(|&i, &j| errors[i].total_cmp(&errors[j]));
+    let max = worst.map_or(0.0, |i| errors[i]);
+    let p99 = quantile(&mut errors, 0.99);
+    let worst_note = |i: usize| {
+        format!(
+            "worst: {} gpu {:.7e} f64 {:.7e}",
+            function.describe(&tuples[i]),
+            gpu[i][0][0],
+            cpu[i][0][0]
+        )
+    };
+    let domain = if rounded.is_empty() {
+        format!("{samples} tuples")
+    } else {
+        format!(
+            "{} of {samples} tuples, where argument rounding <= {P99_TOLERANCE:e}",
+            exact.len()
+        )
+    };
+    rows.push(row(
+        "gpu vs f64: p99 rel. error",
+        sci(p99),
+        format!("<= {P99_TOLERANCE:e}"),
+        pass(p99 <= P99_TOLERANCE),
+        format!("{domain}, floor {RELATIVE_FLOOR:e}"),
+    ));
+    rows.push(row(
+        "gpu vs f64: max rel. error",
+        sci(max),
+        format!("<= {MAX_TOLERANCE:e}"),
+        pass(max <= MAX_TOLERANCE),
+        worst.map_or_else(String::new, |k| worst_note(exact[k])),
+    ));
+    if !rounded.is_empty() {
+        let ratio = |i: usize| error(i) / (MAX_TOLERANCE + function.argument_rounding(&tuples[i]));
+        let worst = rounded
+            .iter()
+            .copied()
+            .max_by(|&i, &j| ratio(i).total_cmp(&ratio(j)));
+        let max_ratio = worst.map_or(0.0, ratio);
+        let max_error = rounded.iter().map(|&i| error(i)).fold(0.0, f64::max);
+        rows.push(row(
+            "gpu vs f64, rest: error/bound",
+            format!("{max_ratio:.2} (max error {})", sci(max_error)),
+            format!("<= 1, bound {MAX_TOLERANCE:e} + rounding"),
+            pass(max_ratio <= 1.0),
+            format!(
+                "{} tuples; {}; {}",
+                rounded.len(),
+                function.argument_rounding_reason(),
+                worst.map_or_else(String::new, worst_note)
+            ),
+        ));
+    }
+
+    // 2. Positivity and range on the random tuples, on both sides.
+    let cap = function.cap();
+    let gpu_bad = bad_values(function, gpu[..samples].iter().map(widen));
+    let cpu_bad = bad_values(function, cpu[..samples].iter().copied());
+    let values = samples * function.channels() * halves(function);
+    rows.push(row(
+        "positive, finite, in range",
+        format!("{gpu_bad} gpu + {cpu_bad} f64 bad of {values}"),
+        format!("0; >= 0, {}", cap.label),
+        pass(gpu_bad + cpu_bad == 0),
+        String::new(),
+    ));
+
+    // 2. Helmholtz reciprocity of the BRDFs, on their domain: v and l above the horizon.
+    match function {
+        Function::Model(model) => {
+            let domain: Vec<usize> = (0..samples)
+                .filter(|&i| model.in_reciprocity_domain(&tuples[i]))
+                .collect();
+            let asymmetry = |values: &dyn Fn(usize) -> Values<f64>| {
+                domain
+                    .iter()
+                    .map(|&i| {
+                        let [f, swapped] = values(i);
+                        (tuple_error(function, &f, &swapped), i)
+                    })
+                    .fold(
+                        (0.0, None),
+                        |worst, (e, i)| if e > worst.0 { (e, Some(i)) } else { worst },
+                    )
+            };
+            let at = |worst: Option<usize>| {
+                worst.map_or_else(String::new, |i| {
+                    format!("; worst: {}", function.describe(&tuples[i]))
+                })
+            };
+            let (cpu_gap, cpu_worst) = asymmetry(&|i| model.eval_unit_both_ways(&tuples[i]));
+            let (gpu_gap, gpu_worst) = asymmetry(&|i| widen(&gpu[i]));
+            rows.push(row(
+                "reciprocity f(v,l)=f(l,v), f64, unit",
+                sci(cpu_gap),
+                format!("<= {RECIPROCITY_F64:e}"),
+                pass(cpu_gap <= RECIPROCITY_F64),
+                format!(
+                    "{} tuples with n·v, n·l > 0, |v + l| >= {MIN_RECIPROCAL_HALF_LEN} (v·h is ill-conditioned as v → −l){}",
+                    domain.len(),
+                    at(cpu_worst)
+                ),
+            ));
+            rows.push(row(
+                "reciprocity f(v,l)=f(l,v), gpu",
+                sci(gpu_gap),
+                format!("<= {RECIPROCITY_GPU:e}"),
+                pass(gpu_gap <= RECIPROCITY_GPU),
+                format!("v·h and l·h round differently{}", at(gpu_worst)),
+            ));
+        }
+        Function::Term(term) if term.is_lighting_weight() => {
+            rows.push(row(
+                "reciprocity",
+                "n/a".to_owned(),
+                "n/a".to_owned(),
+                Status::NotApplicable,
+                "n/a: not a BRDF (a weight of n·l alone, added to the diffuse lobe)".to_owned(),
+            ));
+        }
+        Function::Term(_) => {}
+    }
+
+    // 4. Stress inputs: finite, non-negative, under the cap, on both sides.
+    let stress = tuples.len() - samples;
+    let gpu_bad = bad_values(function, gpu[samples..].iter().map(widen));
+    let cpu_bad = bad_values(function, cpu[samples..].iter().copied());
+    let first_bad = (samples..tuples.len())
+        .find(|&i| bad_values(function, [widen(&gpu[i]), cpu[i]].into_iter()) > 0)
+        .map_or_else(String::new, |i| {
+            format!(
+                "first bad: {} gpu {:?} f64 {:?}",
+                function.describe(&tuples[i]),
+                gpu[i],
+                cpu[i]
+            )
+        });
+    rows.push(row(
+        "stress: finite, >= 0, capped",
+        format!("{gpu_bad} gpu + {cpu_bad} f64 bad of {stress}"),
+        format!("0; {}", cap.label),
+        pass(gpu_bad + cpu_bad == 0),
+        first_bad,
+    ));
+    rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::functions::Model;
+    use super::super::rng::Rng;
+    use super::*;
+
+    /// The rows of a Cook-Torrance sweep whose "GPU" results are `perturb`ed f64 ones.
+    fn statuses(perturb: impl Fn(usize, Values<f32>) -> Values<f32>) -> Vec<(String, Status)> {
+        let function = Function::Model(Model::CookTorranceGgxCorrelated);
+        let samples = 4000;
+        let mut rng = Rng::new(3);
+        let mut tuples: Vec<Tuple> = (0..samples).map(|_| function.sample(&mut rng)).collect();
+        tuples.extend(function.stress());
+        let cpu: Vec<Values<f64>> = tuples.iter().map(|t| function.eval(t)).collect();
+        let gpu: Vec<Values<f32>> = cpu
+            .iter()
+            .enumerate()
+            .map(|(i, v)| perturb(i, v.map(|half| half.map(|x| x as f32))))
+            .collect();
+        rows(function, &tuples, samples, &gpu, &cpu)
+            .into_iter()
+            .map(|r| (r.check, r.status))
+            .collect()
+    }
+
+    fn failing(rows: &[(String, Status)]) -> Vec<&str> {
+        rows.iter()
+            .filter(|(_, s)| *s == Status::Fail)
+            .map(|(c, _)| c.as_str())
+            .collect()
+    }
+
+    #[test]
+    fn rounded_f64_results_pass() {
+        assert_eq!(failing(&statuses(|_, v| v)), Vec::<&str>::new());
+    }
+
+    #[test]
+    fn each_check_catches_its_defect() {
+        let scaled = |k: f32| move |_, v: Values<f32>| v.map(|half| half.map(|x| x * k));
+        // Scaled down, so that lobes clamped to FP16_MAX stay under it.
+        assert_eq!(
+            failing(&statuses(scaled(1.0 - 2e-5))),
+            ["gpu vs f64: p99 rel. error"],
+            "2e-5 everywhere is beyond p99 only"
+        );
+        assert_eq!(
+            failing(&statuses(scaled(1.0 - 2e-4))),
+            ["gpu vs f64: p99 rel. error", "gpu vs f64: max rel. error"]
+        );
+        assert!(failing(&statuses(scaled(1.001))).contains(&"stress: finite, >= 0, capped"));
+        let negative = |i, mut v: Values<f32>| {
+            if i == 7 {
+                v[0][0] = -v[0][0] - 1.0;
+            }
+            v
+        };
+        assert!(failing(&statuses(negative)).contains(&"positive, finite, in range"));
+        let asymmetric = |_, mut v: Values<f32>| {
+            v[1] = v[1].map(|x| x * 0.999);
+            v
+        };
+        assert_eq!(
+            failing(&statuses(asymmetric)),
+            ["reciprocity f(v,l)=f(l,v), gpu"]
+        );
+        let nan_under_stress = |i, mut v: Values<f32>| {
+            if i == 4000 + 11 {
+                v[1][2] = f32::NAN;
+            }
+            v
+        };
+        assert_eq!(
+            failing(&statuses(nan_under_stress)),
+            ["stress: finite, >= 0, capped"]
+        );
+    }
+
+    #[test]
+    fn relative_error_has_a_floor_and_sees_nan() {
+        assert_eq!(relative_error(1.0, 1.0), 0.0);
+        assert!((relative_error(1.001, 1.0) - 1e-3).abs() < 1e-12);
+        // Below the floor the error is absolute, in units of the floor.
+        assert!((relative_error(2e-7, 1e-7) - 1e-7 / RELATIVE_FLOOR).abs() < 1e-15);
+        assert_eq!(relative_error(f64::NAN, 1.0), f64::INFINITY);
+        assert_eq!(relative_error(f64::INFINITY, 1.0), f64::INFINITY);
+    }
+}

@@ -1,0 +1,87 @@
+//! `argil verify` as `make test` runs it, on fewer random tuples: it passes on lavapipe with
+//! the validation layer silent, its table names every model and term, and `--json` writes the
+//! same rows. (The full run, 2²⁰ tuples per function, is `make test`'s last step.)
+
+use std::process::{Command, Output};
+
+fn argil(args: &[&str]) -> Output {
+    let runtime = std::env::temp_dir().join(format!("argil-runtime-{}", std::process::id()));
+    std::fs::create_dir_all(&runtime).expect("runtime dir");
+    Command::new(env!("CARGO_BIN_EXE_argil"))
+        .args(args)
+        .env("ARGIL_VALIDATION", "1")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .output()
+        .expect("run argil")
+}
+
+#[test]
+fn verify_passes_and_reports_every_model() {
+    let json = std::env::temp_dir().join(format!("argil-verify-{}.json", std::process::id()));
+    let o = argil(&[
+        "verify",
+        "--samples",
+        "65536",
+        "--json",
+        json.to_str().expect("utf-8 path"),
+    ]);
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert!(
+        o.status.success(),
+        "argil verify failed:\n{stdout}\n{stderr}"
+    );
+    assert!(
+        !stderr.contains("vulkan validation"),
+        "validation messages: {stderr}"
+    );
+    for name in [
+        "lambert",
+        "oren-nayar",
+        "eon",
+        "blinn-phong",
+        "torrance-sparrow",
+        "cook-torrance ggx smith-separable",
+        "cook-torrance ggx smith-correlated",
+        "cook-torrance beckmann smith-separable",
+        "cook-torrance beckmann smith-correlated",
+        "f_schlick",
+        "d_ggx",
+        "d_beckmann",
+        "lambda_ggx",
+        "lambda_beckmann",
+        "g2_smith_correlated_ggx",
+        "tonemap_pbr_neutral",
+        "srgb_oetf",
+        "wrap_seed",
+        "wrap_energy_conserving",
+    ] {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(&format!("{name} "))),
+            "no row for {name}:\n{stdout}"
+        );
+    }
+    assert!(
+        stdout.contains("n/a: not a BRDF"),
+        "the wrap terms' reciprocity rows are missing"
+    );
+    assert!(
+        stdout.contains("gains energy: max albedo 1.07"),
+        "Blinn-Phong's gain is not reported"
+    );
+    // Header, rule, rows, blank line, summary.
+    let rows = stdout.lines().take_while(|l| !l.is_empty()).count() - 2;
+    let written = std::fs::read_to_string(&json).expect("read the JSON table");
+    assert_eq!(written.matches("\"status\": ").count(), rows, "{written}");
+    assert!(written.contains("\"failures\": 0"), "{written}");
+    let _ = std::fs::remove_file(&json);
+}
+
+#[test]
+fn verify_rejects_an_empty_sweep() {
+    let o = argil(&["verify", "--samples", "0"]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--samples"));
+}
