@@ -109,6 +109,18 @@ vec3 brdf_cos(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v
     return f * (n_dot_l * shadowing) + wrap;
 }
 
+// The report's composition, for comparison (`horizon = "seed"`): i = d + s (seed eq. 3)
+// with d the diffuse lobe times n·l and s the specular BRDF of eq. 11 without a cosine,
+// hard-coded to 0 where n·l ≤ 0 (the report's fix of its figure 5a). Where n·l → 0⁺ the
+// specular term stays finite and non-zero, so the cutoff is a visible line (figure 5b).
+vec3 brdf_cos_seed(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l) {
+    float n_dot_l = dot(n, l);
+    if (n_dot_l <= 0.0) return vec3(0.0);
+    float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+    return diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l) * n_dot_l
+         + specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l);
+}
+
 // Radiance reflected from a uniform environment of radiance L by the diffuse lobe, taken
 // as Lambertian: ∫ (ρ/π) L cos dω = ρ L (exact for Lambert).
 vec3 uniform_environment(ShadingModels models, Material m, vec3 radiance) {

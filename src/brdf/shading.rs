@@ -158,3 +158,18 @@ pub fn brdf_cos(models: ShadingModels, m: &ShadingParams, n: Vec3, n_geometric: 
     let shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, dot(n_geometric, n));
     add(scale(f, n_dot_l * shadowing), wrap)
 }
+
+/// The report's composition, for comparison (`horizon = "seed"`): i = d + s (seed eq. 3)
+/// with d the diffuse lobe times n·l and s the specular BRDF of eq. 11 without a cosine,
+/// hard-coded to 0 where n·l ≤ 0 (the report's fix of its figure 5a).
+pub fn brdf_cos_seed(models: ShadingModels, m: &ShadingParams, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
+    let n_dot_l = dot(n, l);
+    if n_dot_l <= 0.0 {
+        return [0.0; 3];
+    }
+    let n_dot_v = dot(n, v).max(MIN_N_DOT_V);
+    add(
+        scale(diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l), n_dot_l),
+        specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l),
+    )
+}
