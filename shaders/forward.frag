@@ -1,9 +1,10 @@
 #version 460
-// Forward shading of one object: every point light through the material's BRDF, plus a
-// uniform environment when the scene has one. The models are specialization constants,
+// Forward shading of one object: every point light through the material's BRDF, plus the
+// environment's light when the scene has one. The models are specialization constants,
 // so each pipeline holds only the code its materials need.
 #include "scene_data.glsl"
 #include "shading.glsl"
+#include "environment.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
@@ -33,6 +34,6 @@ void main() {
         vec3 irradiance = frame.lights[i].intensity.rgb / distance2;
         radiance += irradiance * brdf_cos(models, m, n, n_geometric, v, l);
     }
-    radiance += uniform_environment(models, m, frame.ambient_radiance.rgb);
+    radiance += environment_light(models, m, n, n_geometric, v, in_uv, gl_FragCoord.xy);
     out_radiance = vec4(radiance, 1.0);
 }

@@ -1,5 +1,6 @@
 //! Passes built from the Vulkan pieces, and the renderer that owns them.
 
+pub mod environment;
 pub mod forward;
 pub mod gpu_scene;
 pub mod output;
