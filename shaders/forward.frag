@@ -1,10 +1,11 @@
 #version 460
-// Forward shading of one object: every point light through the material's BRDF, plus a
-// uniform environment when the scene has one. The models are specialization constants,
+// Forward shading of one object: every point light through the material's BRDF, plus the
+// environment's light when the scene has one. The models are specialization constants,
 // so each pipeline holds only the code its materials need.
 #include "scene_data.glsl"
 #include "shading.glsl"
 #include "lights.glsl"
+#include "environment.glsl"
 #include "debug_views.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
@@ -26,11 +27,11 @@ void main() {
     vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
     vec3 n = view_facing_normal(n_geometric, v);
 
-    vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position);
-    radiance += uniform_environment(models, m, frame.ambient_radiance.rgb);
+    vec3 environment = environment_light(models, m, n, n_geometric, v, in_uv, gl_FragCoord.xy);
+    vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position) + environment;
     out_radiance = vec4(radiance, 1.0);
     if (frame.counts.y != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(frame.counts.y, models, m, n, n_geometric, v, in_world_position,
-                                               in_normal, in_uv, in_tangent, radiance);
+                                               in_normal, in_uv, in_tangent, environment, radiance);
     }
 }

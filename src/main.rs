@@ -120,6 +120,14 @@ fn render(cli_device: DeviceChoice, validation: bool, scene: Option<PathBuf>, ou
         device.info.name,
         times.map(|t| format!(" (GPU: {t})")).unwrap_or_default()
     );
+    let costs = renderer.environment().precompute_costs();
+    if !costs.is_empty() {
+        let steps: Vec<String> = costs
+            .iter()
+            .map(|c| format!("{} {:.2} ms ({})", c.step, c.ms, if c.gpu { "GPU" } else { "CPU" }))
+            .collect();
+        eprintln!("argil: environment precomputed once: {}", steps.join(", "));
+    }
     drop(gpu);
     drop(renderer);
     if let Some(report) = device.validation() {

@@ -297,6 +297,19 @@ float e_fon_approx(float mu, float r) {
     return (1.0 + rr * g_over_pi) / (1.0 + EON_CONSTANT_1 * rr);
 }
 
+// EON's average FON albedo Ē = A (1 + c₂ r), r in [0, 1].
+float eon_average_albedo(float r) {
+    float rr = clamp(r, 0.0, 1.0);
+    float a = 1.0 / (1.0 + EON_CONSTANT_1 * rr);
+    return a * (1.0 + EON_CONSTANT_2 * rr);
+}
+
+// EON's multiple-scattering albedo ρ_ms = ρ² Ē/(1 − ρ(1 − Ē)), ρ clamped to [0, 1].
+vec3 eon_multiple_albedo(vec3 rho, float e_avg) {
+    vec3 c = clamp(rho, 0.0, 1.0);
+    return c * c * e_avg / (1.0 - c * (1.0 - e_avg));
+}
+
 // Energy-preserving Oren-Nayar (EON, Portsmouth, Kutz & Hill 2025, as in OpenPBR), with the
 // E_FON fit: FON single scattering ρ/π A (1 + r s/t) plus the multiple-scattering lobe
 // ρ_ms/π (1 − E(μo))(1 − E(μi))/(1 − Ē). r is the roughness in [0, 1].
@@ -309,13 +322,21 @@ vec3 diffuse_eon(vec3 rho, float r, float n_dot_v, float n_dot_l, float v_dot_l)
     float s_over_t = s > 0.0 ? s / max(mu_i, mu_o) : s;
     float a = 1.0 / (1.0 + EON_CONSTANT_1 * rr);
     float single = a * (1.0 + rr * s_over_t) / PI;
-    float e_avg = a * (1.0 + EON_CONSTANT_2 * rr);
+    float e_avg = eon_average_albedo(rr);
     float multi = max(1.0 - e_fon_approx(mu_o, rr), EON_EPSILON)
                 * max(1.0 - e_fon_approx(mu_i, rr), EON_EPSILON)
                 / (PI * max(1.0 - e_avg, EON_EPSILON));
     vec3 c = clamp(rho, 0.0, 1.0);
-    vec3 rho_ms = c * c * e_avg / (1.0 - c * (1.0 - e_avg));
-    return max(c * single + rho_ms * multi, vec3(0.0));
+    return max(c * single + eon_multiple_albedo(c, e_avg) * multi, vec3(0.0));
+}
+
+// The directional albedo of diffuse_eon, ρ E(μ) + ρ_ms (1 − E(μ)) with the E_FON fit
+// (Portsmouth et al. 2025: single scattering reflects E, the multiple-scattering lobe
+// 1 − E of ρ_ms): the radiance it reflects of a unit uniform environment.
+vec3 diffuse_eon_albedo(vec3 rho, float r, float n_dot_v) {
+    float e = e_fon_approx(n_dot_v, r);
+    vec3 c = clamp(rho, 0.0, 1.0);
+    return c * e + eon_multiple_albedo(c, eon_average_albedo(r)) * (1.0 - e);
 }
 
 // ---- Wrap lighting (seed's subsurface approximation) ----

@@ -31,9 +31,10 @@ vec3 direction_color(vec3 d) {
 
 // What debug view `view` shows at a surface point; `shaded` is the normal result there.
 // `n` is the shading normal, `n_geometric` the surface's, `normal` and `tangent` the
-// interpolated vertex attributes.
+// interpolated vertex attributes, `environment` the environment's term.
 vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
-                         vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 shaded) {
+                         vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 environment,
+                         vec3 shaded) {
     if (view == DEBUG_VIEW_NORMALS) return direction_color(n);
     if (view == DEBUG_VIEW_TANGENTS) return direction_color(tangent.xyz);
     if (view == DEBUG_VIEW_BITANGENTS) {
@@ -65,7 +66,7 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         ShadingModels neither = ShadingModels(MODEL_NONE, MODEL_NONE, models.distribution, models.geometry);
         return point_lights_radiance(neither, m, n, n_geometric, v, p);
     }
-    if (view == DEBUG_VIEW_ENVIRONMENT) return uniform_environment(models, m, frame.ambient_radiance.rgb);
+    if (view == DEBUG_VIEW_ENVIRONMENT) return environment;
     if (view == DEBUG_VIEW_NAN) {
         return any(isnan(shaded)) || any(isinf(shaded)) ? vec3(1.0, 0.0, 1.0) : shaded;
     }

@@ -14,7 +14,6 @@ struct PointLight {
 layout(set = 0, binding = 0, std140) uniform FrameData {
     mat4 view_proj;
     vec4 camera_position;
-    vec4 ambient_radiance;  // rgb radiance of a uniform environment (0 when none)
     uvec4 counts;           // x = number of point lights, y = debug view (debug_views.glsl)
     PointLight lights[MAX_POINT_LIGHTS];
 } frame;

@@ -1,6 +1,6 @@
-// Shading of one surface point: the material's models put together, for point lights and
-// for a uniform environment. Shared by the forward pass and compute test harnesses; the
-// f64 twins are in src/brdf/shading.rs.
+// Shading of one surface point: the material's models put together, for point lights
+// (environment.glsl integrates them over an environment). Shared by the forward pass and
+// compute test harnesses; the f64 twins are in src/brdf/shading.rs.
 #ifndef ARGIL_SHADING_GLSL
 #define ARGIL_SHADING_GLSL
 #include "brdf.glsl"
@@ -11,6 +11,7 @@
 const uint DIFFUSE_LAMBERT = 0u;
 const uint DIFFUSE_OREN_NAYAR = 1u;
 const uint DIFFUSE_EON = 2u;
+const uint DIFFUSE_NONE = 3u;
 const uint SPECULAR_COOK_TORRANCE = 0u;
 const uint SPECULAR_TORRANCE_SPARROW = 1u;
 const uint SPECULAR_BLINN_PHONG = 2u;
@@ -119,12 +120,6 @@ vec3 brdf_cos_seed(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     return diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l) * n_dot_l
          + specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l);
-}
-
-// Radiance reflected from a uniform environment of radiance L by the diffuse lobe, taken
-// as Lambertian: ∫ (ρ/π) L cos dω = ρ L (exact for Lambert).
-vec3 uniform_environment(ShadingModels models, Material m, vec3 radiance) {
-    return models.diffuse <= DIFFUSE_EON ? m.base_color.rgb * radiance : vec3(0.0);
 }
 
 #endif

@@ -100,12 +100,36 @@ fn eon(
     let s_over_t = if s > 0.0 { s / mu_i.max(mu_o) } else { s };
     let a = 1.0 / (1.0 + EON_CONSTANT_1 * r);
     let single = a * (1.0 + r * s_over_t) / PI;
-    let e_avg = a * (1.0 + EON_CONSTANT_2 * r);
+    let e_avg = eon_average_albedo(r);
     let multi = (1.0 - e_fon(mu_o, r)).max(EON_EPSILON) * (1.0 - e_fon(mu_i, r)).max(EON_EPSILON)
         / (PI * (1.0 - e_avg).max(EON_EPSILON));
     rho.map(|c| {
         let c = c.clamp(0.0, 1.0);
-        let rho_ms = c * c * e_avg / (1.0 - c * (1.0 - e_avg));
-        (c * single + rho_ms * multi).max(0.0)
+        (c * single + eon_multiple_albedo(c, e_avg) * multi).max(0.0)
+    })
+}
+
+/// EON's average FON albedo Ē = A (1 + c₂ r), r in [0, 1].
+pub fn eon_average_albedo(r: f64) -> f64 {
+    let r = r.clamp(0.0, 1.0);
+    let a = 1.0 / (1.0 + EON_CONSTANT_1 * r);
+    a * (1.0 + EON_CONSTANT_2 * r)
+}
+
+/// EON's multiple-scattering albedo ρ_ms = ρ² Ē/(1 − ρ(1 − Ē)), ρ clamped to [0, 1].
+pub fn eon_multiple_albedo(rho: f64, e_avg: f64) -> f64 {
+    let c = rho.clamp(0.0, 1.0);
+    c * c * e_avg / (1.0 - c * (1.0 - e_avg))
+}
+
+/// The directional albedo of `diffuse_eon`, ρ E(μ) + ρ_ms (1 − E(μ)) with the E_FON fit
+/// (Portsmouth et al. 2025: single scattering reflects E, the multiple-scattering lobe
+/// 1 − E of ρ_ms): the radiance it reflects of a unit uniform environment.
+pub fn diffuse_eon_albedo(rho: Vec3, r: f64, n_dot_v: f64) -> Vec3 {
+    let e = e_fon_approx(n_dot_v, r);
+    let e_avg = eon_average_albedo(r);
+    rho.map(|c| {
+        let c = c.clamp(0.0, 1.0);
+        c * e + eon_multiple_albedo(c, e_avg) * (1.0 - e)
     })
 }

@@ -8,6 +8,7 @@
 //! passed as scalars wherever the GLSL function takes scalars.
 
 pub mod diffuse;
+pub mod environment;
 pub mod distribution;
 pub mod fresnel;
 pub mod geometry;

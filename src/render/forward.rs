@@ -1,8 +1,9 @@
 //! The forward pass: every object, shaded by every point light, into the HDR target.
 //!
 //! Set 0: binding 0 the `FrameData` uniform buffer, binding 1 the `Materials` storage
-//! buffer; push constants: `ObjectPush` (see shaders/lib/scene_data.glsl). One pipeline
-//! per combination of BRDF models in use, chosen by specialization constants.
+//! buffer; set 2: the environment (see environment.rs); push constants: `ObjectPush` (see
+//! shaders/lib/scene_data.glsl). One pipeline per combination of BRDF models in use,
+//! chosen by specialization constants.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -43,6 +44,8 @@ pub struct ForwardPass {
     device: Arc<Device>,
     /// Kept alive for the sets allocated with it.
     _set_layout: DescriptorSetLayout,
+    /// Holds set 1's place (material textures) until that set exists.
+    _material_layout: DescriptorSetLayout,
     layout: PipelineLayout,
     vertex: ShaderModule,
     fragment: ShaderModule,
@@ -53,14 +56,15 @@ pub struct ForwardPass {
 }
 
 impl ForwardPass {
-    pub fn new(device: &Arc<Device>, frames_in_flight: u32) -> Result<Self> {
+    pub fn new(device: &Arc<Device>, frames_in_flight: u32, environment_layout: &DescriptorSetLayout) -> Result<Self> {
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(vk::DescriptorType::UNIFORM_BUFFER, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::FRAGMENT)
             .build(device, "forward set")?;
+        let material_layout = DescriptorSetLayoutBuilder::default().build(device, "material set (empty)")?;
         let layout = PipelineLayout::new(
             device,
-            &[&set_layout],
+            &[&set_layout, &material_layout, environment_layout],
             std::mem::size_of::<ObjectPush>() as u32,
             vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
         )?;
@@ -85,6 +89,7 @@ impl ForwardPass {
         Ok(Self {
             device: device.clone(),
             _set_layout: set_layout,
+            _material_layout: material_layout,
             layout,
             vertex,
             fragment,
@@ -153,7 +158,9 @@ impl ForwardPass {
         s.materials.write(bytes)
     }
 
-    /// Records the pass. The target's colour and depth must be in attachment layouts.
+    /// Records the pass. The target's colour and depth must be in attachment layouts; its
+    /// depth is kept for the skybox.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -162,6 +169,7 @@ impl ForwardPass {
         gpu: &GpuScene,
         target: &RenderTarget,
         clear: [f32; 4],
+        environment_set: vk::DescriptorSet,
     ) -> Result<()> {
         let d = &self.device.handle;
         let color = [vk::RenderingAttachmentInfo::default()
@@ -174,7 +182,7 @@ impl ForwardPass {
             .image_view(target.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::DONT_CARE)
+            .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
         let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
         let rendering = vk::RenderingInfo::default()
@@ -193,6 +201,14 @@ impl ForwardPass {
                 self.layout.handle,
                 0,
                 &[self.slots[slot].set],
+                &[],
+            );
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.handle,
+                2,
+                &[environment_set],
                 &[],
             );
         }

@@ -6,9 +6,9 @@ use std::sync::Arc;
 use anyhow::{ensure, Result};
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat3, Mat4, Vec4};
+use glam::{Mat3, Mat4};
 
-use crate::scene::{Environment, Material, Mesh, Object, Scene};
+use crate::scene::{Material, Mesh, Object, Scene};
 use crate::vk::{Buffer, Device, OneShot};
 
 /// `MAX_POINT_LIGHTS` in scene_data.glsl.
@@ -27,7 +27,6 @@ pub struct PointLightData {
 pub struct FrameData {
     pub view_proj: [[f32; 4]; 4],
     pub camera_position: [f32; 4],
-    pub ambient_radiance: [f32; 4],
     pub counts: [u32; 4],
     pub lights: [PointLightData; MAX_POINT_LIGHTS],
 }
@@ -45,18 +44,9 @@ impl FrameData {
             slot.position = light.position.extend(1.0).to_array();
             slot.intensity = light.intensity.extend(0.0).to_array();
         }
-        let ambient = match &scene.environment {
-            Environment::None => Vec4::ZERO,
-            Environment::Uniform { radiance } => radiance.extend(0.0),
-            Environment::Map { path } => anyhow::bail!(
-                "{}: environment maps are not rendered yet; use kind = \"none\" or \"uniform\"",
-                path.display()
-            ),
-        };
         Ok(Self {
             view_proj: view_proj.to_cols_array_2d(),
             camera_position: scene.camera.position.extend(1.0).to_array(),
-            ambient_radiance: ambient.to_array(),
             counts: [scene.lights.len() as u32, 0, 0, 0],
             lights,
         })

@@ -1,6 +1,7 @@
 //! Passes built from the Vulkan pieces, and the renderer that owns them.
 
 pub mod debug_view;
+pub mod environment;
 pub mod forward;
 pub mod gpu_scene;
 pub mod output;

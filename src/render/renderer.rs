@@ -7,6 +7,7 @@ use anyhow::Result;
 use ash::vk;
 
 use super::debug_view::DebugView;
+use super::environment::EnvironmentPass;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
 use super::target::RenderTarget;
@@ -15,9 +16,10 @@ use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
 /// The passes of a frame, in order; GPU times are reported with these names.
-pub const PASS_NAMES: [&str; 2] = ["forward", "tonemap"];
+pub const PASS_NAMES: [&str; 3] = ["forward", "skybox", "tonemap"];
 const PASS_FORWARD: u32 = 0;
-const PASS_TONEMAP: u32 = 1;
+const PASS_SKYBOX: u32 = 1;
+const PASS_TONEMAP: u32 = 2;
 
 /// Where the display transform writes: an image in use `from` before this frame, and how
 /// the frame leaves it (`to`).
@@ -44,6 +46,7 @@ pub struct OffscreenFrame {
 pub struct Renderer {
     pub device: Arc<Device>,
     one_shot: OneShot,
+    environment: EnvironmentPass,
     forward: ForwardPass,
     tonemap: TonemapPass,
     /// One query pool per frame in flight; empty when the device has no timestamps.
@@ -57,9 +60,11 @@ impl Renderer {
         let timestamps = (0..frames_in_flight)
             .filter_map(|_| Timestamps::new(&device, PASS_NAMES.len() as u32).transpose())
             .collect::<Result<_>>()?;
+        let environment = EnvironmentPass::new(&device)?;
         Ok(Self {
             one_shot: OneShot::new(&device)?,
-            forward: ForwardPass::new(&device, frames_in_flight)?,
+            forward: ForwardPass::new(&device, frames_in_flight, environment.set_layout())?,
+            environment,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
             timestamps,
             debug_view: DebugView::Shaded,
@@ -75,12 +80,13 @@ impl Renderer {
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has
     /// waited for the slot's previous frame.
     pub fn prepare(&mut self, slot: usize, scene: &Scene, target: &RenderTarget, output_format: vk::Format) -> Result<()> {
+        self.environment.prepare(scene)?;
         self.forward.prepare(slot, scene, target.aspect(), self.debug_view)?;
         self.tonemap.prepare(slot, target, output_format)
     }
 
-    /// Records the whole frame: forward pass into `target`, display transform into `output`,
-    /// which is left as a colour attachment. `target.color` is left readable by shaders.
+    /// Records the whole frame: forward pass and skybox into `target`, display transform into
+    /// `output`, which is left as a colour attachment. `target.color` is left readable by shaders.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -101,9 +107,14 @@ impl Renderer {
         if let Some(t) = timestamps {
             t.begin(cmd, PASS_FORWARD);
         }
-        self.forward.record(cmd, slot, scene, gpu, target, background(scene))?;
+        self.forward.record(cmd, slot, scene, gpu, target, background(scene), self.environment.set())?;
         if let Some(t) = timestamps {
             t.end(cmd, PASS_FORWARD);
+            t.begin(cmd, PASS_SKYBOX);
+        }
+        self.environment.record_skybox(cmd, target, &scene.camera);
+        if let Some(t) = timestamps {
+            t.end(cmd, PASS_SKYBOX);
         }
 
         transition(d, cmd, target.color.handle, target.color.aspect, ImageUse::COLOR_ATTACHMENT, ImageUse::FRAGMENT_READ);
@@ -116,6 +127,11 @@ impl Renderer {
             t.end(cmd, PASS_TONEMAP);
         }
         Ok(())
+    }
+
+    /// The environment's GPU resources and what precomputing them cost.
+    pub fn environment(&self) -> &EnvironmentPass {
+        &self.environment
     }
 
     /// GPU milliseconds per pass of the last completed frame of `slot`.
@@ -161,11 +177,11 @@ impl Renderer {
     }
 }
 
-/// What pixels that no object covers show: the uniform environment's radiance, or black;
-/// alpha is coverage, so 0.
+/// What pixels that no object covers show before the skybox: the uniform environment's
+/// radiance, or black; alpha is coverage, so 0.
 fn background(scene: &Scene) -> [f32; 4] {
     match &scene.environment {
-        Environment::Uniform { radiance } => radiance.extend(0.0).to_array(),
+        Environment::Uniform { radiance, .. } => radiance.extend(0.0).to_array(),
         _ => [0.0; 4],
     }
 }

@@ -12,6 +12,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
+use super::light::ReflectionMode;
 use super::material::{DiffuseModel, Distribution, Geometry, SpecularModel};
 
 /// A whole scene file. Every section is optional; validation rejects a scene
@@ -70,16 +71,50 @@ pub enum LightDef {
     },
 }
 
-/// `[environment]`, selected by `kind`.
+/// `[environment]`, selected by `kind`. Optional keys are `None` when absent
+/// (and are then not written back); see docs/scene-format.md for defaults.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum EnvironmentDef {
     #[default]
     None,
     /// Constant radiance from every direction, linear RGB.
-    Uniform { radiance: [f64; 3] },
+    Uniform {
+        radiance: [f64; 3],
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reflection: Option<ReflectionMode>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        samples: Option<u32>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        seed_strength: Option<f64>,
+    },
+    /// The procedural studio.
+    Studio {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        intensity: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rotation_degrees: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reflection: Option<ReflectionMode>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        samples: Option<u32>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        seed_strength: Option<f64>,
+    },
     /// Equirectangular .hdr or .exr, relative to the scene file's folder.
-    Map { path: PathBuf },
+    Map {
+        path: PathBuf,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        intensity: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rotation_degrees: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reflection: Option<ReflectionMode>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        samples: Option<u32>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        seed_strength: Option<f64>,
+    },
 }
 
 /// One `[[objects]]` entry.

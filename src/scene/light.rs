@@ -1,6 +1,7 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
+use serde::{Deserialize, Serialize};
 
 /// An isotropic point light. Irradiance on a surface at distance d whose
 /// normal makes angle θ with the light is `intensity · cosθ / d²`.
@@ -18,10 +19,71 @@ pub enum Environment {
     /// Constant radiance from every direction, linear RGB.
     Uniform {
         radiance: Vec3,
+        reflection: Reflection,
+    },
+    /// The procedural studio (soft boxes in a grey cyclorama), generated on the GPU.
+    Studio {
+        intensity: f32,
+        rotation_degrees: f32,
+        reflection: Reflection,
     },
     /// Equirectangular .hdr or .exr image, already resolved against the
     /// scene file's folder and checked to exist.
     Map {
         path: PathBuf,
+        intensity: f32,
+        rotation_degrees: f32,
+        reflection: Reflection,
     },
+}
+
+impl Environment {
+    /// How the environment lights surfaces; `None` has no light.
+    pub fn reflection(&self) -> Option<&Reflection> {
+        match self {
+            Environment::None => None,
+            Environment::Uniform { reflection, .. }
+            | Environment::Studio { reflection, .. }
+            | Environment::Map { reflection, .. } => Some(reflection),
+        }
+    }
+}
+
+/// How the environment's light reflected by a surface is computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReflectionMode {
+    /// Prefiltered specular cube map × DFG table, diffuse from spherical harmonics (Karis 2013).
+    #[default]
+    SplitSum,
+    /// The seed report's single lookup along the reflected direction (eq. 17).
+    Seed,
+    /// Importance-sampled environment lookups per pixel; converges to the true integral.
+    Sampled,
+}
+
+/// A reflection mode with its parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reflection {
+    pub mode: ReflectionMode,
+    /// Environment lookups per pixel for `Sampled`.
+    pub samples: u32,
+    /// Scale of the reflected lookup for `Seed`.
+    pub seed_strength: f32,
+}
+
+impl Reflection {
+    pub const DEFAULT_SAMPLES: u32 = 64;
+    pub const MAX_SAMPLES: u32 = 4096;
+    pub const DEFAULT_SEED_STRENGTH: f32 = 0.05;
+}
+
+impl Default for Reflection {
+    fn default() -> Self {
+        Self {
+            mode: ReflectionMode::SplitSum,
+            samples: Self::DEFAULT_SAMPLES,
+            seed_strength: Self::DEFAULT_SEED_STRENGTH,
+        }
+    }
 }

@@ -23,7 +23,7 @@ use glam::{Mat4, Vec3};
 pub use camera::Camera;
 pub use error::SceneError;
 pub use file::SceneFile;
-pub use light::{Environment, PointLight};
+pub use light::{Environment, PointLight, Reflection, ReflectionMode};
 pub use material::{DiffuseModel, Distribution, Geometry, Material, SpecularModel};
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
 pub use texture::{TexelFormat, TextureData};

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use super::file::{CameraDef, EnvironmentDef, LightDef, MaterialDef, ObjectDef};
+use super::light::{Reflection, ReflectionMode};
 use super::{
     Camera, Environment, Material, Mesh, Object, PointLight, Scene, SceneError, SceneFile,
     BUILTIN_PREFIX,
@@ -236,10 +237,34 @@ fn environment(
 ) -> Result<Environment, SceneError> {
     Ok(match def {
         EnvironmentDef::None => Environment::None,
-        EnvironmentDef::Uniform { radiance } => Environment::Uniform {
+        EnvironmentDef::Uniform {
+            radiance,
+            reflection,
+            samples,
+            seed_strength,
+        } => Environment::Uniform {
             radiance: check.color("environment.radiance", *radiance)?,
+            reflection: check.reflection(*reflection, *samples, *seed_strength)?,
         },
-        EnvironmentDef::Map { path } => {
+        EnvironmentDef::Studio {
+            intensity,
+            rotation_degrees,
+            reflection,
+            samples,
+            seed_strength,
+        } => Environment::Studio {
+            intensity: check.intensity(*intensity)?,
+            rotation_degrees: check.rotation(*rotation_degrees)?,
+            reflection: check.reflection(*reflection, *samples, *seed_strength)?,
+        },
+        EnvironmentDef::Map {
+            path,
+            intensity,
+            rotation_degrees,
+            reflection,
+            samples,
+            seed_strength,
+        } => {
             let is_image = path
                 .extension()
                 .and_then(|e| e.to_str())
@@ -259,9 +284,69 @@ fn environment(
                     format!("no such file: {}", resolved.display()),
                 ));
             }
-            Environment::Map { path: resolved }
+            Environment::Map {
+                path: resolved,
+                intensity: check.intensity(*intensity)?,
+                rotation_degrees: check.rotation(*rotation_degrees)?,
+                reflection: check.reflection(*reflection, *samples, *seed_strength)?,
+            }
         }
     })
+}
+
+impl Checker<'_> {
+    fn intensity(&self, intensity: Option<f64>) -> Result<f32, SceneError> {
+        intensity.map_or(Ok(1.0), |x| self.non_negative("environment.intensity", x))
+    }
+
+    fn rotation(&self, degrees: Option<f64>) -> Result<f32, SceneError> {
+        degrees.map_or(Ok(0.0), |x| {
+            self.scalar(
+                "environment.rotation_degrees",
+                x,
+                f32::is_finite,
+                "must be a finite number of degrees",
+            )
+        })
+    }
+
+    fn reflection(
+        &self,
+        mode: Option<ReflectionMode>,
+        samples: Option<u32>,
+        seed_strength: Option<f64>,
+    ) -> Result<Reflection, SceneError> {
+        let samples = samples.unwrap_or(Reflection::DEFAULT_SAMPLES);
+        if !(1..=Reflection::MAX_SAMPLES).contains(&samples) {
+            return Err(self.invalid(
+                "environment.samples",
+                samples,
+                format!("must be an integer in 1..={}", Reflection::MAX_SAMPLES),
+            ));
+        }
+        Ok(Reflection {
+            mode: mode.unwrap_or_default(),
+            samples,
+            seed_strength: seed_strength.map_or(Ok(Reflection::DEFAULT_SEED_STRENGTH), |x| {
+                self.non_negative("environment.seed_strength", x)
+            })?,
+        })
+    }
+}
+
+/// The keys of a reflection that differ from their defaults, for saving.
+fn reflection_def(r: &Reflection) -> (Option<ReflectionMode>, Option<u32>, Option<f64>) {
+    let defaults = Reflection::default();
+    (
+        (r.mode != defaults.mode).then_some(r.mode),
+        (r.samples != defaults.samples).then_some(r.samples),
+        (r.seed_strength != defaults.seed_strength).then(|| widen(r.seed_strength)),
+    )
+}
+
+/// `x` for saving, unless it is the default.
+fn non_default(x: f32, default: f32) -> Option<f64> {
+    (x != default).then(|| widen(x))
 }
 
 fn material(check: &Checker, name: &str, def: &MaterialDef) -> Result<Material, SceneError> {
@@ -330,15 +415,7 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
                 intensity: widen3(light.intensity),
             })
             .collect(),
-        environment: match &scene.environment {
-            Environment::None => EnvironmentDef::None,
-            Environment::Uniform { radiance } => EnvironmentDef::Uniform {
-                radiance: widen3(*radiance),
-            },
-            Environment::Map { path } => EnvironmentDef::Map {
-                path: relative(path),
-            },
-        },
+        environment: environment_def(&scene.environment, relative),
         objects: scene
             .objects
             .iter()
@@ -378,5 +455,56 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
                 (m.name.clone(), def)
             })
             .collect(),
+    }
+}
+
+fn environment_def(
+    environment: &Environment,
+    relative: impl Fn(&Path) -> PathBuf,
+) -> EnvironmentDef {
+    match environment {
+        Environment::None => EnvironmentDef::None,
+        Environment::Uniform {
+            radiance,
+            reflection,
+        } => {
+            let (reflection, samples, seed_strength) = reflection_def(reflection);
+            EnvironmentDef::Uniform {
+                radiance: widen3(*radiance),
+                reflection,
+                samples,
+                seed_strength,
+            }
+        }
+        Environment::Studio {
+            intensity,
+            rotation_degrees,
+            reflection,
+        } => {
+            let (reflection, samples, seed_strength) = reflection_def(reflection);
+            EnvironmentDef::Studio {
+                intensity: non_default(*intensity, 1.0),
+                rotation_degrees: non_default(*rotation_degrees, 0.0),
+                reflection,
+                samples,
+                seed_strength,
+            }
+        }
+        Environment::Map {
+            path,
+            intensity,
+            rotation_degrees,
+            reflection,
+        } => {
+            let (reflection, samples, seed_strength) = reflection_def(reflection);
+            EnvironmentDef::Map {
+                path: relative(path),
+                intensity: non_default(*intensity, 1.0),
+                rotation_degrees: non_default(*rotation_degrees, 0.0),
+                reflection,
+                samples,
+                seed_strength,
+            }
+        }
     }
 }

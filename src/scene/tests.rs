@@ -159,7 +159,8 @@ specular = "blinn-phong"
     assert_eq!(
         scene.environment,
         Environment::Uniform {
-            radiance: Vec3::new(0.1, 0.2, 0.3)
+            radiance: Vec3::new(0.1, 0.2, 0.3),
+            reflection: Reflection::default()
         }
     );
     // The sphere is loaded once for both objects.
@@ -449,7 +450,10 @@ fn saved_scene_reloads_identically_with_relative_paths() {
     assert_eq!(
         scene.environment,
         Environment::Map {
-            path: dir.0.join("sky.hdr")
+            path: dir.0.join("sky.hdr"),
+            intensity: 1.0,
+            rotation_degrees: 0.0,
+            reflection: Reflection::default()
         }
     );
     assert_eq!(scene.meshes.len(), 2);
@@ -460,7 +464,12 @@ fn saved_scene_reloads_identically_with_relative_paths() {
     assert_eq!(
         file.environment,
         EnvironmentDef::Map {
-            path: "sky.hdr".into()
+            path: "sky.hdr".into(),
+            intensity: None,
+            rotation_degrees: None,
+            reflection: None,
+            samples: None,
+            seed_strength: None
         }
     );
     let saved = dir.write("saved.toml", &toml::to_string_pretty(&file).unwrap());
@@ -494,7 +503,10 @@ fn environment_map_is_resolved_and_checked() {
             .unwrap()
             .environment,
         Environment::Map {
-            path: dir.0.join("studio.EXR")
+            path: dir.0.join("studio.EXR"),
+            intensity: 1.0,
+            rotation_degrees: 0.0,
+            reflection: Reflection::default()
         }
     );
     assert_eq!(

@@ -28,7 +28,8 @@ use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use crate::render::gpu_scene::FrameData;
-use crate::scene::Scene;
+use crate::render::environment::equirect;
+use crate::scene::{Environment, Scene};
 use crate::vk::{Device, DeviceChoice, DeviceOptions, WindowHandles};
 use camera_control::{frame_sphere, movement_from_keys, object_bounds, scene_bounds, CameraControl, Input};
 use frames::{gpu_pass_names, Capture, CaptureStage, FrameLoop, UiFrame};
@@ -70,10 +71,15 @@ pub fn save_scene(scene: &Scene, path: &Path) -> Result<()> {
     std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
 }
 
-/// Loads a scene file that the viewer can show: valid, and using only what the renderer draws.
+/// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
+/// with an environment map that decodes, so that a bad edit is reported while the last good
+/// scene stays on screen.
 pub fn load_scene(path: &Path) -> Result<Scene> {
     let scene = Scene::load(path)?;
     FrameData::new(&scene, 1.0)?;
+    if let Environment::Map { path, .. } = &scene.environment {
+        equirect::load(path)?;
+    }
     Ok(scene)
 }
 

@@ -12,7 +12,10 @@ use super::camera_control::{CameraControl, Mode};
 use super::timings::Timings;
 use crate::render::gpu_scene::MAX_POINT_LIGHTS;
 use crate::render::DebugView;
-use crate::scene::{DiffuseModel, Distribution, Environment, Geometry, Material, PointLight, Scene, SpecularModel};
+use crate::scene::{
+    DiffuseModel, Distribution, Environment, Geometry, Material, PointLight, Reflection, ReflectionMode, Scene,
+    SpecularModel,
+};
 
 /// Width of the left panel in points; nothing of the UI is drawn right of it, but for its
 /// border line straddling the edge, unless the help window is open.
@@ -285,24 +288,76 @@ fn lights_section(ui: &mut Ui, scene: &mut Scene) {
     });
 }
 
+/// The environment kinds the panel can switch between; a map needs a file, so it is only
+/// kept, never chosen.
+#[derive(Clone, Copy, PartialEq)]
+enum EnvironmentKind {
+    None,
+    Uniform,
+    Studio,
+    Map,
+}
+
 fn environment_section(ui: &mut Ui, scene: &mut Scene) {
-    if let Environment::Map { path } = &scene.environment {
-        ui.label(format!("map {} (not rendered yet)", path.display()));
-        return;
-    }
-    let mut uniform = matches!(scene.environment, Environment::Uniform { .. });
+    let kind = match &scene.environment {
+        Environment::None => EnvironmentKind::None,
+        Environment::Uniform { .. } => EnvironmentKind::Uniform,
+        Environment::Studio { .. } => EnvironmentKind::Studio,
+        Environment::Map { .. } => EnvironmentKind::Map,
+    };
+    let mut chosen = kind;
     ui.horizontal(|ui| {
-        ui.radio_value(&mut uniform, false, "none");
-        ui.radio_value(&mut uniform, true, "uniform");
-    });
-    match (&mut scene.environment, uniform) {
-        (Environment::Uniform { radiance }, true) => {
-            grid(ui, "environment", |ui| scaled_color(ui, "radiance", radiance, " W/sr/m²"))
+        ui.radio_value(&mut chosen, EnvironmentKind::None, "none");
+        ui.radio_value(&mut chosen, EnvironmentKind::Uniform, "uniform");
+        ui.radio_value(&mut chosen, EnvironmentKind::Studio, "studio");
+        if kind == EnvironmentKind::Map {
+            ui.radio_value(&mut chosen, EnvironmentKind::Map, "map");
         }
-        (Environment::Uniform { .. }, false) => scene.environment = Environment::None,
-        (_, true) => scene.environment = Environment::Uniform { radiance: Vec3::splat(0.05) },
-        _ => {}
+    });
+    if chosen != kind {
+        let reflection = scene.environment.reflection().copied().unwrap_or_default();
+        scene.environment = match chosen {
+            EnvironmentKind::Uniform => Environment::Uniform { radiance: Vec3::splat(0.05), reflection },
+            EnvironmentKind::Studio => Environment::Studio { intensity: 1.0, rotation_degrees: 0.0, reflection },
+            EnvironmentKind::None | EnvironmentKind::Map => Environment::None,
+        };
     }
+    let reflection = match &mut scene.environment {
+        Environment::None => return,
+        Environment::Uniform { radiance, reflection } => {
+            grid(ui, "environment", |ui| scaled_color(ui, "radiance", radiance, " W/sr/m²"));
+            reflection
+        }
+        Environment::Studio { intensity, rotation_degrees, reflection }
+        | Environment::Map { intensity, rotation_degrees, reflection, .. } => {
+            grid(ui, "environment", |ui| {
+                number(ui, "intensity", intensity, 0.0..=8.0);
+                number(ui, "rotation °", rotation_degrees, -180.0..=180.0);
+            });
+            reflection
+        }
+    };
+    grid(ui, "reflection", |ui| {
+        ui.label("reflection");
+        egui::ComboBox::from_id_salt("reflection mode").selected_text(format!("{:?}", reflection.mode)).show_ui(
+            ui,
+            |ui| {
+                for mode in [ReflectionMode::SplitSum, ReflectionMode::Seed, ReflectionMode::Sampled] {
+                    ui.selectable_value(&mut reflection.mode, mode, format!("{mode:?}"));
+                }
+            },
+        );
+        ui.end_row();
+        match reflection.mode {
+            ReflectionMode::Sampled => {
+                ui.label("samples");
+                ui.add(egui::Slider::new(&mut reflection.samples, 1..=Reflection::MAX_SAMPLES).logarithmic(true));
+                ui.end_row();
+            }
+            ReflectionMode::Seed => number(ui, "seed strength", &mut reflection.seed_strength, 0.0..=1.0),
+            ReflectionMode::SplitSum => {}
+        }
+    });
 }
 
 fn debug_section(ui: &mut Ui, view: &mut ViewState) {

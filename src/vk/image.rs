@@ -1,4 +1,5 @@
-//! 2D images (with or without mip chains) with a view and their memory, freed in `Drop`.
+//! 2D images and cube maps (with or without mip chains) with a view and their memory,
+//! freed in `Drop`, and extra views of single mip levels.
 
 use std::sync::Arc;
 
@@ -18,6 +19,8 @@ pub struct Image {
     pub extent: vk::Extent2D,
     pub aspect: vk::ImageAspectFlags,
     pub mip_levels: u32,
+    /// Array layers: 1, or 6 for a cube map.
+    pub layers: u32,
 }
 
 /// The number of levels of a full mip chain down to 1×1.
@@ -48,12 +51,59 @@ impl Image {
         aspect: vk::ImageAspectFlags,
         name: &str,
     ) -> Result<Self> {
+        let shape = Shape { extent, mip_levels, layers: 1, view_type: vk::ImageViewType::TYPE_2D };
+        Self::create(device, shape, format, usage, aspect, name)
+    }
+
+    /// A colour cube map with `size`² faces and `mip_levels` levels; the view is a cube
+    /// view of all of them. Layers are the faces +x, −x, +y, −y, +z, −z.
+    pub fn cube(
+        device: &Arc<Device>,
+        size: u32,
+        mip_levels: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        name: &str,
+    ) -> Result<Self> {
+        let extent = vk::Extent2D { width: size, height: size };
+        let shape = Shape { extent, mip_levels, layers: 6, view_type: vk::ImageViewType::CUBE };
+        Self::create(device, shape, format, usage, vk::ImageAspectFlags::COLOR, name)
+    }
+
+    /// A colour 2D array image of `layers` single-level layers; the view is a 2D array view.
+    pub fn array_2d(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        layers: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        name: &str,
+    ) -> Result<Self> {
+        let shape = Shape { extent, mip_levels: 1, layers, view_type: vk::ImageViewType::TYPE_2D_ARRAY };
+        Self::create(device, shape, format, usage, vk::ImageAspectFlags::COLOR, name)
+    }
+
+    fn create(
+        device: &Arc<Device>,
+        shape: Shape,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+        name: &str,
+    ) -> Result<Self> {
+        let Shape { extent, mip_levels, layers, view_type } = shape;
+        let flags = if view_type == vk::ImageViewType::CUBE {
+            vk::ImageCreateFlags::CUBE_COMPATIBLE
+        } else {
+            vk::ImageCreateFlags::empty()
+        };
         let info = vk::ImageCreateInfo::default()
+            .flags(flags)
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
             .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
             .mip_levels(mip_levels)
-            .array_layers(1)
+            .array_layers(layers)
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
@@ -85,19 +135,59 @@ impl Image {
             extent,
             aspect,
             mip_levels,
+            layers,
         };
         let a = image.allocation.as_ref().expect("allocated above");
         unsafe { device.handle.bind_image_memory(handle, a.memory(), a.offset()) }
             .context("vkBindImageMemory failed")?;
-        let view_info = vk::ImageViewCreateInfo::default()
-            .image(handle)
-            .view_type(vk::ImageViewType::TYPE_2D)
-            .format(format)
-            .subresource_range(full_range(aspect).level_count(mip_levels));
-        image.view = unsafe { device.handle.create_image_view(&view_info, None) }
-            .with_context(|| format!("cannot create a view of image '{name}'"))?;
+        image.view = image.create_view(view_type, image.all_levels())?;
         device.set_name(handle, name);
         Ok(image)
+    }
+
+    /// Every level and layer.
+    pub fn all_levels(&self) -> vk::ImageSubresourceRange {
+        full_range(self.aspect).level_count(self.mip_levels).layer_count(self.layers)
+    }
+
+    /// Mip `level`, every layer.
+    pub fn level_range(&self, level: u32) -> vk::ImageSubresourceRange {
+        full_range(self.aspect).base_mip_level(level).layer_count(self.layers)
+    }
+
+    /// A 2D array view of mip `level`: what compute shaders write a level through.
+    pub fn level_view(&self, level: u32) -> Result<ImageView> {
+        let handle = self.create_view(vk::ImageViewType::TYPE_2D_ARRAY, self.level_range(level))?;
+        Ok(ImageView { device: self.device.clone(), handle })
+    }
+
+    fn create_view(&self, view_type: vk::ImageViewType, range: vk::ImageSubresourceRange) -> Result<vk::ImageView> {
+        let info = vk::ImageViewCreateInfo::default()
+            .image(self.handle)
+            .view_type(view_type)
+            .format(self.format)
+            .subresource_range(range);
+        unsafe { self.device.handle.create_image_view(&info, None) }
+            .with_context(|| format!("cannot create a {view_type:?} view of an image"))
+    }
+}
+
+struct Shape {
+    extent: vk::Extent2D,
+    mip_levels: u32,
+    layers: u32,
+    view_type: vk::ImageViewType,
+}
+
+/// An extra view of an image, destroyed in `Drop`; the image must outlive it.
+pub struct ImageView {
+    device: Arc<Device>,
+    pub handle: vk::ImageView,
+}
+
+impl Drop for ImageView {
+    fn drop(&mut self) {
+        unsafe { self.device.handle.destroy_image_view(self.handle, None) };
     }
 }
 

@@ -99,6 +99,8 @@ pub struct GraphicsPipelineBuilder<'a> {
     vertex_attributes: Vec<vk::VertexInputAttributeDescription>,
     color_format: vk::Format,
     depth_format: Option<vk::Format>,
+    depth_write: bool,
+    depth_compare: vk::CompareOp,
     cull_mode: vk::CullModeFlags,
 }
 
@@ -112,6 +114,8 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             vertex_attributes: Vec::new(),
             color_format,
             depth_format: None,
+            depth_write: false,
+            depth_compare: vk::CompareOp::LESS,
             cull_mode: vk::CullModeFlags::NONE,
         }
     }
@@ -135,6 +139,16 @@ impl<'a> GraphicsPipelineBuilder<'a> {
     /// Depth test and write, less-than.
     pub fn depth(mut self, format: vk::Format) -> Self {
         self.depth_format = Some(format);
+        self.depth_write = true;
+        self.depth_compare = vk::CompareOp::LESS;
+        self
+    }
+
+    /// Depth test by `compare` without writing depth.
+    pub fn depth_test_only(mut self, format: vk::Format, compare: vk::CompareOp) -> Self {
+        self.depth_format = Some(format);
+        self.depth_write = false;
+        self.depth_compare = compare;
         self
     }
 
@@ -188,8 +202,8 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(self.depth_format.is_some())
-            .depth_write_enable(self.depth_format.is_some())
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_write_enable(self.depth_write)
+            .depth_compare_op(self.depth_compare);
         let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
             .color_write_mask(vk::ColorComponentFlags::RGBA)];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);

@@ -27,7 +27,25 @@ impl Sampler {
             // 16x is where the quality of grazing views stops improving visibly.
             info = info.anisotropy_enable(true).max_anisotropy(max.min(16.0));
         }
-        let handle = unsafe { device.handle.create_sampler(&info, None) }.context("cannot create a sampler")?;
+        Self::create(device, &info)
+    }
+
+    /// Trilinear and clamped to the edge: cube maps (whose faces filter seamlessly) and
+    /// lookup tables.
+    pub fn clamped(device: &Arc<Device>) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .max_lod(vk::LOD_CLAMP_NONE);
+        Self::create(device, &info)
+    }
+
+    fn create(device: &Arc<Device>, info: &vk::SamplerCreateInfo) -> Result<Self> {
+        let handle = unsafe { device.handle.create_sampler(info, None) }.context("cannot create a sampler")?;
         Ok(Self { device: device.clone(), handle })
     }
 }

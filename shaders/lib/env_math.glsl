@@ -1,0 +1,183 @@
+// Environment lighting math without resources: cube and equirectangular directions,
+// spherical harmonics, and the sampling strategies with their pdfs. Shared by the forward
+// pass and the precomputation compute shaders; every function has an f64 twin of the same
+// name in src/brdf/environment.rs.
+#ifndef ARGIL_ENV_MATH_GLSL
+#define ARGIL_ENV_MATH_GLSL
+#include "brdf.glsl"
+
+const float TWO_PI = 2.0 * PI;
+// 2^-32: maps a 32-bit radical inverse to [0, 1).
+const float RADICAL_INVERSE_SCALE = 2.3283064365386963e-10;
+
+// ---- Directions ----
+
+// The direction through (a, b) in [−1, 1]² on cube face `face` (+x, −x, +y, −y, +z, −z):
+// the inverse of Vulkan's cube map face selection (spec "Cube Map Face Selection",
+// s = (sc/|ma| + 1)/2, t = (tc/|ma| + 1)/2), so a = 2s − 1 and b = 2t − 1.
+vec3 cube_direction(uint face, vec2 ab) {
+    float a = ab.x;
+    float b = ab.y;
+    vec3 d;
+    if (face == 0u) d = vec3(1.0, -b, -a);
+    else if (face == 1u) d = vec3(-1.0, -b, a);
+    else if (face == 2u) d = vec3(a, 1.0, b);
+    else if (face == 3u) d = vec3(a, -1.0, -b);
+    else if (face == 4u) d = vec3(a, -b, 1.0);
+    else d = vec3(-a, -b, -1.0);
+    return normalize(d);
+}
+
+// Equirectangular (u, v) of unit d: u = 0.5 looks along −z and grows towards +x, v = 0
+// is +y (the top row). Straight up or down, where atan2 is undefined, u = 0.5.
+vec2 equirect_uv(vec3 d) {
+    float horizontal2 = d.x * d.x + d.z * d.z;
+    float u = horizontal2 > 0.0 ? 0.5 + atan(d.x, -d.z) / TWO_PI : 0.5;
+    return vec2(u, acos(clamp(d.y, -1.0, 1.0)) / PI);
+}
+
+// d rotated about +y by the angle whose (cos, sin) is cs: (x c + z s, y, −x s + z c).
+vec3 rotate_y(vec3 d, vec2 cs) {
+    return vec3(d.x * cs.x + d.z * cs.y, d.y, -d.x * cs.y + d.z * cs.x);
+}
+
+// The report's eq. 17: uv = n(2(n·v)) − v, normalised; the mirror direction of v.
+vec3 seed_reflection(vec3 n, vec3 v) {
+    return normalize(n * (2.0 * dot(n, v)) - v);
+}
+
+// An orthonormal frame (t, b, n) around unit n (Duff et al. 2017, "Building an
+// Orthonormal Basis, Revisited"): frame * local takes n-space (n = +z) to world.
+mat3 tangent_frame(vec3 n) {
+    float s = n.z >= 0.0 ? 1.0 : -1.0;
+    float a = -1.0 / (s + n.z);
+    float b = n.x * n.y * a;
+    vec3 t = vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    vec3 bt = vec3(b, s + n.y * n.y * a, -n.y);
+    return mat3(t, bt, n);
+}
+
+// ---- Spherical harmonics (real, bands 0–2) ----
+
+// Funk–Hecke coefficients Â_l = 2π ∫ k(μ) P_l(μ) dμ of the clamped cosine k = max(μ, 0)/π:
+// irradiance over π (Ramamoorthi & Hanrahan 2001, eq. 8, divided by π).
+const vec3 SH_IRRADIANCE_OVER_PI = vec3(1.0, 2.0 / 3.0, 0.25);
+
+// Y_lm(d) in the order (0,0), (1,−1), (1,0), (1,1), (2,−2), (2,−1), (2,0), (2,1), (2,2)
+// (Ramamoorthi & Hanrahan 2001, eq. 3).
+void sh_basis(vec3 d, out float y[9]) {
+    y[0] = 0.28209479177387814;
+    y[1] = 0.4886025119029199 * d.y;
+    y[2] = 0.4886025119029199 * d.z;
+    y[3] = 0.4886025119029199 * d.x;
+    y[4] = 1.0925484305920792 * d.x * d.y;
+    y[5] = 1.0925484305920792 * d.y * d.z;
+    y[6] = 0.31539156525252005 * (3.0 * d.z * d.z - 1.0);
+    y[7] = 1.0925484305920792 * d.x * d.z;
+    y[8] = 0.5462742152960396 * (d.x * d.x - d.y * d.y);
+}
+
+// ∫ L(l) k(d·l) dl for radiance L with SH coefficients c and a zonal kernel k whose
+// Funk–Hecke coefficients per band are `kernel` (Ramamoorthi & Hanrahan 2001, eq. 7).
+vec3 sh_convolve(vec4 c[9], vec3 d, vec3 kernel) {
+    float y[9];
+    sh_basis(d, y);
+    vec3 sum = c[0].rgb * (kernel.x * y[0]);
+    for (int i = 1; i < 4; ++i) sum += c[i].rgb * (kernel.y * y[i]);
+    for (int i = 4; i < 9; ++i) sum += c[i].rgb * (kernel.z * y[i]);
+    return sum;
+}
+
+// Funk–Hecke coefficients 2π ∫ s(μ) P_l(μ) dμ of the report's wrap term s (eq. 18, as
+// wrap_seed). s is one cubic in μ on [−w₁, w₂(1 + w₁) − w₁] (the rising smoothstep) and
+// one on the next w₂(1 + w₁) (the falling one), 0 elsewhere: 3-point Gauss-Legendre per
+// piece integrates s P_l (degree ≤ 5) exactly.
+vec3 wrap_sh_kernel(float w1, float w2) {
+    float wa = clamp(w1, 0.0, 1.0);
+    float wb = max(w2, MIN_WRAP_WIDTH);
+    float edges[3] = float[3](-wa, wb * (1.0 + wa) - wa, 2.0 * wb * (1.0 + wa) - wa);
+    const float nodes[3] = float[3](-0.7745966692414834, 0.0, 0.7745966692414834);
+    const float weights[3] = float[3](5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0);
+    vec3 k = vec3(0.0);
+    for (int piece = 0; piece < 2; ++piece) {
+        float lo = clamp(edges[piece], -1.0, 1.0);
+        float hi = clamp(edges[piece + 1], -1.0, 1.0);
+        float mid = 0.5 * (lo + hi);
+        float half_width = 0.5 * (hi - lo);
+        for (int i = 0; i < 3; ++i) {
+            float mu = mid + half_width * nodes[i];
+            float s = weights[i] * half_width * wrap_seed(mu, w1, w2);
+            k += s * vec3(1.0, mu, 0.5 * (3.0 * mu * mu - 1.0));
+        }
+    }
+    return TWO_PI * k;
+}
+
+// ---- Sampling, in n-space (n = +z) ----
+
+// Point i of the n-point Hammersley set: ((i + ½)/n, radical inverse of i in base 2).
+vec2 hammersley(uint i, uint n) {
+    return vec2((float(i) + 0.5) / float(n), float(bitfieldReverse(i)) * RADICAL_INVERSE_SCALE);
+}
+
+// Cosine-weighted hemisphere (Malley's method); pdf = n·l/π.
+vec3 sample_cosine(vec2 u) {
+    float r = sqrt(u.x);
+    float phi = TWO_PI * u.y;
+    return vec3(r * cos(phi), r * sin(phi), sqrt(max(1.0 - u.x, 0.0)));
+}
+
+float pdf_cosine(float n_dot_l) {
+    return max(n_dot_l, 0.0) / PI;
+}
+
+// Uniform on the sphere; pdf = 1/(4π).
+vec3 sample_uniform_sphere(vec2 u) {
+    float z = 1.0 - 2.0 * u.x;
+    float r = sqrt(max(1.0 - z * z, 0.0));
+    float phi = TWO_PI * u.y;
+    return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+const float PDF_UNIFORM_SPHERE = 0.25 / PI;
+
+// A GGX microfacet normal h distributed as the visible normals seen from v (v.z > 0),
+// by Dupuy & Benyoub 2023 ("Sampling Visible GGX Normals with Spherical Caps"): a
+// uniform point on the spherical cap of the stretched hemisphere, offset by v.
+vec3 sample_ggx_vndf(vec3 v, float alpha, vec2 u) {
+    vec3 vs = normalize(vec3(v.xy * alpha, v.z));
+    float phi = TWO_PI * u.x;
+    float z = (1.0 - u.y) * (1.0 + vs.z) - vs.z;
+    float r = sqrt(clamp(1.0 - z * z, 0.0, 1.0));
+    vec3 h = vec3(r * cos(phi), r * sin(phi), z) + vs;
+    return normalize(vec3(h.xy * alpha, h.z));
+}
+
+// The pdf of l = reflect(−v, h) for h from sample_ggx_vndf: D_v(h)/(4 v·h) =
+// G1(v) D(h)/(4 n·v) (Heitz 2018, "Sampling the GGX Distribution of Visible Normals", eq. 17).
+float pdf_ggx_vndf(float alpha, float n_dot_v, float n_dot_h, float n_cross_h_len2) {
+    float nv = max(n_dot_v, MIN_N_DOT_V);
+    return g1_smith_ggx(alpha, nv) * d_ggx(alpha, n_dot_h, n_cross_h_len2) / (4.0 * nv);
+}
+
+// Filtered importance sampling (Colbert & Křivánek 2007, GPU Gems 3 ch. 20, eq. 13
+// without its +1 bias): the mip whose texel solid angle matches a sample's share
+// 1/(N p) of the sphere. `n_pdf` is N times the sample's pdf; `texel_solid_angle` is
+// that of a level-0 texel, 4π/(6 w²).
+float filtered_lod(float n_pdf, float texel_solid_angle) {
+    return max(0.5 * log2(1.0 / (max(n_pdf, 1e-30) * texel_solid_angle)), 0.0);
+}
+
+// Samples per strategy (cosine, GGX VNDF, uniform sphere) out of `total`: a quarter for
+// the wrap term when it lights (it is the only one reaching below the horizon), the
+// rest split between the lobes present. Every strategy with samples covers the upper
+// hemisphere, so the multi-sample balance heuristic stays unbiased for any total ≥ 1.
+uvec3 strategy_counts(uint total, bool diffuse, bool specular, bool wrap) {
+    if (!diffuse && !specular) return uvec3(0u, 0u, wrap ? total : 0u);
+    uint n_wrap = wrap ? max(total / 4u, 1u) : 0u;
+    uint rest = total - min(n_wrap, total);
+    uint n_specular = specular ? (diffuse ? rest / 2u : rest) : 0u;
+    return uvec3(rest - n_specular, n_specular, n_wrap);
+}
+
+#endif

@@ -1,0 +1,163 @@
+// Environment lighting (set 2 of the forward pass; built by src/render/environment.rs):
+// the material's own BRDF (shading.glsl) integrated against the environment's radiance,
+// by the scene's reflection mode. For a uniform environment every lookup is the radiance
+// itself, so Lambert reflects exactly ρL.
+#ifndef ARGIL_ENVIRONMENT_GLSL
+#define ARGIL_ENVIRONMENT_GLSL
+#include "env_math.glsl"
+#include "env_tables.glsl"
+
+// The forward pass binds the environment as set 2; the skybox, which has no other set, as 0.
+#ifndef ENV_SET
+#define ENV_SET 2
+#endif
+
+// EnvironmentData.mode.x
+const uint ENV_NONE = 0u;
+const uint ENV_UNIFORM = 1u;
+const uint ENV_CUBE = 2u;
+// EnvironmentData.mode.y
+const uint REFLECTION_SPLIT_SUM = 0u;
+const uint REFLECTION_SEED = 1u;
+const uint REFLECTION_SAMPLED = 2u;
+
+// Mirrored by EnvironmentData in src/render/environment.rs (std140).
+layout(set = ENV_SET, binding = 0, std140) uniform EnvironmentData {
+    uvec4 mode;     // x: kind, y: reflection mode, z: lookups per pixel (sampled)
+    vec4 radiance;  // rgb: the uniform radiance, or the cube maps' intensity multiplier
+    vec4 params;    // xy: (cos, sin) of the world-to-map rotation about +y; z: seed_strength;
+                    // w: the prefiltered map's last mip, where roughness = 1
+    vec4 texel;     // x: solid angle of a level-0 texel of radiance_map
+    vec4 sh[9];     // the map's radiance in SH (rgb), before rotation and intensity
+} env;
+// The environment with a box-filtered mip chain.
+layout(set = ENV_SET, binding = 1) uniform samplerCube radiance_map;
+// Radiance prefiltered by GGX lobes, roughness = lod / params.w (Karis 2013).
+layout(set = ENV_SET, binding = 2) uniform samplerCube prefiltered_map;
+// BRDF tables: x = lut_x(n·v), y = roughness (σ for Oren-Nayar), layer = lut_layer().
+layout(set = ENV_SET, binding = 3) uniform sampler2DArray brdf_lut;
+
+// The report's noise map modulating the reflections (§3.2, "controlled by a parameter
+// and a noise texture"). Hook: 1 until the material's noise map (set 1, binding 3) is
+// wired here.
+float reflection_noise(vec2 uv) {
+    return 1.0;
+}
+
+vec3 env_map_direction(vec3 d) {
+    return rotate_y(d, env.params.xy);
+}
+
+// Radiance arriving from direction d, read from mip `lod` of the cube map.
+vec3 env_radiance(vec3 d, float lod) {
+    if (env.mode.x == ENV_UNIFORM) return env.radiance.rgb;
+    return env.radiance.rgb * textureLod(radiance_map, env_map_direction(d), lod).rgb;
+}
+
+// Radiance around d prefiltered by the GGX lobe of a perceptual roughness.
+vec3 env_prefiltered(vec3 d, float roughness) {
+    if (env.mode.x == ENV_UNIFORM) return env.radiance.rgb;
+    return env.radiance.rgb * textureLod(prefiltered_map, env_map_direction(d), roughness * env.params.w).rgb;
+}
+
+// ∫ L(l) k(d·l) dl for a zonal kernel k given by its Funk–Hecke coefficients: from the
+// SH of the map (bands 0–2), exactly kernel.x L for a uniform L.
+vec3 env_convolve(vec3 d, vec3 kernel) {
+    if (env.mode.x == ENV_UNIFORM) return kernel.x * env.radiance.rgb;
+    return env.radiance.rgb * max(sh_convolve(env.sh, env_map_direction(d), kernel), vec3(0.0));
+}
+
+vec2 brdf_table(uint layer, float n_dot_v, float y) {
+    return textureLod(brdf_lut, vec3(lut_x(n_dot_v), y, float(layer)), 0.0).rg;
+}
+
+// The directional albedo of the diffuse lobe: what it reflects of a unit uniform light.
+vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
+    if (model == DIFFUSE_LAMBERT) return m.base_color.rgb;
+    if (model == DIFFUSE_OREN_NAYAR)
+        return m.base_color.rgb * brdf_table(LUT_LAYER_OREN_NAYAR, n_dot_v, m.diffuse_roughness).r;
+    if (model == DIFFUSE_EON) return diffuse_eon_albedo(m.base_color.rgb, m.diffuse_roughness, n_dot_v);
+    return vec3(0.0);
+}
+
+// Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
+// times irradiance/π from SH (exact for Lambert under band-limited light), the wrap term
+// through its own SH kernel, and the specular lobe as prefiltered radiance along the
+// mirror direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
+// by the report's eq. 17: one lookup along the mirror direction × seed_strength × noise.
+vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, vec2 uv) {
+    float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+    vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * env_convolve(n, SH_IRRADIANCE_OVER_PI);
+    if (m.wrap_color.a > 0.0) {
+        vec3 kernel = wrap_sh_kernel(m.wrap, m.wrap_width);
+        radiance += m.wrap_color.rgb * (m.wrap_color.a / PI) * env_convolve(n, kernel);
+    }
+    if (models.specular == SPECULAR_NONE) return radiance;
+    vec3 r = seed_reflection(n, v);
+    if (env.mode.y == REFLECTION_SEED) {
+        return radiance + env.params.z * reflection_noise(uv) * env_radiance(r, 0.0);
+    }
+    vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
+    return radiance + env_prefiltered(r, m.roughness) * m.specular_color.rgb * (clamp(m.f0, 0.0, 1.0) * ab.x + ab.y);
+}
+
+// PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").
+uint pcg_hash(uint x) {
+    uint state = x * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+// A pixel's offset in [0, 1)² that rotates its sample sets (Cranley–Patterson), so the
+// error of neighbouring pixels is noise rather than a shared pattern.
+vec2 pixel_offset(vec2 pixel) {
+    uvec2 p = uvec2(pixel);
+    uint h = pcg_hash(p.x + pcg_hash(p.y));
+    return vec2(float(h), float(pcg_hash(h))) * RADICAL_INVERSE_SCALE;
+}
+
+// env.mode.z lookups of L(l) brdf_cos(l): cosine samples for the diffuse lobe, GGX
+// visible normals for the specular lobe, uniform ones for the wrap term, combined by the
+// multi-sample balance heuristic (Veach 1997, §9.2.2): Σ f(l) L(l) / Σ_k N_k p_k(l). Each
+// lookup reads the mip matching its pdf (filtered importance sampling), which trades
+// noise for blur; as N grows the mips go to 0 and the estimate to the integral.
+vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec2 pixel) {
+    uvec3 counts = strategy_counts(env.mode.z, models.diffuse != DIFFUSE_NONE,
+                                   models.specular != SPECULAR_NONE, m.wrap_color.a > 0.0);
+    mat3 frame = tangent_frame(n);
+    vec3 v_local = v * frame;
+    float n_dot_v = max(v_local.z, MIN_N_DOT_V);
+    float alpha = clamp_alpha(m.roughness * m.roughness);
+    vec2 offset = pixel_offset(pixel);
+    uint total = counts.x + counts.y + counts.z;
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < total; ++i) {
+        vec3 l;
+        if (i < counts.x) {
+            l = frame * sample_cosine(fract(hammersley(i, counts.x) + offset));
+        } else if (i < counts.x + counts.y) {
+            vec3 h = sample_ggx_vndf(v_local, alpha, fract(hammersley(i - counts.x, counts.y) + offset));
+            l = frame * reflect(-v_local, h);
+        } else {
+            l = sample_uniform_sphere(fract(hammersley(i - counts.x - counts.y, counts.z) + offset));
+        }
+        vec3 h = safe_half_vector(v, l, n);
+        vec3 n_cross_h = cross(n, h);
+        float n_pdf = float(counts.x) * pdf_cosine(dot(n, l))
+                    + float(counts.y) * pdf_ggx_vndf(alpha, n_dot_v, max(dot(n, h), 0.0), dot(n_cross_h, n_cross_h))
+                    + float(counts.z) * PDF_UNIFORM_SPHERE;
+        if (n_pdf <= 0.0) continue;
+        vec3 f = brdf_cos(models, m, n, n_geometric, v, l);
+        sum += f * env_radiance(l, filtered_lod(n_pdf, env.texel.x)) / n_pdf;
+    }
+    return sum;
+}
+
+// The light the environment reflects towards v: replaces the report's constant ambient.
+vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec2 uv, vec2 pixel) {
+    if (env.mode.x == ENV_NONE) return vec3(0.0);
+    if (env.mode.y == REFLECTION_SAMPLED) return environment_sampled(models, m, n, n_geometric, v, pixel);
+    return environment_split_sum(models, m, n, v, uv);
+}
+
+#endif

@@ -1,0 +1,450 @@
+//! Environment lighting in f64: twins of `shaders/lib/env_math.glsl` (directions,
+//! spherical harmonics, sampling and pdfs, the BRDF tables) and `env_studio.glsl`, plus
+//! the spherical-harmonic projection of a cube map, which the renderer runs here on the
+//! CPU from a read-back mip.
+
+use super::distribution::d_ggx;
+use super::geometry::g1_smith_ggx;
+use super::shading::{
+    diffuse_lobe, specular_lobe, DiffuseModel, ShadingModels, ShadingParams, SpecularModel,
+};
+use super::specular::{Distribution, Geometry};
+use super::wrap::{hermite_step, wrap_seed, MIN_WRAP_WIDTH};
+use super::{clamp_alpha, cross, dot, Vec3, MIN_N_DOT_V, PI};
+
+const TWO_PI: f64 = 2.0 * PI;
+
+fn scale(a: Vec3, s: f64) -> Vec3 {
+    a.map(|x| x * s)
+}
+
+fn add(a: Vec3, b: Vec3) -> Vec3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn normalize(a: Vec3) -> Vec3 {
+    scale(a, 1.0 / dot(a, a).sqrt())
+}
+
+// ---- Directions ----
+
+/// The direction through (a, b) in [−1, 1]² on cube face `face` (+x, −x, +y, −y, +z, −z):
+/// the inverse of Vulkan's cube map face selection, a = 2s − 1, b = 2t − 1.
+pub fn cube_direction(face: u32, a: f64, b: f64) -> Vec3 {
+    normalize(match face {
+        0 => [1.0, -b, -a],
+        1 => [-1.0, -b, a],
+        2 => [a, 1.0, b],
+        3 => [a, -1.0, -b],
+        4 => [a, -b, 1.0],
+        _ => [-a, -b, -1.0],
+    })
+}
+
+/// (a, b) of the centre of texel (x, y) on a face of `size`² texels.
+pub fn cube_texel_ab(x: u32, y: u32, size: u32) -> (f64, f64) {
+    let at = |i: u32| (f64::from(i) + 0.5) / f64::from(size) * 2.0 - 1.0;
+    (at(x), at(y))
+}
+
+/// The exact solid angle of texel (x, y) on a face of `size`² texels: the face is the
+/// square [−1, 1]² at unit distance, and a rectangle [x0, x1]×[y0, y1] on it subtends
+/// F(x1, y1) − F(x0, y1) − F(x1, y0) + F(x0, y0), F(x, y) = atan2(xy, √(x² + y² + 1)).
+pub fn cube_texel_solid_angle(x: u32, y: u32, size: u32) -> f64 {
+    let edge = |i: u32| f64::from(i) / f64::from(size) * 2.0 - 1.0;
+    let f = |a: f64, b: f64| (a * b).atan2((a * a + b * b + 1.0).sqrt());
+    let (x0, x1, y0, y1) = (edge(x), edge(x + 1), edge(y), edge(y + 1));
+    f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0)
+}
+
+/// Equirectangular (u, v) of unit d: u = 0.5 looks along −z and grows towards +x, v = 0
+/// is +y. Straight up or down, u = 0.5.
+pub fn equirect_uv(d: Vec3) -> [f64; 2] {
+    let horizontal2 = d[0] * d[0] + d[2] * d[2];
+    let u = if horizontal2 > 0.0 {
+        0.5 + d[0].atan2(-d[2]) / TWO_PI
+    } else {
+        0.5
+    };
+    [u, d[1].clamp(-1.0, 1.0).acos() / PI]
+}
+
+/// d rotated about +y by the angle whose (cos, sin) is `cs`.
+pub fn rotate_y(d: Vec3, cs: [f64; 2]) -> Vec3 {
+    [
+        d[0] * cs[0] + d[2] * cs[1],
+        d[1],
+        -d[0] * cs[1] + d[2] * cs[0],
+    ]
+}
+
+/// (cos, sin) of the rotation that takes world directions into an environment rotated by
+/// `degrees` about +y (counter-clockwise seen from above): the inverse rotation, −degrees.
+pub fn map_rotation(degrees: f64) -> [f64; 2] {
+    let (sin, cos) = (-degrees.to_radians()).sin_cos();
+    [cos, sin]
+}
+
+/// The report's eq. 17: uv = n(2(n·v)) − v, normalised; the mirror direction of v.
+pub fn seed_reflection(n: Vec3, v: Vec3) -> Vec3 {
+    normalize(add(scale(n, 2.0 * dot(n, v)), scale(v, -1.0)))
+}
+
+/// An orthonormal frame (t, b, n) around unit n (Duff et al. 2017).
+pub fn tangent_frame(n: Vec3) -> [Vec3; 3] {
+    let s = if n[2] >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (s + n[2]);
+    let b = n[0] * n[1] * a;
+    [
+        [1.0 + s * n[0] * n[0] * a, s * b, -s * n[0]],
+        [b, s + n[1] * n[1] * a, -n[1]],
+        n,
+    ]
+}
+
+/// `frame * local`: an n-space direction in world space.
+pub fn to_world(frame: &[Vec3; 3], local: Vec3) -> Vec3 {
+    add(
+        add(scale(frame[0], local[0]), scale(frame[1], local[1])),
+        scale(frame[2], local[2]),
+    )
+}
+
+// ---- Spherical harmonics (real, bands 0–2) ----
+
+/// Nine SH coefficients of an RGB function.
+pub type Sh9 = [Vec3; 9];
+
+/// Funk–Hecke coefficients of max(μ, 0)/π: irradiance over π (Ramamoorthi & Hanrahan 2001).
+pub const SH_IRRADIANCE_OVER_PI: Vec3 = [1.0, 2.0 / 3.0, 0.25];
+
+/// Y_lm(d), ordered (0,0), (1,−1), (1,0), (1,1), (2,−2), (2,−1), (2,0), (2,1), (2,2).
+pub fn sh_basis(d: Vec3) -> [f64; 9] {
+    let [x, y, z] = d;
+    let c0 = 0.5 / PI.sqrt();
+    let c1 = (3.0 / (4.0 * PI)).sqrt();
+    let c2 = (15.0 / (4.0 * PI)).sqrt();
+    let c20 = (5.0 / (16.0 * PI)).sqrt();
+    let c22 = (15.0 / (16.0 * PI)).sqrt();
+    [
+        c0,
+        c1 * y,
+        c1 * z,
+        c1 * x,
+        c2 * x * y,
+        c2 * y * z,
+        c20 * (3.0 * z * z - 1.0),
+        c2 * x * z,
+        c22 * (x * x - y * y),
+    ]
+}
+
+/// ∫ L(l) k(d·l) dl from L's SH coefficients `c` and the Funk–Hecke coefficients
+/// `kernel` of the zonal kernel k, per band.
+pub fn sh_convolve(c: &Sh9, d: Vec3, kernel: Vec3) -> Vec3 {
+    let y = sh_basis(d);
+    (0..9).fold([0.0; 3], |sum, i| {
+        let band = if i == 0 {
+            0
+        } else if i < 4 {
+            1
+        } else {
+            2
+        };
+        add(sum, scale(c[i], kernel[band] * y[i]))
+    })
+}
+
+/// The SH coefficients of a cube map given texel by texel (`texel(face, x, y)`, faces of
+/// `size`²): Σ L Y_lm Ω over texels, with each texel's exact solid angle.
+pub fn sh_project_cube(size: u32, texel: impl Fn(u32, u32, u32) -> Vec3) -> Sh9 {
+    let mut c = [[0.0; 3]; 9];
+    for face in 0..6 {
+        for y in 0..size {
+            for x in 0..size {
+                let (a, b) = cube_texel_ab(x, y, size);
+                let basis = sh_basis(cube_direction(face, a, b));
+                let radiance = scale(texel(face, x, y), cube_texel_solid_angle(x, y, size));
+                for (ci, yi) in c.iter_mut().zip(basis) {
+                    *ci = add(*ci, scale(radiance, yi));
+                }
+            }
+        }
+    }
+    c
+}
+
+/// Funk–Hecke coefficients 2π ∫ s(μ) P_l(μ) dμ of the report's wrap term s = `wrap_seed`,
+/// exact by 3-point Gauss-Legendre on each of its two cubic pieces.
+pub fn wrap_sh_kernel(w1: f64, w2: f64) -> Vec3 {
+    let wa = w1.clamp(0.0, 1.0);
+    let wb = w2.max(MIN_WRAP_WIDTH);
+    let edges = [-wa, wb * (1.0 + wa) - wa, 2.0 * wb * (1.0 + wa) - wa];
+    let node = 0.6f64.sqrt();
+    let rule = [(-node, 5.0 / 9.0), (0.0, 8.0 / 9.0), (node, 5.0 / 9.0)];
+    let mut k = [0.0; 3];
+    for piece in edges.windows(2) {
+        let (lo, hi) = (piece[0].clamp(-1.0, 1.0), piece[1].clamp(-1.0, 1.0));
+        let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+        for (x, w) in rule {
+            let mu = mid + half * x;
+            let s = w * half * wrap_seed(mu, w1, w2);
+            k = add(k, [s, s * mu, s * 0.5 * (3.0 * mu * mu - 1.0)]);
+        }
+    }
+    scale(k, TWO_PI)
+}
+
+// ---- Sampling, in n-space (n = +z) ----
+
+/// Point i of the n-point Hammersley set: ((i + ½)/n, radical inverse of i in base 2).
+pub fn hammersley(i: u32, n: u32) -> [f64; 2] {
+    [
+        (f64::from(i) + 0.5) / f64::from(n),
+        f64::from(i.reverse_bits()) / 4294967296.0,
+    ]
+}
+
+/// Cosine-weighted hemisphere (Malley's method); pdf = n·l/π.
+pub fn sample_cosine(u: [f64; 2]) -> Vec3 {
+    let r = u[0].sqrt();
+    let phi = TWO_PI * u[1];
+    [r * phi.cos(), r * phi.sin(), (1.0 - u[0]).max(0.0).sqrt()]
+}
+
+pub fn pdf_cosine(n_dot_l: f64) -> f64 {
+    n_dot_l.max(0.0) / PI
+}
+
+/// Uniform on the sphere; pdf = 1/(4π).
+pub fn sample_uniform_sphere(u: [f64; 2]) -> Vec3 {
+    let z = 1.0 - 2.0 * u[0];
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = TWO_PI * u[1];
+    [r * phi.cos(), r * phi.sin(), z]
+}
+
+pub const PDF_UNIFORM_SPHERE: f64 = 0.25 / PI;
+
+/// A GGX visible normal seen from v (v.z > 0), by Dupuy & Benyoub 2023 (spherical caps).
+pub fn sample_ggx_vndf(v: Vec3, alpha: f64, u: [f64; 2]) -> Vec3 {
+    let vs = normalize([v[0] * alpha, v[1] * alpha, v[2]]);
+    let phi = TWO_PI * u[0];
+    let z = (1.0 - u[1]) * (1.0 + vs[2]) - vs[2];
+    let r = (1.0 - z * z).clamp(0.0, 1.0).sqrt();
+    let h = [r * phi.cos() + vs[0], r * phi.sin() + vs[1], z + vs[2]];
+    normalize([h[0] * alpha, h[1] * alpha, h[2]])
+}
+
+/// The pdf of l = reflect(−v, h) for h from `sample_ggx_vndf`: G1(v) D(h)/(4 n·v)
+/// (Heitz 2018, eq. 17).
+pub fn pdf_ggx_vndf(alpha: f64, n_dot_v: f64, n_dot_h: f64, n_cross_h_len2: f64) -> f64 {
+    let nv = n_dot_v.max(MIN_N_DOT_V);
+    g1_smith_ggx(alpha, nv) * d_ggx(alpha, n_dot_h, n_cross_h_len2) / (4.0 * nv)
+}
+
+/// l = reflect(−v, h) = 2(v·h)h − v.
+pub fn reflect_about(v: Vec3, h: Vec3) -> Vec3 {
+    add(scale(h, 2.0 * dot(v, h)), scale(v, -1.0))
+}
+
+/// Filtered importance sampling (Colbert & Křivánek 2007, eq. 13 without its bias): the
+/// mip whose texel solid angle matches 1/(N p); `n_pdf` = N p.
+pub fn filtered_lod(n_pdf: f64, texel_solid_angle: f64) -> f64 {
+    (0.5 * (1.0 / (n_pdf.max(1e-30) * texel_solid_angle)).log2()).max(0.0)
+}
+
+/// Samples per strategy (cosine, GGX VNDF, uniform sphere) out of `total`.
+pub fn strategy_counts(total: u32, diffuse: bool, specular: bool, wrap: bool) -> [u32; 3] {
+    if !diffuse && !specular {
+        return [0, 0, if wrap { total } else { 0 }];
+    }
+    let n_wrap = if wrap { (total / 4).max(1) } else { 0 };
+    let rest = total - n_wrap.min(total);
+    let n_specular = match (specular, diffuse) {
+        (false, _) => 0,
+        (true, true) => rest / 2,
+        (true, false) => rest,
+    };
+    [rest - n_specular, n_specular, n_wrap]
+}
+
+// ---- BRDF tables ----
+
+pub const LUT_LAYER_TORRANCE_SPARROW: u32 = 4;
+pub const LUT_LAYER_BLINN_PHONG: u32 = 5;
+pub const LUT_LAYER_OREN_NAYAR: u32 = 6;
+pub const LUT_LAYERS: u32 = 7;
+
+/// The tables' x of n·v: √(1 − n·v), in which Oren-Nayar's albedo (∝ sin θv near the
+/// normal) is smooth.
+pub fn lut_x(n_dot_v: f64) -> f64 {
+    (1.0 - n_dot_v).max(0.0).sqrt()
+}
+
+pub fn lut_n_dot_v(x: f64) -> f64 {
+    1.0 - x * x
+}
+
+/// The table layer of a material's specular lobe.
+pub fn lut_layer(models: ShadingModels) -> u32 {
+    match models.specular {
+        SpecularModel::CookTorrance => models.distribution as u32 * 2 + models.geometry as u32,
+        SpecularModel::TorranceSparrow => LUT_LAYER_TORRANCE_SPARROW,
+        SpecularModel::BlinnPhong | SpecularModel::None => LUT_LAYER_BLINN_PHONG,
+    }
+}
+
+/// The specular models of a specular layer.
+pub fn lut_layer_models(layer: u32) -> ShadingModels {
+    let (specular, distribution, geometry) = match layer {
+        0..=3 => (
+            SpecularModel::CookTorrance,
+            if layer / 2 == 0 {
+                Distribution::Ggx
+            } else {
+                Distribution::Beckmann
+            },
+            if layer % 2 == 0 {
+                Geometry::SmithCorrelated
+            } else {
+                Geometry::SmithSeparable
+            },
+        ),
+        LUT_LAYER_TORRANCE_SPARROW => (
+            SpecularModel::TorranceSparrow,
+            Distribution::Ggx,
+            Geometry::SmithCorrelated,
+        ),
+        _ => (
+            SpecularModel::BlinnPhong,
+            Distribution::Ggx,
+            Geometry::SmithCorrelated,
+        ),
+    };
+    ShadingModels {
+        diffuse: DiffuseModel::None,
+        specular,
+        distribution,
+        geometry,
+    }
+}
+
+/// The white material the tables are computed for: roughness and σ = `y`.
+fn lut_material(y: f64, f0: f64) -> ShadingParams {
+    ShadingParams {
+        base_color: [1.0; 3],
+        specular_color: [1.0; 3],
+        wrap_color: [0.0; 3],
+        wrap_intensity: 0.0,
+        roughness: y,
+        f0,
+        diffuse_roughness: y,
+        wrap: 0.0,
+        wrap_width: 1.0,
+    }
+}
+
+/// The view direction at n·v = `n_dot_v` with n = +z.
+pub fn lut_view(n_dot_v: f64) -> Vec3 {
+    [(1.0 - n_dot_v * n_dot_v).sqrt(), 0.0, n_dot_v]
+}
+
+/// One texel of `layer` at n·v = `n_dot_v`, roughness (σ) = y, as env_brdf_lut.comp
+/// estimates it with `samples` Hammersley points: (A, B) for specular layers, (albedo, 0)
+/// for Oren-Nayar.
+pub fn brdf_lut_estimate(layer: u32, n_dot_v: f64, y: f64, samples: u32) -> [f64; 2] {
+    const N: Vec3 = [0.0, 0.0, 1.0];
+    let v = lut_view(n_dot_v);
+    let mut sum = [0.0; 2];
+    if layer == LUT_LAYER_OREN_NAYAR {
+        let m = lut_material(y, 0.0);
+        for i in 0..samples {
+            let l = sample_cosine(hammersley(i, samples));
+            sum[0] += PI * diffuse_lobe(DiffuseModel::OrenNayar, &m, N, v, l, n_dot_v, l[2])[0];
+        }
+    } else {
+        let models = lut_layer_models(layer);
+        let alpha = clamp_alpha(y * y);
+        let (m0, m1) = (lut_material(y, 0.0), lut_material(y, 1.0));
+        for i in 0..samples {
+            let h = sample_ggx_vndf(v, alpha, hammersley(i, samples));
+            let l = reflect_about(v, h);
+            if l[2] <= 0.0 {
+                continue;
+            }
+            let pdf = pdf_ggx_vndf(alpha, n_dot_v, h[2], h[0] * h[0] + h[1] * h[1]);
+            let b = specular_lobe(models, &m0, N, v, l, n_dot_v, l[2])[0];
+            let a_plus_b = specular_lobe(models, &m1, N, v, l, n_dot_v, l[2])[0];
+            sum[0] += (a_plus_b - b) * l[2] / pdf;
+            sum[1] += b * l[2] / pdf;
+        }
+    }
+    sum.map(|s| s / f64::from(samples))
+}
+
+// ---- The studio ----
+
+const STUDIO_FLOOR: Vec3 = [0.09, 0.085, 0.08];
+const STUDIO_HORIZON: Vec3 = [0.34, 0.33, 0.32];
+const STUDIO_CEILING: Vec3 = [0.15, 0.16, 0.19];
+const STUDIO_FLOOR_FADE: f64 = 0.3;
+const STUDIO_CEILING_FADE: f64 = 0.6;
+
+/// (radiance, centre, half-size, softness) of the key, fill and rim boxes.
+const STUDIO_BOXES: [(Vec3, Vec3, [f64; 2], f64); 3] = [
+    ([6.0, 5.75, 5.3], [-0.55, 0.55, 0.63], [0.45, 0.3], 0.06),
+    ([1.5, 1.65, 1.9], [0.85, 0.2, 0.35], [0.1, 0.55], 0.04),
+    ([4.0, 3.9, 3.7], [0.25, 0.6, -0.75], [0.35, 0.2], 0.05),
+];
+
+fn mix(a: Vec3, b: Vec3, t: f64) -> Vec3 {
+    add(scale(a, 1.0 - t), scale(b, t))
+}
+
+/// How much of a soft box direction d sees (see env_studio.glsl).
+pub fn soft_box(d: Vec3, centre: Vec3, half_size: [f64; 2], softness: f64) -> f64 {
+    let q = dot(d, centre);
+    if q <= 0.0 {
+        return 0.0;
+    }
+    let t = normalize(cross(centre, [0.0, 1.0, 0.0]));
+    let b = cross(t, centre);
+    let p = [dot(d, t).abs() / q, dot(d, b).abs() / q];
+    (0..2)
+        .map(|i| 1.0 - hermite_step(half_size[i] - softness, half_size[i] + softness, p[i]))
+        .product()
+}
+
+/// The studio's radiance arriving from unit direction d.
+pub fn studio_radiance(d: Vec3) -> Vec3 {
+    let background = if d[1] < 0.0 {
+        mix(
+            STUDIO_HORIZON,
+            STUDIO_FLOOR,
+            hermite_step(0.0, STUDIO_FLOOR_FADE, -d[1]),
+        )
+    } else {
+        mix(
+            STUDIO_HORIZON,
+            STUDIO_CEILING,
+            hermite_step(0.0, STUDIO_CEILING_FADE, d[1]),
+        )
+    };
+    STUDIO_BOXES.iter().fold(
+        background,
+        |sum, &(radiance, centre, half_size, softness)| {
+            add(
+                sum,
+                scale(
+                    radiance,
+                    soft_box(d, normalize(centre), half_size, softness),
+                ),
+            )
+        },
+    )
+}
+
+#[cfg(test)]
+#[path = "environment_tests.rs"]
+mod tests;

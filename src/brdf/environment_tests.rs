@@ -1,0 +1,370 @@
+//! The environment twins against definitions and independent integrals.
+
+use super::*;
+use crate::brdf::diffuse::{diffuse_eon, diffuse_eon_albedo};
+use crate::brdf::quadrature::{diffuse_albedo, directional_albedo, gauss_legendre};
+use crate::brdf::shading::{DiffuseModel, ShadingModels, SpecularModel};
+
+const ALBEDO_ORDER: usize = 24;
+const DIFFUSE_ORDER: usize = 16;
+
+fn close(a: Vec3, b: Vec3, tolerance: f64) -> bool {
+    (0..3).all(|i| (a[i] - b[i]).abs() <= tolerance)
+}
+
+/// Vulkan's cube map face selection: the face and (a, b) = (2s − 1, 2t − 1) of d.
+fn select_face(d: Vec3) -> (u32, f64, f64) {
+    let [x, y, z] = d;
+    let (face, sc, tc, ma) = if x.abs() >= y.abs() && x.abs() >= z.abs() {
+        if x > 0.0 {
+            (0, -z, -y, x)
+        } else {
+            (1, z, -y, x)
+        }
+    } else if y.abs() >= z.abs() {
+        if y > 0.0 {
+            (2, x, z, y)
+        } else {
+            (3, x, -z, y)
+        }
+    } else if z > 0.0 {
+        (4, x, -y, z)
+    } else {
+        (5, -x, -y, z)
+    };
+    (face, sc / ma.abs(), tc / ma.abs())
+}
+
+#[test]
+fn cube_directions_invert_vulkans_face_selection() {
+    for face in 0..6 {
+        for (a, b) in [(0.0, 0.0), (0.5, -0.25), (-0.9, 0.7), (0.99, 0.99)] {
+            let (selected, sa, sb) = select_face(cube_direction(face, a, b));
+            assert_eq!(selected, face, "face {face} ({a}, {b})");
+            assert!(
+                (sa - a).abs() < 1e-12 && (sb - b).abs() < 1e-12,
+                "face {face}: ({a}, {b}) -> ({sa}, {sb})"
+            );
+        }
+    }
+    assert!(close(cube_direction(0, 0.0, 0.0), [1.0, 0.0, 0.0], 0.0));
+    assert!(close(cube_direction(2, 0.0, 0.0), [0.0, 1.0, 0.0], 0.0));
+    assert!(close(cube_direction(5, 0.0, 0.0), [0.0, 0.0, -1.0], 0.0));
+}
+
+#[test]
+fn cube_texel_solid_angles_cover_the_sphere() {
+    for size in [1, 2, 7, 32] {
+        let total: f64 = (0..size)
+            .flat_map(|y| (0..size).map(move |x| cube_texel_solid_angle(x, y, size)))
+            .sum();
+        assert!(
+            (6.0 * total - 4.0 * PI).abs() < 1e-12,
+            "size {size}: {}",
+            6.0 * total
+        );
+    }
+    // The centre texel of a large face approaches its planar area at unit distance.
+    let w = 1024;
+    assert!(
+        (cube_texel_solid_angle(w / 2, w / 2, w) / (4.0 / f64::from(w * w)) - 1.0).abs() < 1e-5
+    );
+}
+
+#[test]
+fn equirect_and_rotation_conventions() {
+    let uv = |d| equirect_uv(d);
+    assert!(close(
+        [uv([0.0, 0.0, -1.0])[0], uv([0.0, 0.0, -1.0])[1], 0.0],
+        [0.5, 0.5, 0.0],
+        1e-15
+    ));
+    assert!((uv([1.0, 0.0, 0.0])[0] - 0.75).abs() < 1e-15);
+    assert!((uv([-1.0, 0.0, 0.0])[0] - 0.25).abs() < 1e-15);
+    assert_eq!(uv([0.0, 1.0, 0.0]), [0.5, 0.0]);
+    assert_eq!(uv([0.0, -1.0, 0.0]), [0.5, 1.0]);
+    // An environment rotated by 90° about +y (counter-clockwise from above) shows along −z
+    // what it showed along +x.
+    let looking = rotate_y([0.0, 0.0, -1.0], map_rotation(90.0));
+    assert!(close(looking, [1.0, 0.0, 0.0], 1e-15), "{looking:?}");
+    assert!(close(
+        rotate_y([0.3, 0.4, 0.5], map_rotation(0.0)),
+        [0.3, 0.4, 0.5],
+        0.0
+    ));
+}
+
+#[test]
+fn seed_reflection_is_the_unit_mirror_direction() {
+    let n = normalize([0.2, 0.9, 0.3]);
+    let v = normalize([-0.5, 0.4, 0.7]);
+    let r = seed_reflection(n, v);
+    assert!((dot(r, r) - 1.0).abs() < 1e-15);
+    assert!((dot(r, n) - dot(v, n)).abs() < 1e-15, "equal angles with n");
+    assert!(
+        dot(cross(n, v), r).abs() < 1e-15,
+        "r in the plane of n and v"
+    );
+    assert!(close(r, reflect_about(v, n), 1e-15));
+}
+
+#[test]
+fn tangent_frames_are_orthonormal() {
+    for n in [
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+        normalize([0.3, -0.8, 0.1]),
+        normalize([1.0, 1e-9, -1e-9]),
+    ] {
+        let f = tangent_frame(n);
+        for i in 0..3 {
+            for j in 0..3 {
+                let expected = if i == j { 1.0 } else { 0.0 };
+                assert!((dot(f[i], f[j]) - expected).abs() < 1e-12, "{n:?}");
+            }
+        }
+        assert!(
+            close(cross(f[0], f[1]), n, 1e-12),
+            "right-handed around {n:?}"
+        );
+    }
+}
+
+#[test]
+fn sh_basis_is_orthonormal_and_projection_recovers_it() {
+    let size = 48;
+    for k in 0..9 {
+        let c = sh_project_cube(size, |face, x, y| {
+            let (a, b) = cube_texel_ab(x, y, size);
+            [sh_basis(cube_direction(face, a, b))[k]; 3]
+        });
+        for (j, cj) in c.iter().enumerate() {
+            let expected = if j == k { 1.0 } else { 0.0 };
+            // Midpoint rule over texels: O(h²).
+            assert!((cj[0] - expected).abs() < 2e-3, "⟨Y{k}, Y{j}⟩ = {}", cj[0]);
+        }
+    }
+}
+
+/// A band-limited radiance L = 1 + 0.5 x + 0.3 (3z² − 1) has irradiance/π
+/// 1 + (2/3) 0.5 x + (1/4) 0.3 (3z² − 1) (Ramamoorthi & Hanrahan 2001).
+#[test]
+fn sh_irradiance_of_a_band_limited_environment() {
+    let radiance = |d: Vec3| 1.0 + 0.5 * d[0] + 0.3 * (3.0 * d[2] * d[2] - 1.0);
+    let size = 32;
+    let c = sh_project_cube(size, |face, x, y| {
+        let (a, b) = cube_texel_ab(x, y, size);
+        [radiance(cube_direction(face, a, b)); 3]
+    });
+    let mut worst: f64 = 0.0;
+    for n in [
+        [1.0, 0.0, 0.0],
+        [0.0, 0.0, -1.0],
+        normalize([0.3, 0.5, -0.8]),
+        normalize([-1.0, 1.0, 1.0]),
+    ] {
+        let expected = 1.0 + 2.0 / 3.0 * 0.5 * n[0] + 0.25 * 0.3 * (3.0 * n[2] * n[2] - 1.0);
+        let got = sh_convolve(&c, n, SH_IRRADIANCE_OVER_PI)[0];
+        worst = worst.max((got - expected).abs());
+    }
+    println!("SH irradiance of a band-limited environment, 32² faces: max |error| {worst:.1e}");
+    assert!(worst < 1e-3);
+    // A constant: c00 = L √(4π), and exactly L back.
+    let constant = sh_project_cube(4, |_, _, _| [2.0; 3]);
+    assert!((constant[0][0] - 2.0 * (4.0 * PI).sqrt()).abs() < 1e-12);
+    assert!(
+        (sh_convolve(&constant, [0.0, 1.0, 0.0], SH_IRRADIANCE_OVER_PI)[0] - 2.0).abs() < 1e-12
+    );
+}
+
+#[test]
+fn wrap_sh_kernel_matches_quadrature() {
+    let rule = gauss_legendre(64);
+    for (w1, w2) in [(0.5, 0.3), (0.0, 0.2), (1.0, 0.05), (0.3, 0.9), (0.8, 1e-5)] {
+        // 2π ∫ s P_l over 4096 panels of [−1, 1].
+        let panels = 4096;
+        let mut reference = [0.0; 3];
+        for p in 0..panels {
+            let (lo, hi) = (
+                -1.0 + 2.0 * p as f64 / panels as f64,
+                -1.0 + 2.0 * (p + 1) as f64 / panels as f64,
+            );
+            for &(x, w) in &rule {
+                let mu = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
+                let s = w * 0.5 * (hi - lo) * wrap_seed(mu, w1, w2);
+                reference = add(reference, [s, s * mu, s * 0.5 * (3.0 * mu * mu - 1.0)]);
+            }
+        }
+        let reference = scale(reference, TWO_PI);
+        let kernel = wrap_sh_kernel(w1, w2);
+        // The reference's panels straddle the kinks of s, so it is the less exact one.
+        assert!(
+            close(kernel, reference, 1e-8),
+            "w1 {w1} w2 {w2}: {kernel:?} vs {reference:?}"
+        );
+    }
+}
+
+/// E[g(l)/p(l)] = ∫ g for l drawn from p: each sampler against its pdf, by 2¹⁶ Hammersley
+/// points, with g the cosine density (∫ = 1 over the upper hemisphere).
+#[test]
+fn samplers_match_their_pdfs() {
+    let n = 1 << 16;
+    let mean = |f: &dyn Fn([f64; 2]) -> f64| {
+        (0..n).map(|i| f(hammersley(i, n))).sum::<f64>() / f64::from(n)
+    };
+    let cosine = mean(&|u| pdf_cosine(sample_cosine(u)[2]) / pdf_cosine(sample_cosine(u)[2]));
+    assert!((cosine - 1.0).abs() < 1e-12);
+    let uniform = mean(&|u| pdf_cosine(sample_uniform_sphere(u)[2]) / PDF_UNIFORM_SPHERE);
+    assert!((uniform - 1.0).abs() < 1e-3, "uniform: {uniform}");
+    for (alpha, theta) in [(0.25f64, 30.0f64), (0.5, 60.0), (0.9, 80.0)] {
+        let v = [theta.to_radians().sin(), 0.0, theta.to_radians().cos()];
+        let vndf = mean(&|u| {
+            let h = sample_ggx_vndf(v, alpha, u);
+            let l = reflect_about(v, h);
+            let pdf = pdf_ggx_vndf(alpha, v[2], h[2], h[0] * h[0] + h[1] * h[1]);
+            pdf_cosine(l[2]) / pdf
+        });
+        // The VNDF pdf integrates to 1 over the sphere of l (Heitz 2014's weak furnace).
+        let total = mean(&|u| {
+            let l = sample_uniform_sphere(u);
+            let h = super::super::safe_half_vector(v, l, [0.0, 0.0, 1.0]);
+            pdf_ggx_vndf(alpha, v[2], h[2].max(0.0), h[0] * h[0] + h[1] * h[1]) / PDF_UNIFORM_SPHERE
+        });
+        println!("α {alpha} θv {theta}°: E[cos/π / p_vndf] = {vndf:.5}, ∫ p_vndf = {total:.5}");
+        assert!((vndf - 1.0).abs() < 5e-3, "α {alpha}: {vndf}");
+        assert!((total - 1.0).abs() < 5e-3, "α {alpha}: {total}");
+    }
+}
+
+#[test]
+fn strategy_counts_cover_what_lights() {
+    for total in [1, 2, 3, 7, 16, 64, 4096] {
+        for (diffuse, specular, wrap) in [
+            (true, true, true),
+            (true, false, true),
+            (false, true, false),
+            (true, true, false),
+            (false, false, true),
+        ] {
+            let [d, s, w] = strategy_counts(total, diffuse, specular, wrap);
+            assert_eq!(d + s + w, total);
+            assert!(!wrap || w >= 1, "the wrap term reaches below the horizon");
+            assert!(diffuse || d == 0);
+            assert!(specular || s == 0);
+        }
+    }
+    assert_eq!(strategy_counts(64, true, true, false), [32, 32, 0]);
+    assert_eq!(strategy_counts(64, true, true, true), [24, 24, 16]);
+    assert_eq!(strategy_counts(8, false, false, false), [0, 0, 0]);
+}
+
+#[test]
+fn filtered_lod_matches_texel_and_sample_solid_angles() {
+    let texel = 4.0 * PI / (6.0 * 64.0 * 64.0);
+    // A sample covering 16 texels sits two levels up.
+    assert!((filtered_lod(1.0 / (16.0 * texel), texel) - 2.0).abs() < 1e-12);
+    assert_eq!(filtered_lod(1e9, texel), 0.0);
+}
+
+#[test]
+fn lut_x_inverts() {
+    for mu in [0.0, 0.3, 0.999, 1.0] {
+        assert!((lut_n_dot_v(lut_x(mu)) - mu).abs() < 1e-15);
+    }
+}
+
+#[test]
+fn lut_layers_round_trip() {
+    for layer in 0..LUT_LAYER_OREN_NAYAR {
+        assert_eq!(lut_layer(lut_layer_models(layer)), layer);
+    }
+    let models = ShadingModels {
+        diffuse: DiffuseModel::Lambert,
+        specular: SpecularModel::CookTorrance,
+        distribution: Distribution::Beckmann,
+        geometry: Geometry::SmithSeparable,
+    };
+    assert_eq!(lut_layer(models), 3);
+}
+
+/// The tables' estimator (the compute shader's twin) against hemisphere quadrature of the
+/// same lobes: ∫ f_s(F0 = 1) cos = A + B, ∫ f_s(F0 = 0) cos = B, ∫ f_ON cos.
+#[test]
+fn brdf_table_estimates_match_quadrature() {
+    const N: Vec3 = [0.0, 0.0, 1.0];
+    let mut worst: f64 = 0.0;
+    for layer in 0..LUT_LAYERS {
+        for (x, y) in [(0.9, 0.3), (0.5, 0.6), (0.2, 0.9), (0.05, 0.5)] {
+            let estimate = brdf_lut_estimate(layer, x, y, 1024);
+            let reference = if layer == LUT_LAYER_OREN_NAYAR {
+                let m = lut_material(y, 0.0);
+                [
+                    diffuse_albedo(
+                        |v, l| diffuse_lobe(DiffuseModel::OrenNayar, &m, N, v, l, x, l[2])[0],
+                        x,
+                        DIFFUSE_ORDER,
+                    ),
+                    0.0,
+                ]
+            } else {
+                let models = lut_layer_models(layer);
+                let albedo = |f0| {
+                    let m = lut_material(y, f0);
+                    directional_albedo(
+                        |v, l| specular_lobe(models, &m, N, v, l, v[2].max(MIN_N_DOT_V), l[2])[0],
+                        x,
+                        ALBEDO_ORDER,
+                    )
+                };
+                let b = albedo(0.0);
+                [albedo(1.0) - b, b]
+            };
+            for i in 0..2 {
+                let error = (estimate[i] - reference[i]).abs();
+                worst = worst.max(error);
+                assert!(
+                    error < 4e-3,
+                    "layer {layer} n·v {x} y {y}: {estimate:?} vs quadrature {reference:?}"
+                );
+            }
+        }
+    }
+    println!("BRDF tables, 1024 samples vs quadrature: max |error| {worst:.1e}");
+}
+
+#[test]
+fn eon_albedo_matches_quadrature() {
+    let rho = [0.9, 0.5, 0.1];
+    for r in [0.2, 0.6, 1.0] {
+        for mu in [0.95, 0.5, 0.15] {
+            let albedo = diffuse_eon_albedo(rho, r, mu);
+            for (c, a) in albedo.iter().enumerate() {
+                let reference = diffuse_albedo(
+                    |v, l| diffuse_eon(rho, r, v[2], l[2], dot(v, l))[c],
+                    mu,
+                    DIFFUSE_ORDER,
+                );
+                assert!(
+                    (a - reference).abs() < 5e-3,
+                    "r {r} μ {mu}: {a} vs quadrature {reference}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn studio_is_a_lit_cyclorama() {
+    let key = normalize([-0.55, 0.55, 0.63]);
+    let at_key = studio_radiance(key);
+    assert!(at_key[0] > 6.0 && at_key[0] < 6.5, "{at_key:?}");
+    let floor = studio_radiance([0.0, -1.0, 0.0]);
+    assert!(close(floor, STUDIO_FLOOR, 1e-12), "{floor:?}");
+    for face in 0..6 {
+        for (a, b) in [(0.0, 0.0), (0.7, -0.3), (-1.0, 1.0)] {
+            let l = studio_radiance(cube_direction(face, a, b));
+            assert!(l.iter().all(|c| c.is_finite() && *c >= 0.08), "{l:?}");
+        }
+    }
+}

@@ -1,0 +1,490 @@
+//! Environment lighting: the scene's `[environment]` on the GPU, bound as set 2 of the
+//! forward pass (see `shaders/lib/environment.glsl`), and the skybox pass that shows it
+//! behind the objects.
+//!
+//! Set 2: binding 0 the `EnvironmentData` uniform buffer, 1 the radiance cube map (with
+//! mips), 2 the GGX-prefiltered cube map, 3 the BRDF tables. What an environment needs is
+//! built when a frame first uses it and kept for the next frames (until another source
+//! replaces it): a studio or map builds its cube maps and spherical harmonics, split-sum
+//! reflection adds the prefiltered cube, and the BRDF tables (the same for every
+//! environment) are built once when a material needs them. Intensity, rotation and the
+//! reflection mode are uniforms, so changing them rebuilds nothing. Unused bindings hold
+//! 1² placeholders: Vulkan needs every binding the shader uses statically to be valid.
+
+pub mod equirect;
+mod precompute;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::Result;
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
+use gpu_allocator::MemoryLocation;
+
+use super::shaders;
+use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
+use crate::brdf::environment::{map_rotation, sh_project_cube, Sh9};
+use crate::scene::{Camera, DiffuseModel, Environment, ReflectionMode, Scene, SpecularModel};
+use crate::vk::{
+    transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, Pipeline, PipelineLayout,
+    Sampler, ShaderModule,
+};
+pub use equirect::{MAX_UPLOAD_WIDTH, MAX_WIDTH};
+pub use precompute::{Cost, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
+use precompute::{Precompute, SourceCube};
+
+/// Faces of the studio's cube map: 0.35° texels, sharp enough behind the objects.
+const STUDIO_SIZE: u32 = 256;
+/// A map's cube faces hold a quarter of its width, within these bounds.
+const MIN_MAP_SIZE: u32 = 16;
+const MAX_MAP_SIZE: u32 = 512;
+/// Spherical harmonics are projected from the first mip at most this wide: bands 0–2
+/// vary slowly, and 32² faces put their error below 1e-3.
+const SH_SIZE: u32 = 32;
+
+// Values of `EnvironmentData.mode` (environment.glsl).
+const KIND_NONE: u32 = 0;
+const KIND_UNIFORM: u32 = 1;
+const KIND_CUBE: u32 = 2;
+
+/// `EnvironmentData` (std140).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct EnvironmentData {
+    mode: [u32; 4],
+    radiance: [f32; 4],
+    params: [f32; 4],
+    texel: [f32; 4],
+    sh: [[f32; 4]; 9],
+}
+
+/// The push constants of skybox.frag.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct SkyboxPush {
+    inverse_view_proj: [[f32; 4]; 4],
+    camera_position: [f32; 4],
+}
+
+/// What a cube map is made from.
+#[derive(Clone, Debug, PartialEq)]
+enum Source {
+    Studio,
+    Map(PathBuf),
+}
+
+/// A source's cube map and what is derived from it.
+struct Cubes {
+    source: Source,
+    radiance: SourceCube,
+    /// Built when split-sum reflection first needs it.
+    prefiltered: Option<Image>,
+    sh: Sh9,
+}
+
+pub struct EnvironmentPass {
+    device: Arc<Device>,
+    set_layout: DescriptorSetLayout,
+    /// Owns `set`.
+    _pool: DescriptorPool,
+    set: vk::DescriptorSet,
+    data: Buffer,
+    sampler: Sampler,
+    placeholder_cube: Image,
+    placeholder_table: Image,
+    precompute: Precompute,
+    cubes: Option<Cubes>,
+    brdf_lut: Option<Image>,
+    /// The environment `data` and `set` describe.
+    current: Option<Environment>,
+    skybox: Option<Skybox>,
+    costs: Vec<Cost>,
+}
+
+impl EnvironmentPass {
+    pub fn new(device: &Arc<Device>) -> Result<Self> {
+        let fragment = vk::ShaderStageFlags::FRAGMENT;
+        let set_layout = DescriptorSetLayoutBuilder::default()
+            .binding(vk::DescriptorType::UNIFORM_BUFFER, fragment)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
+            .build(device, "environment set")?;
+        let pool = DescriptorPool::for_layout(device, &set_layout, 1)?;
+        let set = pool.allocate(&set_layout)?;
+        let data = Buffer::new(
+            device,
+            std::mem::size_of::<EnvironmentData>() as u64,
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            MemoryLocation::CpuToGpu,
+            "environment data",
+        )?;
+        let precompute = Precompute::new(device)?;
+        let (placeholder_cube, placeholder_table) = precompute.placeholders()?;
+        Ok(Self {
+            device: device.clone(),
+            set_layout,
+            _pool: pool,
+            set,
+            data,
+            sampler: Sampler::clamped(device)?,
+            placeholder_cube,
+            placeholder_table,
+            precompute,
+            cubes: None,
+            brdf_lut: None,
+            current: None,
+            skybox: None,
+            costs: Vec::new(),
+        })
+    }
+
+    /// The layout of set 2 of the forward pass.
+    pub fn set_layout(&self) -> &DescriptorSetLayout {
+        &self.set_layout
+    }
+
+    /// The set to bind as set 2; valid after `prepare`.
+    pub fn set(&self) -> vk::DescriptorSet {
+        self.set
+    }
+
+    /// The cost of each precomputation step run for the current environment (empty when
+    /// it needed none, or reused what was built before).
+    pub fn precompute_costs(&self) -> &[Cost] {
+        &self.costs
+    }
+
+    /// Builds what `scene`'s environment and materials need and is not built yet, and
+    /// points the set and uniforms at it. Waits for the device first if anything changes
+    /// (frames in flight read the set).
+    pub fn prepare(&mut self, scene: &Scene) -> Result<()> {
+        let environment = &scene.environment;
+        let source = match environment {
+            Environment::Studio { .. } => Some(Source::Studio),
+            Environment::Map { path, .. } => Some(Source::Map(path.clone())),
+            Environment::None | Environment::Uniform { .. } => None,
+        };
+        let mode = environment.reflection().map(|r| r.mode);
+        let needs_prefiltered = source.is_some() && mode == Some(ReflectionMode::SplitSum);
+        let needs_lut =
+            mode.is_some_and(|m| m != ReflectionMode::Sampled) && needs_brdf_tables(scene);
+        let built_source = self.cubes.as_ref().map(|c| &c.source);
+        let rebuild_source = source.is_some() && built_source != source.as_ref();
+        let add_prefiltered = needs_prefiltered
+            && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.prefiltered.is_none()));
+        let add_lut = needs_lut && self.brdf_lut.is_none();
+        let changed = rebuild_source
+            || add_prefiltered
+            || add_lut
+            || self.current.as_ref() != Some(environment);
+        if !changed {
+            return Ok(());
+        }
+        self.device.wait_idle()?;
+        self.current = None;
+        self.costs.clear();
+        if rebuild_source {
+            self.cubes = None;
+            if let Some(source) = source {
+                self.cubes = Some(self.build_cubes(source)?);
+            }
+        }
+        if add_prefiltered {
+            if let Some(cubes) = self.cubes.as_mut() {
+                cubes.prefiltered = Some(self.precompute.prefilter(
+                    &cubes.radiance,
+                    &self.sampler,
+                    &mut self.costs,
+                )?);
+            }
+        }
+        if add_lut {
+            self.brdf_lut = Some(self.precompute.brdf_lut(&mut self.costs)?);
+        }
+        self.write(environment)?;
+        self.current = Some(environment.clone());
+        if self.draws_skybox() && self.skybox.is_none() {
+            self.skybox = Some(Skybox::new(&self.device, &self.set_layout)?);
+        }
+        Ok(())
+    }
+
+    fn build_cubes(&mut self, source: Source) -> Result<Cubes> {
+        let radiance = match &source {
+            Source::Studio => self.precompute.studio(STUDIO_SIZE, &mut self.costs)?,
+            Source::Map(path) => {
+                let start = Instant::now();
+                let map = equirect::load(path)?;
+                self.costs.push(Cost {
+                    step: "load map",
+                    ms: start.elapsed().as_secs_f64() * 1e3,
+                    gpu: false,
+                });
+                let size = (map.width / 4).clamp(MIN_MAP_SIZE, MAX_MAP_SIZE);
+                // The largest power of two within the bounds, so every mip halves exactly.
+                let size = 1 << (31 - size.leading_zeros());
+                self.precompute.equirect(&map, size, &mut self.costs)?
+            }
+        };
+        let start = Instant::now();
+        let size = radiance.image.extent.width;
+        let level = (size / SH_SIZE.min(size)).trailing_zeros();
+        let side = size >> level;
+        let texels = self.precompute.read_level(&radiance.image, level)?;
+        let sh = sh_project_cube(side, |face, x, y| {
+            let t = texels[((face * side + y) * side + x) as usize];
+            [f64::from(t[0]), f64::from(t[1]), f64::from(t[2])]
+        });
+        self.costs.push(Cost {
+            step: "spherical harmonics",
+            ms: start.elapsed().as_secs_f64() * 1e3,
+            gpu: false,
+        });
+        Ok(Cubes {
+            source,
+            radiance,
+            prefiltered: None,
+            sh,
+        })
+    }
+
+    /// Writes the uniforms and the set for `environment` from what is built.
+    fn write(&mut self, environment: &Environment) -> Result<()> {
+        let reflection = environment.reflection().copied().unwrap_or_default();
+        let (kind, radiance, rotation_degrees) = match environment {
+            Environment::None => (KIND_NONE, [0.0; 3], 0.0),
+            Environment::Uniform { radiance, .. } => (KIND_UNIFORM, radiance.to_array(), 0.0),
+            Environment::Studio {
+                intensity,
+                rotation_degrees,
+                ..
+            }
+            | Environment::Map {
+                intensity,
+                rotation_degrees,
+                ..
+            } => (KIND_CUBE, [*intensity; 3], *rotation_degrees),
+        };
+        let rotation = map_rotation(f64::from(rotation_degrees));
+        let cubes = self.cubes.as_ref().filter(|_| kind == KIND_CUBE);
+        // Uniform radiance reads no texel: any positive solid angle keeps the lod finite.
+        let texel_solid_angle = cubes.map_or(1.0, |c| {
+            let w = c.radiance.image.extent.width as f32;
+            4.0 * std::f32::consts::PI / (6.0 * w * w)
+        });
+        let mut sh = [[0.0; 4]; 9];
+        if let Some(c) = cubes {
+            for (out, coefficient) in sh.iter_mut().zip(c.sh) {
+                *out = [
+                    coefficient[0] as f32,
+                    coefficient[1] as f32,
+                    coefficient[2] as f32,
+                    0.0,
+                ];
+            }
+        }
+        let data = EnvironmentData {
+            mode: [
+                kind,
+                reflection_code(reflection.mode),
+                reflection.samples,
+                0,
+            ],
+            radiance: [radiance[0], radiance[1], radiance[2], 0.0],
+            params: [
+                rotation[0] as f32,
+                rotation[1] as f32,
+                reflection.seed_strength,
+                (PREFILTERED_LEVELS - 1) as f32,
+            ],
+            texel: [texel_solid_angle, 0.0, 0.0, 0.0],
+            sh,
+        };
+        self.data.write(bytemuck::bytes_of(&data))?;
+        let radiance_view = cubes.map_or(self.placeholder_cube.view, |c| c.radiance.image.view);
+        let prefiltered_view = cubes
+            .and_then(|c| c.prefiltered.as_ref())
+            .map_or(self.placeholder_cube.view, |i| i.view);
+        let lut_view = self
+            .brdf_lut
+            .as_ref()
+            .map_or(self.placeholder_table.view, |i| i.view);
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        let layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        DescriptorWriter::new()
+            .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, self.data.handle)
+            .image(1, sampled, radiance_view, layout, self.sampler.handle)
+            .image(2, sampled, prefiltered_view, layout, self.sampler.handle)
+            .image(3, sampled, lut_view, layout, self.sampler.handle)
+            .write(&self.device, self.set);
+        Ok(())
+    }
+
+    /// Whether the current environment is drawn behind the objects (a cube map; a uniform
+    /// one is the target's clear colour).
+    pub fn draws_skybox(&self) -> bool {
+        matches!(
+            self.current,
+            Some(Environment::Studio { .. } | Environment::Map { .. })
+        )
+    }
+
+    /// Records the skybox into `target` after the forward pass, if the environment is
+    /// drawn: colour and depth are in attachment layouts and stay there.
+    pub fn record_skybox(&self, cmd: vk::CommandBuffer, target: &RenderTarget, camera: &Camera) {
+        if let Some(skybox) = self.skybox.as_ref().filter(|_| self.draws_skybox()) {
+            skybox.record(cmd, target, camera, self.set);
+        }
+    }
+
+    /// Mip `level` of the radiance cube map (faces +x, −x, +y, −y, +z, −z, rows from the
+    /// top), for checks; `None` without a cube map.
+    pub fn read_radiance_level(&self, level: u32) -> Result<Option<Vec<[f32; 4]>>> {
+        self.cubes
+            .as_ref()
+            .map(|c| self.precompute.read_level(&c.radiance.image, level))
+            .transpose()
+    }
+
+    /// The BRDF tables (layer-major, rows of increasing roughness), for checks; `None`
+    /// when no environment has needed them.
+    pub fn read_brdf_lut(&self) -> Result<Option<Vec<[f32; 4]>>> {
+        self.brdf_lut
+            .as_ref()
+            .map(|i| self.precompute.read_level(i, 0))
+            .transpose()
+    }
+}
+
+fn reflection_code(mode: ReflectionMode) -> u32 {
+    match mode {
+        ReflectionMode::SplitSum => 0,
+        ReflectionMode::Seed => 1,
+        ReflectionMode::Sampled => 2,
+    }
+}
+
+/// Split sum and seed read the tables for a specular lobe or Oren-Nayar's albedo.
+fn needs_brdf_tables(scene: &Scene) -> bool {
+    scene
+        .materials
+        .iter()
+        .any(|m| m.specular != SpecularModel::None || m.diffuse == DiffuseModel::OrenNayar)
+}
+
+/// The skybox pipeline: a fullscreen triangle at the far plane, depth-tested against the
+/// forward pass's depth without writing it.
+struct Skybox {
+    device: Arc<Device>,
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+impl Skybox {
+    fn new(device: &Arc<Device>, set_layout: &DescriptorSetLayout) -> Result<Self> {
+        let layout = PipelineLayout::new(
+            device,
+            &[set_layout],
+            std::mem::size_of::<SkyboxPush>() as u32,
+            vk::ShaderStageFlags::FRAGMENT,
+        )?;
+        let vertex = ShaderModule::new(device, shaders::SKYBOX_VERT, "skybox.vert")?;
+        let fragment = ShaderModule::new(device, shaders::SKYBOX_FRAG, "skybox.frag")?;
+        let pipeline = GraphicsPipelineBuilder::new(&vertex, &fragment, HDR_FORMAT)
+            .depth_test_only(DEPTH_FORMAT, vk::CompareOp::LESS_OR_EQUAL)
+            .build(device, &layout, "skybox")?;
+        Ok(Self {
+            device: device.clone(),
+            layout,
+            pipeline,
+        })
+    }
+
+    fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        target: &RenderTarget,
+        camera: &Camera,
+        set: vk::DescriptorSet,
+    ) {
+        let d = &self.device.handle;
+        // The forward pass's colour and depth writes come first.
+        let (color_image, depth_image) = (&target.color, &target.depth);
+        transition(
+            &self.device,
+            cmd,
+            color_image.handle,
+            color_image.aspect,
+            ImageUse::COLOR_ATTACHMENT,
+            ImageUse::COLOR_ATTACHMENT,
+        );
+        transition(
+            &self.device,
+            cmd,
+            depth_image.handle,
+            depth_image.aspect,
+            ImageUse::DEPTH_ATTACHMENT,
+            ImageUse::DEPTH_ATTACHMENT,
+        );
+        let color = [vk::RenderingAttachmentInfo::default()
+            .image_view(target.color.view)
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::STORE)];
+        let depth = vk::RenderingAttachmentInfo::default()
+            .image_view(target.depth.view)
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::LOAD)
+            .store_op(vk::AttachmentStoreOp::DONT_CARE);
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color)
+            .depth_attachment(&depth);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: target.extent.width as f32,
+            height: target.extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let view_proj: Mat4 = camera.projection(target.aspect()) * camera.view();
+        let push = SkyboxPush {
+            inverse_view_proj: view_proj.inverse().to_cols_array_2d(),
+            camera_position: camera.position.extend(1.0).to_array(),
+        };
+        unsafe {
+            d.cmd_begin_rendering(cmd, &rendering);
+            d.cmd_set_viewport(cmd, 0, &[viewport]);
+            d.cmd_set_scissor(cmd, 0, &[area]);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.handle,
+                0,
+                &[set],
+                &[],
+            );
+            d.cmd_push_constants(
+                cmd,
+                self.layout.handle,
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytemuck::bytes_of(&push),
+            );
+            d.cmd_draw(cmd, 3, 1, 0, 0);
+            d.cmd_end_rendering(cmd);
+        }
+    }
+}

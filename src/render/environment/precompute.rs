@@ -1,0 +1,683 @@
+//! The once-per-environment GPU work, in compute shaders: the source cube map (the studio,
+//! or an equirectangular map converted), its mip chain, the GGX-prefiltered cube map, and
+//! the environment-independent BRDF tables. Each step is timed (GPU timestamps when the
+//! queue has them, else CPU time) for `argil render` to print.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::equirect::Equirect;
+use crate::brdf::environment::LUT_LAYERS;
+use crate::render::shaders;
+use crate::vk::{
+    transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    DescriptorWriter, Device, Image, ImageUse, ImageView, OneShot, Pipeline, PipelineLayout,
+    Sampler, ShaderModule, Specialization, Timestamps,
+};
+
+/// Every cube map and table is RGBA16F: filterable and storable on every Vulkan device.
+pub const FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+/// Prefiltered cube: 64² faces, roughness k/5 at mip k (down to 2²).
+pub const PREFILTERED_SIZE: u32 = 64;
+pub const PREFILTERED_LEVELS: u32 = 6;
+/// GGX samples per prefiltered texel; filtered importance sampling keeps 128 noise-free.
+const PREFILTER_SAMPLES: u32 = 128;
+/// BRDF tables: n·v × roughness, and the samples per texel (QMC error ~1e-3).
+pub const LUT_SIZE: vk::Extent2D = vk::Extent2D {
+    width: 32,
+    height: 32,
+};
+pub const LUT_SAMPLES: u32 = 512;
+/// Compute shaders' workgroups are 8×8 texels of one layer.
+const GROUP: u32 = 8;
+
+/// The texels of a cube map level with `side`² faces, for a dispatch.
+fn cube_texels(side: u32) -> vk::Extent3D {
+    vk::Extent3D {
+        width: side,
+        height: side,
+        depth: 6,
+    }
+}
+
+/// An image being written by compute shaders.
+const COMPUTE_STORAGE: ImageUse = ImageUse {
+    layout: vk::ImageLayout::GENERAL,
+    stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
+    access: vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+            | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+    ),
+};
+/// An image being cleared.
+const CLEAR_DST: ImageUse = ImageUse {
+    layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    stage: vk::PipelineStageFlags2::CLEAR,
+    access: vk::AccessFlags2::TRANSFER_WRITE,
+};
+/// Where every finished image is left: sampled by shaders (the prefilter kernel reads the
+/// source cube in a later submission, which the fence orders).
+pub const SHADING_READ: ImageUse = ImageUse::FRAGMENT_READ;
+
+/// One step's cost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cost {
+    pub step: &'static str,
+    pub ms: f64,
+    /// Measured by GPU timestamps (else CPU wall time around the submission).
+    pub gpu: bool,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum KernelKind {
+    Studio,
+    Equirect,
+    Downsample,
+    Prefilter,
+    BrdfLut,
+}
+
+impl KernelKind {
+    fn spirv(self) -> (&'static [u8], &'static str) {
+        match self {
+            KernelKind::Studio => (shaders::ENV_STUDIO_COMP, "env_studio.comp"),
+            KernelKind::Equirect => (shaders::ENV_EQUIRECT_COMP, "env_equirect.comp"),
+            KernelKind::Downsample => (shaders::ENV_DOWNSAMPLE_COMP, "env_downsample.comp"),
+            KernelKind::Prefilter => (shaders::ENV_PREFILTER_COMP, "env_prefilter.comp"),
+            KernelKind::BrdfLut => (shaders::ENV_BRDF_LUT_COMP, "env_brdf_lut.comp"),
+        }
+    }
+
+    /// The shader's bindings in order, and its push-constant bytes.
+    fn interface(self) -> (&'static [vk::DescriptorType], u32) {
+        use vk::DescriptorType as T;
+        match self {
+            KernelKind::Studio => (&[T::STORAGE_IMAGE], 0),
+            KernelKind::Equirect => (&[T::STORAGE_IMAGE, T::STORAGE_BUFFER], 8),
+            KernelKind::Downsample => (&[T::STORAGE_IMAGE, T::STORAGE_IMAGE], 0),
+            KernelKind::Prefilter => (&[T::COMBINED_IMAGE_SAMPLER, T::STORAGE_IMAGE], 16),
+            KernelKind::BrdfLut => (&[T::STORAGE_IMAGE], 4),
+        }
+    }
+}
+
+/// A compute pipeline with its own set layout.
+struct Kernel {
+    set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+}
+
+/// What one dispatch binds: its set's resources, in binding order.
+enum Resource<'a> {
+    Storage(vk::ImageView),
+    Sampled(vk::ImageView, &'a Sampler),
+    Buffer(&'a Buffer),
+}
+
+/// The compute kernels, each created the first time an environment needs it.
+pub struct Precompute {
+    device: Arc<Device>,
+    one_shot: OneShot,
+    kernels: HashMap<KernelKind, Kernel>,
+}
+
+/// A cube map with its box-filtered mip chain.
+pub struct SourceCube {
+    pub image: Image,
+}
+
+impl Precompute {
+    pub fn new(device: &Arc<Device>) -> Result<Self> {
+        let features = unsafe {
+            device
+                .instance
+                .handle
+                .get_physical_device_format_properties(device.physical, FORMAT)
+        }
+        .optimal_tiling_features;
+        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE
+            | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
+        if !features.contains(needed) {
+            bail!("this device cannot filter and store {FORMAT:?} images, which environment maps need");
+        }
+        Ok(Self {
+            device: device.clone(),
+            one_shot: OneShot::new(device)?,
+            kernels: HashMap::new(),
+        })
+    }
+
+    fn kernel(&mut self, kind: KernelKind) -> Result<&Kernel> {
+        if !self.kernels.contains_key(&kind) {
+            let (spirv, name) = kind.spirv();
+            let (bindings, push_size) = kind.interface();
+            let set_layout = bindings
+                .iter()
+                .fold(DescriptorSetLayoutBuilder::default(), |b, &t| {
+                    b.binding(t, vk::ShaderStageFlags::COMPUTE)
+                })
+                .build(&self.device, name)?;
+            let layout = PipelineLayout::new(
+                &self.device,
+                &[&set_layout],
+                push_size,
+                vk::ShaderStageFlags::COMPUTE,
+            )?;
+            let shader = ShaderModule::new(&self.device, spirv, name)?;
+            let pipeline = Pipeline::compute(
+                &self.device,
+                &layout,
+                &shader,
+                &Specialization::default(),
+                name,
+            )?;
+            self.kernels.insert(
+                kind,
+                Kernel {
+                    set_layout,
+                    layout,
+                    pipeline,
+                },
+            );
+        }
+        self.kernels.get(&kind).context("kernel created above")
+    }
+
+    /// Records one dispatch of `kind` over `texels` (width × height × layers); its set
+    /// comes from `pool`, which must outlive the submission.
+    fn dispatch(
+        &self,
+        cmd: vk::CommandBuffer,
+        kind: KernelKind,
+        pool: &DescriptorPool,
+        resources: &[Resource],
+        push: &[u8],
+        texels: vk::Extent3D,
+    ) -> Result<()> {
+        let kernel = self
+            .kernels
+            .get(&kind)
+            .context("compute kernel not created")?;
+        let set = pool.allocate(&kernel.set_layout)?;
+        let writer = resources
+            .iter()
+            .enumerate()
+            .fold(DescriptorWriter::new(), |w, (i, r)| {
+                let binding = i as u32;
+                match r {
+                    Resource::Storage(view) => w.image(
+                        binding,
+                        vk::DescriptorType::STORAGE_IMAGE,
+                        *view,
+                        vk::ImageLayout::GENERAL,
+                        vk::Sampler::null(),
+                    ),
+                    Resource::Sampled(view, sampler) => w.image(
+                        binding,
+                        vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                        *view,
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                        sampler.handle,
+                    ),
+                    Resource::Buffer(buffer) => {
+                        w.buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer.handle)
+                    }
+                }
+            });
+        writer.write(&self.device, set);
+        let d = &self.device.handle;
+        unsafe {
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, kernel.pipeline.handle);
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                kernel.layout.handle,
+                0,
+                &[set],
+                &[],
+            );
+            if !push.is_empty() {
+                d.cmd_push_constants(
+                    cmd,
+                    kernel.layout.handle,
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    push,
+                );
+            }
+            d.cmd_dispatch(
+                cmd,
+                texels.width.div_ceil(GROUP),
+                texels.height.div_ceil(GROUP),
+                texels.depth,
+            );
+        }
+        Ok(())
+    }
+
+    /// A pool for `sets` sets of `kind`'s layout.
+    fn pool(&mut self, kind: KernelKind, sets: u32) -> Result<DescriptorPool> {
+        let device = self.device.clone();
+        let kernel = self.kernel(kind)?;
+        DescriptorPool::for_layout(&device, &kernel.set_layout, sets)
+    }
+
+    /// Runs `record` in one submission and measures it.
+    fn timed(
+        &self,
+        step: &'static str,
+        costs: &mut Vec<Cost>,
+        record: impl FnOnce(vk::CommandBuffer) -> Result<()>,
+    ) -> Result<()> {
+        let timestamps = Timestamps::new(&self.device, 1)?;
+        let start = Instant::now();
+        self.one_shot
+            .run(|cmd| {
+                if let Some(t) = &timestamps {
+                    t.reset(cmd);
+                    t.begin(cmd, 0);
+                }
+                let recorded = record(cmd);
+                if let Some(t) = &timestamps {
+                    t.end(cmd, 0);
+                }
+                recorded
+            })
+            .and_then(|recorded| recorded)
+            .with_context(|| format!("environment precomputation '{step}'"))?;
+        let cost = match &timestamps {
+            Some(t) => Cost {
+                step,
+                ms: t.read_ms()?[0],
+                gpu: true,
+            },
+            None => Cost {
+                step,
+                ms: start.elapsed().as_secs_f64() * 1e3,
+                gpu: false,
+            },
+        };
+        costs.push(cost);
+        Ok(())
+    }
+
+    /// Level 0 of a cube map of `size`² faces from `kind` (studio or equirect), then its
+    /// mip chain down to 1², left readable by shaders.
+    fn source(
+        &mut self,
+        kind: KernelKind,
+        size: u32,
+        map: Option<&Equirect>,
+        costs: &mut Vec<Cost>,
+    ) -> Result<SourceCube> {
+        let levels = crate::vk::mip_count(vk::Extent2D {
+            width: size,
+            height: size,
+        });
+        let usage = vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = Image::cube(
+            &self.device,
+            size,
+            levels,
+            FORMAT,
+            usage,
+            "environment cube",
+        )?;
+        let views = (0..levels)
+            .map(|l| image.level_view(l))
+            .collect::<Result<Vec<ImageView>>>()?;
+        let upload = map
+            .map(|m| {
+                Buffer::with_data(
+                    &self.device,
+                    &self.one_shot,
+                    &m.texels,
+                    vk::BufferUsageFlags::STORAGE_BUFFER,
+                    "equirect",
+                )
+            })
+            .transpose()?;
+        let source_pool = self.pool(kind, 1)?;
+        let step = if kind == KernelKind::Studio {
+            "studio"
+        } else {
+            "equirect to cube"
+        };
+        self.timed(step, costs, |cmd| {
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                image.all_levels(),
+                ImageUse::UNDEFINED,
+                COMPUTE_STORAGE,
+            );
+            let mut resources = vec![Resource::Storage(views[0].handle)];
+            let mut push = Vec::new();
+            if let (Some(buffer), Some(m)) = (&upload, map) {
+                resources.push(Resource::Buffer(buffer));
+                push.extend_from_slice(bytemuck::bytes_of(&[m.width, m.height]));
+            }
+            self.dispatch(
+                cmd,
+                kind,
+                &source_pool,
+                &resources,
+                &push,
+                cube_texels(size),
+            )
+        })?;
+        let mip_pool = self.pool(KernelKind::Downsample, levels.max(2) - 1)?;
+        self.timed("mips", costs, |cmd| {
+            for level in 1..levels {
+                self.storage_barrier(cmd, &image);
+                let resources = [
+                    Resource::Storage(views[level as usize - 1].handle),
+                    Resource::Storage(views[level as usize].handle),
+                ];
+                let side = (size >> level).max(1);
+                self.dispatch(
+                    cmd,
+                    KernelKind::Downsample,
+                    &mip_pool,
+                    &resources,
+                    &[],
+                    cube_texels(side),
+                )?;
+            }
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                image.all_levels(),
+                COMPUTE_STORAGE,
+                SHADING_READ,
+            );
+            Ok(())
+        })?;
+        Ok(SourceCube { image })
+    }
+
+    /// Orders one compute dispatch's image writes before the next one's reads.
+    fn storage_barrier(&self, cmd: vk::CommandBuffer, image: &Image) {
+        transition_levels(
+            &self.device,
+            cmd,
+            image.handle,
+            image.all_levels(),
+            COMPUTE_STORAGE,
+            COMPUTE_STORAGE,
+        );
+    }
+
+    /// The studio's cube map.
+    pub fn studio(&mut self, size: u32, costs: &mut Vec<Cost>) -> Result<SourceCube> {
+        self.source(KernelKind::Studio, size, None, costs)
+    }
+
+    /// An equirectangular map's cube map.
+    pub fn equirect(
+        &mut self,
+        map: &Equirect,
+        size: u32,
+        costs: &mut Vec<Cost>,
+    ) -> Result<SourceCube> {
+        self.source(KernelKind::Equirect, size, Some(map), costs)
+    }
+
+    /// The GGX-prefiltered cube of `source`: mip k filtered for roughness k/(levels − 1).
+    pub fn prefilter(
+        &mut self,
+        source: &SourceCube,
+        sampler: &Sampler,
+        costs: &mut Vec<Cost>,
+    ) -> Result<Image> {
+        let usage = vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = Image::cube(
+            &self.device,
+            PREFILTERED_SIZE,
+            PREFILTERED_LEVELS,
+            FORMAT,
+            usage,
+            "prefiltered environment",
+        )?;
+        let views = (0..PREFILTERED_LEVELS)
+            .map(|l| image.level_view(l))
+            .collect::<Result<Vec<ImageView>>>()?;
+        let pool = self.pool(KernelKind::Prefilter, PREFILTERED_LEVELS)?;
+        let source_size = source.image.extent.width;
+        let texel_solid_angle =
+            4.0 * std::f32::consts::PI / (6.0 * (source_size * source_size) as f32);
+        self.timed("prefilter", costs, |cmd| {
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                image.all_levels(),
+                ImageUse::UNDEFINED,
+                COMPUTE_STORAGE,
+            );
+            for level in 0..PREFILTERED_LEVELS {
+                let side = PREFILTERED_SIZE >> level;
+                let roughness = level as f32 / (PREFILTERED_LEVELS - 1) as f32;
+                // Never read finer than this level's own texels (no aliasing).
+                let min_lod = (source_size as f32 / side as f32).log2().max(0.0);
+                let push: [u32; 4] = [
+                    roughness.to_bits(),
+                    texel_solid_angle.to_bits(),
+                    min_lod.to_bits(),
+                    PREFILTER_SAMPLES,
+                ];
+                let resources = [
+                    Resource::Sampled(source.image.view, sampler),
+                    Resource::Storage(views[level as usize].handle),
+                ];
+                self.dispatch(
+                    cmd,
+                    KernelKind::Prefilter,
+                    &pool,
+                    &resources,
+                    bytemuck::bytes_of(&push),
+                    cube_texels(side),
+                )?;
+            }
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                image.all_levels(),
+                COMPUTE_STORAGE,
+                SHADING_READ,
+            );
+            Ok(())
+        })?;
+        Ok(image)
+    }
+
+    /// The BRDF tables, `LUT_LAYERS` layers of `LUT_SIZE`.
+    pub fn brdf_lut(&mut self, costs: &mut Vec<Cost>) -> Result<Image> {
+        let usage = vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = Image::array_2d(
+            &self.device,
+            LUT_SIZE,
+            LUT_LAYERS,
+            FORMAT,
+            usage,
+            "brdf tables",
+        )?;
+        let pool = self.pool(KernelKind::BrdfLut, 1)?;
+        self.timed("brdf tables", costs, |cmd| {
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                image.all_levels(),
+                ImageUse::UNDEFINED,
+                COMPUTE_STORAGE,
+            );
+            let resources = [Resource::Storage(image.view)];
+            self.dispatch(
+                cmd,
+                KernelKind::BrdfLut,
+                &pool,
+                &resources,
+                &LUT_SAMPLES.to_ne_bytes(),
+                vk::Extent3D {
+                    width: LUT_SIZE.width,
+                    height: LUT_SIZE.height,
+                    depth: LUT_LAYERS,
+                },
+            )?;
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                image.all_levels(),
+                COMPUTE_STORAGE,
+                SHADING_READ,
+            );
+            Ok(())
+        })?;
+        Ok(image)
+    }
+
+    /// Mip `level` of an RGBA16F image, every layer, as f32 texels (layer-major, rows from
+    /// the top); the image is in `SHADING_READ` and is left there.
+    pub fn read_level(&self, image: &Image, level: u32) -> Result<Vec<[f32; 4]>> {
+        let (w, h) = (
+            (image.extent.width >> level).max(1),
+            (image.extent.height >> level).max(1),
+        );
+        let texels = u64::from(w) * u64::from(h) * u64::from(image.layers);
+        let buffer = Buffer::new(
+            &self.device,
+            texels * 8,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+            "environment readback",
+        )?;
+        let range = image.level_range(level);
+        self.one_shot.run(|cmd| {
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                range,
+                SHADING_READ,
+                ImageUse::TRANSFER_SRC,
+            );
+            let region = vk::BufferImageCopy::default()
+                .image_subresource(
+                    vk::ImageSubresourceLayers::default()
+                        .aspect_mask(image.aspect)
+                        .mip_level(level)
+                        .layer_count(image.layers),
+                )
+                .image_extent(vk::Extent3D {
+                    width: w,
+                    height: h,
+                    depth: 1,
+                });
+            unsafe {
+                self.device.handle.cmd_copy_image_to_buffer(
+                    cmd,
+                    image.handle,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    buffer.handle,
+                    &[region],
+                )
+            };
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                range,
+                ImageUse::TRANSFER_SRC,
+                SHADING_READ,
+            );
+            let to_host = [vk::MemoryBarrier2::default()
+                .src_stage_mask(vk::PipelineStageFlags2::COPY)
+                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+            let dependency = vk::DependencyInfo::default().memory_barriers(&to_host);
+            unsafe { self.device.handle.cmd_pipeline_barrier2(cmd, &dependency) };
+        })?;
+        let halves: &[u16] = bytemuck::cast_slice(buffer.read()?);
+        let float = |bits: u16| half::f16::from_bits(bits).to_f32();
+        Ok(halves
+            .chunks_exact(4)
+            .map(|t| [float(t[0]), float(t[1]), float(t[2]), float(t[3])])
+            .collect())
+    }
+
+    /// Placeholders for descriptors an environment does not use (Vulkan needs every
+    /// statically used binding valid): a 1² cube and a 1×1 table layer, cleared to 0.
+    pub fn placeholders(&self) -> Result<(Image, Image)> {
+        let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
+        let unit = vk::Extent2D {
+            width: 1,
+            height: 1,
+        };
+        let cube = Image::cube(
+            &self.device,
+            1,
+            1,
+            FORMAT,
+            usage,
+            "environment placeholder cube",
+        )?;
+        let table = Image::array_2d(
+            &self.device,
+            unit,
+            1,
+            FORMAT,
+            usage,
+            "environment placeholder table",
+        )?;
+        self.one_shot.run(|cmd| {
+            for image in [&cube, &table] {
+                let range = image.all_levels();
+                transition_levels(
+                    &self.device,
+                    cmd,
+                    image.handle,
+                    range,
+                    ImageUse::UNDEFINED,
+                    CLEAR_DST,
+                );
+                let black = vk::ClearColorValue { float32: [0.0; 4] };
+                unsafe {
+                    self.device.handle.cmd_clear_color_image(
+                        cmd,
+                        image.handle,
+                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                        &black,
+                        &[range],
+                    )
+                };
+                transition_levels(
+                    &self.device,
+                    cmd,
+                    image.handle,
+                    range,
+                    CLEAR_DST,
+                    SHADING_READ,
+                );
+            }
+        })?;
+        Ok((cube, table))
+    }
+}
