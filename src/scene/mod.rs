@@ -9,8 +9,10 @@ mod light;
 mod material;
 mod mesh;
 mod obj;
+mod procedural;
 mod resolve;
 mod tangents;
+mod texture;
 
 #[cfg(test)]
 mod tests;
@@ -25,6 +27,10 @@ pub use file::SceneFile;
 pub use light::{Environment, PointLight};
 pub use material::{DiffuseModel, Distribution, Geometry, Material, SpecularModel};
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
+pub use procedural::{builtin_texture, BUILTIN_TEXTURES};
+pub use texture::{
+    load_texture, TexelFormat, TextureData, TextureRole, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE,
+};
 
 /// The scene used when none is given; it needs no files on disk.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");

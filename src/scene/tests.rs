@@ -10,10 +10,10 @@ use super::file::{EnvironmentDef, LightDef, MaterialDef, ObjectDef};
 use super::*;
 
 /// A fresh folder under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
+pub(super) struct TempDir(pub(super) PathBuf);
 
 impl TempDir {
-    fn new() -> TempDir {
+    pub(super) fn new() -> TempDir {
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
         let path = std::env::temp_dir().join(format!(
             "argil-scene-test-{}-{}",
