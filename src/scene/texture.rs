@@ -162,6 +162,7 @@ pub fn load_texture(path: &Path, role: TextureRole) -> Result<TextureData, Scene
     let pixels = match texel_format {
         TexelFormat::Rgba8Srgb | TexelFormat::Rgba8Unorm => image.into_rgba8().into_raw(),
         TexelFormat::Rgba16Unorm => bytemuck::cast_slice(&image.into_rgba16().into_raw()).to_vec(),
+        // Float files; the other float textures are 16-bit sRGB colour.
         TexelFormat::Rgba32Float if float => {
             let texels = image.into_rgba32f().into_raw();
             if let Some(index) = texels.iter().position(|x| !(x.is_finite() && *x >= 0.0)) {
@@ -468,14 +469,17 @@ mod tests {
             message(&png, TextureRole::Normal),
             "the image is too large (1 × 16385); each side must be at most 16384"
         );
-        // Decoders refuse zero sizes themselves; either way it is an error
-        // naming the file.
-        for path in [&hdr("empty.hdr", 0, 4), &dir.0.join("zero.png")] {
-            if path.ends_with("zero.png") {
-                std::fs::write(path, png_header(0, 7, 8)).unwrap();
-            }
-            message(path, TextureRole::BaseColor);
-        }
+        let zero = dir.0.join("zero.png");
+        std::fs::write(&zero, png_header(0, 7, 8)).unwrap();
+        assert_eq!(
+            message(&hdr("empty.hdr", 0, 4), TextureRole::BaseColor),
+            "the image is empty (0 × 4)"
+        );
+        // The PNG decoder refuses zero sizes itself.
+        assert_eq!(
+            message(&zero, TextureRole::BaseColor),
+            "corrupt or truncated PNG data: Format error decoding Png: Invalid image dimensions"
+        );
     }
 
     /// A PNG signature, an RGBA IHDR chunk and an empty IDAT chunk: a
