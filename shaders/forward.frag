@@ -4,6 +4,7 @@
 // so each pipeline holds only the code its materials need.
 #include "scene_data.glsl"
 #include "shading.glsl"
+#include "material_maps.glsl"
 #include "lights.glsl"
 #include "environment.glsl"
 #include "debug_views.glsl"
@@ -24,10 +25,13 @@ void main() {
     Material m = materials[object.material_index];
     ShadingModels models = ShadingModels(DIFFUSE_MODEL, SPECULAR_MODEL, DISTRIBUTION, GEOMETRY);
     vec3 v = normalize(frame.camera_position.xyz - in_world_position);
+    m.base_color.rgb = mapped_base_color(m, in_uv);
     vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
-    vec3 n = view_facing_normal(n_geometric, v);
+    // The tangent frame follows the normal to the viewer's side.
+    vec4 tangent = gl_FrontFacing ? in_tangent : vec4(in_tangent.xyz, -in_tangent.w);
+    vec3 n = view_facing_normal(mapped_normal(m, n_geometric, tangent, in_uv), v);
 
-    vec3 environment = environment_light(models, m, n, n_geometric, v, in_uv, gl_FragCoord.xy);
+    vec3 environment = environment_light(models, m, n, n_geometric, v, mapped_noise(m, in_uv), gl_FragCoord.xy);
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position) + environment;
     out_radiance = vec4(radiance, 1.0);
     if (frame.counts.y != DEBUG_VIEW_SHADED) {

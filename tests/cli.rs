@@ -251,13 +251,35 @@ fn view_rejects_bad_arguments_before_opening_a_window() {
 
 /// The scene file is reloaded when it changes on disk: a broken edit is reported and the
 /// last good scene stays on screen; the next good edit is shown, with the camera kept.
+/// The scene the reload test edits on disk.
+const RELOADED_SCENE: &str = r#"
+[camera]
+position = [0.0, 1.6, 7.5]
+target = [0.2, -0.35, 0.0]
+
+[[lights]]
+kind = "point"
+position = [-3.0, 4.0, 4.0]
+intensity = [32.0, 30.0, 27.0]
+
+[[objects]]
+mesh = "builtin:sphere"
+material = "terracotta"
+
+[materials.terracotta]
+base_color = [0.6, 0.22, 0.1]
+diffuse = "oren-nayar"
+diffuse_roughness = 0.5
+roughness = 0.7
+"#;
+
 #[test]
 fn view_reloads_the_scene_when_its_file_changes() {
     use std::io::{BufRead, BufReader};
     use std::process::Stdio;
     let dir = temp_dir("reload");
     let scene = dir.join("scene.toml");
-    std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
+    std::fs::write(&scene, RELOADED_SCENE).expect("write scene");
     let shot = dir.join("window.png");
     let runtime = temp_dir("xvfb-runtime");
     let mut child = Command::new("xvfb-run")
@@ -281,7 +303,7 @@ fn view_reloads_the_scene_when_its_file_changes() {
         panic!("argil never printed {what:?}: {log}");
     };
     wait_for("rendering on");
-    let good = argil::scene::DEFAULT_SCENE_TOML.replace("base_color = [0.6, 0.22, 0.1]", "base_color = [0.1, 0.5, 0.2]");
+    let good = RELOADED_SCENE.replace("base_color = [0.6, 0.22, 0.1]", "base_color = [0.1, 0.5, 0.2]");
     std::fs::write(&scene, good.replace("roughness = 0.7", "roughness = 7.0")).expect("write a broken scene");
     wait_for("materials.terracotta.roughness = 7.0");
     // The file's camera moves too, but the viewer keeps its own.

@@ -94,3 +94,35 @@ fn validation_errors_are_detected() {
     assert!(result.is_err(), "the invalid call was not reported as a validation error");
     assert!(report.error_count() > 0);
 }
+
+/// A plasticine ball close up: the clay-lumps normal map with the fingerprint detail map
+/// blended over it (RNM), under a grazing light that brings the relief out; and the same
+/// with the report's eq. 16 blend, for comparison.
+#[test]
+fn normal_and_detail_maps_match_golden() {
+    for blend in ["rnm", "seed"] {
+        let text = format!(
+            r#"
+[camera]
+position = [0.0, 0.0, 4.2]
+target = [0.0, 0.0, 0.0]
+fov_y_degrees = 30.0
+
+[[lights]]
+kind = "point"
+position = [-3.0, 1.0, 1.0]
+intensity = [12.0, 12.0, 12.0]
+
+[[objects]]
+mesh = "builtin:sphere"
+material = "clay"
+
+[materials.clay]
+preset = "plasticine"
+detail_blend = "{blend}"
+"#
+        );
+        let frame = render(&scene(&text), 160, 160);
+        assert_matches_golden(&frame, &format!("plasticine-detail-{blend}"));
+    }
+}

@@ -37,13 +37,6 @@ layout(set = ENV_SET, binding = 2) uniform samplerCube prefiltered_map;
 // BRDF tables: x = lut_x(n·v), y = roughness (σ for Oren-Nayar), layer = lut_layer().
 layout(set = ENV_SET, binding = 3) uniform sampler2DArray brdf_lut;
 
-// The report's noise map modulating the reflections (§3.2, "controlled by a parameter
-// and a noise texture"). Hook: 1 until the material's noise map (set 1, binding 3) is
-// wired here.
-float reflection_noise(vec2 uv) {
-    return 1.0;
-}
-
 vec3 env_map_direction(vec3 d) {
     return rotate_y(d, env.params.xy);
 }
@@ -85,7 +78,8 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // through its own SH kernel, and the specular lobe as prefiltered radiance along the
 // mirror direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
 // by the report's eq. 17: one lookup along the mirror direction × seed_strength × noise.
-vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, vec2 uv) {
+// `noise` modulates the seed mode's lookup: the material's noise map, or 1.
+vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float noise) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * env_convolve(n, SH_IRRADIANCE_OVER_PI);
     if (m.wrap_color.a > 0.0) {
@@ -95,7 +89,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, vec
     if (models.specular == SPECULAR_NONE) return radiance;
     vec3 r = seed_reflection(n, v);
     if (env.mode.y == REFLECTION_SEED) {
-        return radiance + env.params.z * reflection_noise(uv) * env_radiance(r, 0.0);
+        return radiance + env.params.z * noise * env_radiance(r, 0.0);
     }
     vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
     return radiance + env_prefiltered(r, m.roughness) * m.specular_color.rgb * (clamp(m.f0, 0.0, 1.0) * ab.x + ab.y);
@@ -154,10 +148,10 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
 }
 
 // The light the environment reflects towards v: replaces the report's constant ambient.
-vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec2 uv, vec2 pixel) {
+vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float noise, vec2 pixel) {
     if (env.mode.x == ENV_NONE) return vec3(0.0);
     if (env.mode.y == REFLECTION_SAMPLED) return environment_sampled(models, m, n, n_geometric, v, pixel);
-    return environment_split_sum(models, m, n, v, uv);
+    return environment_split_sum(models, m, n, v, noise);
 }
 
 #endif

@@ -15,6 +15,13 @@ struct Material {
     float pad0;
     float pad1;
     float pad2;
+    // Material maps (material_maps.glsl): uv · scale + offset, strengths, conventions.
+    vec4 base_color_uv;   // xy scale, zw offset
+    vec4 normal_uv;
+    vec4 detail_uv;
+    vec4 noise_uv;
+    vec4 map_strength;    // base colour, normal, detail, noise
+    uvec4 green_down;     // x normal map, y detail map: 1 for DirectX-style maps
 };
 
 #endif

@@ -23,13 +23,21 @@ use crate::vk::{
 };
 
 /// The specialization constants of `forward.frag` for a material.
+/// The specialization constants of `forward.frag` for a material: its models (shading.glsl)
+/// and which maps it has (material_maps.glsl).
 pub fn material_specialization(m: &Material) -> Specialization {
     let models = m.shading_models();
+    let maps = &m.maps;
     Specialization(vec![
         models.diffuse as u32,
         models.specular as u32,
         models.distribution as u32,
         models.geometry as u32,
+        u32::from(maps.base_color.is_some()),
+        u32::from(maps.normal.is_some()),
+        u32::from(maps.detail.is_some()),
+        u32::from(maps.noise.is_some()),
+        maps.detail_blend as u32,
     ])
 }
 
@@ -44,8 +52,8 @@ pub struct ForwardPass {
     device: Arc<Device>,
     /// Kept alive for the sets allocated with it.
     _set_layout: DescriptorSetLayout,
-    /// Holds set 1's place (material textures) until that set exists.
-    _material_layout: DescriptorSetLayout,
+    /// Set 1: a material's maps (material_maps.glsl); its sets belong to a `GpuScene`.
+    material_layout: DescriptorSetLayout,
     layout: PipelineLayout,
     vertex: ShaderModule,
     fragment: ShaderModule,
@@ -61,7 +69,11 @@ impl ForwardPass {
             .binding(vk::DescriptorType::UNIFORM_BUFFER, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::FRAGMENT)
             .build(device, "forward set")?;
-        let material_layout = DescriptorSetLayoutBuilder::default().build(device, "material set (empty)")?;
+        let material_layout = (0..4)
+            .fold(DescriptorSetLayoutBuilder::default(), |b, _| {
+                b.binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT)
+            })
+            .build(device, "material maps set")?;
         let layout = PipelineLayout::new(
             device,
             &[&set_layout, &material_layout, environment_layout],
@@ -89,7 +101,7 @@ impl ForwardPass {
         Ok(Self {
             device: device.clone(),
             _set_layout: set_layout,
-            _material_layout: material_layout,
+            material_layout,
             layout,
             vertex,
             fragment,
@@ -97,6 +109,11 @@ impl ForwardPass {
             _pool: pool,
             slots,
         })
+    }
+
+    /// The layout of set 1, for the scene's material sets.
+    pub fn material_layout(&self) -> &DescriptorSetLayout {
+        &self.material_layout
     }
 
     fn material_buffer(device: &Arc<Device>, count: usize) -> Result<Buffer> {
@@ -227,6 +244,14 @@ impl ForwardPass {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
                     bound = pipeline;
                 }
+                d.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    self.layout.handle,
+                    1,
+                    &[gpu.material_sets[object.material]],
+                    &[],
+                );
                 d.cmd_push_constants(
                     cmd,
                     self.layout.handle,

@@ -8,8 +8,9 @@ use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Mat4};
 
-use crate::scene::{Material, Mesh, Object, Scene};
-use crate::vk::{Buffer, Device, OneShot};
+use super::textures::{placeholder, GpuTexture};
+use crate::scene::{MapRef, Material, Mesh, Object, Scene, TexelFormat};
+use crate::vk::{Buffer, DescriptorPool, DescriptorSetLayout, DescriptorWriter, Device, OneShot, Sampler};
 
 /// `MAX_POINT_LIGHTS` in scene_data.glsl.
 pub const MAX_POINT_LIGHTS: usize = 16;
@@ -66,10 +67,26 @@ pub struct MaterialData {
     pub wrap: f32,
     pub wrap_width: f32,
     pub pad: [f32; 3],
+    pub base_color_uv: [f32; 4],
+    pub normal_uv: [f32; 4],
+    pub detail_uv: [f32; 4],
+    pub noise_uv: [f32; 4],
+    pub map_strength: [f32; 4],
+    pub green_down: [u32; 4],
+}
+
+/// A map's `uv · scale + offset` as (scale, offset), and its strength; identity without a map.
+fn map_terms(map: Option<&MapRef>) -> ([f32; 4], f32) {
+    map.map_or(([1.0, 1.0, 0.0, 0.0], 0.0), |m| {
+        ([m.uv_scale.x, m.uv_scale.y, m.uv_offset.x, m.uv_offset.y], m.strength)
+    })
 }
 
 impl From<&Material> for MaterialData {
     fn from(m: &Material) -> Self {
+        let maps = &m.maps;
+        let (base_color, normal) = (map_terms(maps.base_color.as_ref()), map_terms(maps.normal.as_ref()));
+        let (detail, noise) = (map_terms(maps.detail.as_ref()), map_terms(maps.noise.as_ref()));
         Self {
             base_color: m.base_color.extend(1.0).to_array(),
             specular_color: m.specular_color.extend(1.0).to_array(),
@@ -80,6 +97,17 @@ impl From<&Material> for MaterialData {
             wrap: m.wrap,
             wrap_width: m.wrap_width,
             pad: [0.0; 3],
+            base_color_uv: base_color.0,
+            normal_uv: normal.0,
+            detail_uv: detail.0,
+            noise_uv: noise.0,
+            map_strength: [base_color.1, normal.1, detail.1, noise.1],
+            green_down: [
+                u32::from(maps.normal.is_some_and(|m| m.green_down)),
+                u32::from(maps.detail.is_some_and(|m| m.green_down)),
+                0,
+                0,
+            ],
         }
     }
 }
@@ -130,14 +158,75 @@ impl GpuMesh {
     }
 }
 
-/// The scene's meshes on the GPU, uploaded once.
+/// The scene on the GPU, uploaded once: meshes, and each material's maps as set 1 of the
+/// forward pass (placeholders where a material has no map).
 pub struct GpuScene {
     pub meshes: Vec<GpuMesh>,
+    /// Set 1 for each material of the scene, in `Scene::materials` order.
+    pub material_sets: Vec<vk::DescriptorSet>,
+    /// Owns `material_sets`.
+    _material_pool: DescriptorPool,
+    /// Read by the material sets.
+    _textures: Vec<GpuTexture>,
+    _placeholders: Vec<GpuTexture>,
+    _sampler: Sampler,
 }
 
+/// The placeholders, in binding order: white base colour, flat normal and detail maps,
+/// white noise. The shader never samples them (the maps' specialization constants are off).
+const PLACEHOLDERS: [(&str, TexelFormat, [u8; 4]); 4] = [
+    ("no base colour map", TexelFormat::Rgba8Srgb, [255; 4]),
+    ("no normal map", TexelFormat::Rgba8Unorm, [128, 128, 255, 255]),
+    ("no detail map", TexelFormat::Rgba8Unorm, [128, 128, 255, 255]),
+    ("no noise map", TexelFormat::Rgba8Unorm, [255; 4]),
+];
+
 impl GpuScene {
-    pub fn upload(device: &Arc<Device>, one_shot: &OneShot, scene: &Scene) -> Result<Self> {
+    pub fn upload(
+        device: &Arc<Device>,
+        one_shot: &OneShot,
+        scene: &Scene,
+        material_layout: &DescriptorSetLayout,
+    ) -> Result<Self> {
         let meshes = scene.meshes.iter().map(|m| GpuMesh::upload(device, one_shot, m)).collect::<Result<_>>()?;
-        Ok(Self { meshes })
+        let textures: Vec<GpuTexture> =
+            scene.textures.iter().map(|t| GpuTexture::upload(device, one_shot, t)).collect::<Result<_>>()?;
+        let placeholders: Vec<GpuTexture> = PLACEHOLDERS
+            .iter()
+            .map(|&(name, format, texel)| GpuTexture::upload(device, one_shot, &placeholder(name, format, texel)))
+            .collect::<Result<_>>()?;
+        let sampler = Sampler::material(device)?;
+        let pool = DescriptorPool::for_layout(device, material_layout, scene.materials.len().max(1) as u32)?;
+        let material_sets = scene
+            .materials
+            .iter()
+            .map(|m| {
+                let set = pool.allocate(material_layout)?;
+                let maps = [&m.maps.base_color, &m.maps.normal, &m.maps.detail, &m.maps.noise];
+                let writer = maps.iter().zip(&placeholders).enumerate().fold(
+                    DescriptorWriter::new(),
+                    |writer, (binding, (map, placeholder))| {
+                        let texture = map.as_ref().map_or(placeholder, |m| &textures[m.texture]);
+                        writer.image(
+                            binding as u32,
+                            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                            texture.image.view,
+                            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                            sampler.handle,
+                        )
+                    },
+                );
+                writer.write(device, set);
+                Ok(set)
+            })
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            meshes,
+            material_sets,
+            _material_pool: pool,
+            _textures: textures,
+            _placeholders: placeholders,
+            _sampler: sampler,
+        })
     }
 }

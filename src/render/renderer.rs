@@ -74,7 +74,7 @@ impl Renderer {
 
     /// Uploads the scene's meshes.
     pub fn upload(&self, scene: &Scene) -> Result<GpuScene> {
-        GpuScene::upload(&self.device, &self.one_shot, scene)
+        GpuScene::upload(&self.device, &self.one_shot, scene, self.forward.material_layout())
     }
 
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has

@@ -118,8 +118,8 @@ fn record_upload(device: &Device, cmd: vk::CommandBuffer, staging: &Buffer, imag
     transition_levels(device, cmd, image.handle, last, ImageUse::TRANSFER_DST, ImageUse::FRAGMENT_READ);
 }
 
-/// 1×1 stand-ins bound where a material has no map, so every material binds the same
-/// layout; the shader does not sample them (specialization constants fold the code away).
+/// A 1×1 stand-in bound where a material has no map, so every material binds the same
+/// layout.
 pub fn placeholder(name: &str, format: TexelFormat, texel: [u8; 4]) -> TextureData {
     TextureData { name: name.to_owned(), width: 1, height: 1, format, pixels: texel.to_vec() }
 }

@@ -56,4 +56,19 @@ pub enum SceneError {
         value: String,
         error: Box<SceneError>,
     },
+
+    /// An image file that cannot be a texture: not an image, corrupt or
+    /// truncated, an unsupported format, too large, or non-finite texels.
+    #[error("{}: {problem}", path.display())]
+    Texture { path: PathBuf, problem: String },
+
+    /// A texture referenced by a material map failed to load; `error` names
+    /// the image file and `field` the map, e.g. `materials.clay.normal_map.texture`.
+    #[error("{origin}: {field} = {value:?}: {error}")]
+    MaterialTexture {
+        origin: String,
+        field: String,
+        value: String,
+        error: Box<SceneError>,
+    },
 }

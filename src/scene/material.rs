@@ -1,4 +1,5 @@
-use glam::Vec3;
+use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
 
 pub use crate::brdf::shading::{DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
 pub use crate::brdf::specular::{Distribution, Geometry};
@@ -25,6 +26,7 @@ pub struct Material {
     pub wrap_width: f32,
     pub wrap_color: Vec3,
     pub wrap_intensity: f32,
+    pub maps: MaterialMaps,
 }
 
 impl Material {
@@ -53,4 +55,51 @@ impl Material {
             wrap_width: f64::from(self.wrap_width),
         }
     }
+}
+
+/// The textures a material samples; see docs/scene-format.md.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MaterialMaps {
+    /// Multiplies `base_color`: `base_color · mix(1, map, strength)`.
+    pub base_color: Option<MapRef>,
+    /// Tangent-space surface normals; `strength` scales their xy.
+    pub normal: Option<MapRef>,
+    /// A second normal map (fingerprints) blended over `normal`.
+    pub detail: Option<MapRef>,
+    /// Modulates reflections.
+    pub noise: Option<MapRef>,
+    pub detail_blend: DetailBlend,
+}
+
+/// One map of a material: a texture and how it is applied.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapRef {
+    /// Index into [`Scene::textures`](super::Scene::textures).
+    pub texture: usize,
+    /// In [0, 8].
+    pub strength: f32,
+    /// The map is sampled at `uv · uv_scale + uv_offset`.
+    pub uv_scale: Vec2,
+    pub uv_offset: Vec2,
+    /// The map's green channel points down the texture (DirectX convention)
+    /// and must be negated; only ever set on normal and detail maps.
+    pub green_down: bool,
+}
+
+/// How the detail normal map is combined with the normal map. `as u32` is
+/// a shader specialization constant: never renumber.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum DetailBlend {
+    /// Reoriented Normal Mapping: the detail map is rotated onto the base
+    /// normal, as if the detail were carved into the base surface.
+    #[default]
+    Rnm = 0,
+    /// Unreal Developer Network: the xy of both are added, z is the base's.
+    Udn = 1,
+    /// Whiteout: xy added, z multiplied.
+    Whiteout = 2,
+    /// The clay-appearance report's eq. 16.
+    Seed = 3,
 }

@@ -9,6 +9,8 @@ mod light;
 mod material;
 mod mesh;
 mod obj;
+mod preset;
+mod procedural;
 mod resolve;
 mod tangents;
 mod texture;
@@ -24,9 +26,16 @@ pub use camera::Camera;
 pub use error::SceneError;
 pub use file::SceneFile;
 pub use light::{Environment, PointLight, Reflection, ReflectionMode};
-pub use material::{DiffuseModel, Distribution, Geometry, Material, SpecularModel};
+pub use material::{
+    DetailBlend, DiffuseModel, Distribution, Geometry, MapRef, Material, MaterialMaps,
+    SpecularModel,
+};
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
-pub use texture::{TexelFormat, TextureData};
+pub use preset::Preset;
+pub use procedural::{builtin_texture, BUILTIN_TEXTURES};
+pub use texture::{
+    load_texture, TexelFormat, TextureData, TextureRole, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE,
+};
 
 /// The scene used when none is given; it needs no files on disk.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");
@@ -62,6 +71,9 @@ pub struct Scene {
     /// Every material the file defines (in name order), plus the built-in
     /// `default` material if an object uses it.
     pub materials: Vec<Material>,
+    /// The textures the materials' maps sample, each distinct (texture
+    /// string, role) loaded once, in order of first use.
+    pub textures: Vec<TextureData>,
     /// The file this scene was loaded from, if any.
     pub source: Option<PathBuf>,
 }
@@ -95,8 +107,8 @@ impl Scene {
         resolve::resolve(file, origin, base_dir)
     }
 
-    /// The embedded [`DEFAULT_SCENE_TOML`]: a terracotta sphere and a blue
-    /// clay torus on a pale ground.
+    /// The embedded [`DEFAULT_SCENE_TOML`]: a blue plasticine ball and a
+    /// terracotta ring on a pale ground, with builtin maps.
     pub fn default_scene() -> Scene {
         Scene::from_toml(DEFAULT_SCENE_TOML, "<default scene>", Path::new(""))
             .expect("the embedded default scene is valid (checked by the tests)")
@@ -106,8 +118,12 @@ impl Scene {
     /// inside the folder of [`Scene::source`] are written relative to it,
     /// others as they are; every object names its material explicitly.
     ///
+    /// Materials are written with every field resolved and without
+    /// `preset`, so a saved scene keeps its look when presets are retuned.
+    ///
     /// # Panics
-    /// If an object's `mesh` or `material` index is out of range.
+    /// If an object's `mesh` or `material` index, or a map's `texture`
+    /// index, is out of range.
     pub fn to_file(&self) -> SceneFile {
         resolve::to_file(self)
     }

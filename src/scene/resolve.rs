@@ -5,13 +5,14 @@ use std::collections::HashMap;
 use std::fmt::Debug;
 use std::path::{Path, PathBuf};
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
-use super::file::{CameraDef, EnvironmentDef, LightDef, MaterialDef, ObjectDef};
+use super::file::{CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef};
 use super::light::{Reflection, ReflectionMode};
 use super::{
-    Camera, Environment, Material, Mesh, Object, PointLight, Scene, SceneError, SceneFile,
-    BUILTIN_PREFIX,
+    builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh,
+    Object, PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX,
+    BUILTIN_TEXTURES,
 };
 
 /// Name of the built-in neutral material, used by objects without a
@@ -46,6 +47,22 @@ impl Checker<'_> {
             Ok(narrowed)
         } else {
             Err(self.invalid(field, v, "every component must be a finite number"))
+        }
+    }
+
+    /// A 2-vector whose components are finite and pass `valid`.
+    fn vector2(
+        &self,
+        field: &str,
+        v: [f64; 2],
+        valid: impl Fn(f32) -> bool,
+        reason: &str,
+    ) -> Result<Vec2, SceneError> {
+        let narrowed = Vec2::from(v.map(|x| x as f32));
+        if narrowed.is_finite() && narrowed.to_array().into_iter().all(valid) {
+            Ok(narrowed)
+        } else {
+            Err(self.invalid(field, v, reason))
         }
     }
 
@@ -115,6 +132,32 @@ fn widen3(v: Vec3) -> [f64; 3] {
     v.to_array().map(widen)
 }
 
+fn widen2(v: Vec2) -> [f64; 2] {
+    v.to_array().map(widen)
+}
+
+/// The textures that material maps name, each (texture string, role) once,
+/// in order of first use. They load after everything cheap is checked.
+#[derive(Default)]
+struct TextureRequests {
+    indices: HashMap<(String, TextureRole), usize>,
+    /// (the first field naming it, texture string, role)
+    pending: Vec<(String, String, TextureRole)>,
+}
+
+impl TextureRequests {
+    fn index(&mut self, field: String, texture: &str, role: TextureRole) -> usize {
+        let pending = &mut self.pending;
+        *self
+            .indices
+            .entry((texture.to_owned(), role))
+            .or_insert_with(|| {
+                pending.push((field, texture.to_owned(), role));
+                pending.len() - 1
+            })
+    }
+}
+
 pub(super) fn resolve(
     file: &SceneFile,
     origin: &str,
@@ -138,10 +181,11 @@ pub(super) fn resolve(
         .collect::<Result<_, _>>()?;
     let environment = environment(&check, &file.environment, base_dir)?;
 
+    let mut requests = TextureRequests::default();
     let mut materials = file
         .materials
         .iter()
-        .map(|(name, def)| material(&check, name, def))
+        .map(|(name, def)| material(&check, name, def, &mut requests))
         .collect::<Result<Vec<_>, _>>()?;
 
     if file.objects.is_empty() {
@@ -159,7 +203,8 @@ pub(super) fn resolve(
         let material = match materials.iter().position(|m| m.name == material_name) {
             Some(index) => index,
             None if material_name == DEFAULT_MATERIAL => {
-                materials.push(material(&check, DEFAULT_MATERIAL, &MaterialDef::default())?);
+                let def = MaterialDef::default();
+                materials.push(material(&check, DEFAULT_MATERIAL, &def, &mut requests)?);
                 materials.len() - 1
             }
             None => {
@@ -195,6 +240,12 @@ pub(super) fn resolve(
         });
     }
 
+    let textures = requests
+        .pending
+        .iter()
+        .map(|(field, texture, role)| load_map_texture(&check, field, texture, *role, base_dir))
+        .collect::<Result<_, _>>()?;
+
     Ok(Scene {
         camera,
         lights,
@@ -202,6 +253,7 @@ pub(super) fn resolve(
         meshes,
         objects,
         materials,
+        textures,
         source: None,
     })
 }
@@ -349,8 +401,18 @@ fn non_default(x: f32, default: f32) -> Option<f64> {
     (x != default).then(|| widen(x))
 }
 
-fn material(check: &Checker, name: &str, def: &MaterialDef) -> Result<Material, SceneError> {
+fn material(
+    check: &Checker,
+    name: &str,
+    def: &MaterialDef,
+    textures: &mut TextureRequests,
+) -> Result<Material, SceneError> {
     let field = |key: &str| format!("materials.{name}.{key}");
+    let mut map = |key: &str, def: &Option<MapDef>, role: TextureRole| {
+        def.as_ref()
+            .map(|def| check_map(check, &field(key), def, role, textures))
+            .transpose()
+    };
     Ok(Material {
         name: name.to_owned(),
         base_color: check.color(&field("base_color"), def.base_color)?,
@@ -366,6 +428,106 @@ fn material(check: &Checker, name: &str, def: &MaterialDef) -> Result<Material, 
         wrap_width: check.positive(&field("wrap_width"), def.wrap_width)?,
         wrap_color: check.color(&field("wrap_color"), def.wrap_color)?,
         wrap_intensity: check.non_negative(&field("wrap_intensity"), def.wrap_intensity)?,
+        // Last, so errors come in the order of the documented keys.
+        maps: MaterialMaps {
+            base_color: map(
+                "base_color_map",
+                &def.base_color_map,
+                TextureRole::BaseColor,
+            )?,
+            normal: map("normal_map", &def.normal_map, TextureRole::Normal)?,
+            detail: map("detail_map", &def.detail_map, TextureRole::Normal)?,
+            noise: map("noise_map", &def.noise_map, TextureRole::Noise)?,
+            detail_blend: def.detail_blend,
+        },
+    })
+}
+
+/// Largest |uv_scale| component: beyond it a map repeats more often than
+/// texels can be told apart even on a 16384² texture.
+const MAX_UV_SCALE: f32 = 1e4;
+
+/// Largest map strength.
+const MAX_MAP_STRENGTH: f32 = 8.0;
+
+/// Checks one map table (`field` is e.g. `materials.clay.normal_map`) and
+/// requests its texture.
+fn check_map(
+    check: &Checker,
+    field: &str,
+    def: &MapDef,
+    role: TextureRole,
+    textures: &mut TextureRequests,
+) -> Result<MapRef, SceneError> {
+    let key = |key: &str| format!("{field}.{key}");
+    let builtins = "builtin:clay-lumps, builtin:fingerprints or builtin:noise";
+    if def.texture.is_empty() {
+        return Err(check.invalid(
+            &key("texture"),
+            &def.texture,
+            format!("must be an image path (relative to the scene file) or one of {builtins}"),
+        ));
+    }
+    if def.texture.starts_with(BUILTIN_PREFIX) && !BUILTIN_TEXTURES.contains(&def.texture.as_str())
+    {
+        return Err(check.invalid(
+            &key("texture"),
+            &def.texture,
+            format!("unknown builtin texture; expected {builtins}"),
+        ));
+    }
+    let strength = check.scalar(
+        &key("strength"),
+        def.strength,
+        |s| (0.0..=MAX_MAP_STRENGTH).contains(&s),
+        "must be a finite number in [0, 8]",
+    )?;
+    let uv_scale = check.vector2(
+        &key("uv_scale"),
+        def.uv_scale,
+        |s| s != 0.0 && s.abs() <= MAX_UV_SCALE,
+        "every component must be a finite, non-zero number in [-10000, 10000]",
+    )?;
+    let uv_offset = check.vector2(
+        &key("uv_offset"),
+        def.uv_offset,
+        |_| true,
+        "every component must be a finite number",
+    )?;
+    let green_down = def.green == Green::Down;
+    if green_down && role != TextureRole::Normal {
+        return Err(check.invalid(
+            &key("green"),
+            "down",
+            "only normal_map and detail_map have a green direction",
+        ));
+    }
+    Ok(MapRef {
+        texture: textures.index(key("texture"), &def.texture, role),
+        strength,
+        uv_scale,
+        uv_offset,
+        green_down,
+    })
+}
+
+fn load_map_texture(
+    check: &Checker,
+    field: &str,
+    texture: &str,
+    role: TextureRole,
+    base_dir: &Path,
+) -> Result<TextureData, SceneError> {
+    if texture.starts_with(BUILTIN_PREFIX) {
+        // Names were checked with the map; this only avoids an unwrap.
+        return builtin_texture(texture)
+            .ok_or_else(|| check.invalid(field, texture, "unknown builtin texture"));
+    }
+    load_texture(&base_dir.join(texture), role).map_err(|error| SceneError::MaterialTexture {
+        origin: check.origin.to_owned(),
+        field: field.to_owned(),
+        value: texture.to_owned(),
+        error: Box::new(error),
     })
 }
 
@@ -400,6 +562,23 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
             .unwrap_or(path)
             .to_path_buf()
     };
+    // A mesh's or texture's name as the file writes it.
+    let written = |name: &str| -> String {
+        if name.starts_with(BUILTIN_PREFIX) {
+            name.to_owned()
+        } else {
+            relative(Path::new(name)).to_string_lossy().into_owned()
+        }
+    };
+    let map = |map: &Option<MapRef>| {
+        map.map(|m| MapDef {
+            texture: written(&scene.textures[m.texture].name),
+            strength: widen(m.strength),
+            uv_scale: widen2(m.uv_scale),
+            uv_offset: widen2(m.uv_offset),
+            green: if m.green_down { Green::Down } else { Green::Up },
+        })
+    };
     let camera = &scene.camera;
     SceneFile {
         camera: CameraDef {
@@ -419,18 +598,11 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
         objects: scene
             .objects
             .iter()
-            .map(|object| {
-                let mesh = &scene.meshes[object.mesh].name;
-                ObjectDef {
-                    mesh: if mesh.starts_with(BUILTIN_PREFIX) {
-                        mesh.clone()
-                    } else {
-                        relative(Path::new(mesh)).to_string_lossy().into_owned()
-                    },
-                    position: widen3(object.position),
-                    scale: widen(object.scale),
-                    material: Some(scene.materials[object.material].name.clone()),
-                }
+            .map(|object| ObjectDef {
+                mesh: written(&scene.meshes[object.mesh].name),
+                position: widen3(object.position),
+                scale: widen(object.scale),
+                material: Some(scene.materials[object.material].name.clone()),
             })
             .collect(),
         materials: scene
@@ -438,6 +610,7 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
             .iter()
             .map(|m| {
                 let def = MaterialDef {
+                    preset: None,
                     base_color: widen3(m.base_color),
                     diffuse: m.diffuse,
                     specular: m.specular,
@@ -451,6 +624,11 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
                     wrap_width: widen(m.wrap_width),
                     wrap_color: widen3(m.wrap_color),
                     wrap_intensity: widen(m.wrap_intensity),
+                    detail_blend: m.maps.detail_blend,
+                    base_color_map: map(&m.maps.base_color),
+                    normal_map: map(&m.maps.normal),
+                    detail_map: map(&m.maps.detail),
+                    noise_map: map(&m.maps.noise),
                 };
                 (m.name.clone(), def)
             })

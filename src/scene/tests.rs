@@ -10,10 +10,10 @@ use super::file::{EnvironmentDef, LightDef, MaterialDef, ObjectDef};
 use super::*;
 
 /// A fresh folder under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
+pub(super) struct TempDir(pub(super) PathBuf);
 
 impl TempDir {
-    fn new() -> TempDir {
+    pub(super) fn new() -> TempDir {
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
         let path = std::env::temp_dir().join(format!(
             "argil-scene-test-{}-{}",
@@ -90,8 +90,10 @@ fn minimal_scene_gets_the_documented_defaults() {
             wrap_width: 0.3,
             wrap_color: Vec3::ONE,
             wrap_intensity: 0.0,
+            maps: MaterialMaps::default(),
         }]
     );
+    assert!(scene.textures.is_empty());
     assert_eq!(scene.source, None);
 }
 
@@ -224,6 +226,13 @@ fn shader_constants_are_stable() {
         ],
         [0, 1]
     );
+    let blends = [
+        DetailBlend::Rnm,
+        DetailBlend::Udn,
+        DetailBlend::Whiteout,
+        DetailBlend::Seed,
+    ];
+    assert_eq!(blends.map(|b| b as u32), [0, 1, 2, 3]);
 }
 
 #[test]
@@ -368,9 +377,29 @@ fn default_scene_is_a_valid_clay_scene() {
     assert_eq!(scene.objects.len(), 3);
     let names: Vec<&str> = scene.meshes.iter().map(|m| m.name.as_str()).collect();
     assert_eq!(names, ["builtin:sphere", "builtin:torus", "builtin:plane"]);
+    // Plasticine with fingerprints on the sphere, terracotta (no
+    // fingerprints) on the torus, a plain ground; all maps are builtins.
+    let material = |i: usize| &scene.materials[scene.objects[i].material];
+    let (plasticine, terracotta, ground) = (material(0), material(1), material(2));
+    let file: SceneFile = toml::from_str(DEFAULT_SCENE_TOML).unwrap();
+    assert_eq!(
+        file.materials[&plasticine.name].preset,
+        Some(Preset::Plasticine)
+    );
+    assert_eq!(
+        file.materials[&terracotta.name].preset,
+        Some(Preset::Terracotta)
+    );
+    assert_eq!(ground.maps, MaterialMaps::default());
+    assert_eq!(terracotta.maps.detail, None);
+    let detail = plasticine.maps.detail.unwrap();
+    assert_eq!(scene.textures[detail.texture].name, "builtin:fingerprints");
+    assert!(scene
+        .textures
+        .iter()
+        .all(|t| t.name.starts_with("builtin:")));
     for material in &scene.materials {
-        assert!((0.6..=0.8).contains(&material.roughness), "{material:?}");
-        assert_eq!(material.f0, 0.04);
+        assert!((0.02..=0.04).contains(&material.f0), "{material:?}");
     }
     assert_eq!(scene.lights.len(), 1);
     let light = scene.lights[0];
@@ -398,6 +427,19 @@ fn default_scene_is_a_valid_clay_scene() {
         assert!(clip.w > 0.0);
         assert!(clip.x.abs() < clip.w * 0.8 && clip.y.abs() < clip.w * 0.8);
     }
+    // The plasticine is the nearer object, close enough that its
+    // fingerprint ridges are at least 3 pixels apart at 1080p: the sphere's
+    // u runs 2π around it and the map holds 75 ridges (0.4 mm in 3 cm).
+    let [sphere, torus] = [0, 1].map(|i| camera.position.distance(scene.objects[i].position));
+    assert!(sphere < torus);
+    let ridge = std::f32::consts::TAU / detail.uv_scale.x / 75.0;
+    let pixels_per_unit =
+        1080.0 / (2.0 * (sphere - 1.0) * (camera.fov_y_degrees.to_radians() / 2.0).tan());
+    assert!(
+        ridge * pixels_per_unit >= 3.0,
+        "{}",
+        ridge * pixels_per_unit
+    );
 }
 
 #[test]
@@ -486,7 +528,7 @@ fn edited_scene_saves_its_edits() {
     scene.objects[1].scale = 1.5;
     let text = scene.to_file().to_toml().unwrap();
     // Saved numbers are the shortest decimals of the f32 values.
-    assert!(text.contains("position = [0.0, 1.6, 7.5]\n"), "{text}");
+    assert!(text.contains("position = [0.0, 1.4, 6.2]\n"), "{text}");
     assert!(text.contains("scale = 1.5\n"), "{text}");
     let reloaded = parse(&text).unwrap();
     assert_eq!(reloaded, scene);
@@ -557,6 +599,400 @@ fn object_model_matrix_scales_then_translates() {
     };
     let p = object.model_matrix() * Vec4::new(1.0, 0.0, -1.0, 1.0);
     assert_eq!(p, Vec4::new(3.0, 2.0, 1.0, 1.0));
+}
+
+// ------------------------------------------------------ material maps, presets
+
+/// A small RGBA8 PNG, written with `image`.
+fn write_png(path: &Path) {
+    image::RgbaImage::from_pixel(4, 2, image::Rgba([200, 100, 50, 255]))
+        .save(path)
+        .unwrap();
+}
+
+#[test]
+fn material_maps_are_read_and_textures_shared() {
+    let dir = TempDir::new();
+    std::fs::create_dir(dir.0.join("textures")).unwrap();
+    write_png(&dir.0.join("textures/skin.png"));
+    let scene = Scene::from_toml(
+        &format!(
+            r#"{CUBE}
+[materials.a]
+detail_blend = "whiteout"
+[materials.a.base_color_map]
+texture = "textures/skin.png"
+strength = 0.5
+uv_scale = [2, -3.5]
+uv_offset = [0.25, 1e3]
+[materials.a.normal_map]
+texture = "builtin:clay-lumps"
+green = "down"
+[materials.a.detail_map]
+texture = "builtin:fingerprints"
+[materials.a.noise_map]
+texture = "textures/skin.png"
+
+[materials.b]
+[materials.b.normal_map]
+texture = "builtin:clay-lumps"
+strength = 8
+[materials.b.detail_map]
+texture = "builtin:clay-lumps"
+"#
+        ),
+        "s.toml",
+        &dir.0,
+    )
+    .unwrap();
+    // One texture per (texture, role), in order of first use: the PNG as
+    // colour and as noise; clay-lumps once for both normal and detail maps.
+    let names: Vec<(&str, TexelFormat)> = scene
+        .textures
+        .iter()
+        .map(|t| (t.name.as_str(), t.format))
+        .collect();
+    let skin = dir.0.join("textures/skin.png").display().to_string();
+    assert_eq!(
+        names,
+        [
+            (skin.as_str(), TexelFormat::Rgba8Srgb),
+            ("builtin:clay-lumps", TexelFormat::Rgba8Unorm),
+            ("builtin:fingerprints", TexelFormat::Rgba8Unorm),
+            (skin.as_str(), TexelFormat::Rgba8Unorm),
+        ]
+    );
+    let a = &scene.materials[0].maps;
+    assert_eq!(
+        a.base_color,
+        Some(MapRef {
+            texture: 0,
+            strength: 0.5,
+            uv_scale: glam::Vec2::new(2.0, -3.5),
+            uv_offset: glam::Vec2::new(0.25, 1000.0),
+            green_down: false
+        })
+    );
+    let defaults = |texture| MapRef {
+        texture,
+        strength: 1.0,
+        uv_scale: glam::Vec2::ONE,
+        uv_offset: glam::Vec2::ZERO,
+        green_down: false,
+    };
+    assert_eq!(
+        a.normal,
+        Some(MapRef {
+            green_down: true,
+            ..defaults(1)
+        })
+    );
+    assert_eq!(a.detail, Some(defaults(2)));
+    assert_eq!(a.noise, Some(defaults(3)));
+    assert_eq!(a.detail_blend, DetailBlend::Whiteout);
+    let b = &scene.materials[1].maps;
+    assert_eq!(b.normal.map(|m| (m.texture, m.strength)), Some((1, 8.0)));
+    assert_eq!(b.detail.map(|m| m.texture), Some(1));
+    assert_eq!((b.base_color, b.noise), (None, None));
+    assert_eq!(b.detail_blend, DetailBlend::Rnm);
+}
+
+#[test]
+fn detail_blend_names() {
+    for (name, blend) in [
+        ("rnm", DetailBlend::Rnm),
+        ("udn", DetailBlend::Udn),
+        ("whiteout", DetailBlend::Whiteout),
+        ("seed", DetailBlend::Seed),
+    ] {
+        let scene = parse(&format!(
+            "{CUBE}material = \"m\"\n[materials.m]\ndetail_blend = \"{name}\"\n"
+        ))
+        .unwrap();
+        assert_eq!(scene.materials[0].maps.detail_blend, blend);
+    }
+    let message = error(&format!("{CUBE}[materials.m]\ndetail_blend = \"mix\"\n"));
+    assert!(
+        message.contains("line 4") && message.contains("`mix`") && message.contains("`rnm`"),
+        "{message}"
+    );
+}
+
+#[test]
+fn map_errors_name_the_field() {
+    let normal = |keys: &str| {
+        error(&format!(
+            "{CUBE}[materials.m.normal_map]\ntexture = \"builtin:clay-lumps\"\n{keys}\n"
+        ))
+    };
+    let cases = [
+        ("strength = 8.5", "materials.m.normal_map.strength = 8.5: must be a finite number in [0, 8]"),
+        ("strength = -0.1", "materials.m.normal_map.strength = -0.1: must be a finite number in [0, 8]"),
+        ("strength = nan", "materials.m.normal_map.strength = NaN: must be a finite number in [0, 8]"),
+        ("uv_scale = [0.0, 1.0]", "materials.m.normal_map.uv_scale = [0.0, 1.0]: every component must be a finite, non-zero number in [-10000, 10000]"),
+        ("uv_scale = [1.0, -2e4]", "materials.m.normal_map.uv_scale = [1.0, -20000.0]: every component must be a finite, non-zero number in [-10000, 10000]"),
+        ("uv_scale = [1.0, inf]", "materials.m.normal_map.uv_scale = [1.0, inf]: every component must be a finite, non-zero number in [-10000, 10000]"),
+        ("uv_scale = [1e-50, 1.0]", "materials.m.normal_map.uv_scale = [1e-50, 1.0]: every component must be a finite, non-zero number in [-10000, 10000]"),
+        ("uv_offset = [nan, 0.0]", "materials.m.normal_map.uv_offset = [NaN, 0.0]: every component must be a finite number"),
+        ("uv_offset = [0.0, 1e39]", "materials.m.normal_map.uv_offset = [0.0, 1e39]: every component must be a finite number"),
+    ];
+    for (keys, expected) in cases {
+        assert_eq!(normal(keys), format!("scene.toml: {expected}"));
+    }
+    let builtins = "builtin:clay-lumps, builtin:fingerprints or builtin:noise";
+    assert_eq!(
+        error(&format!("{CUBE}[materials.m.detail_map]\ntexture = \"builtin:marble\"\n")),
+        format!("scene.toml: materials.m.detail_map.texture = \"builtin:marble\": unknown builtin texture; expected {builtins}")
+    );
+    assert_eq!(
+        error(&format!("{CUBE}[materials.m.noise_map]\ntexture = \"\"\n")),
+        format!("scene.toml: materials.m.noise_map.texture = \"\": must be an image path (relative to the scene file) or one of {builtins}")
+    );
+    assert_eq!(
+        error(&format!("{CUBE}[materials.m.base_color_map]\ntexture = \"builtin:noise\"\ngreen = \"down\"\n")),
+        "scene.toml: materials.m.base_color_map.green = \"down\": only normal_map and detail_map have a green direction"
+    );
+    // Errors from toml: the line, the table and the key.
+    let message = normal("strenght = 1.0");
+    assert!(
+        message.contains("line 5") && message.contains("unknown field `strenght`"),
+        "{message}"
+    );
+    let message = normal("green = \"left\"");
+    assert!(
+        message.contains("line 5") && message.contains("`left`"),
+        "{message}"
+    );
+    let message = error(&format!("{CUBE}[materials.m.normal_map]\nstrength = 0.5\n"));
+    assert!(
+        message.contains("line 3")
+            && message
+                .contains("missing field `texture` in `normal_map` (no preset supplies this map)"),
+        "{message}"
+    );
+    let message = error(&format!("{CUBE}[materials.m]\nroughness_map = \"x.png\"\n"));
+    assert!(
+        message.contains("unknown field `roughness_map`"),
+        "{message}"
+    );
+}
+
+#[test]
+fn unloadable_map_textures_name_the_map_and_the_file() {
+    let dir = TempDir::new();
+    let scene = |texture: &str, map: &str| {
+        Scene::from_toml(
+            &format!("{CUBE}[materials.m.{map}]\ntexture = \"{texture}\"\n"),
+            "s.toml",
+            &dir.0,
+        )
+        .unwrap_err()
+        .to_string()
+    };
+    let missing = dir.0.join("missing.png");
+    let message = scene("missing.png", "base_color_map");
+    let expected = format!(
+        "s.toml: materials.m.base_color_map.texture = \"missing.png\": {}: cannot read: ",
+        missing.display()
+    );
+    assert!(message.starts_with(&expected), "{message}");
+
+    std::fs::write(dir.0.join("broken.png"), b"\x89PNG\r\n\x1a\nnot really").unwrap();
+    let message = scene("broken.png", "normal_map");
+    let expected = format!(
+        "s.toml: materials.m.normal_map.texture = \"broken.png\": {}: ",
+        dir.0.join("broken.png").display()
+    );
+    assert!(message.starts_with(&expected), "{message}");
+
+    let sky = dir.0.join("sky.hdr");
+    image::Rgb32FImage::from_pixel(2, 2, image::Rgb([1.0, 2.0, 3.0]))
+        .save(&sky)
+        .unwrap();
+    assert_eq!(
+        scene("sky.hdr", "detail_map"),
+        format!("s.toml: materials.m.detail_map.texture = \"sky.hdr\": {}: a Radiance HDR image cannot be a normal map (normal maps are 8- or 16-bit PNG or JPEG)", sky.display())
+    );
+    // Float images are fine as colour.
+    Scene::from_toml(
+        &format!("{CUBE}[materials.m.base_color_map]\ntexture = \"sky.hdr\"\n"),
+        "s.toml",
+        &dir.0,
+    )
+    .unwrap();
+}
+
+fn preset_material(preset: &str, keys: &str) -> Material {
+    let scene = parse(&format!(
+        "{CUBE}material = \"m\"\n[materials.m]\npreset = \"{preset}\"\n{keys}\n"
+    ))
+    .unwrap();
+    scene.materials[0].clone()
+}
+
+#[test]
+fn presets_supply_every_field() {
+    for preset in Preset::ALL {
+        let def = preset.material();
+        let text = format!(
+            "{CUBE}material = \"m\"\n[materials.m]\npreset = {}\n",
+            toml::Value::try_from(preset).unwrap()
+        );
+        let scene = parse(&text).unwrap();
+        let material = &scene.materials[0];
+        // The table is exactly the preset's values.
+        let file: SceneFile = toml::from_str(&text).unwrap();
+        assert_eq!(file.materials["m"], def, "{preset:?}");
+        assert_eq!(material.roughness, def.roughness as f32, "{preset:?}");
+        assert_eq!(material.diffuse, def.diffuse, "{preset:?}");
+        assert!(material.maps.normal.is_some(), "{preset:?}");
+        assert!(material.maps.noise.is_some(), "{preset:?}");
+        for map in [
+            material.maps.normal,
+            material.maps.detail,
+            material.maps.noise,
+        ]
+        .into_iter()
+        .flatten()
+        {
+            assert!(scene.textures[map.texture].name.starts_with("builtin:"));
+        }
+    }
+}
+
+/// Each preset has the character docs/scene-format.md gives it.
+#[test]
+fn presets_look_like_their_clay() {
+    let [plasticine, terracotta, wet, polymer] = Preset::ALL.map(Preset::material);
+    let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    let texture = |map: &Option<file::MapDef>| map.as_ref().map(|m| m.texture.clone());
+
+    assert_eq!(plasticine.diffuse, DiffuseModel::Eon);
+    assert_eq!(
+        texture(&plasticine.detail_map).as_deref(),
+        Some("builtin:fingerprints")
+    );
+    assert_eq!(
+        texture(&plasticine.normal_map).as_deref(),
+        Some("builtin:clay-lumps")
+    );
+    assert!(
+        plasticine.roughness >= 0.5 && plasticine.wrap > 0.0 && plasticine.wrap_intensity > 0.0
+    );
+
+    assert!(matches!(
+        terracotta.diffuse,
+        DiffuseModel::OrenNayar | DiffuseModel::Eon
+    ));
+    assert!(terracotta.roughness >= 0.8 && terracotta.diffuse_roughness >= 0.7);
+    assert!(terracotta.detail_map.is_none());
+    assert!(terracotta.f0 < 0.04 && terracotta.wrap_intensity == 0.0);
+
+    assert!((0.25..=0.35).contains(&wet.roughness));
+    assert!(luminance(wet.base_color) < 0.5 * luminance(plasticine.base_color));
+    assert!(luminance(wet.base_color) < 0.5 * luminance(terracotta.base_color));
+    assert!(wet.wrap > plasticine.wrap && wet.wrap_intensity > plasticine.wrap_intensity);
+
+    assert!(polymer.roughness < plasticine.roughness && polymer.roughness > wet.roughness);
+    let strength = |map: &Option<file::MapDef>| map.as_ref().map_or(0.0, |m| m.strength);
+    assert!(strength(&polymer.detail_map) < strength(&plasticine.detail_map));
+    assert!(strength(&polymer.normal_map) < strength(&plasticine.normal_map));
+}
+
+#[test]
+fn keys_written_in_a_table_override_its_preset() {
+    let preset = Preset::Plasticine.material();
+    let material = preset_material(
+        "plasticine",
+        "roughness = 0.2\nbase_color = [0.1, 0.2, 0.3]\ndetail_blend = \"udn\"\n\
+         [materials.m.detail_map]\nstrength = 0.25\n\
+         [materials.m.normal_map]\ntexture = \"builtin:noise\"\n\
+         [materials.m.base_color_map]\ntexture = \"builtin:noise\"\n",
+    );
+    assert_eq!(material.roughness, 0.2);
+    assert_eq!(material.base_color, Vec3::new(0.1, 0.2, 0.3));
+    assert_eq!(material.maps.detail_blend, DetailBlend::Udn);
+    // Untouched keys keep the preset's values, also inside map tables.
+    assert_eq!(material.f0, preset.f0 as f32);
+    assert_eq!(material.diffuse, preset.diffuse);
+    let preset_detail = preset.detail_map.unwrap();
+    let detail = material.maps.detail.unwrap();
+    assert_eq!(detail.strength, 0.25);
+    assert_eq!(
+        detail.uv_scale.to_array().map(f64::from),
+        preset_detail.uv_scale
+    );
+    let normal = material.maps.normal.unwrap();
+    assert_eq!(normal.strength, preset.normal_map.unwrap().strength as f32);
+    assert_eq!(material.maps.base_color.unwrap().strength, 1.0);
+
+    // Without a preset the same keys start from the defaults.
+    let scene = parse(&format!(
+        "{CUBE}material = \"m\"\n[materials.m]\nroughness = 0.2\n"
+    ))
+    .unwrap();
+    assert_eq!(scene.materials[0].maps, MaterialMaps::default());
+    assert_eq!(scene.materials[0].diffuse, DiffuseModel::Lambert);
+
+    let message = error(&format!("{CUBE}[materials.m]\npreset = \"plastecine\"\n"));
+    assert!(
+        message.contains("line 4")
+            && message.contains("`plastecine`")
+            && message.contains("`wet-clay`"),
+        "{message}"
+    );
+}
+
+#[test]
+fn maps_and_presets_round_trip_through_to_file() {
+    let dir = TempDir::new();
+    std::fs::create_dir(dir.0.join("textures")).unwrap();
+    write_png(&dir.0.join("textures/skin.png"));
+    let path = dir.write(
+        "scene.toml",
+        &format!(
+            "{CUBE}material = \"clay\"\n[[objects]]\nmesh = \"builtin:sphere\"\nmaterial = \"pot\"\n\
+             [materials.clay]\npreset = \"wet-clay\"\nroughness = 0.35\n\
+             [materials.clay.detail_map]\ntexture = \"builtin:fingerprints\"\ngreen = \"down\"\nuv_offset = [0.5, 0.25]\n\
+             [materials.pot]\npreset = \"terracotta\"\n\
+             [materials.pot.base_color_map]\ntexture = \"textures/skin.png\"\nstrength = 0.75\n"
+        ),
+    );
+    let scene = Scene::load(&path).unwrap();
+    let file = scene.to_file();
+    let clay = &file.materials["clay"];
+    // Saved resolved, without the preset, so retuning presets later does
+    // not change saved scenes.
+    assert_eq!(clay.preset, None);
+    assert_eq!(clay.roughness, 0.35);
+    assert_eq!(clay.f0, Preset::WetClay.material().f0);
+    let detail = clay.detail_map.as_ref().unwrap();
+    assert_eq!(
+        (detail.texture.as_str(), detail.green, detail.uv_offset),
+        ("builtin:fingerprints", file::Green::Down, [0.5, 0.25])
+    );
+    let base = file.materials["pot"].base_color_map.as_ref().unwrap();
+    assert_eq!(
+        (base.texture.as_str(), base.strength),
+        ("textures/skin.png", 0.75)
+    );
+
+    let text = file.to_toml().unwrap();
+    assert!(!text.contains("preset"), "{text}");
+    assert!(
+        text.contains("[materials.pot.base_color_map]\ntexture = \"textures/skin.png\"\n"),
+        "{text}"
+    );
+    let saved = dir.write("saved.toml", &text);
+    let mut reloaded = Scene::load(&saved).unwrap();
+    reloaded.source = scene.source.clone();
+    assert_eq!(reloaded, scene);
+
+    // A file read with presets writes the preset back and reads the same.
+    let file: SceneFile = toml::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(file.materials["pot"].preset, Some(Preset::Terracotta));
+    let reread: SceneFile = toml::from_str(&file.to_toml().unwrap()).unwrap();
+    assert_eq!(reread, file);
 }
 
 // ------------------------------------------------------------------------ OBJ
