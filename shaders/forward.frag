@@ -13,6 +13,9 @@ layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
 layout(constant_id = 2) const uint DISTRIBUTION = 0;
 layout(constant_id = 3) const uint GEOMETRY = 0;
+// Horizon of the shading normal: 0 smooth (brdf_cos), 1 the report's cutoff (brdf_cos_seed).
+layout(constant_id = 9) const uint HORIZON = 0;
+const uint HORIZON_SEED = 1u;
 
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
@@ -29,10 +32,12 @@ void main() {
     vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
     // The tangent frame follows the normal to the viewer's side.
     vec4 tangent = gl_FrontFacing ? in_tangent : vec4(in_tangent.xyz, -in_tangent.w);
-    vec3 n = view_facing_normal(mapped_normal(m, n_geometric, tangent, in_uv), v);
+    vec3 n_mapped = mapped_normal(m, n_geometric, tangent, in_uv);
+    bool seed_horizon = HORIZON == HORIZON_SEED;
+    vec3 n = seed_horizon ? n_mapped : view_facing_normal(n_mapped, v);
 
     vec3 environment = environment_light(models, m, n, n_geometric, v, mapped_noise(m, in_uv), gl_FragCoord.xy);
-    vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position) + environment;
+    vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, seed_horizon) + environment;
     out_radiance = vec4(radiance, 1.0);
     if (frame.counts.y != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(frame.counts.y, models, m, n, n_geometric, v, in_world_position,

@@ -55,16 +55,16 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
     if (view == DEBUG_VIEW_DIFFUSE) {
         ShadingModels diffuse_only = models;
         diffuse_only.specular = MODEL_NONE;
-        return point_lights_radiance(diffuse_only, no_wrap, n, n_geometric, v, p);
+        return point_lights_radiance(diffuse_only, no_wrap, n, n_geometric, v, p, false);
     }
     if (view == DEBUG_VIEW_SPECULAR) {
         ShadingModels specular_only = models;
         specular_only.diffuse = MODEL_NONE;
-        return point_lights_radiance(specular_only, no_wrap, n, n_geometric, v, p);
+        return point_lights_radiance(specular_only, no_wrap, n, n_geometric, v, p, false);
     }
     if (view == DEBUG_VIEW_WRAP) {
         ShadingModels neither = ShadingModels(MODEL_NONE, MODEL_NONE, models.distribution, models.geometry);
-        return point_lights_radiance(neither, m, n, n_geometric, v, p);
+        return point_lights_radiance(neither, m, n, n_geometric, v, p, false);
     }
     if (view == DEBUG_VIEW_ENVIRONMENT) return environment;
     if (view == DEBUG_VIEW_NAN) {

@@ -35,6 +35,19 @@ pub enum SpecularModel {
     None = 3,
 }
 
+/// How light near the shading normal's horizon is treated. The value is the `HORIZON`
+/// specialization constant of forward.frag: never renumber.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[repr(u32)]
+pub enum Horizon {
+    /// `brdf_cos` with a view-facing shading normal and the terminator's shadowing.
+    #[default]
+    Smooth = 0,
+    /// The report's composition and hard cutoff (`brdf_cos_seed`), for comparison.
+    Seed = 1,
+}
+
 /// The models of a material (`ShadingModels` in GLSL).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ShadingModels {

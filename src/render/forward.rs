@@ -23,8 +23,8 @@ use crate::vk::{
 };
 
 /// The specialization constants of `forward.frag` for a material.
-/// The specialization constants of `forward.frag` for a material: its models (shading.glsl)
-/// and which maps it has (material_maps.glsl).
+/// The specialization constants of `forward.frag` for a material: its models (shading.glsl),
+/// which maps it has (material_maps.glsl) and its horizon treatment.
 pub fn material_specialization(m: &Material) -> Specialization {
     let models = m.shading_models();
     let maps = &m.maps;
@@ -38,6 +38,7 @@ pub fn material_specialization(m: &Material) -> Specialization {
         u32::from(maps.detail.is_some()),
         u32::from(maps.noise.is_some()),
         maps.detail_blend as u32,
+        m.horizon as u32,
     ])
 }
 

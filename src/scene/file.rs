@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use super::light::ReflectionMode;
-use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, SpecularModel};
+use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, SpecularModel};
 use super::preset::Preset;
 
 /// A whole scene file. Every section is optional; validation rejects a scene
@@ -161,6 +161,7 @@ pub struct MaterialDef {
     pub wrap_width: f64,
     pub wrap_color: [f64; 3],
     pub wrap_intensity: f64,
+    pub horizon: Horizon,
     pub detail_blend: DetailBlend,
     // Tables last: TOML writes them after the plain keys.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -192,6 +193,7 @@ impl Default for MaterialDef {
             wrap_width: 0.3,
             wrap_color: [1.0; 3],
             wrap_intensity: 0.0,
+            horizon: Horizon::Smooth,
             detail_blend: DetailBlend::Rnm,
             base_color_map: None,
             normal_map: None,
@@ -257,6 +259,7 @@ struct MaterialKeys {
     wrap_width: Option<f64>,
     wrap_color: Option<[f64; 3]>,
     wrap_intensity: Option<f64>,
+    horizon: Option<Horizon>,
     detail_blend: Option<DetailBlend>,
     base_color_map: Option<MapKeys>,
     normal_map: Option<MapKeys>,
@@ -295,6 +298,7 @@ impl TryFrom<MaterialKeys> for MaterialDef {
         set(&mut def.wrap_width, keys.wrap_width);
         set(&mut def.wrap_color, keys.wrap_color);
         set(&mut def.wrap_intensity, keys.wrap_intensity);
+        set(&mut def.horizon, keys.horizon);
         set(&mut def.detail_blend, keys.detail_blend);
         def.base_color_map = merge_map("base_color_map", def.base_color_map, keys.base_color_map)?;
         def.normal_map = merge_map("normal_map", def.normal_map, keys.normal_map)?;

@@ -1,7 +1,7 @@
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
-pub use crate::brdf::shading::{DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
+pub use crate::brdf::shading::{DiffuseModel, Horizon, ShadingModels, ShadingParams, SpecularModel};
 pub use crate::brdf::specular::{Distribution, Geometry};
 
 /// A validated material; see docs/scene-format.md for the meaning and range
@@ -26,6 +26,8 @@ pub struct Material {
     pub wrap_width: f32,
     pub wrap_color: Vec3,
     pub wrap_intensity: f32,
+    /// Treatment of the shading normal\'s horizon.
+    pub horizon: Horizon,
     pub maps: MaterialMaps,
 }
 

@@ -27,7 +27,7 @@ pub use error::SceneError;
 pub use file::SceneFile;
 pub use light::{Environment, PointLight, Reflection, ReflectionMode};
 pub use material::{
-    DetailBlend, DiffuseModel, Distribution, Geometry, MapRef, Material, MaterialMaps,
+    DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, Material, MaterialMaps,
     SpecularModel,
 };
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};

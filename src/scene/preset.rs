@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::file::{MapDef, MaterialDef};
-use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, SpecularModel};
+use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, SpecularModel};
 
 /// A kind of clay whose look a material can start from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -45,6 +45,7 @@ impl Preset {
                 geometry: Geometry::SmithCorrelated,
                 specular_color: [1.0; 3],
                 detail_blend: DetailBlend::Rnm,
+                horizon: Horizon::Smooth,
                 base_color_map: None,
                 base_color: [0.6, 0.36, 0.17],
                 diffuse: DiffuseModel::Eon,
@@ -66,6 +67,7 @@ impl Preset {
                 geometry: Geometry::SmithCorrelated,
                 specular_color: [1.0; 3],
                 detail_blend: DetailBlend::Rnm,
+                horizon: Horizon::Smooth,
                 base_color_map: None,
                 base_color: [0.58, 0.22, 0.1],
                 diffuse: DiffuseModel::OrenNayar,
@@ -87,6 +89,7 @@ impl Preset {
                 geometry: Geometry::SmithCorrelated,
                 specular_color: [1.0; 3],
                 detail_blend: DetailBlend::Rnm,
+                horizon: Horizon::Smooth,
                 base_color_map: None,
                 base_color: [0.2, 0.12, 0.07],
                 diffuse: DiffuseModel::Eon,
@@ -108,6 +111,7 @@ impl Preset {
                 geometry: Geometry::SmithCorrelated,
                 specular_color: [1.0; 3],
                 detail_blend: DetailBlend::Rnm,
+                horizon: Horizon::Smooth,
                 base_color_map: None,
                 base_color: [0.1, 0.24, 0.5],
                 diffuse: DiffuseModel::Eon,

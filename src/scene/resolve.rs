@@ -428,6 +428,7 @@ fn material(
         wrap_width: check.positive(&field("wrap_width"), def.wrap_width)?,
         wrap_color: check.color(&field("wrap_color"), def.wrap_color)?,
         wrap_intensity: check.non_negative(&field("wrap_intensity"), def.wrap_intensity)?,
+        horizon: def.horizon,
         // Last, so errors come in the order of the documented keys.
         maps: MaterialMaps {
             base_color: map(
@@ -624,6 +625,7 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
                     wrap_width: widen(m.wrap_width),
                     wrap_color: widen3(m.wrap_color),
                     wrap_intensity: widen(m.wrap_intensity),
+                    horizon: m.horizon,
                     detail_blend: m.maps.detail_blend,
                     base_color_map: map(&m.maps.base_color),
                     normal_map: map(&m.maps.normal),
