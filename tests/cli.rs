@@ -3,18 +3,12 @@
 //! validation message (leaked handles are reported when the device is destroyed).
 
 use std::path::{Path, PathBuf};
+mod common;
+
 use std::process::{Command, Output};
 
-fn argil(args: &[&str]) -> Output {
-    let runtime = std::env::temp_dir().join(format!("argil-runtime-{}", std::process::id()));
-    std::fs::create_dir_all(&runtime).expect("runtime dir");
-    Command::new(env!("CARGO_BIN_EXE_argil"))
-        .args(args)
-        .env("ARGIL_VALIDATION", "1")
-        .env("XDG_RUNTIME_DIR", &runtime)
-        .output()
-        .expect("run argil")
-}
+use common::argil;
+
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -2,18 +2,11 @@
 //! the validation layer silent, its table names every model and term, and `--json` writes the
 //! same rows. (The full run, 2²⁰ tuples per function, is `make test`'s last step.)
 
-use std::process::{Command, Output};
+mod common;
 
-fn argil(args: &[&str]) -> Output {
-    let runtime = std::env::temp_dir().join(format!("argil-runtime-{}", std::process::id()));
-    std::fs::create_dir_all(&runtime).expect("runtime dir");
-    Command::new(env!("CARGO_BIN_EXE_argil"))
-        .args(args)
-        .env("ARGIL_VALIDATION", "1")
-        .env("XDG_RUNTIME_DIR", &runtime)
-        .output()
-        .expect("run argil")
-}
+
+use common::argil;
+
 
 #[test]
 fn verify_passes_and_reports_every_model() {

@@ -5,6 +5,7 @@
 #![allow(dead_code)] // each test binary uses its own part of this module
 
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use argil::render::{count_non_finite, OffscreenFrame, Renderer};
@@ -136,4 +137,16 @@ pub fn assert_matches_golden(frame: &OffscreenFrame, name: &str) {
 pub fn scene(toml: &str) -> Scene {
     Scene::from_toml(toml, "test scene", Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").as_path())
         .expect("test scene parses")
+}
+
+/// Runs the `argil` binary with the validation layer on and a private runtime directory.
+pub fn argil(args: &[&str]) -> Output {
+    let runtime = std::env::temp_dir().join(format!("argil-runtime-{}", std::process::id()));
+    std::fs::create_dir_all(&runtime).expect("runtime dir");
+    Command::new(env!("CARGO_BIN_EXE_argil"))
+        .args(args)
+        .env("ARGIL_VALIDATION", "1")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .output()
+        .expect("run argil")
 }

@@ -320,20 +320,7 @@ impl Precompute {
             width: size,
             height: size,
         });
-        let usage = vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let image = Image::cube(
-            &self.device,
-            size,
-            levels,
-            FORMAT,
-            usage,
-            "environment cube",
-        )?;
-        let views = (0..levels)
-            .map(|l| image.level_view(l))
-            .collect::<Result<Vec<ImageView>>>()?;
+        let (image, views) = self.storage_cube(size, levels, "environment cube")?;
         let upload = map
             .map(|m| {
                 Buffer::with_data(
@@ -433,6 +420,18 @@ impl Precompute {
         self.source(KernelKind::Equirect, size, Some(map), costs)
     }
 
+    /// A cube map that compute shaders write level by level, with one view per level.
+    fn storage_cube(&self, size: u32, levels: u32, name: &str) -> Result<(Image, Vec<ImageView>)> {
+        let usage = vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = Image::cube(&self.device, size, levels, FORMAT, usage, name)?;
+        let views = (0..levels)
+            .map(|l| image.level_view(l))
+            .collect::<Result<Vec<ImageView>>>()?;
+        Ok((image, views))
+    }
+
     /// The GGX-prefiltered cube of `source`: mip k filtered for roughness k/(levels − 1).
     pub fn prefilter(
         &mut self,
@@ -440,20 +439,8 @@ impl Precompute {
         sampler: &Sampler,
         costs: &mut Vec<Cost>,
     ) -> Result<Image> {
-        let usage = vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let image = Image::cube(
-            &self.device,
-            PREFILTERED_SIZE,
-            PREFILTERED_LEVELS,
-            FORMAT,
-            usage,
-            "prefiltered environment",
-        )?;
-        let views = (0..PREFILTERED_LEVELS)
-            .map(|l| image.level_view(l))
-            .collect::<Result<Vec<ImageView>>>()?;
+        let (image, views) =
+            self.storage_cube(PREFILTERED_SIZE, PREFILTERED_LEVELS, "prefiltered environment")?;
         let pool = self.pool(KernelKind::Prefilter, PREFILTERED_LEVELS)?;
         let source_size = source.image.extent.width;
         let texel_solid_angle =
