@@ -4,9 +4,7 @@
 
 mod common;
 
-
 use common::argil;
-
 
 #[test]
 fn verify_passes_and_reports_every_model() {
