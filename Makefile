@@ -28,13 +28,15 @@ run: build
 	fi
 
 # Release build, shared with `make run`; the tests turn the validation layer on themselves.
-# Then every BRDF checked on the GPU against its f64 twin, with 2^20 tuples each.
+# Then every BRDF and shading function checked on the GPU against its f64 twin, with 2^20
+# tuples each.
 test: setup
 	$(CARGO) test --release --locked
 	target/release/argil --validation verify
 
-# Every BRDF model and term on the GPU against its f64 twin: accuracy, positivity,
-# reciprocity, energy, stress inputs (also the last step of `make test`).
+# Every BRDF model and term, normal-mapping and shading function on the GPU against its f64
+# twin: accuracy, positivity or unit length, reciprocity, energy, stress inputs (also the
+# last step of `make test`).
 verify: build
 	target/release/argil --validation verify
 

@@ -24,6 +24,20 @@ layout(location = 3) in vec4 in_tangent;
 
 layout(location = 0) out vec4 out_radiance;
 
+// The unit interpolated normal on the viewer's side of the surface; a zero interpolated
+// normal (degenerate mesh data) falls back to the triangle's geometric normal.
+vec3 surface_normal(vec3 interpolated, vec3 world_position, bool front_facing) {
+    float len2 = dot(interpolated, interpolated);
+    if (len2 > MIN_NORMAL_LENGTH2) {
+        vec3 n = interpolated * inversesqrt(len2);
+        return front_facing ? n : -n;
+    }
+    // With the y-flipped projection, dFdx × dFdy points away from the viewer.
+    vec3 g = -cross(dFdx(world_position), dFdy(world_position));
+    float g2 = dot(g, g);
+    return g2 > 0.0 ? g * inversesqrt(g2) : vec3(0.0, 0.0, 1.0);
+}
+
 void main() {
     Material m = materials[object.material_index];
     ShadingModels models = ShadingModels(DIFFUSE_MODEL, SPECULAR_MODEL, DISTRIBUTION, GEOMETRY);

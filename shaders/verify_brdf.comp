@@ -1,10 +1,13 @@
 #version 460
-// `argil verify`'s harness: evaluates one function of brdf.glsl / tonemap.glsl, chosen by the
-// FUNCTION specialization constant, on every input tuple. src/verify/functions.rs evaluates
-// the f64 twins on the same f32 tuples; the meaning of a tuple's four vec4 per function is
-// documented there and next to each case below.
+// `argil verify`'s harness: evaluates one function of brdf.glsl, tonemap.glsl,
+// normal_mapping.glsl or shading.glsl, chosen by the FUNCTION specialization constant, on
+// every input tuple. src/verify/functions.rs evaluates the f64 twins on the same f32 tuples;
+// the meaning of a tuple's six vec4 per function is documented there and next to each case
+// below.
 #include "brdf.glsl"
 #include "tonemap.glsl"
+#include "normal_mapping.glsl"
+#include "shading.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -27,6 +30,7 @@ const uint SRGB_OETF = 13u;
 const uint WRAP_SEED = 14u;
 const uint WRAP_ENERGY_CONSERVING = 15u;
 const uint SPEC_BLINN_PHONG = 16u;
+const uint SHADOW_TERMINATOR = 17u;
 // From here on, BRDF models of directions: f(n, v, l) and f(n, l, v) are both written.
 const uint FIRST_MODEL = 32u;
 const uint LAMBERT = 32u;
@@ -38,14 +42,31 @@ const uint COOK_TORRANCE_GGX_SEPARABLE = 37u;
 const uint COOK_TORRANCE_GGX_CORRELATED = 38u;
 const uint COOK_TORRANCE_BECKMANN_SEPARABLE = 39u;
 const uint COOK_TORRANCE_BECKMANN_CORRELATED = 40u;
+// From here on, unit vectors of normal_mapping.glsl and shading.glsl.
+const uint FIRST_NORMAL = 48u;
+const uint DECODE_NORMAL = 48u;
+const uint BLEND_RNM = 49u;
+const uint BLEND_UDN = 50u;
+const uint BLEND_WHITEOUT = 51u;
+const uint BLEND_SEED = 52u;
+const uint TANGENT_TO_WORLD = 53u;
+const uint VIEW_FACING_NORMAL = 54u;
+// From here on, brdf_cos of shading.glsl: FUNCTION = FIRST_SHADING + 16 diffuse +
+// 4 specular + 2 distribution + geometry, the models' specialization constant values.
+const uint FIRST_SHADING = 64u;
 
 // Terms: a holds the scalar arguments, d a colour argument.
 // Models: a = (n, α / σ / r), b = (v, 0), c = (l, 0), d = (F0 or ρ, 0).
+// Unit vectors: the vector arguments in a, b, c (tangent: all of c), scalars in a.w, b.x.
+// brdf_cos: a = (n_geometric, roughness), b = (v, f0), c = (l, diffuse_roughness),
+// d = (base_color, wrap_intensity), e = (specular_color, wrap), f = (wrap_color, wrap_width).
 struct Tuple {
     vec4 a;
     vec4 b;
     vec4 c;
     vec4 d;
+    vec4 e;
+    vec4 f;
 };
 
 layout(std430, set = 0, binding = 0) readonly buffer Inputs {
@@ -97,6 +118,8 @@ vec4 term(Tuple t) {
         return vec4(wrap_energy_conserving(a.x, a.y));
     case SPEC_BLINN_PHONG: // spec_blinn_phong(α, n·h, F0, v·h) on given n·h (models derive it)
         return vec4(spec_blinn_phong(a.x, a.y, t.d.rgb, a.z), 0.0);
+    case SHADOW_TERMINATOR: // shadow_terminator(n_g·l, n_s·l, n_g·n_s)
+        return vec4(shadow_terminator(a.x, a.y, a.z));
     }
     return vec4(0.0);
 }
@@ -134,17 +157,55 @@ vec3 model(vec3 n, vec3 v, vec3 l, float p, vec3 colour) {
     return vec3(0.0);
 }
 
+// A function of normal_mapping.glsl or shading.glsl whose value is a unit vector.
+vec3 unit_vector(Tuple t) {
+    switch (FUNCTION) {
+    case DECODE_NORMAL: // decode_normal(texel, green_down, strength): a = (texel, strength), b.x = green_down
+        return decode_normal(t.a.xyz, t.b.x != 0.0, t.a.w);
+    case BLEND_RNM: // blend_rnm(base, detail): a = base, b = detail
+        return blend_rnm(t.a.xyz, t.b.xyz);
+    case BLEND_UDN: // blend_udn(base, detail)
+        return blend_udn(t.a.xyz, t.b.xyz);
+    case BLEND_WHITEOUT: // blend_whiteout(base, detail)
+        return blend_whiteout(t.a.xyz, t.b.xyz);
+    case BLEND_SEED: // blend_seed(base, detail)
+        return blend_seed(t.a.xyz, t.b.xyz);
+    case TANGENT_TO_WORLD: // tangent_to_world(n_ts, normal, tangent): a = n_ts, b = normal, c = tangent
+        return tangent_to_world(t.a.xyz, t.b.xyz, t.c);
+    case VIEW_FACING_NORMAL: // view_facing_normal(n, v): a = n, b = v
+        return view_facing_normal(t.a.xyz, t.b.xyz);
+    }
+    return vec3(0.0);
+}
+
+// brdf_cos with shading normal +z, the frame where n × h is exact in fp32 as for the models
+// (n_geometric leans away from it instead), and the models FUNCTION encodes.
+vec3 shading(Tuple t) {
+    uint code = FUNCTION - FIRST_SHADING;
+    ShadingModels models = ShadingModels(code >> 4, (code >> 2) & 3u, (code >> 1) & 1u, code & 1u);
+    Material m = Material(vec4(t.d.rgb, 1.0), vec4(t.e.rgb, 1.0), vec4(t.f.rgb, t.d.w),
+                          t.a.w, t.b.w, t.c.w, t.e.w, t.f.w, 0.0, 0.0, 0.0,
+                          // No maps: brdf_cos does not read them.
+                          vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), uvec4(0u));
+    return brdf_cos(models, m, vec3(0.0, 0.0, 1.0), t.a.xyz, t.b.xyz, t.c.xyz);
+}
+
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= push.count) {
         return;
     }
     Tuple t = tuples[i];
-    if (FUNCTION >= FIRST_MODEL) {
+    vec4 swapped = vec4(0.0);
+    if (FUNCTION >= FIRST_SHADING) {
+        results[2 * i] = vec4(shading(t), 0.0);
+    } else if (FUNCTION >= FIRST_NORMAL) {
+        results[2 * i] = vec4(unit_vector(t), 0.0);
+    } else if (FUNCTION >= FIRST_MODEL) {
         results[2 * i] = vec4(model(t.a.xyz, t.b.xyz, t.c.xyz, t.a.w, t.d.rgb), 0.0);
-        results[2 * i + 1] = vec4(model(t.a.xyz, t.c.xyz, t.b.xyz, t.a.w, t.d.rgb), 0.0);
+        swapped = vec4(model(t.a.xyz, t.c.xyz, t.b.xyz, t.a.w, t.d.rgb), 0.0);
     } else {
         results[2 * i] = term(t);
-        results[2 * i + 1] = vec4(0.0);
     }
+    results[2 * i + 1] = swapped;
 }

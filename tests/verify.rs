@@ -1,6 +1,6 @@
 //! `argil verify` as `make test` runs it, on fewer random tuples: it passes on lavapipe with
-//! the validation layer silent, its table names every model and term, and `--json` writes the
-//! same rows. (The full run, 2²⁰ tuples per function, is `make test`'s last step.)
+//! the validation layer silent, its table names every model, term and shading function, and
+//! `--json` writes the same rows. (The full run, 2²⁰ tuples per function, is `make test`'s last step.)
 
 mod common;
 
@@ -48,6 +48,16 @@ fn verify_passes_and_reports_every_model() {
         "srgb_oetf",
         "wrap_seed",
         "wrap_energy_conserving",
+        "shadow_terminator",
+        "decode_normal",
+        "blend_rnm",
+        "blend_udn",
+        "blend_whiteout",
+        "blend_seed",
+        "tangent_to_world",
+        "view_facing_normal",
+        "brdf_cos lambert + ct ggx correlated",
+        "brdf_cos lambert + blinn-phong",
     ] {
         assert!(
             stdout.lines().any(|l| l.starts_with(&format!("{name} "))),

@@ -1,6 +1,7 @@
 // Shading of one surface point: the material's models put together, for point lights
 // (environment.glsl integrates them over an environment). Shared by the forward pass and
-// compute test harnesses; the f64 twins are in src/brdf/shading.rs.
+// compute test harnesses (so no derivatives here: compute shaders have none); the f64
+// twins are in src/brdf/shading.rs.
 #ifndef ARGIL_SHADING_GLSL
 #define ARGIL_SHADING_GLSL
 #include "brdf.glsl"
@@ -31,27 +32,18 @@ const float MIN_NORMAL_LENGTH2 = 1e-12;
 // Smallest n·v of a shading normal after it is turned towards the viewer.
 const float MIN_SHADING_N_DOT_V = 1e-3;
 
-// The unit interpolated normal on the viewer's side of the surface; a zero interpolated
-// normal (degenerate mesh data) falls back to the triangle's geometric normal.
-vec3 surface_normal(vec3 interpolated, vec3 world_position, bool front_facing) {
-    float len2 = dot(interpolated, interpolated);
-    if (len2 > MIN_NORMAL_LENGTH2) {
-        vec3 n = interpolated * inversesqrt(len2);
-        return front_facing ? n : -n;
-    }
-    // With the y-flipped projection, dFdx × dFdy points away from the viewer.
-    vec3 g = -cross(dFdx(world_position), dFdy(world_position));
-    float g2 = dot(g, g);
-    return g2 > 0.0 ? g * inversesqrt(g2) : vec3(0.0, 0.0, 1.0);
-}
-
 // A visible point's shading normal cannot face away from the eye: one that does (normal
 // maps, interpolated normals at silhouettes) is turned towards v, continuously, until
-// n·v = MIN_SHADING_N_DOT_V (before normalisation).
+// n·v = m = MIN_SHADING_N_DOT_V before normalisation; after it, for unit n and v,
+// n·v ≥ m/√(1 + m²) (at n·v = 0). The bent n + v·(m − n·v) is computed as
+// s + v·(m − |s|²/2), s = n + v, 1 + n·v = |s|²/2: as v → −n, fp32 n·v rounds 1 + n·v,
+// and with it the bent normal, which is only m long there (a component was 4e-2 off at
+// n·v = −1 + 3e-7); n + v is exact there (Sterbenz), and |s|²/2 as good as s.
 vec3 view_facing_normal(vec3 n, vec3 v) {
     float n_dot_v = dot(n, v);
     if (n_dot_v >= MIN_SHADING_N_DOT_V) return n;
-    return normalize(n + v * (MIN_SHADING_N_DOT_V - n_dot_v));
+    vec3 s = n + v;
+    return normalize(s + v * (MIN_SHADING_N_DOT_V - 0.5 * dot(s, s)));
 }
 
 // Chiang, Li & Burley 2019 ("Taming the Shadow Terminator"): the shadowing of a bumped

@@ -4,6 +4,9 @@ use super::{cross, dot, Vec3};
 
 /// A tangent-space normal's z is kept at least this large (`MIN_TANGENT_Z` in GLSL).
 pub const MIN_TANGENT_Z: f64 = 1e-3;
+/// sin² of a tangent's angle to the normal below which it is degenerate
+/// (`MIN_TANGENT_SIN2` in GLSL: there fp32 loses its direction).
+pub const MIN_TANGENT_SIN2: f64 = 1e-4;
 
 fn normalize(a: Vec3) -> Vec3 {
     let inv = 1.0 / dot(a, a).sqrt();
@@ -23,12 +26,13 @@ pub fn decode_normal(texel: Vec3, green_down: bool, strength: f64) -> Vec3 {
     normalize(n)
 }
 
-/// Reoriented Normal Mapping (Barré-Brisebois & Hill 2012).
+/// Reoriented Normal Mapping (Barré-Brisebois & Hill 2012): t·(t·u)/t.z − u,
+/// t = base + (0, 0, 1), its z written as base·u as in GLSL.
 pub fn blend_rnm(base: Vec3, detail: Vec3) -> Vec3 {
-    let t = [base[0], base[1], base[2] + 1.0];
     let u = [-detail[0], -detail[1], detail[2]];
-    let k = dot(t, u) / t[2];
-    normalize([t[0] * k - u[0], t[1] * k - u[1], t[2] * k - u[2]])
+    let z = dot(base, u);
+    let k = (z + u[2]) / (base[2] + 1.0);
+    normalize([base[0] * k + detail[0], base[1] * k + detail[1], z])
 }
 
 /// UDN blending (Barré-Brisebois & Hill 2012).
@@ -47,12 +51,14 @@ pub fn blend_seed(base: Vec3, detail: Vec3) -> Vec3 {
 }
 
 /// A tangent-space normal in world space through the TBN frame (seed eqs. 13–15), T
-/// re-orthogonalised against N, B = w·(N × T).
+/// re-orthogonalised against N, B = w·(N × T); a degenerate T (within `MIN_TANGENT_SIN2`
+/// of N) leaves N.
 pub fn tangent_to_world(n_tangent_space: Vec3, normal: Vec3, tangent: [f64; 4]) -> Vec3 {
-    let t_dot_n = dot(normal, [tangent[0], tangent[1], tangent[2]]);
+    let tangent_xyz = [tangent[0], tangent[1], tangent[2]];
+    let t_dot_n = dot(normal, tangent_xyz);
     let t = [tangent[0] - normal[0] * t_dot_n, tangent[1] - normal[1] * t_dot_n, tangent[2] - normal[2] * t_dot_n];
     let t2 = dot(t, t);
-    if t2 < 1e-12 {
+    if t2 <= MIN_TANGENT_SIN2 * dot(tangent_xyz, tangent_xyz) {
         return normal;
     }
     let t = normalize(t);
@@ -105,6 +111,36 @@ mod tests {
         assert_eq!(decode_normal([0.9, 0.1, 0.5], false, 0.0), FLAT);
         // A texel below the surface still decodes above it.
         assert!(decode_normal([0.5, 0.5, 0.0], false, 1.0)[2] > 0.0);
+    }
+
+    #[test]
+    fn rnm_is_the_rotation_that_takes_z_to_the_base() {
+        let base = decode_normal([0.9, 0.2, 0.6], false, 2.0);
+        let detail = decode_normal([0.3, 0.7, 0.8], false, 1.5);
+        let [x, y, z] = base;
+        let k = 1.0 / (1.0 + z);
+        let rotation = [
+            [1.0 - x * x * k, -x * y * k, x],
+            [-x * y * k, 1.0 - y * y * k, y],
+            [-x, -y, z],
+        ];
+        let r = blend_rnm(base, detail);
+        for c in 0..3 {
+            assert!((r[c] - dot(rotation[c], detail)).abs() < 1e-12, "{r:?}");
+        }
+    }
+
+    #[test]
+    fn a_tangent_is_degenerate_by_its_angle_to_the_normal_not_its_length() {
+        let n = [0.0, 0.0, 1.0];
+        let short = tangent_to_world([1.0, 0.0, 0.0], n, [1e-8, 0.0, 0.0, 1.0]);
+        assert!((short[0] - 1.0).abs() < 1e-12, "{short:?}");
+        let sin = 0.5 * MIN_TANGENT_SIN2.sqrt();
+        let steep = [sin, 0.0, (1.0 - sin * sin).sqrt()];
+        for length in [1e-3, 1.0, 1e3] {
+            let [x, y, z] = steep.map(|c| c * length);
+            assert_eq!(tangent_to_world([1.0, 0.0, 0.0], n, [x, y, z, 1.0]), n);
+        }
     }
 
     #[test]

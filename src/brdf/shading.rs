@@ -88,13 +88,16 @@ fn mul(a: Vec3, b: Vec3) -> Vec3 {
 
 /// A visible point's shading normal cannot face away from the eye: one that does (normal
 /// maps, interpolated normals at silhouettes) is turned towards v, continuously, until
-/// n·v = `MIN_SHADING_N_DOT_V` (before normalisation).
+/// n·v = m = `MIN_SHADING_N_DOT_V` before normalisation; after it, for unit n and v,
+/// n·v ≥ m/√(1 + m²). As in GLSL, n + v·(m − n·v) is computed as s + v·(m − |s|²/2),
+/// s = n + v, which keeps its digits as v → −n.
 pub fn view_facing_normal(n: Vec3, v: Vec3) -> Vec3 {
     let n_dot_v = dot(n, v);
     if n_dot_v >= MIN_SHADING_N_DOT_V {
         return n;
     }
-    let bent = add(n, scale(v, MIN_SHADING_N_DOT_V - n_dot_v));
+    let s = add(n, v);
+    let bent = add(s, scale(v, MIN_SHADING_N_DOT_V - 0.5 * dot(s, s)));
     scale(bent, 1.0 / dot(bent, bent).sqrt())
 }
 
@@ -185,4 +188,28 @@ pub fn brdf_cos_seed(models: ShadingModels, m: &ShadingParams, n: Vec3, v: Vec3,
         scale(diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l), n_dot_l),
         specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_normal_facing_away_is_bent_no_further_than_it_must() {
+        let m = MIN_SHADING_N_DOT_V;
+        let least = m / (1.0 + m * m).sqrt();
+        let n = [0.0, 0.0, 1.0];
+        // Facing normals are kept; n·v = 0 gives the least n·v after the bend; v = −n gives v.
+        assert_eq!(view_facing_normal(n, [0.6, 0.0, 0.8]), n);
+        assert!((dot(view_facing_normal(n, [1.0, 0.0, 0.0]), [1.0, 0.0, 0.0]) - least).abs() < 1e-15);
+        let away = view_facing_normal(n, [0.0, 0.0, -1.0]);
+        assert!((away[2] + 1.0).abs() < 1e-12, "{away:?}");
+        for i in 0..=2000 {
+            let c = -1.0 + f64::from(i) * 1e-3;
+            let v = [(1.0 - c * c).sqrt(), 0.0, c];
+            let bent = view_facing_normal(n, v);
+            assert!(dot(bent, v) >= least - 1e-15, "n·v {c}: {}", dot(bent, v));
+            assert!((dot(bent, bent) - 1.0).abs() < 1e-12);
+        }
+    }
 }

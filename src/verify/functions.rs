@@ -1,7 +1,8 @@
 //! What `argil verify` evaluates: every function of `shaders/lib/brdf.glsl` and
-//! `tonemap.glsl` that the harness `shaders/verify_brdf.comp` can call, the input tuples it is
-//! fed (random over the whole domain, and stress inputs), and the f64 side of the harness,
-//! which feeds the twins in `src/brdf` the very same f32 inputs.
+//! `tonemap.glsl` that the harness `shaders/verify_brdf.comp` can call (and, through
+//! `normals` and `composite`, those of `normal_mapping.glsl` and `shading.glsl`), the input
+//! tuples it is fed (random over the whole domain, and stress inputs), and the f64 side of
+//! the harness, which feeds the twins in `src/brdf` the very same f32 inputs.
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -14,20 +15,24 @@ use crate::brdf::geometry::{
     g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx,
     g2_smith_separable_beckmann, g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann, lambda_ggx,
 };
+use crate::brdf::shading::shadow_terminator;
 use crate::brdf::specular::{
     spec_blinn_phong, spec_cook_torrance, spec_torrance_sparrow, Distribution, Geometry,
 };
 use crate::brdf::tonemap::{srgb_oetf, srgb_oetf_rgb, tonemap_pbr_neutral};
 use crate::brdf::wrap::{wrap_energy_conserving, wrap_seed};
 use crate::brdf::{
-    clamp_alpha, cross, dot, safe_half_vector, Vec3, FP16_MAX, MAX_ALPHA, MIN_ALPHA,
+    clamp_alpha, cross, dot, safe_half_vector, Vec3, FP16_MAX, MAX_ALPHA, MIN_ALPHA, MIN_N_DOT_V,
 };
 
+use super::composite::Composite;
+use super::normals::UnitVector;
 use super::rng::Rng;
 
 /// One input of the harness, as `Tuple` in verify_brdf.comp. Terms: `a` holds the scalar
 /// arguments and `d` a colour argument. Models: `a` = (n, p), `b` = (v, 0), `c` = (l, 0),
-/// `d` = (F0 or ρ, 0), p being α, σ or r.
+/// `d` = (F0 or ρ, 0), p being α, σ or r. Unit vectors and `brdf_cos`: see `UnitVector` and
+/// `Composite`; only `brdf_cos`, whose material has three colours, uses `e` and `f`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Tuple {
@@ -35,6 +40,8 @@ pub struct Tuple {
     pub b: [f32; 4],
     pub c: [f32; 4],
     pub d: [f32; 4],
+    pub e: [f32; 4],
+    pub f: [f32; 4],
 }
 
 /// What the harness writes per tuple: the value (up to four channels) and, for models, the
@@ -61,6 +68,7 @@ pub enum Term {
     WrapSeed = 14,
     WrapEnergyConserving = 15,
     SpecBlinnPhong = 16,
+    ShadowTerminator = 17,
 }
 
 /// BRDF models of directions. The value is the GLSL `FUNCTION` of verify_brdf.comp.
@@ -81,6 +89,10 @@ pub enum Model {
 pub enum Function {
     Term(Term),
     Model(Model),
+    /// Unit vectors of normal_mapping.glsl and shading.glsl.
+    UnitVector(UnitVector),
+    /// `brdf_cos` of shading.glsl for one combination of models.
+    Composite(Composite),
 }
 
 /// The largest value a function may return, and why.
@@ -89,6 +101,18 @@ pub struct Cap {
     pub value: f64,
     pub label: &'static str,
 }
+
+/// What a function's values must be.
+#[derive(Clone, Copy, Debug)]
+pub enum Output {
+    /// Every channel finite, ≥ 0 and under the cap.
+    Capped(Cap),
+    /// rgb a finite unit vector: ||n| − 1| ≤ `UNIT_TOLERANCE`.
+    Unit,
+}
+
+/// ||n| − 1| allowed of a unit vector: fp32 normalisation is good to a few 1e-7.
+pub const UNIT_TOLERANCE: f64 = 1e-5;
 
 /// A fraction: masking, Fresnel, display values, wrap weights.
 const UNIT: Cap = Cap {
@@ -100,14 +124,15 @@ const FP16: Cap = Cap {
     value: FP16_MAX,
     label: "<= FP16_MAX",
 };
-/// Intermediates (D, Λ, E_FON) are never stored: only fp32 overflow matters.
+/// Intermediates (D, Λ, E_FON) are never stored, and brdf_cos is scaled by the irradiance
+/// before it is: only fp32 overflow matters.
 const FP32: Cap = Cap {
     value: f32::MAX as f64,
     label: "<= fp32 max",
 };
 
 impl Term {
-    pub const ALL: [Term; 17] = [
+    pub const ALL: [Term; 18] = [
         Term::DGgx,
         Term::DBeckmann,
         Term::LambdaGgx,
@@ -125,6 +150,7 @@ impl Term {
         Term::WrapSeed,
         Term::WrapEnergyConserving,
         Term::SpecBlinnPhong,
+        Term::ShadowTerminator,
     ];
 
     /// The GLSL function's name (F and sRGB also evaluate their scalar overloads).
@@ -147,6 +173,7 @@ impl Term {
             Term::WrapSeed => "wrap_seed",
             Term::WrapEnergyConserving => "wrap_energy_conserving",
             Term::SpecBlinnPhong => "spec_blinn_phong",
+            Term::ShadowTerminator => "shadow_terminator",
         }
     }
 
@@ -171,6 +198,7 @@ impl Term {
             Term::WrapSeed => (&["n·l", "w1", "w2"], None),
             Term::WrapEnergyConserving => (&["n·l", "w"], None),
             Term::SpecBlinnPhong => (&["α", "n·h", "v·h"], Some("F0")),
+            Term::ShadowTerminator => (&["n_g·l", "n_s·l", "n_g·n_s"], None),
         }
     }
 
@@ -229,6 +257,7 @@ impl Term {
                 let [r, g, b] = spec_blinn_phong(x, y, colour, z);
                 [r, g, b, 0.0]
             }
+            Term::ShadowTerminator => scalar(shadow_terminator(x, y, z)),
         }
     }
 
@@ -329,6 +358,34 @@ impl Term {
                     ..Tuple::default()
                 }
             }
+            Term::ShadowTerminator => {
+                let (ng_l, ns_l, ng_ns) = match rng.uniform() {
+                    // A bump: n_s up to 80° from n_g = +z, l anywhere about n_g.
+                    u if u < 0.4 => {
+                        let ns = direction(rng.range(0.0, 80f64.to_radians()).cos(), rng.azimuth());
+                        let l = direction(sample_signed_cosine(rng), rng.azimuth());
+                        (l[2], dot(ns, l), ns[2])
+                    }
+                    // g = (n_g·l)/((n_s·l)(n_g·n_s)) within 1e-8 to 0.1 of 1, both sides.
+                    u if u < 0.7 => {
+                        let (ns_l, ng_ns) = (sample_cosine(rng), sample_cosine(rng));
+                        let g = 1.0 + rng.range(-1.0, 1.0) * rng.log_uniform(1e-8, 0.1);
+                        ((g * ns_l * ng_ns.max(MIN_N_DOT_V)).min(1.0), ns_l, ng_ns)
+                    }
+                    // n_s at or beyond 90° from n_g: the MIN_N_DOT_V clamp.
+                    u if u < 0.8 => (
+                        sample_signed_cosine(rng),
+                        sample_signed_cosine(rng),
+                        rng.range(-1.0, MIN_N_DOT_V),
+                    ),
+                    _ => (
+                        sample_signed_cosine(rng),
+                        sample_signed_cosine(rng),
+                        sample_signed_cosine(rng),
+                    ),
+                };
+                scalars([ng_l, ns_l, ng_ns, 0.0])
+            }
         }
     }
 
@@ -373,6 +430,15 @@ impl Term {
                     for &v in STRESS_COSINES {
                         for &l in STRESS_COSINES {
                             push([alpha, v, l, 0.0], [0.0; 4]);
+                        }
+                    }
+                }
+            }
+            Term::ShadowTerminator => {
+                for &ng_l in STRESS_COSINES {
+                    for &ns_l in STRESS_COSINES {
+                        for &ng_ns in STRESS_COSINES {
+                            push([ng_l, ns_l, ng_ns, 0.0], [0.0; 4]);
                         }
                     }
                 }
@@ -561,6 +627,7 @@ impl Model {
             b: vec4(v),
             c: vec4(l),
             d: colour(rng),
+            ..Tuple::default()
         }
     }
 
@@ -608,6 +675,7 @@ impl Model {
                             b,
                             c,
                             d,
+                            ..Tuple::default()
                         });
                     }
                 }
@@ -618,12 +686,14 @@ impl Model {
 }
 
 impl Function {
-    /// Every function, terms first.
+    /// Every function: terms, models, unit vectors, then brdf_cos.
     pub fn all() -> impl Iterator<Item = Function> {
         Term::ALL
             .into_iter()
             .map(Function::Term)
             .chain(Model::ALL.into_iter().map(Function::Model))
+            .chain(UnitVector::ALL.into_iter().map(Function::UnitVector))
+            .chain(Composite::ALL.into_iter().map(Function::Composite))
     }
 
     /// The harness's `FUNCTION` specialization constant.
@@ -631,6 +701,8 @@ impl Function {
         match self {
             Function::Term(t) => t as u32,
             Function::Model(m) => m as u32,
+            Function::UnitVector(n) => n as u32,
+            Function::Composite(c) => c.id(),
         }
     }
 
@@ -638,6 +710,8 @@ impl Function {
         match self {
             Function::Term(t) => t.name(),
             Function::Model(m) => m.name(),
+            Function::UnitVector(n) => n.name(),
+            Function::Composite(c) => c.name,
         }
     }
 
@@ -645,14 +719,16 @@ impl Function {
     pub fn channels(self) -> usize {
         match self {
             Function::Term(t) => t.channels(),
-            Function::Model(_) => 3,
+            Function::Model(_) | Function::UnitVector(_) | Function::Composite(_) => 3,
         }
     }
 
-    pub fn cap(self) -> Cap {
+    pub fn output(self) -> Output {
         match self {
-            Function::Term(t) => t.cap(),
-            Function::Model(_) => FP16,
+            Function::Term(t) => Output::Capped(t.cap()),
+            Function::Model(_) => Output::Capped(FP16),
+            Function::UnitVector(_) => Output::Unit,
+            Function::Composite(_) => Output::Capped(FP32),
         }
     }
 
@@ -660,6 +736,8 @@ impl Function {
         match self {
             Function::Term(t) => t.sample(rng),
             Function::Model(m) => m.sample(rng),
+            Function::UnitVector(n) => n.sample(rng),
+            Function::Composite(c) => c.sample(rng),
         }
     }
 
@@ -667,6 +745,8 @@ impl Function {
         match self {
             Function::Term(t) => t.stress(),
             Function::Model(m) => m.stress(),
+            Function::UnitVector(n) => n.stress(),
+            Function::Composite(c) => c.stress(),
         }
     }
 
@@ -704,36 +784,48 @@ impl Function {
                     colour("colour")
                 )
             }
+            Function::UnitVector(n) => n.describe(t),
+            Function::Composite(c) => c.describe(t),
         }
     }
 
-    /// Relative error that fp32 rounding of the arguments the harness derives from the
-    /// directions can cause on this tuple, beyond the function's own error: (n·h)ⁿ
-    /// magnifies n·h's rounding n = 2/α² − 2 times (up to 4.9e5). 0 where it is benign.
+    /// Relative error that fp32 rounding of the arguments the harness (or brdf_cos) derives
+    /// from the directions can cause on this tuple, beyond the function's own error: (n·h)ⁿ
+    /// magnifies n·h's rounding n = 2/α² − 2 times (up to 4.9e5), and the terminator
+    /// shadowing is proportional to n_g·l near n_g's horizon. 0 where it is benign.
     pub fn argument_rounding(self, t: &Tuple) -> f64 {
         match self {
-            Function::Model(Model::BlinnPhong) => {
-                let a = clamp_alpha(f64::from(t.a[3]));
-                (2.0 / (a * a) - 2.0) * N_DOT_H_ROUNDINGS * f64::from(f32::EPSILON) * 0.5
+            Function::Model(Model::BlinnPhong) => blinn_phong_rounding(f64::from(t.a[3])),
+            Function::Composite(c) => {
+                let roughness = f64::from(t.a[3]);
+                let specular = if c.is_blinn_phong() {
+                    blinn_phong_rounding(roughness * roughness)
+                } else {
+                    0.0
+                };
+                specular + c.shadowing_rounding(t)
             }
+            Function::UnitVector(n) => n.argument_rounding(t),
             _ => 0.0,
         }
     }
 
     /// Why `argument_rounding` is not 0, for the table.
-    pub fn argument_rounding_reason(self) -> &'static str {
+    pub fn argument_rounding_reason(self) -> String {
         match self {
-            Function::Model(Model::BlinnPhong) => {
-                "rounding: n·h is rounded to 2^-24 in fp32 before (n·h)^n, n = 2/α²−2 <= 4.9e5, \
-                 bound n·8·2^-24; spec_blinn_phong on a given n·h is within 1e-5 (its row); a |n×h|² \
-                 argument, as d_ggx has, would remove this"
+            Function::Model(Model::BlinnPhong) => BLINN_PHONG_ROUNDING.to_owned(),
+            Function::Composite(c) if c.is_blinn_phong() => {
+                format!("{}; {BLINN_PHONG_ROUNDING}", Composite::SHADOWING_ROUNDING)
             }
-            _ => "",
+            Function::Composite(_) => Composite::SHADOWING_ROUNDING.to_owned(),
+            Function::UnitVector(n) => n.argument_rounding_reason().to_owned(),
+            _ => String::new(),
         }
     }
 
     /// The f64 side of the harness: what verify_brdf.comp writes for `t`, from the twins.
     pub fn eval(self, t: &Tuple) -> Values<f64> {
+        let vector = |[x, y, z]: Vec3| [[x, y, z, 0.0], [0.0; 4]];
         match self {
             Function::Term(term) => [term.eval(t), [0.0; 4]],
             Function::Model(m) => {
@@ -743,9 +835,22 @@ impl Function {
                 let [sr, sg, sb] = m.eval(n, l, v, p, colour);
                 [[r, g, b, 0.0], [sr, sg, sb, 0.0]]
             }
+            Function::UnitVector(n) => vector(n.eval(t)),
+            Function::Composite(c) => vector(c.eval(t)),
         }
     }
 }
+
+/// The relative error fp32 rounding of n·h causes in Blinn-Phong's (n·h)ⁿ at microfacet
+/// roughness `alpha`.
+fn blinn_phong_rounding(alpha: f64) -> f64 {
+    let a = clamp_alpha(alpha);
+    (2.0 / (a * a) - 2.0) * N_DOT_H_ROUNDINGS * f64::from(f32::EPSILON) * 0.5
+}
+
+const BLINN_PHONG_ROUNDING: &str = "rounding: n·h is rounded to 2^-24 in fp32 before (n·h)^n, \
+    n = 2/α²−2 <= 4.9e5, bound n·8·2^-24; spec_blinn_phong on a given n·h is within 1e-5 (its \
+    row); a |n×h|² argument, as d_ggx has, would remove this";
 
 /// |v + l| below which v·h is too ill-conditioned in fp32 for reciprocity: v and l more than
 /// 174° apart, both grazing.
@@ -757,7 +862,7 @@ const N_DOT_H_ROUNDINGS: f64 = 8.0;
 /// The shading normal of the random tuples.
 pub const NORMAL: Vec3 = [0.0, 0.0, 1.0];
 /// A subnormal fp32 value (flushed to 0 where the GPU flushes denormals).
-const DENORMAL: f32 = 1e-40;
+pub(super) const DENORMAL: f32 = 1e-40;
 /// Roughness-like parameters (α, σ, r, wrap widths): 0, denormal, below MIN_ALPHA, both
 /// clamps, beyond 1, negative.
 const STRESS_ALPHAS: &[f32] = &[
@@ -790,22 +895,38 @@ fn normalize(x: Vec3) -> Vec3 {
     x.map(|c| c * inverse)
 }
 
-fn rgb(x: [f32; 4]) -> Vec3 {
+pub(super) fn rgb(x: [f32; 4]) -> Vec3 {
     [x[0], x[1], x[2]].map(f64::from)
 }
 
-fn vec4(x: Vec3) -> [f32; 4] {
+pub(super) fn vec4(x: Vec3) -> [f32; 4] {
     [x[0] as f32, x[1] as f32, x[2] as f32, 0.0]
 }
 
 /// The direction of cosine `mu` to n = +z at azimuth `phi`.
-fn direction(mu: f64, phi: f64) -> Vec3 {
+pub(super) fn direction(mu: f64, phi: f64) -> Vec3 {
     let sin = (1.0 - mu * mu).max(0.0).sqrt();
     [sin * phi.cos(), sin * phi.sin(), mu]
 }
 
+/// A direction uniform over the sphere.
+pub(super) fn uniform_sphere(rng: &mut Rng) -> Vec3 {
+    direction(rng.range(-1.0, 1.0), rng.azimuth())
+}
+
+/// `local`, a vector about +z, turned so that +z becomes the unit vector `n` (the
+/// orthonormal basis of Duff et al. 2017).
+pub(super) fn about(n: Vec3, local: Vec3) -> Vec3 {
+    let sign = 1f64.copysign(n[2]);
+    let a = -1.0 / (sign + n[2]);
+    let b = n[0] * n[1] * a;
+    let t = [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]];
+    let bitangent = [b, sign + n[1] * n[1] * a, -n[1]];
+    [0, 1, 2].map(|i| t[i] * local[0] + bitangent[i] * local[1] + n[i] * local[2])
+}
+
 /// α over [MIN_ALPHA, MAX_ALPHA], log-uniform (every decade of lobe width alike), plus both ends.
-fn sample_alpha(rng: &mut Rng) -> f64 {
+pub(super) fn sample_alpha(rng: &mut Rng) -> f64 {
     match rng.uniform() {
         u if u < 0.05 => MIN_ALPHA,
         u if u < 0.1 => MAX_ALPHA,
@@ -814,7 +935,7 @@ fn sample_alpha(rng: &mut Rng) -> f64 {
 }
 
 /// A cosine above the horizon, dense at grazing angles and near the normal.
-fn sample_cosine(rng: &mut Rng) -> f64 {
+pub(super) fn sample_cosine(rng: &mut Rng) -> f64 {
     match rng.uniform() {
         u if u < 0.2 => rng.log_uniform(1e-6, 0.1),
         u if u < 0.3 => 1.0 - rng.log_uniform(1e-8, 1e-2),
@@ -844,7 +965,7 @@ fn sample_half_angle(rng: &mut Rng, alpha: f64) -> f64 {
 
 /// v and l about n = +z: l reflected about a half vector near the lobe of `alpha`,
 /// independent, equal to v, mirrored (n·h = 1 exactly) or opposite (no half vector).
-fn sample_directions(rng: &mut Rng, alpha: f64) -> (Vec3, Vec3) {
+pub(super) fn sample_directions(rng: &mut Rng, alpha: f64) -> (Vec3, Vec3) {
     let view = sample_signed_cosine(rng);
     let v = direction(view, rng.azimuth());
     let l = match rng.uniform() {
@@ -862,7 +983,7 @@ fn sample_directions(rng: &mut Rng, alpha: f64) -> (Vec3, Vec3) {
 }
 
 /// F0 or ρ: uniform per channel, with both ends of [0, 1].
-fn colour(rng: &mut Rng) -> [f32; 4] {
+pub(super) fn colour(rng: &mut Rng) -> [f32; 4] {
     let mut channel = || match rng.uniform() {
         u if u < 0.05 => 0.0,
         u if u < 0.1 => 1.0,

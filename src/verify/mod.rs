@@ -1,16 +1,22 @@
-//! `argil verify`: checks every BRDF model and term of `shaders/lib/brdf.glsl` (and the
-//! display transform of `tonemap.glsl`) and reports one table.
+//! `argil verify`: checks every BRDF model and term of `shaders/lib/brdf.glsl`, the display
+//! transform of `tonemap.glsl`, normal mapping (`normal_mapping.glsl`) and the shading of
+//! `shading.glsl`, and reports one table.
 //!
 //! 1. GPU against f64: `shaders/verify_brdf.comp` evaluates each function on random f32
-//!    tuples over its whole domain; the f64 twins of `src/brdf` get the same tuples.
-//! 2. Positivity and range everywhere, Helmholtz reciprocity of the BRDFs (GPU and f64).
+//!    tuples over its whole domain; the f64 twins of `src/brdf` get the same tuples. Unit
+//!    vectors also by the angle between the two.
+//! 2. Positivity and range (unit length for normals) everywhere, Helmholtz reciprocity of the
+//!    BRDFs (GPU and f64), and what a function promises besides: decoded normals above the
+//!    surface, shading normals facing the viewer, the terminator shadowing continuous.
 //! 3. Energy, by f64 quadrature: albedo, gains against the oracle, normalisation, furnace.
-//! 4. Stress inputs (horizon, zero half vector, extreme α, degenerate normals, denormals)
-//!    on both sides: finite, non-negative, capped.
+//! 4. Stress inputs (horizon, zero half vector, extreme α, degenerate normals and tangents,
+//!    v = −n, denormals) on both sides: finite, non-negative and capped, or unit.
 
+mod composite;
 mod energy;
 mod functions;
 mod gpu;
+mod normals;
 mod rng;
 mod sweep;
 
@@ -21,7 +27,7 @@ use std::time::Instant;
 use anyhow::{anyhow, ensure, Result};
 
 use crate::vk::Device;
-use functions::{Function, Tuple, Values};
+use functions::{Function, Tuple};
 
 /// Random tuples per function: the brief asks for at least 10⁶.
 pub const DEFAULT_SAMPLES: usize = 1 << 20;
@@ -182,30 +188,63 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<Report> {
     let stress_max = Function::all().map(|f| f.stress().len()).max().unwrap_or(0);
     let mut harness = gpu::Harness::new(device, options.samples + stress_max)?;
 
-    let mut energy = energy::rows();
-    let mut rows = Vec::new();
-    for function in Function::all() {
-        let mut tuples: Vec<Tuple> = (0..options.samples)
-            .map(|_| function.sample(&mut rng))
-            .collect();
+    let functions: Vec<Function> = Function::all().collect();
+    let draw = |function: Function, rng: &mut rng::Rng, tuples: &mut Vec<Tuple>| {
+        tuples.clear();
+        tuples.extend((0..options.samples).map(|_| function.sample(rng)));
         tuples.extend(function.stress());
-        // The f64 side runs on a CPU thread while the GPU (or lavapipe's threads) evaluates.
-        let (gpu, cpu) = std::thread::scope(|scope| {
-            let cpu = scope.spawn(|| {
-                tuples
-                    .iter()
-                    .map(|t| function.eval(t))
-                    .collect::<Vec<Values<f64>>>()
+    };
+    // Reused from function to function: fresh vectors of up to 100 MB each cost more in page
+    // faults than anything else the CPU does here.
+    let (mut tuples, mut next) = (Vec::new(), Vec::new());
+    let (mut gpu, mut cpu) = (Vec::new(), Vec::new());
+    let (swept, energy) = std::thread::scope(|scope| -> Result<_> {
+        // f64 quadrature only: it fills the cores' idle moments.
+        let energy = scope.spawn(energy::rows);
+        let mut swept = Vec::new();
+        if let Some(&first) = functions.first() {
+            draw(first, &mut rng, &mut tuples);
+        }
+        for (k, &function) in functions.iter().enumerate() {
+            // The f64 side runs on a CPU thread while the GPU (or lavapipe's threads) evaluates.
+            let (evaluated, twins) = std::thread::scope(|scope| {
+                let twins = scope.spawn(|| {
+                    cpu.clear();
+                    cpu.extend(tuples.iter().map(|t| function.eval(t)));
+                });
+                (harness.evaluate(function, &tuples, &mut gpu), twins.join())
             });
-            let gpu = harness.evaluate(function, &tuples);
-            (gpu, cpu.join())
-        });
-        let cpu = cpu.map_err(|_| anyhow!("the f64 evaluation of {} panicked", function.name()))?;
-        rows.extend(sweep::rows(function, &tuples, options.samples, &gpu?, &cpu));
-        // The function's energy rows follow its own.
-        let (own, rest): (Vec<Row>, Vec<Row>) =
-            energy.into_iter().partition(|r| r.model == function.name());
+            twins.map_err(|_| anyhow!("the f64 evaluation of {} panicked", function.name()))?;
+            evaluated?;
+            // The next function's tuples are drawn while this one's rows are worked out: each
+            // takes one core.
+            let (own, drawn) = std::thread::scope(|scope| {
+                let drawing = functions.get(k + 1).map(|&f| {
+                    let (rng, next) = (&mut rng, &mut next);
+                    scope.spawn(move || draw(f, rng, next))
+                });
+                let own = sweep::rows(function, &tuples, options.samples, &gpu, &cpu);
+                (own, drawing.map(|h| h.join()))
+            });
+            drawn
+                .transpose()
+                .map_err(|_| anyhow!("drawing the tuples after {} panicked", function.name()))?;
+            swept.push((function, own));
+            std::mem::swap(&mut tuples, &mut next);
+        }
+        let energy = energy
+            .join()
+            .map_err(|_| anyhow!("the energy quadrature panicked"))?;
+        Ok((swept, energy))
+    })?;
+    // Each function's energy rows follow its own.
+    let mut rows = Vec::new();
+    let mut energy = energy;
+    for (function, own) in swept {
         rows.extend(own);
+        let (mine, rest): (Vec<Row>, Vec<Row>) =
+            energy.into_iter().partition(|r| r.model == function.name());
+        rows.extend(mine);
         energy = rest;
     }
     rows.extend(energy);

@@ -1,8 +1,14 @@
 //! Checks 1, 2 and 4 on the GPU sweep of one function: GPU against the f64 twin on the same
-//! f32 inputs, positivity and range, reciprocity, and the stress inputs.
+//! f32 inputs, positivity and range (or unit length), reciprocity, what the function
+//! promises besides, and the stress inputs.
 
-use super::functions::{Function, Tuple, Values, MIN_RECIPROCAL_HALF_LEN};
-use super::{Row, Status};
+use crate::brdf::{cross, dot, Vec3};
+
+use super::composite::terminator_continuity;
+use super::functions::{
+    Function, Output, Term, Tuple, Values, MIN_RECIPROCAL_HALF_LEN, UNIT_TOLERANCE,
+};
+use super::{normals, Row, Status};
 
 /// Values below this are compared absolutely: |a − b| / max(|b|, floor). The functions'
 /// natural scale is 1 (a white Lambert is 1/π, masking and Fresnel are fractions, display
@@ -40,6 +46,28 @@ fn tuple_error(function: Function, a: &[f64; 4], b: &[f64; 4]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The channel of `tuple_error`.
+fn worst_channel(function: Function, a: &[f64; 4], b: &[f64; 4]) -> usize {
+    (0..function.channels())
+        .max_by(|&i, &j| relative_error(a[i], b[i]).total_cmp(&relative_error(a[j], b[j])))
+        .unwrap_or(0)
+}
+
+fn rgb(x: &[f64; 4]) -> Vec3 {
+    [x[0], x[1], x[2]]
+}
+
+/// The angle between two vectors, accurate when small; NaN/Inf is π.
+fn angle(a: Vec3, b: Vec3) -> f64 {
+    let c = cross(a, b);
+    let angle = dot(c, c).sqrt().atan2(dot(a, b));
+    if angle.is_nan() {
+        std::f64::consts::PI
+    } else {
+        angle
+    }
+}
+
 fn widen(values: &Values<f32>) -> Values<f64> {
     values.map(|v| v.map(f64::from))
 }
@@ -48,22 +76,103 @@ fn widen(values: &Values<f32>) -> Values<f64> {
 fn halves(function: Function) -> usize {
     match function {
         Function::Model(_) => 2,
-        Function::Term(_) => 1,
+        _ => 1,
     }
 }
 
-/// How many channel values (both halves for models) are NaN, Inf, negative or above the cap.
+/// How many values are bad: for capped functions channel values (both halves for models)
+/// that are NaN, Inf, negative or above the cap; for unit vectors, vectors not finite or
+/// not unit.
 fn bad_values(function: Function, results: impl Iterator<Item = Values<f64>>) -> usize {
-    let cap = function.cap().value;
+    match function.output() {
+        Output::Capped(cap) => results
+            .map(|r| {
+                r[..halves(function)]
+                    .iter()
+                    .flat_map(|v| &v[..function.channels()])
+                    .filter(|&&x| !(x.is_finite() && (0.0..=cap.value).contains(&x)))
+                    .count()
+            })
+            .sum(),
+        Output::Unit => results.filter(|r| !is_unit(&r[0])).count(),
+    }
+}
+
+/// ||n| − 1|, NaN or Inf where n is not finite.
+fn unit_gap(n: &[f64; 4]) -> f64 {
+    let n = rgb(n);
+    (dot(n, n).sqrt() - 1.0).abs()
+}
+
+fn is_unit(n: &[f64; 4]) -> bool {
+    unit_gap(n) <= UNIT_TOLERANCE
+}
+
+/// The largest `unit_gap` (NaN counts as infinite).
+fn max_unit_gap(results: impl Iterator<Item = Values<f64>>) -> f64 {
     results
         .map(|r| {
-            r[..halves(function)]
-                .iter()
-                .flat_map(|v| &v[..function.channels()])
-                .filter(|&&x| !(x.is_finite() && (0.0..=cap).contains(&x)))
-                .count()
+            let gap = unit_gap(&r[0]);
+            if gap.is_nan() {
+                f64::INFINITY
+            } else {
+                gap
+            }
         })
-        .sum()
+        .fold(0.0, f64::max)
+}
+
+/// The range row of `gpu` and `cpu` results, random or (`stress`) stress ones: check,
+/// measured ("k gpu + m f64 bad of N", and for unit vectors the largest ||n| − 1| of each),
+/// tolerance, and whether it passes.
+fn range_row(
+    function: Function,
+    gpu: &[Values<f32>],
+    cpu: &[Values<f64>],
+    stress: bool,
+) -> (&'static str, String, String, bool) {
+    let gpu_bad = bad_values(function, gpu.iter().map(widen));
+    let cpu_bad = bad_values(function, cpu.iter().copied());
+    let ok = gpu_bad + cpu_bad == 0;
+    match function.output() {
+        Output::Capped(cap) => {
+            // Random tuples count channel values, stress inputs tuples.
+            let (check, of, tolerance) = if stress {
+                (
+                    "stress: finite, >= 0, capped",
+                    gpu.len(),
+                    format!("0; {}", cap.label),
+                )
+            } else {
+                (
+                    "positive, finite, in range",
+                    gpu.len() * function.channels() * halves(function),
+                    format!("0; >= 0, {}", cap.label),
+                )
+            };
+            (
+                check,
+                format!("{gpu_bad} gpu + {cpu_bad} f64 bad of {of}"),
+                tolerance,
+                ok,
+            )
+        }
+        Output::Unit => (
+            if stress {
+                "stress: finite, unit length"
+            } else {
+                "finite, unit length"
+            },
+            format!(
+                "{gpu_bad} gpu + {cpu_bad} f64 bad of {}; max ||n| − 1| gpu {}, f64 {}",
+                gpu.len(),
+                sci(max_unit_gap(gpu.iter().map(widen))),
+                sci(max_unit_gap(cpu.iter().copied()))
+            ),
+            format!("0; ||n| − 1| <= {UNIT_TOLERANCE:e}"),
+            ok,
+        ),
+    }
 }
 
 /// The p-quantile of `values` (reordered).
@@ -111,11 +220,17 @@ pub fn rows(
     let max = worst.map_or(0.0, |i| errors[i]);
     let p99 = quantile(&mut errors, 0.99);
     let worst_note = |i: usize| {
+        let c = worst_channel(function, &widen(&gpu[i])[0], &cpu[i][0]);
+        let channel = if function.channels() > 1 {
+            format!(" [{c}]")
+        } else {
+            String::new()
+        };
         format!(
-            "worst: {} gpu {:.7e} f64 {:.7e}",
+            "worst: {} gpu{channel} {:.7e} f64{channel} {:.7e}",
             function.describe(&tuples[i]),
-            gpu[i][0][0],
-            cpu[i][0][0]
+            gpu[i][0][c],
+            cpu[i][0][c]
         )
     };
     let domain = if rounded.is_empty() {
@@ -162,18 +277,43 @@ pub fn rows(
         ));
     }
 
-    // 2. Positivity and range on the random tuples, on both sides.
-    let cap = function.cap();
-    let gpu_bad = bad_values(function, gpu[..samples].iter().map(widen));
-    let cpu_bad = bad_values(function, cpu[..samples].iter().copied());
-    let values = samples * function.channels() * halves(function);
-    rows.push(row(
-        "positive, finite, in range",
-        format!("{gpu_bad} gpu + {cpu_bad} f64 bad of {values}"),
-        format!("0; >= 0, {}", cap.label),
-        pass(gpu_bad + cpu_bad == 0),
-        String::new(),
-    ));
+    if matches!(function.output(), Output::Unit) {
+        let (max_angle, at) = (0..samples)
+            .map(|i| (angle(rgb(&widen(&gpu[i])[0]), rgb(&cpu[i][0])), i))
+            .fold(
+                (0.0, None),
+                |worst, (a, i)| {
+                    if a > worst.0 {
+                        (a, Some(i))
+                    } else {
+                        worst
+                    }
+                },
+            );
+        rows.push(row(
+            "gpu vs f64: max angle (rad)",
+            sci(max_angle),
+            format!("<= {MAX_TOLERANCE:e}, as the max rel. error allows"),
+            pass(max_angle <= MAX_TOLERANCE),
+            at.map_or_else(String::new, |i| {
+                format!("worst: {}", function.describe(&tuples[i]))
+            }),
+        ));
+    }
+
+    // 2. Positivity and range (or unit length) on the random tuples, on both sides.
+    let (check, measured, tolerance, ok) =
+        range_row(function, &gpu[..samples], &cpu[..samples], false);
+    rows.push(row(check, measured, tolerance, pass(ok), String::new()));
+
+    // What the function promises besides, on every tuple.
+    match function {
+        Function::UnitVector(normal) => rows.extend(normals::rows(normal, tuples, gpu, cpu)),
+        Function::Term(Term::ShadowTerminator) => {
+            rows.push(terminator_continuity(tuples, gpu, cpu))
+        }
+        _ => {}
+    }
 
     // 2. Helmholtz reciprocity of the BRDFs, on their domain: v and l above the horizon.
     match function {
@@ -228,13 +368,10 @@ pub fn rows(
                 "n/a: not a BRDF (a weight of n·l alone, added to the diffuse lobe)".to_owned(),
             ));
         }
-        Function::Term(_) => {}
+        _ => {}
     }
 
-    // 4. Stress inputs: finite, non-negative, under the cap, on both sides.
-    let stress = tuples.len() - samples;
-    let gpu_bad = bad_values(function, gpu[samples..].iter().map(widen));
-    let cpu_bad = bad_values(function, cpu[samples..].iter().copied());
+    // 4. Stress inputs: finite, non-negative, under the cap (or unit), on both sides.
     let first_bad = (samples..tuples.len())
         .find(|&i| bad_values(function, [widen(&gpu[i]), cpu[i]].into_iter()) > 0)
         .map_or_else(String::new, |i| {
@@ -245,25 +382,29 @@ pub fn rows(
                 cpu[i]
             )
         });
-    rows.push(row(
-        "stress: finite, >= 0, capped",
-        format!("{gpu_bad} gpu + {cpu_bad} f64 bad of {stress}"),
-        format!("0; {}", cap.label),
-        pass(gpu_bad + cpu_bad == 0),
-        first_bad,
-    ));
+    let (check, measured, tolerance, ok) =
+        range_row(function, &gpu[samples..], &cpu[samples..], true);
+    rows.push(row(check, measured, tolerance, pass(ok), first_bad));
     rows
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::functions::Model;
+    use super::super::normals::UnitVector;
     use super::super::rng::Rng;
     use super::*;
 
     /// The rows of a Cook-Torrance sweep whose "GPU" results are `perturb`ed f64 ones.
     fn statuses(perturb: impl Fn(usize, Values<f32>) -> Values<f32>) -> Vec<(String, Status)> {
-        let function = Function::Model(Model::CookTorranceGgxCorrelated);
+        sweep_statuses(Function::Model(Model::CookTorranceGgxCorrelated), perturb)
+    }
+
+    /// The rows of a sweep of `function` whose "GPU" results are `perturb`ed f64 ones.
+    fn sweep_statuses(
+        function: Function,
+        perturb: impl Fn(usize, Values<f32>) -> Values<f32>,
+    ) -> Vec<(String, Status)> {
         let samples = 4000;
         let mut rng = Rng::new(3);
         let mut tuples: Vec<Tuple> = (0..samples).map(|_| function.sample(&mut rng)).collect();
@@ -331,6 +472,33 @@ mod tests {
             failing(&statuses(nan_under_stress)),
             ["stress: finite, >= 0, capped"]
         );
+    }
+
+    #[test]
+    fn unit_vector_checks_catch_their_defects() {
+        let function = Function::UnitVector(UnitVector::BlendUdn);
+        assert_eq!(
+            failing(&sweep_statuses(function, |_, v| v)),
+            Vec::<&str>::new()
+        );
+        let long = |_, v: Values<f32>| v.map(|half| half.map(|x| x * (1.0 + 2e-5)));
+        assert_eq!(
+            failing(&sweep_statuses(function, long)),
+            [
+                "gpu vs f64: p99 rel. error",
+                "finite, unit length",
+                "stress: finite, unit length"
+            ]
+        );
+        // Turned by 2e-4 rad about z, which moves no component by more than 2e-4 of 1.
+        let (sin, cos) = 2e-4f64.sin_cos();
+        let turned = |_, mut v: Values<f32>| {
+            let [x, y] = [v[0][0], v[0][1]].map(f64::from);
+            v[0][0] = (x * cos - y * sin) as f32;
+            v[0][1] = (x * sin + y * cos) as f32;
+            v
+        };
+        assert!(failing(&sweep_statuses(function, turned)).contains(&"gpu vs f64: max angle (rad)"));
     }
 
     #[test]
