@@ -32,13 +32,9 @@ fn main() {
             continue;
         };
         println!("cargo:rerun-if-changed={}", source.display());
-        let text = std::fs::read_to_string(&source)
-            .unwrap_or_else(|e| panic!("cannot read {}: {e}", source.display()));
+        let text = std::fs::read_to_string(&source).unwrap_or_else(|e| panic!("cannot read {}: {e}", source.display()));
         let mut options = shaderc::CompileOptions::new().unwrap();
-        options.set_target_env(
-            shaderc::TargetEnv::Vulkan,
-            shaderc::EnvVersion::Vulkan1_3 as u32,
-        );
+        options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
         options.set_source_language(shaderc::SourceLanguage::GLSL);
         options.set_optimization_level(shaderc::OptimizationLevel::Performance);
         options.set_generate_debug_info();
@@ -50,21 +46,14 @@ fn main() {
                 .into_iter()
                 .find(|p| p.is_file())
                 .ok_or_else(|| format!("{from}: cannot find include \"{name}\""))?;
-            let content = std::fs::read_to_string(&path)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let content = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
             Ok(shaderc::ResolvedInclude {
                 resolved_name: path.display().to_string(),
                 content,
             })
         });
         let name = source.file_name().unwrap().to_string_lossy().into_owned();
-        match compiler.compile_into_spirv(
-            &text,
-            kind,
-            &source.display().to_string(),
-            "main",
-            Some(&options),
-        ) {
+        match compiler.compile_into_spirv(&text, kind, &source.display().to_string(), "main", Some(&options)) {
             Ok(artifact) => {
                 std::fs::write(out_dir.join(format!("{name}.spv")), artifact.as_binary_u8())
                     .expect("cannot write SPIR-V to OUT_DIR");
@@ -85,7 +74,12 @@ fn main() {
 
 fn sorted_files(dir: &Path) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map(|rd| rd.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_file()).collect())
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter(|p| p.is_file())
+                .collect()
+        })
         .unwrap_or_default();
     files.sort();
     files

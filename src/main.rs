@@ -13,7 +13,11 @@ use argil::scene::Scene;
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
 
 #[derive(Parser)]
-#[command(name = "argil", version, about = "A real-time renderer of physically based clay on explicit Vulkan")]
+#[command(
+    name = "argil",
+    version,
+    about = "A real-time renderer of physically based clay on explicit Vulkan"
+)]
 struct Cli {
     /// Vulkan device: an index or part of a name from `argil devices`.
     /// Default: discrete GPU, then integrated, then CPU (lavapipe).
@@ -99,10 +103,24 @@ fn check_exposure(exposure: f32) -> Result<()> {
     Ok(())
 }
 
-fn render(cli_device: DeviceChoice, validation: bool, scene: Option<PathBuf>, out: PathBuf, width: u32, height: u32, exposure: f32) -> Result<()> {
+fn render(
+    cli_device: DeviceChoice,
+    validation: bool,
+    scene: Option<PathBuf>,
+    out: PathBuf,
+    width: u32,
+    height: u32,
+    exposure: f32,
+) -> Result<()> {
     check_exposure(exposure)?;
     let scene = load_scene(scene.as_deref())?;
-    let device = Arc::new(Device::new(DeviceOptions { choice: cli_device, validation }, None)?);
+    let device = Arc::new(Device::new(
+        DeviceOptions {
+            choice: cli_device,
+            validation,
+        },
+        None,
+    )?);
     let mut renderer = Renderer::new(device.clone(), 1)?;
     let gpu = renderer.upload(&scene)?;
     let frame = renderer.render_offscreen(&scene, &gpu, vk::Extent2D { width, height }, exposure)?;
@@ -112,7 +130,12 @@ fn render(cli_device: DeviceChoice, validation: bool, scene: Option<PathBuf>, ou
     }
     write_frame(&frame, &out)?;
     let times = frame.gpu_ms.as_ref().map(|ms| {
-        PASS_NAMES.iter().zip(ms).map(|(n, t)| format!("{n} {t:.2} ms")).collect::<Vec<_>>().join(", ")
+        PASS_NAMES
+            .iter()
+            .zip(ms)
+            .map(|(n, t)| format!("{n} {t:.2} ms"))
+            .collect::<Vec<_>>()
+            .join(", ")
     });
     println!("{}", out.display());
     eprintln!(
@@ -138,7 +161,12 @@ fn render(cli_device: DeviceChoice, validation: bool, scene: Option<PathBuf>, ou
     Ok(())
 }
 
-fn verify(choice: DeviceChoice, validation: bool, json: Option<PathBuf>, options: argil::verify::Options) -> Result<()> {
+fn verify(
+    choice: DeviceChoice,
+    validation: bool,
+    json: Option<PathBuf>,
+    options: argil::verify::Options,
+) -> Result<()> {
     let device = Arc::new(Device::new(DeviceOptions { choice, validation }, None)?);
     let report = argil::verify::run(&device, &options)?;
     print!("{}", report.table());
@@ -160,8 +188,22 @@ fn run(cli: Cli) -> Result<()> {
     let validation = cli.validation || argil::vk::instance::validation_requested();
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
     match cli.command {
-        Command::Render { scene, out, width, height, exposure } => render(choice, validation, scene, out, width, height, exposure),
-        Command::View { scene, frames, exposure, width, height, screenshot, resize_storm } => {
+        Command::Render {
+            scene,
+            out,
+            width,
+            height,
+            exposure,
+        } => render(choice, validation, scene, out, width, height, exposure),
+        Command::View {
+            scene,
+            frames,
+            exposure,
+            width,
+            height,
+            screenshot,
+            resize_storm,
+        } => {
             check_exposure(exposure)?;
             let loaded = match scene.as_deref() {
                 Some(path) => argil::viewer::load_scene(path)?,
@@ -179,7 +221,9 @@ fn run(cli: Cli) -> Result<()> {
             };
             argil::viewer::run(loaded, options)
         }
-        Command::Verify { json, samples, seed } => verify(choice, validation, json, argil::verify::Options { samples, seed }),
+        Command::Verify { json, samples, seed } => {
+            verify(choice, validation, json, argil::verify::Options { samples, seed })
+        }
         Command::Devices => {
             let devices = device::list_devices().context("cannot list Vulkan devices")?;
             if devices.is_empty() {

@@ -48,7 +48,10 @@ impl<'a> MeshTracer<'a> {
     fn new(mesh: &'a Mesh) -> Self {
         let mut cells: std::collections::HashMap<[i32; 3], Vec<usize>> = Default::default();
         for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
-            let p: Vec<DVec3> = tri.iter().map(|&i| to_dvec3(mesh.vertices[i as usize].position)).collect();
+            let p: Vec<DVec3> = tri
+                .iter()
+                .map(|&i| to_dvec3(mesh.vertices[i as usize].position))
+                .collect();
             let lo = (p[0].min(p[1]).min(p[2]) / CELL).floor().as_ivec3();
             let hi = (p[0].max(p[1]).max(p[2]) / CELL).floor().as_ivec3();
             for x in lo.x..=hi.x {
@@ -70,9 +73,13 @@ impl<'a> MeshTracer<'a> {
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    let Some(tris) = self.cells.get(&[c.x + dx, c.y + dy, c.z + dz]) else { continue };
+                    let Some(tris) = self.cells.get(&[c.x + dx, c.y + dy, c.z + dz]) else {
+                        continue;
+                    };
                     for &t in tris {
-                        let v: Vec<_> = (0..3).map(|k| &self.mesh.vertices[self.mesh.indices[t * 3 + k] as usize]).collect();
+                        let v: Vec<_> = (0..3)
+                            .map(|k| &self.mesh.vertices[self.mesh.indices[t * 3 + k] as usize])
+                            .collect();
                         let p: Vec<DVec3> = v.iter().map(|v| to_dvec3(v.position)).collect();
                         // Möller–Trumbore.
                         let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
@@ -116,12 +123,17 @@ fn sphere_errors(
             let i = ((y * size + x) * 4) as usize;
             let gpu = &frame.hdr[i..i + 4];
             let dir = pixel_ray(x, y, size, size);
-            let Some((p_exact, n_exact)) = exact_sphere_hit(dir) else { continue };
-            let Some((p_mesh, n_mesh)) = tracer.hit(dir, p_exact) else { continue };
+            let Some((p_exact, n_exact)) = exact_sphere_hit(dir) else {
+                continue;
+            };
+            let Some((p_mesh, n_mesh)) = tracer.hit(dir, p_exact) else {
+                continue;
+            };
             if n_exact.dot(-dir) < 0.2 || gpu[3] != 1.0 {
                 continue;
             }
-            let (Some(mesh_ref), Some(sphere_ref)) = (reference(p_mesh, n_mesh, -dir), reference(p_exact, n_exact, -dir))
+            let (Some(mesh_ref), Some(sphere_ref)) =
+                (reference(p_mesh, n_mesh, -dir), reference(p_exact, n_exact, -dir))
             else {
                 continue;
             };
@@ -131,7 +143,11 @@ fn sphere_errors(
             }
         }
     }
-    assert!(on_mesh.len() > 3 * 2_000, "too few sphere pixels compared: {}", on_mesh.len() / 3);
+    assert!(
+        on_mesh.len() > 3 * 2_000,
+        "too few sphere pixels compared: {}",
+        on_mesh.len() / 3
+    );
     (on_mesh, on_sphere)
 }
 
@@ -177,7 +193,8 @@ fn lambert_sphere_matches_the_closed_form() {
         let d2 = to_light.length_squared();
         let cos_l = n.dot(to_light / d2.sqrt());
         // Away from the terminator, where radiance → 0 and a relative error means nothing.
-        (cos_l >= 0.05).then(|| DVec3::new(0.8, 0.6, 0.4) / std::f64::consts::PI * DVec3::new(10.0, 7.0, 4.0) * cos_l / d2)
+        (cos_l >= 0.05)
+            .then(|| DVec3::new(0.8, 0.6, 0.4) / std::f64::consts::PI * DVec3::new(10.0, 7.0, 4.0) * cos_l / d2)
     };
     let (on_mesh, on_sphere) = sphere_errors(&scene, 256, closed_form);
     let pixels = on_mesh.len() / 3;
@@ -208,47 +225,87 @@ fn every_model_matches_its_f64_twin_per_pixel() {
     let intensity = 12.0;
     // (material table, p99 bound, max bound)
     let cases: &[(&str, f64, f64)] = &[
-        (r#"diffuse = "lambert"
-specular = "none""#, 4e-6, 3e-5),
-        (r#"diffuse = "oren-nayar"
+        (
+            r#"diffuse = "lambert"
+specular = "none""#,
+            4e-6,
+            3e-5,
+        ),
+        (
+            r#"diffuse = "oren-nayar"
 diffuse_roughness = 0.5
-specular = "none""#, 1e-5, 1e-4),
-        (r#"diffuse = "eon"
+specular = "none""#,
+            1e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "eon"
 diffuse_roughness = 0.5
-specular = "none""#, 1e-5, 1e-4),
-        (r#"diffuse = "none"
+specular = "none""#,
+            1e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "none"
 specular = "cook-torrance"
 distribution = "ggx"
 geometry = "smith-correlated"
-roughness = 0.4"#, 1e-5, 1e-4),
-        (r#"diffuse = "none"
+roughness = 0.4"#,
+            1e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "none"
 specular = "cook-torrance"
 distribution = "ggx"
 geometry = "smith-separable"
-roughness = 0.4"#, 1e-5, 1e-4),
-        (r#"diffuse = "none"
+roughness = 0.4"#,
+            1e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "none"
 specular = "cook-torrance"
 distribution = "beckmann"
 geometry = "smith-correlated"
-roughness = 0.4"#, 3e-5, 1e-4),
-        (r#"diffuse = "none"
+roughness = 0.4"#,
+            3e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "none"
 specular = "cook-torrance"
 distribution = "beckmann"
 geometry = "smith-separable"
-roughness = 0.4"#, 3e-5, 1e-4),
-        (r#"diffuse = "none"
+roughness = 0.4"#,
+            3e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "none"
 specular = "torrance-sparrow"
-roughness = 0.4"#, 3e-5, 1e-4),
-        (r#"diffuse = "none"
+roughness = 0.4"#,
+            3e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "none"
 specular = "blinn-phong"
-roughness = 0.4"#, 4e-5, 1e-4),
-        (r#"diffuse = "lambert"
+roughness = 0.4"#,
+            4e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "lambert"
 specular = "cook-torrance"
 roughness = 0.6
 wrap = 0.5
 wrap_width = 0.3
 wrap_color = [0.9, 0.3, 0.2]
-wrap_intensity = 0.8"#, 1e-5, 1e-4),
+wrap_intensity = 0.8"#,
+            1e-5,
+            1e-4,
+        ),
     ];
     let mut failures = Vec::new();
     for (material, p99_bound, max_bound) in cases {
@@ -296,8 +353,14 @@ f0 = 0.04
         let label = material.replace('\n', " ");
         eprintln!("{label}: p50 {p50:.2e} p99 {p99:.2e} max {max:.2e}");
         if p99 > *p99_bound || max > *max_bound {
-            failures.push(format!("{label}: p99 {p99:.3e} (≤ {p99_bound:e}), max {max:.3e} (≤ {max_bound:e})"));
+            failures.push(format!(
+                "{label}: p99 {p99:.3e} (≤ {p99_bound:e}), max {max:.3e} (≤ {max_bound:e})"
+            ));
         }
     }
-    assert!(failures.is_empty(), "models off their f64 twins:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "models off their f64 twins:\n{}",
+        failures.join("\n")
+    );
 }

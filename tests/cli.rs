@@ -9,7 +9,6 @@ use std::process::{Command, Output};
 
 use common::argil;
 
-
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -91,17 +90,40 @@ fn render_exr_writes_linear_radiance_without_exposure() {
     std::fs::write(&scene, SPHERE).expect("write scene");
     for exposure in ["1", "4"] {
         let out = dir.join(format!("sphere-{exposure}.exr"));
-        let o = argil(&["render", path_str(&scene), "--out", path_str(&out), "--width", "63", "--height", "63", "--exposure", exposure]);
+        let o = argil(&[
+            "render",
+            path_str(&scene),
+            "--out",
+            path_str(&out),
+            "--width",
+            "63",
+            "--height",
+            "63",
+            "--exposure",
+            exposure,
+        ]);
         assert_clean_success(&o);
         let image = image::open(&out).expect("read exr").into_rgba32f();
         let centre = image.get_pixel(31, 31);
         let expected = 40.0 / 16.0 / std::f32::consts::PI;
         for c in 0..3 {
-            assert!((centre[c] - expected).abs() < 1e-3 * expected, "centre {centre:?} vs {expected}");
+            assert!(
+                (centre[c] - expected).abs() < 1e-3 * expected,
+                "centre {centre:?} vs {expected}"
+            );
         }
     }
     let png = dir.join("sphere.png");
-    assert_clean_success(&argil(&["render", path_str(&scene), "--out", path_str(&png), "--width", "64", "--height", "48"]));
+    assert_clean_success(&argil(&[
+        "render",
+        path_str(&scene),
+        "--out",
+        path_str(&png),
+        "--width",
+        "64",
+        "--height",
+        "48",
+    ]));
     let image = image::open(&png).expect("read png").into_rgb8();
     assert_eq!(image.dimensions(), (64, 48));
 }
@@ -111,7 +133,10 @@ fn render_without_scene_renders_the_default_scene() {
     let out = temp_dir("default").join("clay.png");
     let o = argil(&["render", "--out", path_str(&out), "--width", "96", "--height", "54"]);
     assert_clean_success(&o);
-    assert!(String::from_utf8_lossy(&o.stdout).contains("clay.png"), "prints the path it wrote");
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("clay.png"),
+        "prints the path it wrote"
+    );
     assert!(out.is_file());
 }
 
@@ -122,25 +147,50 @@ fn bad_input_is_a_clear_error() {
     std::fs::write(&unknown_key, SPHERE.replace("fov_y_degrees", "fov_degrees")).expect("write");
     let out = dir.join("x.png");
     let out = path_str(&out);
-    assert_clean_failure(&argil(&["render", path_str(&unknown_key), "--out", out]), &["unknown.toml", "fov_degrees"]);
+    assert_clean_failure(
+        &argil(&["render", path_str(&unknown_key), "--out", out]),
+        &["unknown.toml", "fov_degrees"],
+    );
 
     let nan = dir.join("nan.toml");
-    std::fs::write(&nan, SPHERE.replace("base_color = [1.0, 1.0, 1.0]", "base_color = [nan, 1.0, 1.0]")).expect("write");
-    assert_clean_failure(&argil(&["render", path_str(&nan), "--out", out]), &["nan.toml", "base_color"]);
+    std::fs::write(
+        &nan,
+        SPHERE.replace("base_color = [1.0, 1.0, 1.0]", "base_color = [nan, 1.0, 1.0]"),
+    )
+    .expect("write");
+    assert_clean_failure(
+        &argil(&["render", path_str(&nan), "--out", out]),
+        &["nan.toml", "base_color"],
+    );
 
     let obj = dir.join("broken.obj");
     std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nf 1 2 7\n").expect("write");
     let broken_mesh = dir.join("broken-mesh.toml");
     std::fs::write(&broken_mesh, SPHERE.replace("builtin:sphere", "broken.obj")).expect("write");
-    assert_clean_failure(&argil(&["render", path_str(&broken_mesh), "--out", out]), &["broken.obj"]);
+    assert_clean_failure(
+        &argil(&["render", path_str(&broken_mesh), "--out", out]),
+        &["broken.obj"],
+    );
 
-    assert_clean_failure(&argil(&["render", "/nonexistent/scene.toml", "--out", out]), &["/nonexistent/scene.toml"]);
+    assert_clean_failure(
+        &argil(&["render", "/nonexistent/scene.toml", "--out", out]),
+        &["/nonexistent/scene.toml"],
+    );
     assert_clean_failure(&argil(&["render", "--out", out, "--width", "0"]), &["0x720"]);
-    assert_clean_failure(&argil(&["render", "--out", out, "--width", "100000", "--height", "100000"]), &["100000x100000"]);
+    assert_clean_failure(
+        &argil(&["render", "--out", out, "--width", "100000", "--height", "100000"]),
+        &["100000x100000"],
+    );
     assert_clean_failure(&argil(&["render", "--out", out, "--exposure", "nan"]), &["--exposure"]);
-    assert_clean_failure(&argil(&["render", "--out", path_str(&dir.join("x.bmp"))]), &["x.bmp", ".png", ".exr"]);
+    assert_clean_failure(
+        &argil(&["render", "--out", path_str(&dir.join("x.bmp"))]),
+        &["x.bmp", ".png", ".exr"],
+    );
     assert_clean_failure(&argil(&["--device", "no-such-gpu", "devices-typo"]), &[]);
-    assert_clean_failure(&argil(&["--device", "no-such-gpu", "render", "--out", out]), &["no-such-gpu"]);
+    assert_clean_failure(
+        &argil(&["--device", "no-such-gpu", "render", "--out", out]),
+        &["no-such-gpu"],
+    );
 }
 
 /// The window path: a real X server (Xvfb), a swapchain, a few frames, a clean exit.
@@ -150,7 +200,15 @@ fn view_opens_a_window_under_xvfb() {
     assert!(status.is_ok(), "xvfb-run is missing: `make setup` installs it");
     let runtime = temp_dir("xvfb-runtime");
     let o = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view", "--frames", "5"])
+        .args([
+            "-a",
+            "-s",
+            "-screen 0 1280x800x24",
+            env!("CARGO_BIN_EXE_argil"),
+            "view",
+            "--frames",
+            "5",
+        ])
         .env("ARGIL_VALIDATION", "1")
         .env("XDG_RUNTIME_DIR", &runtime)
         .output()
@@ -186,10 +244,18 @@ fn view_screenshot_matches_the_headless_render_outside_the_ui() {
     let (w, h) = (640u32, 400u32);
     let (width, height) = (w.to_string(), h.to_string());
     let size = ["--width", width.as_str(), "--height", height.as_str()];
-    let o = view_under_xvfb(&[&["--frames", "3", "--screenshot", path_str(&shot), path_str(&scene)], &size[..]].concat());
+    let o = view_under_xvfb(
+        &[
+            &["--frames", "3", "--screenshot", path_str(&shot), path_str(&scene)],
+            &size[..],
+        ]
+        .concat(),
+    );
     assert_clean_success(&o);
     let headless = dir.join("headless.png");
-    assert_clean_success(&argil(&[&["render", path_str(&scene), "--out", path_str(&headless)], &size[..]].concat()));
+    assert_clean_success(&argil(
+        &[&["render", path_str(&scene), "--out", path_str(&headless)], &size[..]].concat(),
+    ));
 
     let window = image::open(&shot).expect("read screenshot").to_rgb8();
     let reference = image::open(&headless).expect("read render").to_rgb8();
@@ -214,8 +280,14 @@ fn view_screenshot_matches_the_headless_render_outside_the_ui() {
     let scene_rmse = rmse(panel..w);
     let ui_rmse = rmse(0..panel);
     eprintln!("window vs headless: RMSE {scene_rmse:.3} right of the UI, {ui_rmse:.1} under it");
-    assert!(scene_rmse <= 0.5, "the window shows another frame: RMSE {scene_rmse:.3}");
-    assert!(ui_rmse > 5.0, "the screenshot has no UI: RMSE {ui_rmse:.3} under the panel");
+    assert!(
+        scene_rmse <= 0.5,
+        "the window shows another frame: RMSE {scene_rmse:.3}"
+    );
+    assert!(
+        ui_rmse > 5.0,
+        "the screenshot has no UI: RMSE {ui_rmse:.3} under the panel"
+    );
 }
 
 /// Resizes to sizes from 1×1 to 1024×640, minimise and restore, while rendering with the
@@ -224,7 +296,15 @@ fn view_screenshot_matches_the_headless_render_outside_the_ui() {
 #[test]
 fn view_survives_a_resize_storm() {
     let frames = (argil::viewer::RESIZE_STORM_TICKS + 6).to_string();
-    let o = view_under_xvfb(&["--frames", &frames, "--resize-storm", "--width", "480", "--height", "270"]);
+    let o = view_under_xvfb(&[
+        "--frames",
+        &frames,
+        "--resize-storm",
+        "--width",
+        "480",
+        "--height",
+        "270",
+    ]);
     assert_clean_success(&o);
     let err = stderr(&o);
     let recreations: u64 = err
@@ -240,7 +320,10 @@ fn view_survives_a_resize_storm() {
 fn view_rejects_bad_arguments_before_opening_a_window() {
     assert_clean_failure(&argil(&["view", "--screenshot", "x.png"]), &["--frames"]);
     assert_clean_failure(&argil(&["view", "--width", "0"]), &["--width"]);
-    assert_clean_failure(&argil(&["view", "/nonexistent/scene.toml"]), &["/nonexistent/scene.toml"]);
+    assert_clean_failure(
+        &argil(&["view", "/nonexistent/scene.toml"]),
+        &["/nonexistent/scene.toml"],
+    );
 }
 
 /// The scene file is reloaded when it changes on disk: a broken edit is reported and the
@@ -277,14 +360,32 @@ fn view_reloads_the_scene_when_its_file_changes() {
     let shot = dir.join("window.png");
     let runtime = temp_dir("xvfb-runtime");
     let mut child = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view", "--frames", "80"])
-        .args(["--width", "480", "--height", "270", "--screenshot", path_str(&shot), path_str(&scene)])
+        .args([
+            "-a",
+            "-s",
+            "-screen 0 1280x800x24",
+            env!("CARGO_BIN_EXE_argil"),
+            "view",
+            "--frames",
+            "80",
+        ])
+        .args([
+            "--width",
+            "480",
+            "--height",
+            "270",
+            "--screenshot",
+            path_str(&shot),
+            path_str(&scene),
+        ])
         .env("ARGIL_VALIDATION", "1")
         .env("XDG_RUNTIME_DIR", &runtime)
         .stderr(Stdio::piped())
         .spawn()
         .expect("run xvfb-run");
-    let mut lines = BufReader::new(child.stderr.take().expect("stderr")).lines().map_while(Result::ok);
+    let mut lines = BufReader::new(child.stderr.take().expect("stderr"))
+        .lines()
+        .map_while(Result::ok);
     let mut log = String::new();
     let mut wait_for = |what: &str| {
         for line in lines.by_ref() {
@@ -301,7 +402,11 @@ fn view_reloads_the_scene_when_its_file_changes() {
     std::fs::write(&scene, good.replace("roughness = 0.7", "roughness = 7.0")).expect("write a broken scene");
     wait_for("materials.terracotta.roughness = 7.0");
     // The file's camera moves too, but the viewer keeps its own.
-    std::fs::write(&scene, good.replace("position = [0.0, 1.6, 7.5]", "position = [3.0, 3.0, 3.0]")).expect("write");
+    std::fs::write(
+        &scene,
+        good.replace("position = [0.0, 1.6, 7.5]", "position = [3.0, 3.0, 3.0]"),
+    )
+    .expect("write");
     wait_for("argil: reloaded");
     wait_for("argil: wrote");
     // Leaks are reported after the last line of the run, when the device is destroyed.
@@ -313,7 +418,13 @@ fn view_reloads_the_scene_when_its_file_changes() {
     std::fs::write(&expected, &good).expect("write");
     let headless = dir.join("headless.png");
     let size = ["--width", "480", "--height", "270"];
-    assert_clean_success(&argil(&[&["render", path_str(&expected), "--out", path_str(&headless)], &size[..]].concat()));
+    assert_clean_success(&argil(
+        &[
+            &["render", path_str(&expected), "--out", path_str(&headless)],
+            &size[..],
+        ]
+        .concat(),
+    ));
     let window = image::open(&shot).expect("read screenshot").to_rgb8();
     let reference = image::open(&headless).expect("read render").to_rgb8();
     let panel = argil::viewer::PANEL_WIDTH as u32 + 1;

@@ -7,8 +7,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use argil::brdf::environment::{
-    brdf_lut_estimate, cube_direction, cube_texel_ab, lut_n_dot_v, studio_radiance, LUT_LAYERS,
-    LUT_LAYER_BLINN_PHONG,
+    brdf_lut_estimate, cube_direction, cube_texel_ab, lut_n_dot_v, studio_radiance, LUT_LAYERS, LUT_LAYER_BLINN_PHONG,
 };
 use argil::brdf::quadrature::{diffuse_albedo, directional_albedo};
 use argil::brdf::shading::{diffuse_lobe, specular_lobe};
@@ -101,8 +100,7 @@ fn sphere_n_dot_v(x: u32, y: u32, size: u32) -> Option<f64> {
 /// albedo (hemisphere quadrature of the twins) per pixel, away from the silhouette.
 #[test]
 fn uniform_environment_matches_the_directional_albedo() {
-    let material =
-        "base_color = [0.8, 0.5, 0.3]\ndiffuse = \"oren-nayar\"\ndiffuse_roughness = 0.5\n\
+    let material = "base_color = [0.8, 0.5, 0.3]\ndiffuse = \"oren-nayar\"\ndiffuse_roughness = 0.5\n\
                     specular = \"cook-torrance\"\nroughness = 0.4\nf0 = 0.04";
     let probe = scene(&sphere_scene(
         "kind = \"uniform\"\nradiance = [1.0, 1.0, 1.0]",
@@ -115,11 +113,7 @@ fn uniform_environment_matches_the_directional_albedo() {
     let table: Vec<[f64; 3]> = (0..=256)
         .map(|i| {
             let mu = (f64::from(i) / 256.0).max(0.01);
-            let spec = directional_albedo(
-                |v, l| specular_lobe(models, &params, N, v, l, v[2], l[2])[0],
-                mu,
-                24,
-            );
+            let spec = directional_albedo(|v, l| specular_lobe(models, &params, N, v, l, v[2], l[2])[0], mu, 24);
             let mut albedo = [0.0; 3];
             for (c, a) in albedo.iter_mut().enumerate() {
                 *a = spec
@@ -158,7 +152,10 @@ fn uniform_environment_matches_the_directional_albedo() {
         }
         let mean = errors.iter().sum::<f64>() / errors.len() as f64;
         let max = errors.iter().copied().fold(0.0, f64::max);
-        eprintln!("uniform environment, {mode} vs quadrature: {} px, relative error mean {mean:.2e} max {max:.2e}", errors.len() / 3);
+        eprintln!(
+            "uniform environment, {mode} vs quadrature: {} px, relative error mean {mean:.2e} max {max:.2e}",
+            errors.len() / 3
+        );
         assert!(
             mean < mean_bound && max < max_bound,
             "{mode}: mean {mean:.3e} max {max:.3e}"
@@ -232,7 +229,8 @@ fn studio_matches_golden_in_each_reflection_mode() {
 /// split sum's approximations (SH irradiance, n = v = r prefiltering, table resolution).
 #[test]
 fn sampled_converges_towards_the_split_sum() {
-    let material = "base_color = [0.62, 0.26, 0.12]\ndiffuse = \"lambert\"\nspecular = \"cook-torrance\"\nroughness = 0.45";
+    let material =
+        "base_color = [0.62, 0.26, 0.12]\ndiffuse = \"lambert\"\nspecular = \"cook-torrance\"\nroughness = 0.45";
     let sphere = |reflection: &str| {
         let text = sphere_scene(&format!("kind = \"studio\"\n{reflection}"), material);
         render(&scene(&text), 80, 80)
@@ -254,20 +252,14 @@ fn sampled_converges_towards_the_split_sum() {
         eprintln!(
             "studio sphere, sampled N = {samples}: mean relative difference to split sum {to_split_sum:.4}, to N = 1024 {to_reference:.4}"
         );
-        assert!(
-            to_split_sum < previous,
-            "N = {samples} is not closer to the split sum"
-        );
+        assert!(to_split_sum < previous, "N = {samples} is not closer to the split sum");
         previous = to_split_sum;
     }
     let bias = difference(&split_sum, &reference);
     eprintln!("studio sphere, split sum vs sampled N = 1024: mean relative difference {bias:.4}");
     // Measured on lavapipe: 0.169, 0.076, 0.049 to the split sum for N = 16, 64, 256;
     // the split sum is 0.046 from N = 1024, mostly its 3-band SH irradiance of the boxes.
-    assert!(
-        previous < 0.06,
-        "sampled N = 256 vs split sum: {previous:.4}"
-    );
+    assert!(previous < 0.06, "sampled N = 256 vs split sum: {previous:.4}");
     assert!(bias < 0.06, "split sum vs N = 1024: {bias:.4}");
 }
 
@@ -329,12 +321,7 @@ scale = 0.5
 
 fn centre(frame: &OffscreenFrame) -> [f32; 4] {
     let i = ((frame.height / 2 * frame.width + frame.width / 2) * 4) as usize;
-    [
-        frame.hdr[i],
-        frame.hdr[i + 1],
-        frame.hdr[i + 2],
-        frame.hdr[i + 3],
-    ]
+    [frame.hdr[i], frame.hdr[i + 1], frame.hdr[i + 2], frame.hdr[i + 3]]
 }
 
 /// An .hdr map written here renders: the skybox shows its texels in the right direction,
@@ -344,9 +331,7 @@ fn equirect_hdr_map_loads_and_renders() {
     let dir = TempDir::new("map");
     let path = dir.0.join("test.hdr");
     write_test_map(&path);
-    let load = |extra: &str| {
-        Scene::from_toml(&map_scene("test.hdr", extra), "map scene", &dir.0).expect("scene")
-    };
+    let load = |extra: &str| Scene::from_toml(&map_scene("test.hdr", extra), "map scene", &dir.0).expect("scene");
     for (extra, expected) in [
         ("", [2.0, 0.0, 0.0]),
         ("intensity = 0.5", [1.0, 0.0, 0.0]),
@@ -370,15 +355,7 @@ fn render_error(scene: &Scene) -> String {
     let error = gpu().exclusive(|renderer| {
         let gpu_scene = renderer.upload(scene).expect("upload");
         renderer
-            .render_offscreen(
-                scene,
-                &gpu_scene,
-                vk::Extent2D {
-                    width: 16,
-                    height: 16,
-                },
-                1.0,
-            )
+            .render_offscreen(scene, &gpu_scene, vk::Extent2D { width: 16, height: 16 }, 1.0)
             .err()
             .expect("rendering a broken map fails")
     });
@@ -409,11 +386,7 @@ fn broken_environment_maps_are_clear_errors() {
             b"not an image at all".to_vec(),
             "cannot read it as a Radiance HDR or OpenEXR image",
         ),
-        (
-            "photo.hdr",
-            std::fs::read(&png).expect("read png"),
-            "is a Png image",
-        ),
+        ("photo.hdr", std::fs::read(&png).expect("read png"), "is a Png image"),
         (
             "huge.hdr",
             b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 10000 +X 20000\n".to_vec(),
@@ -425,11 +398,7 @@ fn broken_environment_maps_are_clear_errors() {
             "cannot decode",
         ),
         ("nan.exr", Vec::new(), "texel (3, 0) is not finite"),
-        (
-            "negative.exr",
-            Vec::new(),
-            "texel (5, 2) has negative radiance",
-        ),
+        ("negative.exr", Vec::new(), "texel (5, 2) has negative radiance"),
         (
             "square.hdr",
             Vec::new(),
@@ -451,16 +420,16 @@ fn broken_environment_maps_are_clear_errors() {
     }
     // The renderer is still usable.
     write_test_map(&dir.0.join("good.hdr"));
-    let good =
-        Scene::from_toml(&map_scene("good.hdr", ""), "good map scene", &dir.0).expect("scene");
+    let good = Scene::from_toml(&map_scene("good.hdr", ""), "good map scene", &dir.0).expect("scene");
     assert!(centre(&render(&good, 16, 16))[0] > 1.9);
 }
 
 #[test]
 fn environment_keys_parse_validate_and_round_trip() {
     let parse = |env: &str| Scene::from_toml(&sphere_scene(env, ""), "env.toml", Path::new("."));
-    let studio = parse("kind = \"studio\"\nintensity = 2\nrotation_degrees = -30\nreflection = \"sampled\"\nsamples = 128")
-        .expect("studio");
+    let studio =
+        parse("kind = \"studio\"\nintensity = 2\nrotation_degrees = -30\nreflection = \"sampled\"\nsamples = 128")
+            .expect("studio");
     assert_eq!(
         studio.environment,
         Environment::Studio {
@@ -475,18 +444,13 @@ fn environment_keys_parse_validate_and_round_trip() {
     );
     let saved = studio.to_file().to_toml().expect("save");
     assert!(
-        saved.contains("kind = \"studio\"")
-            && saved.contains("samples = 128")
-            && !saved.contains("seed_strength"),
+        saved.contains("kind = \"studio\"") && saved.contains("samples = 128") && !saved.contains("seed_strength"),
         "{saved}"
     );
     let reloaded = Scene::from_toml(&saved, "saved.toml", Path::new(".")).expect("reload");
     assert_eq!(reloaded.environment, studio.environment);
     assert_eq!(
-        parse("kind = \"studio\"")
-            .expect("defaults")
-            .environment
-            .reflection(),
+        parse("kind = \"studio\"").expect("defaults").environment.reflection(),
         Some(&Reflection::default())
     );
 
@@ -507,10 +471,7 @@ fn environment_keys_parse_validate_and_round_trip() {
             "kind = \"uniform\"\nradiance = [1, 1, 1]\nseed_strength = inf",
             "environment.seed_strength = inf",
         ),
-        (
-            "kind = \"studio\"\nreflection = \"mirror\"",
-            "unknown variant `mirror`",
-        ),
+        ("kind = \"studio\"\nreflection = \"mirror\"", "unknown variant `mirror`"),
         (
             "kind = \"uniform\"\nradiance = [1, 1, 1]\nintensity = 2",
             "unknown field `intensity`",
@@ -533,15 +494,7 @@ fn studio_cube_matches_its_f64_twin() {
     let texels = gpu().exclusive(|renderer| {
         let gpu_scene = renderer.upload(&scene).expect("upload");
         renderer
-            .render_offscreen(
-                &scene,
-                &gpu_scene,
-                vk::Extent2D {
-                    width: 8,
-                    height: 8,
-                },
-                1.0,
-            )
+            .render_offscreen(&scene, &gpu_scene, vk::Extent2D { width: 8, height: 8 }, 1.0)
             .expect("render");
         renderer
             .environment()
@@ -580,15 +533,7 @@ fn brdf_tables_match_their_f64_twin() {
     let texels = gpu().exclusive(|renderer| {
         let gpu_scene = renderer.upload(&scene).expect("upload");
         renderer
-            .render_offscreen(
-                &scene,
-                &gpu_scene,
-                vk::Extent2D {
-                    width: 8,
-                    height: 8,
-                },
-                1.0,
-            )
+            .render_offscreen(&scene, &gpu_scene, vk::Extent2D { width: 8, height: 8 }, 1.0)
             .expect("render");
         renderer
             .environment()
@@ -602,15 +547,11 @@ fn brdf_tables_match_their_f64_twin() {
     for layer in 0..LUT_LAYERS {
         for y in 0..h {
             for x in 0..w {
-                let (u, v) = (
-                    (f64::from(x) + 0.5) / f64::from(w),
-                    (f64::from(y) + 0.5) / f64::from(h),
-                );
+                let (u, v) = ((f64::from(x) + 0.5) / f64::from(w), (f64::from(y) + 0.5) / f64::from(h));
                 let expected = brdf_lut_estimate(layer, lut_n_dot_v(u), v, LUT_SAMPLES);
                 let got = texels[((layer * h + y) * w + x) as usize];
                 for c in 0..2 {
-                    let error =
-                        (f64::from(got[c]) - expected[c]).abs() / expected[c].abs().max(0.05);
+                    let error = (f64::from(got[c]) - expected[c]).abs() / expected[c].abs().max(0.05);
                     worst = worst.max(error);
                     // Blinn-Phong's fp32 (n·h)ⁿ amplifies rounding by n|ln n·h|, up to ~10⁴
                     // where n = 2/α² − 2 passes 5·10⁴ (roughness < 0.1): measured 7e-3.
@@ -638,11 +579,7 @@ fn brdf_tables_match_their_f64_twin() {
 fn render_prints_precomputation_costs() {
     let dir = TempDir::new("cli");
     let scene_path = dir.0.join("studio.toml");
-    std::fs::write(
-        &scene_path,
-        sphere_scene("kind = \"studio\"", "roughness = 0.5"),
-    )
-    .expect("write scene");
+    std::fs::write(&scene_path, sphere_scene("kind = \"studio\"", "roughness = 0.5")).expect("write scene");
     let out = dir.0.join("studio.png");
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_argil"))
         .args([

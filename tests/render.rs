@@ -85,13 +85,18 @@ fn validation_errors_are_detected() {
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         gpu.exclusive(|_| {
             // A zero-sized buffer is invalid usage (VUID-VkBufferCreateInfo-size-00912).
-            let info = vk::BufferCreateInfo::default().size(0).usage(vk::BufferUsageFlags::UNIFORM_BUFFER);
+            let info = vk::BufferCreateInfo::default()
+                .size(0)
+                .usage(vk::BufferUsageFlags::UNIFORM_BUFFER);
             if let Ok(buffer) = unsafe { gpu.device.handle.create_buffer(&info, None) } {
                 unsafe { gpu.device.handle.destroy_buffer(buffer, None) };
             }
         })
     }));
-    assert!(result.is_err(), "the invalid call was not reported as a validation error");
+    assert!(
+        result.is_err(),
+        "the invalid call was not reported as a validation error"
+    );
     assert!(report.error_count() > 0);
 }
 
@@ -174,7 +179,10 @@ uv_scale = [2.0, 1.0]
             let p = &frame.hdr[(y * w + x) * 4..][..4];
             (p[3] == 1.0).then(|| p[0] + p[1] + p[2])
         };
-        let mut lit: Vec<f32> = (0..w * h).filter_map(|i| luminance(i % w, i / w)).filter(|&l| l > 0.0).collect();
+        let mut lit: Vec<f32> = (0..w * h)
+            .filter_map(|i| luminance(i % w, i / w))
+            .filter(|&l| l > 0.0)
+            .collect();
         lit.sort_by(f32::total_cmp);
         let p99 = lit[lit.len() * 99 / 100];
         // What a pixel beside an exactly black one holds: ~0 where the lit side fades out.
@@ -198,5 +206,8 @@ uv_scale = [2.0, 1.0]
     // Measured on lavapipe: 8.4e-3 (seed) against 1.6e-6 (smooth).
     let (seed, smooth) = (steps[0], steps[1]);
     assert!(seed > 2e-3, "the report's cutoff should show as a step: {seed:.2e}");
-    assert!(smooth < 1e-4 && smooth * 100.0 < seed, "the smooth horizon still steps: {smooth:.2e} vs {seed:.2e}");
+    assert!(
+        smooth < 1e-4 && smooth * 100.0 < seed,
+        "the smooth horizon still steps: {smooth:.2e} vs {seed:.2e}"
+    );
 }

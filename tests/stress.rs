@@ -26,7 +26,11 @@ fn all_materials(roughness: f64, f0: f64) -> (String, usize) {
     for (i, diffuse) in DIFFUSE.iter().enumerate() {
         for (j, specular) in SPECULAR.iter().enumerate() {
             let distribution = if (i + j) % 2 == 0 { "ggx" } else { "beckmann" };
-            let geometry = if i % 2 == 0 { "smith-correlated" } else { "smith-separable" };
+            let geometry = if i % 2 == 0 {
+                "smith-correlated"
+            } else {
+                "smith-separable"
+            };
             text += &format!(
                 "[materials.m{count}]\nbase_color = [1.0, 1.0, 1.0]\ndiffuse = \"{diffuse}\"\nspecular = \"{specular}\"\n\
                  distribution = \"{distribution}\"\ngeometry = \"{geometry}\"\nroughness = {roughness}\nf0 = {f0}\n\
@@ -52,10 +56,13 @@ fn spheres(camera: &str, lights: &str, roughness: f64, f0: f64) -> String {
 }
 
 const FRONT_CAMERA: &str = "[camera]\nposition = [0.0, 0.0, 4.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_degrees = 45.0\n";
-const GRAZING_CAMERA: &str = "[camera]\nposition = [0.0, -1.2499, 4.0]\ntarget = [0.0, -1.25, 0.0]\nfov_y_degrees = 60.0\n";
-const HEAD_ON_LIGHT: &str = "[[lights]]\nkind = \"point\"\nposition = [0.0, 0.0, 4.0]\nintensity = [50.0, 50.0, 50.0]\n";
+const GRAZING_CAMERA: &str =
+    "[camera]\nposition = [0.0, -1.2499, 4.0]\ntarget = [0.0, -1.25, 0.0]\nfov_y_degrees = 60.0\n";
+const HEAD_ON_LIGHT: &str =
+    "[[lights]]\nkind = \"point\"\nposition = [0.0, 0.0, 4.0]\nintensity = [50.0, 50.0, 50.0]\n";
 /// Lights at a sphere's centre, exactly on a sphere's surface, and grazing the plane.
-const HOSTILE_LIGHTS: &str = "[[lights]]\nkind = \"point\"\nposition = [-0.9, -0.9, 0.0]\nintensity = [1000.0, 1000.0, 1000.0]\n\n\
+const HOSTILE_LIGHTS: &str =
+    "[[lights]]\nkind = \"point\"\nposition = [-0.9, -0.9, 0.0]\nintensity = [1000.0, 1000.0, 1000.0]\n\n\
 [[lights]]\nkind = \"point\"\nposition = [-0.3, -0.65, 0.0]\nintensity = [1000.0, 1000.0, 1000.0]\n\n\
 [[lights]]\nkind = \"point\"\nposition = [3.0, -1.25, 0.0]\nintensity = [100.0, 100.0, 100.0]\n";
 

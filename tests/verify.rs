@@ -16,18 +16,9 @@ fn verify_passes_and_reports_every_model() {
         "--json",
         json.to_str().expect("utf-8 path"),
     ]);
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr),
-    );
-    assert!(
-        o.status.success(),
-        "argil verify failed:\n{stdout}\n{stderr}"
-    );
-    assert!(
-        !stderr.contains("vulkan validation"),
-        "validation messages: {stderr}"
-    );
+    let (stdout, stderr) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "argil verify failed:\n{stdout}\n{stderr}");
+    assert!(!stderr.contains("vulkan validation"), "validation messages: {stderr}");
     for name in [
         "lambert",
         "oren-nayar",

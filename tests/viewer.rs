@@ -45,7 +45,12 @@ fn lobe_views_add_up_to_the_shaded_image() {
     let scene = every_lobe_scene();
     let (w, h) = (160, 90);
     let shaded = render_view(&scene, DebugView::Shaded, w, h);
-    let lobes = [DebugView::Diffuse, DebugView::Specular, DebugView::Wrap, DebugView::Environment];
+    let lobes = [
+        DebugView::Diffuse,
+        DebugView::Specular,
+        DebugView::Wrap,
+        DebugView::Environment,
+    ];
     let views: Vec<OffscreenFrame> = lobes.iter().map(|v| render_view(&scene, *v, w, h)).collect();
     let mut worst = 0.0f32;
     let mut lit = [0usize; 4];
@@ -92,7 +97,10 @@ mesh = "builtin:sphere"
     let centre = pixel(&normals, 50, 50);
     let expected = [0.5, 0.5, 1.0];
     for c in 0..3 {
-        assert!((centre[c] - expected[c]).abs() < 0.01, "normal colour at the centre: {centre:?}");
+        assert!(
+            (centre[c] - expected[c]).abs() < 0.01,
+            "normal colour at the centre: {centre:?}"
+        );
     }
     // 30° field of view at distance 5: the sphere's edge is at about 0.76 of the half width.
     let right = pixel(&normals, 80, 50);
@@ -104,7 +112,10 @@ mesh = "builtin:sphere"
     for (x, y) in [(50, 50), (80, 50), (50, 20), (30, 70)] {
         let from_normal = 2.0 * pixel(&normals, x, y)[2] - 1.0;
         let shown = pixel(&n_dot_l, x, y)[0];
-        assert!((shown - from_normal).abs() < 0.01, "n·l at ({x}, {y}): {shown} vs n.z {from_normal}");
+        assert!(
+            (shown - from_normal).abs() < 0.01,
+            "n·l at ({x}, {y}): {shown} vs n.z {from_normal}"
+        );
     }
 
     let uvs = render_view(&sphere, DebugView::Uvs, w, h);
@@ -113,12 +124,19 @@ mesh = "builtin:sphere"
         .chunks_exact(4)
         .filter(|p| p[3] == 1.0 && !((0.0..=1.0).contains(&p[0]) && (0.0..=1.0).contains(&p[1]) && p[2] == 0.0))
         .collect();
-    assert!(outside.is_empty(), "UV colours outside [0, 1]: {:?}", &outside[..outside.len().min(5)]);
+    assert!(
+        outside.is_empty(),
+        "UV colours outside [0, 1]: {:?}",
+        &outside[..outside.len().min(5)]
+    );
     for view in [DebugView::Tangents, DebugView::Bitangents] {
         let frame = render_view(&sphere, view, w, h);
         let c = pixel(&frame, 50, 50);
         // Unit vectors in the sphere's tangent plane at the centre: z component 0 → 0.5.
-        assert!((c[2] - 0.5).abs() < 0.02 && (0.0..=1.0).contains(&c[0]), "{view:?} at the centre: {c:?}");
+        assert!(
+            (c[2] - 0.5).abs() < 0.02 && (0.0..=1.0).contains(&c[0]),
+            "{view:?} at the centre: {c:?}"
+        );
     }
 }
 
@@ -155,12 +173,21 @@ fn saved_scene_renders_the_same_image_with_argil_render() {
     let shown = render(&scene, w, h);
     let out = dir.join("edited.png");
     let o = Command::new(env!("CARGO_BIN_EXE_argil"))
-        .args(["render", path.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")])
+        .args([
+            "render",
+            path.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+        ])
         .args(["--width", &w.to_string(), "--height", &h.to_string()])
         .env("ARGIL_VALIDATION", "1")
         .output()
         .expect("run argil render");
-    assert!(o.status.success(), "argil render failed: {}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "argil render failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let rendered = image::open(&out).expect("read png").to_rgba8();
     let (rmse, max) = rgb_difference(&shown.display, rendered.as_raw());
     assert_eq!(max, 0, "the saved scene renders differently (RMSE {rmse})");
@@ -175,9 +202,15 @@ fn viewer_rejects_scenes_it_cannot_render() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     std::fs::write(dir.join("sky.hdr"), "not really an image").expect("write");
     let path = dir.join("map.toml");
-    std::fs::write(&path, "[environment]\nkind = \"map\"\npath = \"sky.hdr\"\n[[objects]]\nmesh = \"builtin:cube\"\n")
-        .expect("write");
-    let error = format!("{:#}", argil::viewer::load_scene(&path).expect_err("the map does not decode"));
+    std::fs::write(
+        &path,
+        "[environment]\nkind = \"map\"\npath = \"sky.hdr\"\n[[objects]]\nmesh = \"builtin:cube\"\n",
+    )
+    .expect("write");
+    let error = format!(
+        "{:#}",
+        argil::viewer::load_scene(&path).expect_err("the map does not decode")
+    );
     assert!(error.contains("sky.hdr"), "{error}");
     std::fs::write(&path, "[[objects]]\nmesh = \"builtin:cube\"\nscale = -1\n").expect("write");
     let error = format!("{:#}", argil::viewer::load_scene(&path).expect_err("bad scale"));

@@ -27,16 +27,8 @@ pub fn diffuse_oren_nayar(sigma: f64, n: Vec3, v: Vec3, l: Vec3) -> f64 {
     let b_coef = 0.45 * s2 / (s2 + 0.09);
     let n_dot_v = dot(n, v);
     let n_dot_l = dot(n, l);
-    let v_t = [
-        v[0] - n[0] * n_dot_v,
-        v[1] - n[1] * n_dot_v,
-        v[2] - n[2] * n_dot_v,
-    ];
-    let l_t = [
-        l[0] - n[0] * n_dot_l,
-        l[1] - n[1] * n_dot_l,
-        l[2] - n[2] * n_dot_l,
-    ];
+    let v_t = [v[0] - n[0] * n_dot_v, v[1] - n[1] * n_dot_v, v[2] - n[2] * n_dot_v];
+    let l_t = [l[0] - n[0] * n_dot_l, l[1] - n[1] * n_dot_l, l[2] - n[2] * n_dot_l];
     let (v_t2, l_t2) = (dot(v_t, v_t), dot(l_t, l_t));
     let len2 = v_t2 * l_t2;
     let cos_phi = if len2 > MIN_TANGENT_LEN2 {
@@ -84,14 +76,7 @@ pub fn diffuse_eon_exact(rho: Vec3, r: f64, n_dot_v: f64, n_dot_l: f64, v_dot_l:
     eon(rho, r, n_dot_v, n_dot_l, v_dot_l, e_fon_exact)
 }
 
-fn eon(
-    rho: Vec3,
-    r: f64,
-    n_dot_v: f64,
-    n_dot_l: f64,
-    v_dot_l: f64,
-    e_fon: fn(f64, f64) -> f64,
-) -> Vec3 {
+fn eon(rho: Vec3, r: f64, n_dot_v: f64, n_dot_l: f64, v_dot_l: f64, e_fon: fn(f64, f64) -> f64) -> Vec3 {
     let r = r.clamp(0.0, 1.0);
     let mu_o = n_dot_v.clamp(MIN_N_DOT_V, 1.0);
     let mu_i = n_dot_l.clamp(MIN_N_DOT_V, 1.0);

@@ -5,9 +5,7 @@
 
 use super::distribution::d_ggx;
 use super::geometry::g1_smith_ggx;
-use super::shading::{
-    diffuse_lobe, specular_lobe, DiffuseModel, ShadingModels, ShadingParams, SpecularModel,
-};
+use super::shading::{diffuse_lobe, specular_lobe, DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
 use super::specular::{Distribution, Geometry};
 use super::wrap::{hermite_step, wrap_seed, MIN_WRAP_WIDTH};
 use super::{clamp_alpha, cross, dot, Vec3, MIN_N_DOT_V, PI};
@@ -71,11 +69,7 @@ pub fn equirect_uv(d: Vec3) -> [f64; 2] {
 
 /// d rotated about +y by the angle whose (cos, sin) is `cs`.
 pub fn rotate_y(d: Vec3, cs: [f64; 2]) -> Vec3 {
-    [
-        d[0] * cs[0] + d[2] * cs[1],
-        d[1],
-        -d[0] * cs[1] + d[2] * cs[0],
-    ]
+    [d[0] * cs[0] + d[2] * cs[1], d[1], -d[0] * cs[1] + d[2] * cs[0]]
 }
 
 /// (cos, sin) of the rotation that takes world directions into an environment rotated by
@@ -316,11 +310,7 @@ pub fn lut_layer_models(layer: u32) -> ShadingModels {
             Distribution::Ggx,
             Geometry::SmithCorrelated,
         ),
-        _ => (
-            SpecularModel::BlinnPhong,
-            Distribution::Ggx,
-            Geometry::SmithCorrelated,
-        ),
+        _ => (SpecularModel::BlinnPhong, Distribution::Ggx, Geometry::SmithCorrelated),
     };
     ShadingModels {
         diffuse: DiffuseModel::None,
@@ -431,18 +421,14 @@ pub fn studio_radiance(d: Vec3) -> Vec3 {
             hermite_step(0.0, STUDIO_CEILING_FADE, d[1]),
         )
     };
-    STUDIO_BOXES.iter().fold(
-        background,
-        |sum, &(radiance, centre, half_size, softness)| {
+    STUDIO_BOXES
+        .iter()
+        .fold(background, |sum, &(radiance, centre, half_size, softness)| {
             add(
                 sum,
-                scale(
-                    radiance,
-                    soft_box(d, normalize(centre), half_size, softness),
-                ),
+                scale(radiance, soft_box(d, normalize(centre), half_size, softness)),
             )
-        },
-    )
+        })
 }
 
 #[cfg(test)]

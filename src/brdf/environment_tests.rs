@@ -58,17 +58,11 @@ fn cube_texel_solid_angles_cover_the_sphere() {
         let total: f64 = (0..size)
             .flat_map(|y| (0..size).map(move |x| cube_texel_solid_angle(x, y, size)))
             .sum();
-        assert!(
-            (6.0 * total - 4.0 * PI).abs() < 1e-12,
-            "size {size}: {}",
-            6.0 * total
-        );
+        assert!((6.0 * total - 4.0 * PI).abs() < 1e-12, "size {size}: {}", 6.0 * total);
     }
     // The centre texel of a large face approaches its planar area at unit distance.
     let w = 1024;
-    assert!(
-        (cube_texel_solid_angle(w / 2, w / 2, w) / (4.0 / f64::from(w * w)) - 1.0).abs() < 1e-5
-    );
+    assert!((cube_texel_solid_angle(w / 2, w / 2, w) / (4.0 / f64::from(w * w)) - 1.0).abs() < 1e-5);
 }
 
 #[test]
@@ -101,10 +95,7 @@ fn seed_reflection_is_the_unit_mirror_direction() {
     let r = seed_reflection(n, v);
     assert!((dot(r, r) - 1.0).abs() < 1e-15);
     assert!((dot(r, n) - dot(v, n)).abs() < 1e-15, "equal angles with n");
-    assert!(
-        dot(cross(n, v), r).abs() < 1e-15,
-        "r in the plane of n and v"
-    );
+    assert!(dot(cross(n, v), r).abs() < 1e-15, "r in the plane of n and v");
     assert!(close(r, reflect_about(v, n), 1e-15));
 }
 
@@ -123,10 +114,7 @@ fn tangent_frames_are_orthonormal() {
                 assert!((dot(f[i], f[j]) - expected).abs() < 1e-12, "{n:?}");
             }
         }
-        assert!(
-            close(cross(f[0], f[1]), n, 1e-12),
-            "right-handed around {n:?}"
-        );
+        assert!(close(cross(f[0], f[1]), n, 1e-12), "right-handed around {n:?}");
     }
 }
 
@@ -172,9 +160,7 @@ fn sh_irradiance_of_a_band_limited_environment() {
     // A constant: c00 = L √(4π), and exactly L back.
     let constant = sh_project_cube(4, |_, _, _| [2.0; 3]);
     assert!((constant[0][0] - 2.0 * (4.0 * PI).sqrt()).abs() < 1e-12);
-    assert!(
-        (sh_convolve(&constant, [0.0, 1.0, 0.0], SH_IRRADIANCE_OVER_PI)[0] - 2.0).abs() < 1e-12
-    );
+    assert!((sh_convolve(&constant, [0.0, 1.0, 0.0], SH_IRRADIANCE_OVER_PI)[0] - 2.0).abs() < 1e-12);
 }
 
 #[test]
@@ -210,9 +196,7 @@ fn wrap_sh_kernel_matches_quadrature() {
 #[test]
 fn samplers_match_their_pdfs() {
     let n = 1 << 16;
-    let mean = |f: &dyn Fn([f64; 2]) -> f64| {
-        (0..n).map(|i| f(hammersley(i, n))).sum::<f64>() / f64::from(n)
-    };
+    let mean = |f: &dyn Fn([f64; 2]) -> f64| (0..n).map(|i| f(hammersley(i, n))).sum::<f64>() / f64::from(n);
     let cosine = mean(&|u| pdf_cosine(sample_cosine(u)[2]) / pdf_cosine(sample_cosine(u)[2]));
     assert!((cosine - 1.0).abs() < 1e-12);
     let uniform = mean(&|u| pdf_cosine(sample_uniform_sphere(u)[2]) / PDF_UNIFORM_SPHERE);
@@ -340,11 +324,7 @@ fn eon_albedo_matches_quadrature() {
         for mu in [0.95, 0.5, 0.15] {
             let albedo = diffuse_eon_albedo(rho, r, mu);
             for (c, a) in albedo.iter().enumerate() {
-                let reference = diffuse_albedo(
-                    |v, l| diffuse_eon(rho, r, v[2], l[2], dot(v, l))[c],
-                    mu,
-                    DIFFUSE_ORDER,
-                );
+                let reference = diffuse_albedo(|v, l| diffuse_eon(rho, r, v[2], l[2], dot(v, l))[c], mu, DIFFUSE_ORDER);
                 assert!(
                     (a - reference).abs() < 5e-3,
                     "r {r} μ {mu}: {a} vs quadrature {reference}"

@@ -8,8 +8,8 @@
 //! passed as scalars wherever the GLSL function takes scalars.
 
 pub mod diffuse;
-pub mod environment;
 pub mod distribution;
+pub mod environment;
 pub mod fresnel;
 pub mod geometry;
 pub mod normal_mapping;

@@ -56,7 +56,11 @@ pub fn blend_seed(base: Vec3, detail: Vec3) -> Vec3 {
 pub fn tangent_to_world(n_tangent_space: Vec3, normal: Vec3, tangent: [f64; 4]) -> Vec3 {
     let tangent_xyz = [tangent[0], tangent[1], tangent[2]];
     let t_dot_n = dot(normal, tangent_xyz);
-    let t = [tangent[0] - normal[0] * t_dot_n, tangent[1] - normal[1] * t_dot_n, tangent[2] - normal[2] * t_dot_n];
+    let t = [
+        tangent[0] - normal[0] * t_dot_n,
+        tangent[1] - normal[1] * t_dot_n,
+        tangent[2] - normal[2] * t_dot_n,
+    ];
     let t2 = dot(t, t);
     if t2 <= MIN_TANGENT_SIN2 * dot(tangent_xyz, tangent_xyz) {
         return normal;

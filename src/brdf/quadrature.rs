@@ -59,9 +59,7 @@ fn phi_max(k: f64, r: f64) -> f64 {
 
 /// Panel edges in θ: geometric towards 0, plus where r(θ) = ±k(θ).
 fn theta_edges(region: &impl Fn(f64) -> (f64, f64)) -> Vec<f64> {
-    let mut edges: Vec<f64> = (0..=GRADED_PANELS)
-        .map(|i| 0.5 * PI * 0.5f64.powi(i))
-        .collect();
+    let mut edges: Vec<f64> = (0..=GRADED_PANELS).map(|i| 0.5 * PI * 0.5f64.powi(i)).collect();
     edges.push(0.0);
     for sign in [-1.0, 1.0] {
         let f = |theta: f64| {
@@ -93,11 +91,7 @@ fn theta_edges(region: &impl Fn(f64) -> (f64, f64)) -> Vec<f64> {
 
 /// ∫ g(h, |n×h|²) dω over half vectors of the upper hemisphere with k(θ) cos φ > r(θ),
 /// where `region(θ)` returns (k, r).
-fn integrate_half_vectors(
-    order: usize,
-    region: impl Fn(f64) -> (f64, f64),
-    g: impl Fn(Vec3, f64) -> f64,
-) -> f64 {
+fn integrate_half_vectors(order: usize, region: impl Fn(f64) -> (f64, f64), g: impl Fn(Vec3, f64) -> f64) -> f64 {
     let rule = gauss_legendre(order);
     let edges = theta_edges(&region);
     let mut total = 0.0;

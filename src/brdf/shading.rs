@@ -113,7 +113,15 @@ pub fn shadow_terminator(ng_dot_l: f64, ns_dot_l: f64, ng_dot_ns: f64) -> f64 {
 }
 
 /// The diffuse lobe f_d (without the cosine), albedo included.
-pub fn diffuse_lobe(model: DiffuseModel, m: &ShadingParams, n: Vec3, v: Vec3, l: Vec3, n_dot_v: f64, n_dot_l: f64) -> Vec3 {
+pub fn diffuse_lobe(
+    model: DiffuseModel,
+    m: &ShadingParams,
+    n: Vec3,
+    v: Vec3,
+    l: Vec3,
+    n_dot_v: f64,
+    n_dot_l: f64,
+) -> Vec3 {
     match model {
         DiffuseModel::Lambert => scale(m.base_color, diffuse_lambert()),
         DiffuseModel::OrenNayar => scale(m.base_color, diffuse_oren_nayar(m.diffuse_roughness, n, v, l)),
@@ -123,7 +131,15 @@ pub fn diffuse_lobe(model: DiffuseModel, m: &ShadingParams, n: Vec3, v: Vec3, l:
 }
 
 /// The specular lobe f_s (without the cosine), tinted by the specular colour.
-pub fn specular_lobe(models: ShadingModels, m: &ShadingParams, n: Vec3, v: Vec3, l: Vec3, n_dot_v: f64, n_dot_l: f64) -> Vec3 {
+pub fn specular_lobe(
+    models: ShadingModels,
+    m: &ShadingParams,
+    n: Vec3,
+    v: Vec3,
+    l: Vec3,
+    n_dot_v: f64,
+    n_dot_l: f64,
+) -> Vec3 {
     if models.specular == SpecularModel::None {
         return [0.0; 3];
     }
@@ -159,7 +175,10 @@ pub fn specular_lobe(models: ShadingModels, m: &ShadingParams, n: Vec3, v: Vec3,
 pub fn brdf_cos(models: ShadingModels, m: &ShadingParams, n: Vec3, n_geometric: Vec3, v: Vec3, l: Vec3) -> Vec3 {
     let n_dot_l = dot(n, l);
     let wrap = if m.wrap_intensity > 0.0 {
-        scale(m.wrap_color, m.wrap_intensity / PI * wrap_seed(n_dot_l, m.wrap, m.wrap_width))
+        scale(
+            m.wrap_color,
+            m.wrap_intensity / PI * wrap_seed(n_dot_l, m.wrap, m.wrap_width),
+        )
     } else {
         [0.0; 3]
     };

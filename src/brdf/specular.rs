@@ -3,8 +3,8 @@
 use super::distribution::{d_beckmann, d_ggx};
 use super::fresnel::f_schlick;
 use super::geometry::{
-    g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
-    g2_smith_separable_ggx, g2_v_cavity,
+    g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann, g2_smith_separable_ggx,
+    g2_v_cavity,
 };
 use super::{clamp_alpha, Vec3, FP16_MAX, MIN_N_DOT_V, PI};
 use serde::{Deserialize, Serialize};
@@ -77,15 +77,7 @@ pub fn spec_cook_torrance(
     distribution: Distribution,
     geometry: Geometry,
 ) -> Vec3 {
-    let df = spec_cook_torrance_df(
-        alpha,
-        n_dot_v,
-        n_dot_l,
-        n_dot_h,
-        n_cross_h_len2,
-        distribution,
-        geometry,
-    );
+    let df = spec_cook_torrance_df(alpha, n_dot_v, n_dot_l, n_dot_h, n_cross_h_len2, distribution, geometry);
     f_schlick(f0, v_dot_h).map(|f| f * df)
 }
 

@@ -1,22 +1,18 @@
 //! Checks of the models against `shared/reference/brdf-oracles.md` and of their guards.
 
 use super::diffuse::{
-    diffuse_eon, diffuse_eon_exact, diffuse_lambert, diffuse_oren_nayar, e_fon_approx, e_fon_exact,
-    EON_EPSILON,
+    diffuse_eon, diffuse_eon_exact, diffuse_lambert, diffuse_oren_nayar, e_fon_approx, e_fon_exact, EON_EPSILON,
 };
 use super::distribution::{d_beckmann, d_ggx};
 use super::fresnel::{f_schlick, f_schlick_scalar};
 use super::geometry::{
     erf_series, erfc_fraction, g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx,
-    g2_smith_separable_beckmann, g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann,
-    lambda_beckmann_exact, lambda_ggx,
+    g2_smith_separable_beckmann, g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann, lambda_beckmann_exact,
+    lambda_ggx,
 };
-use super::quadrature::{
-    d_normalisation, diffuse_albedo, directional_albedo, gauss_legendre, weak_white_furnace,
-};
+use super::quadrature::{d_normalisation, diffuse_albedo, directional_albedo, gauss_legendre, weak_white_furnace};
 use super::specular::{
-    spec_blinn_phong, spec_cook_torrance, spec_cook_torrance_df, spec_torrance_sparrow,
-    Distribution, Geometry,
+    spec_blinn_phong, spec_cook_torrance, spec_cook_torrance_df, spec_torrance_sparrow, Distribution, Geometry,
 };
 use super::tonemap::{srgb_oetf, srgb_oetf_rgb, tonemap_pbr_neutral};
 use super::wrap::{wrap_energy_conserving, wrap_seed};
@@ -71,18 +67,12 @@ fn all_brdfs() -> Vec<(String, Brdf)> {
             "oren-nayar".into(),
             Box::new(|v, l| [diffuse_oren_nayar(0.5, N, v, l); 3]),
         ),
-        (
-            "eon".into(),
-            Box::new(|v, l| eon([0.9, 0.5, 0.1], 0.7, v, l)),
-        ),
+        ("eon".into(), Box::new(|v, l| eon([0.9, 0.5, 0.1], 0.7, v, l))),
         (
             "torrance-sparrow".into(),
             Box::new(move |v, l| torrance_sparrow(0.3, f0, v, l)),
         ),
-        (
-            "blinn-phong".into(),
-            Box::new(move |v, l| blinn_phong(0.3, f0, v, l)),
-        ),
+        ("blinn-phong".into(), Box::new(move |v, l| blinn_phong(0.3, f0, v, l))),
     ];
     for d in [Distribution::Ggx, Distribution::Beckmann] {
         for g in [Geometry::SmithCorrelated, Geometry::SmithSeparable] {
@@ -99,10 +89,7 @@ fn all_brdfs() -> Vec<(String, Brdf)> {
 fn d_integrates_to_one() {
     let mut worst: f64 = 0.0;
     for alpha in [0.002025, 0.007921, 0.05, 0.2, 0.5, 1.0] {
-        for (name, d) in [
-            ("ggx", d_ggx as fn(f64, f64, f64) -> f64),
-            ("beckmann", d_beckmann),
-        ] {
+        for (name, d) in [("ggx", d_ggx as fn(f64, f64, f64) -> f64), ("beckmann", d_beckmann)] {
             let integral = d_normalisation(d, alpha);
             assert!(
                 (integral - 1.0).abs() < 1e-6,
@@ -147,10 +134,7 @@ fn erf_matches_reference_values() {
     ] {
         assert!((erf_series(x) - erf).abs() < 1e-13, "erf({x})");
     }
-    for (x, erfc) in [
-        (3.0f64, 2.209049699858544e-5),
-        (5.0, 1.537_459_794_428_035e-12),
-    ] {
+    for (x, erfc) in [(3.0f64, 2.209049699858544e-5), (5.0, 1.537_459_794_428_035e-12)] {
         let value = (-x * x).exp() / sqrt_pi * erfc_fraction(x);
         assert!((value / erfc - 1.0).abs() < 1e-13, "erfc({x})");
     }
@@ -193,16 +177,7 @@ fn ggx_correlated_albedo_matches_table() {
     let mut worst: f64 = 0.0;
     for (alpha, row) in table {
         for (mu, expected) in [1.0, 0.5, 0.1].into_iter().zip(row) {
-            let brdf = |v, l| {
-                cook_torrance(
-                    Distribution::Ggx,
-                    Geometry::SmithCorrelated,
-                    alpha,
-                    WHITE,
-                    v,
-                    l,
-                )[0]
-            };
+            let brdf = |v, l| cook_torrance(Distribution::Ggx, Geometry::SmithCorrelated, alpha, WHITE, v, l)[0];
             let albedo = directional_albedo(brdf, mu, ALBEDO_ORDER);
             assert!(
                 (albedo - expected).abs() < 1e-3,
@@ -223,33 +198,20 @@ fn oren_nayar_energy_matches_oracle() {
     ];
     for (sigma, row) in table {
         for (mu, expected) in [1.0, 0.5, 0.1].into_iter().zip(row) {
-            let albedo =
-                diffuse_albedo(|v, l| diffuse_oren_nayar(sigma, N, v, l), mu, DIFFUSE_ORDER);
+            let albedo = diffuse_albedo(|v, l| diffuse_oren_nayar(sigma, N, v, l), mu, DIFFUSE_ORDER);
             println!("Oren-Nayar σ {sigma} μo {mu}: E = {albedo:.5}");
-            assert!(
-                (albedo - expected).abs() < 1e-3,
-                "σ {sigma} μo {mu}: E = {albedo}"
-            );
+            assert!((albedo - expected).abs() < 1e-3, "σ {sigma} μo {mu}: E = {albedo}");
         }
     }
     let grazing = diffuse_albedo(|v, l| diffuse_oren_nayar(0.25, N, v, l), 0.1, DIFFUSE_ORDER);
-    assert!(
-        grazing > 1.0,
-        "qualitative Oren-Nayar gains energy: {grazing}"
-    );
+    assert!(grazing > 1.0, "qualitative Oren-Nayar gains energy: {grazing}");
 }
 
 #[test]
 fn blinn_phong_albedo_matches_oracle() {
-    for (exponent, expected) in [
-        (1.0f64, 1.024),
-        (10.0, 1.075),
-        (100.0, 1.018),
-        (1000.0, 1.002),
-    ] {
+    for (exponent, expected) in [(1.0f64, 1.024), (10.0, 1.075), (100.0, 1.018), (1000.0, 1.002)] {
         let alpha = (2.0 / (exponent + 2.0)).sqrt();
-        let albedo =
-            directional_albedo(|v, l| blinn_phong(alpha, WHITE, v, l)[0], 1.0, ALBEDO_ORDER);
+        let albedo = directional_albedo(|v, l| blinn_phong(alpha, WHITE, v, l)[0], 1.0, ALBEDO_ORDER);
         println!("Blinn-Phong n {exponent}: albedo {albedo:.5}");
         assert!((albedo - expected).abs() < 1e-3, "n {exponent}: {albedo}");
     }
@@ -311,11 +273,7 @@ fn energy_conserving_wrap_integrates_to_lambert() {
     let rule = gauss_legendre(8);
     let integral = |f: &dyn Fn(f64) -> f64, w: f64| -> f64 {
         let (mid, half) = (0.5 * (1.0 - w), 0.5 * (1.0 + w));
-        2.0 * PI
-            * rule
-                .iter()
-                .map(|&(x, u)| u * half * f(mid + half * x))
-                .sum::<f64>()
+        2.0 * PI * rule.iter().map(|&(x, u)| u * half * f(mid + half * x)).sum::<f64>()
     };
     for w in [0.0, 0.25, 0.5, 1.0] {
         let conserving = integral(&|mu| wrap_energy_conserving(mu, w), w);
@@ -359,18 +317,7 @@ fn brdfs_are_reciprocal() {
 
 #[test]
 fn stress_inputs_are_finite_and_non_negative() {
-    let cosines = [
-        -1.0,
-        -1e-3,
-        0.0,
-        1e-310,
-        1e-7,
-        1e-4,
-        0.5,
-        1.0 - 1e-16,
-        1.0,
-        1.5,
-    ];
+    let cosines = [-1.0, -1e-3, 0.0, 1e-310, 1e-7, 1e-4, 0.5, 1.0 - 1e-16, 1.0, 1.5];
     let alphas = [0.0, 1e-310, 1e-4, 0.002025, 0.5, 1.0, 1.5, 1e6];
     let ok = |x: f64| (0.0..=FP16_MAX).contains(&x);
     let f0 = [0.0, 0.04, 1.0];
@@ -423,10 +370,7 @@ fn stress_inputs_are_finite_and_non_negative() {
                             }
                         }
                         for lobe in lobes {
-                            assert!(
-                                lobe.into_iter().all(ok),
-                                "α {alpha} {a} {b} {c} {d}: {lobe:?}"
-                            );
+                            assert!(lobe.into_iter().all(ok), "α {alpha} {a} {b} {c} {d}: {lobe:?}");
                         }
                     }
                 }
@@ -445,8 +389,7 @@ fn stress_inputs_are_finite_and_non_negative() {
     for &v in &views {
         for l in [v, v.map(|x| -x), dir(45.0, 180.0), N] {
             for alpha in alphas {
-                let mut values: Vec<f64> =
-                    all_brdfs().into_iter().flat_map(|(_, f)| f(v, l)).collect();
+                let mut values: Vec<f64> = all_brdfs().into_iter().flat_map(|(_, f)| f(v, l)).collect();
                 values.push(diffuse_oren_nayar(alpha, N, v, l));
                 values.extend(cook_torrance(
                     Distribution::Ggx,
@@ -515,14 +458,7 @@ fn min_alpha_is_set_by_the_fp16_target() {
     }
     // The normal-incidence Cook-Torrance peak 1/(4πα²) (F = 1) must fit fp16.
     let peak = |alpha: f64| 1.0 / (4.0 * PI * alpha * alpha);
-    let at_min = cook_torrance(
-        Distribution::Ggx,
-        Geometry::SmithCorrelated,
-        MIN_ALPHA,
-        WHITE,
-        N,
-        N,
-    )[0];
+    let at_min = cook_torrance(Distribution::Ggx, Geometry::SmithCorrelated, MIN_ALPHA, WHITE, N, N)[0];
     assert!((at_min / peak(MIN_ALPHA) - 1.0).abs() < 1e-12);
     assert!(peak(MIN_ALPHA) < FP16_MAX / 3.0);
     assert!((peak(1.102e-3) / FP16_MAX - 1.0).abs() < 1e-3);
@@ -550,10 +486,7 @@ fn tonemap_and_srgb() {
     assert!((toe[0] - 6.25 * 0.05 * 0.05).abs() < 1e-15);
     for x in [0.8, 1.0, 10.0, 1e4, 1e30] {
         let out = tonemap_pbr_neutral([x, x * 0.5, 0.1]);
-        assert!(
-            out.into_iter().all(|c| (0.0..=1.0).contains(&c)),
-            "{x}: {out:?}"
-        );
+        assert!(out.into_iter().all(|c| (0.0..=1.0).contains(&c)), "{x}: {out:?}");
     }
     assert!(tonemap_pbr_neutral([1e30; 3])[0] > 0.999);
     assert_eq!(tonemap_pbr_neutral([-1e30; 3]), [0.0; 3]);

@@ -29,9 +29,8 @@ use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::brdf::environment::{map_rotation, sh_project_cube, Sh9};
 use crate::scene::{Camera, DiffuseModel, Environment, ReflectionMode, Scene, SpecularModel};
 use crate::vk::{
-    transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
-    DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, Pipeline, PipelineLayout,
-    Sampler, ShaderModule,
+    transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
+    GraphicsPipelineBuilder, Image, ImageUse, Pipeline, PipelineLayout, Sampler, ShaderModule,
 };
 pub use equirect::{MAX_UPLOAD_WIDTH, MAX_WIDTH};
 pub use precompute::{Cost, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
@@ -171,17 +170,13 @@ impl EnvironmentPass {
         };
         let mode = environment.reflection().map(|r| r.mode);
         let needs_prefiltered = source.is_some() && mode == Some(ReflectionMode::SplitSum);
-        let needs_lut =
-            mode.is_some_and(|m| m != ReflectionMode::Sampled) && needs_brdf_tables(scene);
+        let needs_lut = mode.is_some_and(|m| m != ReflectionMode::Sampled) && needs_brdf_tables(scene);
         let built_source = self.cubes.as_ref().map(|c| &c.source);
         let rebuild_source = source.is_some() && built_source != source.as_ref();
-        let add_prefiltered = needs_prefiltered
-            && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.prefiltered.is_none()));
+        let add_prefiltered =
+            needs_prefiltered && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.prefiltered.is_none()));
         let add_lut = needs_lut && self.brdf_lut.is_none();
-        let changed = rebuild_source
-            || add_prefiltered
-            || add_lut
-            || self.current.as_ref() != Some(environment);
+        let changed = rebuild_source || add_prefiltered || add_lut || self.current.as_ref() != Some(environment);
         if !changed {
             return Ok(());
         }
@@ -196,11 +191,10 @@ impl EnvironmentPass {
         }
         if add_prefiltered {
             if let Some(cubes) = self.cubes.as_mut() {
-                cubes.prefiltered = Some(self.precompute.prefilter(
-                    &cubes.radiance,
-                    &self.sampler,
-                    &mut self.costs,
-                )?);
+                cubes.prefiltered = Some(
+                    self.precompute
+                        .prefilter(&cubes.radiance, &self.sampler, &mut self.costs)?,
+                );
             }
         }
         if add_lut {
@@ -280,21 +274,11 @@ impl EnvironmentPass {
         let mut sh = [[0.0; 4]; 9];
         if let Some(c) = cubes {
             for (out, coefficient) in sh.iter_mut().zip(c.sh) {
-                *out = [
-                    coefficient[0] as f32,
-                    coefficient[1] as f32,
-                    coefficient[2] as f32,
-                    0.0,
-                ];
+                *out = [coefficient[0] as f32, coefficient[1] as f32, coefficient[2] as f32, 0.0];
             }
         }
         let data = EnvironmentData {
-            mode: [
-                kind,
-                reflection_code(reflection.mode),
-                reflection.samples,
-                0,
-            ],
+            mode: [kind, reflection_code(reflection.mode), reflection.samples, 0],
             radiance: [radiance[0], radiance[1], radiance[2], 0.0],
             params: [
                 rotation[0] as f32,
@@ -310,10 +294,7 @@ impl EnvironmentPass {
         let prefiltered_view = cubes
             .and_then(|c| c.prefiltered.as_ref())
             .map_or(self.placeholder_cube.view, |i| i.view);
-        let lut_view = self
-            .brdf_lut
-            .as_ref()
-            .map_or(self.placeholder_table.view, |i| i.view);
+        let lut_view = self.brdf_lut.as_ref().map_or(self.placeholder_table.view, |i| i.view);
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         DescriptorWriter::new()
@@ -328,10 +309,7 @@ impl EnvironmentPass {
     /// Whether the current environment is drawn behind the objects (a cube map; a uniform
     /// one is the target's clear colour).
     pub fn draws_skybox(&self) -> bool {
-        matches!(
-            self.current,
-            Some(Environment::Studio { .. } | Environment::Map { .. })
-        )
+        matches!(self.current, Some(Environment::Studio { .. } | Environment::Map { .. }))
     }
 
     /// Records the skybox into `target` after the forward pass, if the environment is
@@ -405,13 +383,7 @@ impl Skybox {
         })
     }
 
-    fn record(
-        &self,
-        cmd: vk::CommandBuffer,
-        target: &RenderTarget,
-        camera: &Camera,
-        set: vk::DescriptorSet,
-    ) {
+    fn record(&self, cmd: vk::CommandBuffer, target: &RenderTarget, camera: &Camera, set: vk::DescriptorSet) {
         let d = &self.device.handle;
         // The forward pass's colour and depth writes come first.
         let (color_image, depth_image) = (&target.color, &target.depth);
@@ -468,14 +440,7 @@ impl Skybox {
             d.cmd_set_viewport(cmd, 0, &[viewport]);
             d.cmd_set_scissor(cmd, 0, &[area]);
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.handle,
-                0,
-                &[set],
-                &[],
-            );
+            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout.handle, 0, &[set], &[]);
             d.cmd_push_constants(
                 cmd,
                 self.layout.handle,

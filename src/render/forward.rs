@@ -18,8 +18,8 @@ use super::shaders;
 use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::scene::{Material, Scene, Vertex};
 use crate::vk::{
-    Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
-    GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization, set_full_viewport,
+    set_full_viewport, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
+    Device, GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
 /// The specialization constants of `forward.frag` for a material.
@@ -67,12 +67,18 @@ pub struct ForwardPass {
 impl ForwardPass {
     pub fn new(device: &Arc<Device>, frames_in_flight: u32, environment_layout: &DescriptorSetLayout) -> Result<Self> {
         let set_layout = DescriptorSetLayoutBuilder::default()
-            .binding(vk::DescriptorType::UNIFORM_BUFFER, vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT)
+            .binding(
+                vk::DescriptorType::UNIFORM_BUFFER,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+            )
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::FRAGMENT)
             .build(device, "forward set")?;
         let material_layout = (0..4)
             .fold(DescriptorSetLayoutBuilder::default(), |b, _| {
-                b.binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT)
+                b.binding(
+                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                    vk::ShaderStageFlags::FRAGMENT,
+                )
             })
             .build(device, "material maps set")?;
         let layout = PipelineLayout::new(
@@ -96,7 +102,11 @@ impl ForwardPass {
                 let materials = Self::material_buffer(device, 1)?;
                 let set = pool.allocate(&set_layout)?;
                 Self::write_set(device, set, &frame_data, &materials);
-                Ok(FrameSlot { frame_data, materials, set })
+                Ok(FrameSlot {
+                    frame_data,
+                    materials,
+                    set,
+                })
             })
             .collect::<Result<_>>()?;
         Ok(Self {
@@ -195,14 +205,21 @@ impl ForwardPass {
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { color: vk::ClearColorValue { float32: clear } })];
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue { float32: clear },
+            })];
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(target.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue { depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 } });
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent: target.extent };
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.extent,
+        };
         let rendering = vk::RenderingInfo::default()
             .render_area(area)
             .layer_count(1)

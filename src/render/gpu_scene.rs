@@ -151,8 +151,20 @@ impl GpuMesh {
     pub fn upload(device: &Arc<Device>, one_shot: &OneShot, mesh: &Mesh) -> Result<Self> {
         ensure!(!mesh.indices.is_empty(), "mesh '{}' has no triangles", mesh.name);
         Ok(Self {
-            vertices: Buffer::with_data(device, one_shot, &mesh.vertices, vk::BufferUsageFlags::VERTEX_BUFFER, &mesh.name)?,
-            indices: Buffer::with_data(device, one_shot, &mesh.indices, vk::BufferUsageFlags::INDEX_BUFFER, &mesh.name)?,
+            vertices: Buffer::with_data(
+                device,
+                one_shot,
+                &mesh.vertices,
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                &mesh.name,
+            )?,
+            indices: Buffer::with_data(
+                device,
+                one_shot,
+                &mesh.indices,
+                vk::BufferUsageFlags::INDEX_BUFFER,
+                &mesh.name,
+            )?,
             index_count: mesh.indices.len() as u32,
         })
     }
@@ -188,9 +200,16 @@ impl GpuScene {
         scene: &Scene,
         material_layout: &DescriptorSetLayout,
     ) -> Result<Self> {
-        let meshes = scene.meshes.iter().map(|m| GpuMesh::upload(device, one_shot, m)).collect::<Result<_>>()?;
-        let textures: Vec<GpuTexture> =
-            scene.textures.iter().map(|t| GpuTexture::upload(device, one_shot, t)).collect::<Result<_>>()?;
+        let meshes = scene
+            .meshes
+            .iter()
+            .map(|m| GpuMesh::upload(device, one_shot, m))
+            .collect::<Result<_>>()?;
+        let textures: Vec<GpuTexture> = scene
+            .textures
+            .iter()
+            .map(|t| GpuTexture::upload(device, one_shot, t))
+            .collect::<Result<_>>()?;
         let placeholders: Vec<GpuTexture> = PLACEHOLDERS
             .iter()
             .map(|&(name, format, texel)| GpuTexture::upload(device, one_shot, &placeholder(name, format, texel)))

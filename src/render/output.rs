@@ -13,14 +13,21 @@ pub fn write_frame(frame: &OffscreenFrame, path: &Path) -> Result<()> {
         Some("png") => {
             let image = image::RgbaImage::from_raw(frame.width, frame.height, frame.display.clone())
                 .context("display frame has the wrong size")?;
-            image.save(path).with_context(|| format!("cannot write {}", path.display()))
+            image
+                .save(path)
+                .with_context(|| format!("cannot write {}", path.display()))
         }
         Some("exr") => {
             let image = image::Rgba32FImage::from_raw(frame.width, frame.height, frame.hdr.clone())
                 .context("HDR frame has the wrong size")?;
-            image.save(path).with_context(|| format!("cannot write {}", path.display()))
+            image
+                .save(path)
+                .with_context(|| format!("cannot write {}", path.display()))
         }
-        _ => bail!("{}: the output must end in .png (tone-mapped) or .exr (linear radiance)", path.display()),
+        _ => bail!(
+            "{}: the output must end in .png (tone-mapped) or .exr (linear radiance)",
+            path.display()
+        ),
     }
 }
 

@@ -79,7 +79,13 @@ impl Renderer {
 
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has
     /// waited for the slot's previous frame.
-    pub fn prepare(&mut self, slot: usize, scene: &Scene, target: &RenderTarget, output_format: vk::Format) -> Result<()> {
+    pub fn prepare(
+        &mut self,
+        slot: usize,
+        scene: &Scene,
+        target: &RenderTarget,
+        output_format: vk::Format,
+    ) -> Result<()> {
         self.environment.prepare(scene)?;
         self.forward.prepare(slot, scene, target.aspect(), self.debug_view)?;
         self.tonemap.prepare(slot, target, output_format)
@@ -102,12 +108,27 @@ impl Renderer {
         if let Some(t) = timestamps {
             t.reset(cmd);
         }
-        transition(d, cmd, target.color.handle, target.color.aspect, ImageUse::UNDEFINED, ImageUse::COLOR_ATTACHMENT);
-        transition(d, cmd, target.depth.handle, target.depth.aspect, ImageUse::UNDEFINED, ImageUse::DEPTH_ATTACHMENT);
+        transition(
+            d,
+            cmd,
+            target.color.handle,
+            target.color.aspect,
+            ImageUse::UNDEFINED,
+            ImageUse::COLOR_ATTACHMENT,
+        );
+        transition(
+            d,
+            cmd,
+            target.depth.handle,
+            target.depth.aspect,
+            ImageUse::UNDEFINED,
+            ImageUse::DEPTH_ATTACHMENT,
+        );
         if let Some(t) = timestamps {
             t.begin(cmd, PASS_FORWARD);
         }
-        self.forward.record(cmd, slot, scene, gpu, target, background(scene), self.environment.set())?;
+        self.forward
+            .record(cmd, slot, scene, gpu, target, background(scene), self.environment.set())?;
         if let Some(t) = timestamps {
             t.end(cmd, PASS_FORWARD);
             t.begin(cmd, PASS_SKYBOX);
@@ -117,12 +138,27 @@ impl Renderer {
             t.end(cmd, PASS_SKYBOX);
         }
 
-        transition(d, cmd, target.color.handle, target.color.aspect, ImageUse::COLOR_ATTACHMENT, ImageUse::FRAGMENT_READ);
-        transition(d, cmd, output.image, vk::ImageAspectFlags::COLOR, output.from, ImageUse::COLOR_ATTACHMENT);
+        transition(
+            d,
+            cmd,
+            target.color.handle,
+            target.color.aspect,
+            ImageUse::COLOR_ATTACHMENT,
+            ImageUse::FRAGMENT_READ,
+        );
+        transition(
+            d,
+            cmd,
+            output.image,
+            vk::ImageAspectFlags::COLOR,
+            output.from,
+            ImageUse::COLOR_ATTACHMENT,
+        );
         if let Some(t) = timestamps {
             t.begin(cmd, PASS_TONEMAP);
         }
-        self.tonemap.record(cmd, slot, output.view, output.format, output.extent, exposure)?;
+        self.tonemap
+            .record(cmd, slot, output.view, output.format, output.extent, exposure)?;
         if let Some(t) = timestamps {
             t.end(cmd, PASS_TONEMAP);
         }
@@ -141,7 +177,13 @@ impl Renderer {
 
     /// Renders one frame of `scene` offscreen and reads both the HDR and the display
     /// image back.
-    pub fn render_offscreen(&mut self, scene: &Scene, gpu: &GpuScene, extent: vk::Extent2D, exposure: f32) -> Result<OffscreenFrame> {
+    pub fn render_offscreen(
+        &mut self,
+        scene: &Scene,
+        gpu: &GpuScene,
+        extent: vk::Extent2D,
+        exposure: f32,
+    ) -> Result<OffscreenFrame> {
         let target = RenderTarget::new(&self.device, extent)?;
         let display = Image::new_2d(
             &self.device,

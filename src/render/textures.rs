@@ -27,7 +27,10 @@ impl GpuTexture {
     /// sRGB texels in linear space as the format says).
     pub fn upload(device: &Arc<Device>, one_shot: &OneShot, texture: &TextureData) -> Result<Self> {
         let (format, texel_bytes) = vk_format(texture.format);
-        let extent = vk::Extent2D { width: texture.width, height: texture.height };
+        let extent = vk::Extent2D {
+            width: texture.width,
+            height: texture.height,
+        };
         let expected = u64::from(texture.width) * u64::from(texture.height) * u64::from(texel_bytes);
         ensure!(
             texture.pixels.len() as u64 == expected,
@@ -39,18 +42,30 @@ impl GpuTexture {
             texture.format
         );
         let features = unsafe {
-            device.instance.handle.get_physical_device_format_properties(device.physical, format)
+            device
+                .instance
+                .handle
+                .get_physical_device_format_properties(device.physical, format)
         }
         .optimal_tiling_features;
         let filterable = vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
         if !features.contains(filterable) {
-            bail!("texture '{}': this device cannot filter {format:?} textures", texture.name);
+            bail!(
+                "texture '{}': this device cannot filter {format:?} textures",
+                texture.name
+            );
         }
         // Without blits, the texture has its top level only (filtering still works).
         let blits = vk::FormatFeatureFlags::BLIT_SRC | vk::FormatFeatureFlags::BLIT_DST;
         let levels = if features.contains(blits) { mip_count(extent) } else { 1 };
 
-        let mut staging = Buffer::new(device, expected, vk::BufferUsageFlags::TRANSFER_SRC, MemoryLocation::CpuToGpu, "texture staging")?;
+        let mut staging = Buffer::new(
+            device,
+            expected,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+            "texture staging",
+        )?;
         staging.write(&texture.pixels)?;
         let image = Image::with_mips(
             device,
@@ -73,17 +88,36 @@ fn level(image: &Image, level: u32) -> vk::ImageSubresourceRange {
 }
 
 fn level_extent(extent: vk::Extent2D, level: u32) -> vk::Offset3D {
-    vk::Offset3D { x: (extent.width >> level).max(1) as i32, y: (extent.height >> level).max(1) as i32, z: 1 }
+    vk::Offset3D {
+        x: (extent.width >> level).max(1) as i32,
+        y: (extent.height >> level).max(1) as i32,
+        z: 1,
+    }
 }
 
 /// Copy into level 0, then each level is blitted from the one above it, which is left
 /// readable by fragment shaders once used.
 fn record_upload(device: &Device, cmd: vk::CommandBuffer, staging: &Buffer, image: &Image) {
     let all = full_range(image.aspect).level_count(image.mip_levels);
-    transition_levels(device, cmd, image.handle, all, ImageUse::UNDEFINED, ImageUse::TRANSFER_DST);
+    transition_levels(
+        device,
+        cmd,
+        image.handle,
+        all,
+        ImageUse::UNDEFINED,
+        ImageUse::TRANSFER_DST,
+    );
     let region = vk::BufferImageCopy::default()
-        .image_subresource(vk::ImageSubresourceLayers::default().aspect_mask(image.aspect).layer_count(1))
-        .image_extent(vk::Extent3D { width: image.extent.width, height: image.extent.height, depth: 1 });
+        .image_subresource(
+            vk::ImageSubresourceLayers::default()
+                .aspect_mask(image.aspect)
+                .layer_count(1),
+        )
+        .image_extent(vk::Extent3D {
+            width: image.extent.width,
+            height: image.extent.height,
+            depth: 1,
+        });
     unsafe {
         device.handle.cmd_copy_buffer_to_image(
             cmd,
@@ -94,8 +128,20 @@ fn record_upload(device: &Device, cmd: vk::CommandBuffer, staging: &Buffer, imag
         )
     };
     for i in 1..image.mip_levels {
-        transition_levels(device, cmd, image.handle, level(image, i - 1), ImageUse::TRANSFER_DST, ImageUse::TRANSFER_SRC);
-        let layers = |mip| vk::ImageSubresourceLayers::default().aspect_mask(image.aspect).mip_level(mip).layer_count(1);
+        transition_levels(
+            device,
+            cmd,
+            image.handle,
+            level(image, i - 1),
+            ImageUse::TRANSFER_DST,
+            ImageUse::TRANSFER_SRC,
+        );
+        let layers = |mip| {
+            vk::ImageSubresourceLayers::default()
+                .aspect_mask(image.aspect)
+                .mip_level(mip)
+                .layer_count(1)
+        };
         let blit = vk::ImageBlit::default()
             .src_subresource(layers(i - 1))
             .src_offsets([vk::Offset3D::default(), level_extent(image.extent, i - 1)])
@@ -112,14 +158,34 @@ fn record_upload(device: &Device, cmd: vk::CommandBuffer, staging: &Buffer, imag
                 vk::Filter::LINEAR,
             )
         };
-        transition_levels(device, cmd, image.handle, level(image, i - 1), ImageUse::TRANSFER_SRC, ImageUse::FRAGMENT_READ);
+        transition_levels(
+            device,
+            cmd,
+            image.handle,
+            level(image, i - 1),
+            ImageUse::TRANSFER_SRC,
+            ImageUse::FRAGMENT_READ,
+        );
     }
     let last = level(image, image.mip_levels - 1);
-    transition_levels(device, cmd, image.handle, last, ImageUse::TRANSFER_DST, ImageUse::FRAGMENT_READ);
+    transition_levels(
+        device,
+        cmd,
+        image.handle,
+        last,
+        ImageUse::TRANSFER_DST,
+        ImageUse::FRAGMENT_READ,
+    );
 }
 
 /// A 1×1 stand-in bound where a material has no map, so every material binds the same
 /// layout.
 pub fn placeholder(name: &str, format: TexelFormat, texel: [u8; 4]) -> TextureData {
-    TextureData { name: name.to_owned(), width: 1, height: 1, format, pixels: texel.to_vec() }
+    TextureData {
+        name: name.to_owned(),
+        width: 1,
+        height: 1,
+        format,
+        pixels: texel.to_vec(),
+    }
 }

@@ -11,8 +11,8 @@ use ash::vk;
 use super::shaders;
 use super::target::RenderTarget;
 use crate::vk::{
-    DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
-    GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization, set_full_viewport,
+    set_full_viewport, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
+    GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
 /// The format of 8-bit tone-mapped frames written to files: the hardware sRGB-encodes.
@@ -46,7 +46,9 @@ impl TonemapPass {
             .build(device, "tonemap set")?;
         let layout = PipelineLayout::new(device, &[&set_layout], 4, vk::ShaderStageFlags::FRAGMENT)?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
-        let sets = (0..frames_in_flight).map(|_| pool.allocate(&set_layout)).collect::<Result<_>>()?;
+        let sets = (0..frames_in_flight)
+            .map(|_| pool.allocate(&set_layout))
+            .collect::<Result<_>>()?;
         Ok(Self {
             device: device.clone(),
             vertex: ShaderModule::new(device, shaders::FULLSCREEN_VERT, "fullscreen.vert")?,
@@ -102,16 +104,35 @@ impl TonemapPass {
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::DONT_CARE)
             .store_op(vk::AttachmentStoreOp::STORE)];
-        let area = vk::Rect2D { offset: vk::Offset2D::default(), extent };
-        let rendering = vk::RenderingInfo::default().render_area(area).layer_count(1).color_attachments(&color);
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent,
+        };
+        let rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color);
         unsafe {
             d.cmd_begin_rendering(cmd, &rendering);
         }
         set_full_viewport(&self.device, cmd, extent);
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.handle);
-            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout.handle, 0, &[self.sets[slot]], &[]);
-            d.cmd_push_constants(cmd, self.layout.handle, vk::ShaderStageFlags::FRAGMENT, 0, &exposure.to_ne_bytes());
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.handle,
+                0,
+                &[self.sets[slot]],
+                &[],
+            );
+            d.cmd_push_constants(
+                cmd,
+                self.layout.handle,
+                vk::ShaderStageFlags::FRAGMENT,
+                0,
+                &exposure.to_ne_bytes(),
+            );
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_end_rendering(cmd);
         }

@@ -43,12 +43,7 @@ impl Camera {
         } else {
             1.0
         };
-        let mut projection = Mat4::perspective_rh(
-            self.fov_y_degrees.to_radians(),
-            aspect,
-            Self::NEAR,
-            Self::FAR,
-        );
+        let mut projection = Mat4::perspective_rh(self.fov_y_degrees.to_radians(), aspect, Self::NEAR, Self::FAR);
         projection.y_axis.y = -projection.y_axis.y;
         projection
     }
@@ -110,12 +105,7 @@ mod tests {
             target: Vec3::NEG_Z,
             fov_y_degrees: 45.0,
         };
-        assert!(
-            ndc(&camera, 1.0, Vec3::new(0.0, 0.0, -Camera::NEAR))
-                .z
-                .abs()
-                < 1e-5
-        );
+        assert!(ndc(&camera, 1.0, Vec3::new(0.0, 0.0, -Camera::NEAR)).z.abs() < 1e-5);
         assert!((ndc(&camera, 1.0, Vec3::new(0.0, 0.0, -Camera::FAR)).z - 1.0).abs() < 1e-5);
     }
 

@@ -9,18 +9,12 @@ use std::path::PathBuf;
 #[derive(thiserror::Error, Debug)]
 pub enum SceneError {
     #[error("{}: cannot read: {error}", path.display())]
-    Io {
-        path: PathBuf,
-        error: std::io::Error,
-    },
+    Io { path: PathBuf, error: std::io::Error },
 
     /// Syntax errors, unknown keys, wrong types and unknown kinds; toml's
     /// message carries the line, column and offending key.
     #[error("{origin}: {error}")]
-    Toml {
-        origin: String,
-        error: toml::de::Error,
-    },
+    Toml { origin: String, error: toml::de::Error },
 
     /// A value that parsed but is out of range, or a reference that does not
     /// resolve. `field` is a dotted path such as `materials.clay.roughness`.
@@ -37,10 +31,7 @@ pub enum SceneError {
 
     /// tobj rejected the OBJ text.
     #[error("{}: invalid OBJ: {error}", path.display())]
-    Obj {
-        path: PathBuf,
-        error: tobj::LoadError,
-    },
+    Obj { path: PathBuf, error: tobj::LoadError },
 
     /// Geometry that cannot be rendered: no triangles, an index out of range,
     /// a non-finite coordinate. `origin` is the mesh name (its file for OBJ).

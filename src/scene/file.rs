@@ -281,9 +281,7 @@ impl TryFrom<MaterialKeys> for MaterialDef {
     type Error = String;
 
     fn try_from(keys: MaterialKeys) -> Result<MaterialDef, String> {
-        let mut def = keys
-            .preset
-            .map_or_else(MaterialDef::default, Preset::material);
+        let mut def = keys.preset.map_or_else(MaterialDef::default, Preset::material);
         def.preset = keys.preset;
         set(&mut def.base_color, keys.base_color);
         set(&mut def.diffuse, keys.diffuse);
@@ -315,11 +313,7 @@ fn set<T>(field: &mut T, key: Option<T>) {
 }
 
 /// The preset's map (if any) with the table's keys on top.
-fn merge_map(
-    name: &str,
-    preset: Option<MapDef>,
-    keys: Option<MapKeys>,
-) -> Result<Option<MapDef>, String> {
+fn merge_map(name: &str, preset: Option<MapDef>, keys: Option<MapKeys>) -> Result<Option<MapDef>, String> {
     let Some(keys) = keys else {
         return Ok(preset);
     };

@@ -222,12 +222,7 @@ impl Mesh {
     /// cross(normal, tangent), which makes the triangles counter-clockwise
     /// from outside. Triangles with two coincident corners (at poles) are
     /// dropped.
-    fn grid(
-        name: &str,
-        segments: u32,
-        rings: u32,
-        surface: impl Fn(f32, f32) -> (Vec3, Vec3, Vec3),
-    ) -> Mesh {
+    fn grid(name: &str, segments: u32, rings: u32, surface: impl Fn(f32, f32) -> (Vec3, Vec3, Vec3)) -> Mesh {
         let segments = segments.clamp(3, MAX_GRID_STEPS);
         let rings = rings.clamp(2, MAX_GRID_STEPS);
         let columns = segments + 1;
@@ -307,10 +302,7 @@ fn check_len(what: &str, len: usize, expected: usize) -> Result<(), String> {
 }
 
 fn check_finite<const N: usize>(what: &str, values: &[[f32; N]]) -> Result<(), String> {
-    match values
-        .iter()
-        .position(|value| value.iter().any(|x| !x.is_finite()))
-    {
+    match values.iter().position(|value| value.iter().any(|x| !x.is_finite())) {
         Some(i) => Err(format!("vertex {i}: {what} {:?} is not finite", values[i])),
         None => Ok(()),
     }
@@ -332,10 +324,7 @@ mod tests {
     fn assert_outward(mesh: &Mesh, outward: impl Fn(Vec3) -> Vec3) {
         assert!(!mesh.indices.is_empty());
         assert_eq!(mesh.indices.len() % 3, 0);
-        assert!(mesh
-            .indices
-            .iter()
-            .all(|&i| (i as usize) < mesh.vertices.len()));
+        assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.vertices.len()));
         for [a, b, c] in triangles(mesh) {
             let face = (b - a).cross(c - a);
             let centroid = (a + b + c) / 3.0;
@@ -415,16 +404,8 @@ mod tests {
             assert!((offset.length() - 0.35).abs() < 1e-5, "{p}");
             assert!(Vec3::from(v.normal).abs_diff_eq(offset / 0.35, 1e-5));
         }
-        let max_y = mesh
-            .vertices
-            .iter()
-            .map(|v| v.position[1])
-            .fold(f32::MIN, f32::max);
-        let max_x = mesh
-            .vertices
-            .iter()
-            .map(|v| v.position[0])
-            .fold(f32::MIN, f32::max);
+        let max_y = mesh.vertices.iter().map(|v| v.position[1]).fold(f32::MIN, f32::max);
+        let max_x = mesh.vertices.iter().map(|v| v.position[0]).fold(f32::MIN, f32::max);
         assert!((max_y - 0.35).abs() < 1e-4 && (max_x - 1.35).abs() < 1e-4);
         assert_frames(&mesh);
         assert_outward(&mesh, from_tube_centre);
@@ -483,19 +464,12 @@ mod tests {
     /// from their UVs, so builtins and OBJ files share one convention.
     #[test]
     fn builtin_tangents_match_generated_ones() {
-        for name in [
-            "builtin:plane",
-            "builtin:cube",
-            "builtin:sphere",
-            "builtin:torus",
-        ] {
+        for name in ["builtin:plane", "builtin:cube", "builtin:sphere", "builtin:torus"] {
             let mesh = Mesh::builtin(name).unwrap();
             let positions: Vec<_> = mesh.vertices.iter().map(|v| v.position).collect();
             let normals: Vec<_> = mesh.vertices.iter().map(|v| v.normal).collect();
             let uvs: Vec<_> = mesh.vertices.iter().map(|v| v.uv).collect();
-            let generated =
-                Mesh::from_triangles(name, &positions, Some(&normals), Some(&uvs), &mesh.indices)
-                    .unwrap();
+            let generated = Mesh::from_triangles(name, &positions, Some(&normals), Some(&uvs), &mesh.indices).unwrap();
             for (built, made) in mesh.vertices.iter().zip(&generated.vertices) {
                 assert!(Vec3::from(built.normal).abs_diff_eq(made.normal.into(), 1e-6));
                 // Pole vertices touch a single, lopsided triangle.

@@ -27,15 +27,12 @@ pub use error::SceneError;
 pub use file::SceneFile;
 pub use light::{Environment, PointLight, Reflection, ReflectionMode};
 pub use material::{
-    DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, Material, MaterialMaps,
-    SpecularModel,
+    DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, Material, MaterialMaps, SpecularModel,
 };
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
 pub use preset::Preset;
 pub use procedural::{builtin_texture, BUILTIN_TEXTURES};
-pub use texture::{
-    load_texture, TexelFormat, TextureData, TextureRole, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE,
-};
+pub use texture::{load_texture, TexelFormat, TextureData, TextureRole, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE};
 
 /// The scene used when none is given; it needs no files on disk.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");

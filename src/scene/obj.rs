@@ -23,11 +23,12 @@ impl Mesh {
         // The renderer's materials come from the scene file, so `mtllib` is
         // not even opened.
         let (models, _) =
-            tobj::load_obj_buf(&mut text.as_slice(), &options, |_| Ok(Default::default()))
-                .map_err(|error| SceneError::Obj {
+            tobj::load_obj_buf(&mut text.as_slice(), &options, |_| Ok(Default::default())).map_err(|error| {
+                SceneError::Obj {
                     path: path.to_path_buf(),
                     error,
-                })?;
+                }
+            })?;
 
         let name = path.display().to_string();
         let mut positions = Vec::new();

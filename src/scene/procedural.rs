@@ -15,11 +15,7 @@ use glam::{Vec2, Vec3};
 use super::texture::{TexelFormat, TextureData};
 
 /// The builtin texture names, usable wherever a texture path is.
-pub const BUILTIN_TEXTURES: [&str; 3] = [
-    "builtin:clay-lumps",
-    "builtin:fingerprints",
-    "builtin:noise",
-];
+pub const BUILTIN_TEXTURES: [&str; 3] = ["builtin:clay-lumps", "builtin:fingerprints", "builtin:noise"];
 
 /// Side of the normal maps, in texels.
 const NORMAL_MAP_SIZE: usize = 1024;
@@ -135,13 +131,7 @@ fn clay_lumps(size: usize) -> Field {
             let along = smoothstep(-half, 0.0, t) * (1.0 - smoothstep(half - 1.5 * width, half, t));
             let inside = along * across;
             // Faint lines along the stroke that come and go.
-            let lines = 0.08
-                * scale
-                * gradient_noise(
-                    Vec2::new(s / (4.0 * scale), t / (50.0 * scale)),
-                    1 << 20,
-                    seed,
-                );
+            let lines = 0.08 * scale * gradient_noise(Vec2::new(s / (4.0 * scale), t / (50.0 * scale)), 1 << 20, seed);
             let rim = along * 0.4 * depth * (-((q - 1.1) / 0.4).powi(2)).exp();
             let pile = 0.8 * depth * across * (-((t - half) / (0.6 * width)).powi(2)).exp();
             let texel = (d + centre).round();
@@ -183,8 +173,7 @@ fn fingerprints(size: usize) -> Field {
     let cell = Vec2::new(size as f32 / 4.0, size as f32 / 3.0);
     for print in 0..12 {
         let jitter = Vec2::new(rng.range(-0.4, 0.4), rng.range(-0.4, 0.4));
-        let centre =
-            (Vec2::new((print % 4) as f32, (print / 4) as f32) + Vec2::splat(0.5) + jitter) * cell;
+        let centre = (Vec2::new((print % 4) as f32, (print / 4) as f32) + Vec2::splat(0.5) + jitter) * cell;
         let (sin, cos) = rng.range(0.0, TAU).sin_cos();
         let rotate = |d: Vec2| Vec2::new(d.x * cos + d.y * sin, d.y * cos - d.x * sin);
         let half_width = rng.range(170.0, 230.0) * scale;
@@ -277,11 +266,7 @@ fn unorm8(x: f32) -> u8 {
 /// full [0, 1] range.
 fn noise(name: &str, size: usize) -> TextureData {
     let channels: Vec<Field> = (0..4)
-        .map(|c| {
-            Field::new(size, |x, y| {
-                fbm(Vec2::new(x, y) / size as f32, 4, 5, 0.5, 31 + c)
-            })
-        })
+        .map(|c| Field::new(size, |x, y| fbm(Vec2::new(x, y) / size as f32, 4, 5, 0.5, 31 + c)))
         .collect();
     let ranges: Vec<(f32, f32)> = channels
         .iter()
@@ -341,8 +326,7 @@ impl Rng {
 
 /// An integer hash of a lattice point (lowbias32 finaliser).
 fn hash(x: u32, y: u32, seed: u32) -> u32 {
-    let mut h =
-        x.wrapping_mul(0x8DA6_B343) ^ y.wrapping_mul(0xD816_3841) ^ seed.wrapping_mul(0xCB1A_B31F);
+    let mut h = x.wrapping_mul(0x8DA6_B343) ^ y.wrapping_mul(0xD816_3841) ^ seed.wrapping_mul(0xCB1A_B31F);
     h ^= h >> 16;
     h = h.wrapping_mul(0x7FEB_352D);
     h ^= h >> 15;
@@ -426,28 +410,17 @@ mod tests {
     /// inside the image, and on average like those between the columns
     /// (rows) next to the edges; a seam would stand out against both.
     fn assert_tileable(name: &str, size: usize, value: impl Fn(usize, usize) -> Vec<f32>) {
-        let difference = |a: Vec<f32>, b: Vec<f32>| {
-            a.iter()
-                .zip(&b)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f32::max)
-        };
+        let difference = |a: Vec<f32>, b: Vec<f32>| a.iter().zip(&b).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
         for axis in 0..2 {
             let at = |i: usize, j: usize| if axis == 0 { value(i, j) } else { value(j, i) };
             // Differences between column i and column i + 1 (wrapping).
-            let step = |i: usize| -> Vec<f32> {
-                (0..size)
-                    .map(|j| difference(at(i, j), at((i + 1) % size, j)))
-                    .collect()
-            };
+            let step =
+                |i: usize| -> Vec<f32> { (0..size).map(|j| difference(at(i, j), at((i + 1) % size, j))).collect() };
             let max = (0..size - 1).flat_map(step).fold(0.0, f32::max);
             let mean = |v: Vec<f32>| v.iter().sum::<f32>() / v.len() as f32;
             let seam = step(size - 1);
             let seam_max = seam.iter().copied().fold(0.0, f32::max);
-            assert!(
-                seam_max <= max,
-                "{name} axis {axis}: seam {seam_max} > interior {max}"
-            );
+            assert!(seam_max <= max, "{name} axis {axis}: seam {seam_max} > interior {max}");
             let beside = 0.5 * (mean(step(size - 2)) + mean(step(0)));
             let seam = mean(seam);
             assert!(
@@ -459,13 +432,8 @@ mod tests {
 
     #[test]
     fn height_fields_and_normal_maps_are_tileable() {
-        for (name, field) in [
-            ("clay-lumps", clay_lumps(256)),
-            ("fingerprints", fingerprints(256)),
-        ] {
-            assert_tileable(name, field.size, |x, y| {
-                vec![field.at(x as isize, y as isize)]
-            });
+        for (name, field) in [("clay-lumps", clay_lumps(256)), ("fingerprints", fingerprints(256))] {
+            assert_tileable(name, field.size, |x, y| vec![field.at(x as isize, y as isize)]);
             let map = normal_map(name, &field);
             assert_tileable(name, field.size, |x, y| {
                 let i = (y * field.size + x) * 4;
@@ -527,10 +495,7 @@ mod tests {
     #[test]
     fn noise_spans_the_full_range_in_every_channel() {
         let map = builtin_texture("builtin:noise").unwrap();
-        assert_eq!(
-            (map.width, map.height, map.format),
-            (512, 512, TexelFormat::Rgba8Unorm)
-        );
+        assert_eq!((map.width, map.height, map.format), (512, 512, TexelFormat::Rgba8Unorm));
         for c in 0..4 {
             let channel: Vec<u8> = map.pixels.iter().skip(c).step_by(4).copied().collect();
             assert_eq!(channel.iter().min(), Some(&0));
@@ -573,14 +538,7 @@ mod tests {
             let stem = name.trim_start_matches("builtin:");
             let save = |file: String, pixels: &[u8]| {
                 let path = dir.join(file);
-                image::save_buffer(
-                    &path,
-                    pixels,
-                    map.width,
-                    map.height,
-                    image::ExtendedColorType::Rgba8,
-                )
-                .unwrap();
+                image::save_buffer(&path, pixels, map.width, map.height, image::ExtendedColorType::Rgba8).unwrap();
                 println!("{}", path.display());
             };
             save(format!("{stem}.png"), &map.pixels);

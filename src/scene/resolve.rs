@@ -10,9 +10,8 @@ use glam::{Vec2, Vec3};
 use super::file::{CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef};
 use super::light::{Reflection, ReflectionMode};
 use super::{
-    builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh,
-    Object, PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX,
-    BUILTIN_TEXTURES,
+    builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, PointLight,
+    Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
 };
 
 /// Name of the built-in neutral material, used by objects without a
@@ -51,13 +50,7 @@ impl Checker<'_> {
     }
 
     /// A 2-vector whose components are finite and pass `valid`.
-    fn vector2(
-        &self,
-        field: &str,
-        v: [f64; 2],
-        valid: impl Fn(f32) -> bool,
-        reason: &str,
-    ) -> Result<Vec2, SceneError> {
+    fn vector2(&self, field: &str, v: [f64; 2], valid: impl Fn(f32) -> bool, reason: &str) -> Result<Vec2, SceneError> {
         let narrowed = Vec2::from(v.map(|x| x as f32));
         if narrowed.is_finite() && narrowed.to_array().into_iter().all(valid) {
             Ok(narrowed)
@@ -85,30 +78,14 @@ impl Checker<'_> {
     }
 
     fn non_negative(&self, field: &str, x: f64) -> Result<f32, SceneError> {
-        self.scalar(
-            field,
-            x,
-            |x| x.is_finite() && x >= 0.0,
-            "must be a finite number >= 0",
-        )
+        self.scalar(field, x, |x| x.is_finite() && x >= 0.0, "must be a finite number >= 0")
     }
 
     fn positive(&self, field: &str, x: f64) -> Result<f32, SceneError> {
-        self.scalar(
-            field,
-            x,
-            |x| x.is_finite() && x > 0.0,
-            "must be a finite number > 0",
-        )
+        self.scalar(field, x, |x| x.is_finite() && x > 0.0, "must be a finite number > 0")
     }
 
-    fn scalar(
-        &self,
-        field: &str,
-        x: f64,
-        valid: impl Fn(f32) -> bool,
-        reason: &str,
-    ) -> Result<f32, SceneError> {
+    fn scalar(&self, field: &str, x: f64, valid: impl Fn(f32) -> bool, reason: &str) -> Result<f32, SceneError> {
         let narrowed = x as f32;
         if valid(narrowed) {
             Ok(narrowed)
@@ -148,21 +125,14 @@ struct TextureRequests {
 impl TextureRequests {
     fn index(&mut self, field: String, texture: &str, role: TextureRole) -> usize {
         let pending = &mut self.pending;
-        *self
-            .indices
-            .entry((texture.to_owned(), role))
-            .or_insert_with(|| {
-                pending.push((field, texture.to_owned(), role));
-                pending.len() - 1
-            })
+        *self.indices.entry((texture.to_owned(), role)).or_insert_with(|| {
+            pending.push((field, texture.to_owned(), role));
+            pending.len() - 1
+        })
     }
 }
 
-pub(super) fn resolve(
-    file: &SceneFile,
-    origin: &str,
-    base_dir: &Path,
-) -> Result<Scene, SceneError> {
+pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result<Scene, SceneError> {
     let check = Checker { origin };
     let camera = camera(&check, &file.camera)?;
     let lights = file
@@ -170,10 +140,7 @@ pub(super) fn resolve(
         .iter()
         .enumerate()
         .map(|(i, light)| match light {
-            LightDef::Point {
-                position,
-                intensity,
-            } => Ok(PointLight {
+            LightDef::Point { position, intensity } => Ok(PointLight {
                 position: check.vector(&format!("lights[{i}].position"), *position)?,
                 intensity: check.color(&format!("lights[{i}].intensity"), *intensity)?,
             }),
@@ -282,11 +249,7 @@ fn camera(check: &Checker, def: &CameraDef) -> Result<Camera, SceneError> {
     })
 }
 
-fn environment(
-    check: &Checker,
-    def: &EnvironmentDef,
-    base_dir: &Path,
-) -> Result<Environment, SceneError> {
+fn environment(check: &Checker, def: &EnvironmentDef, base_dir: &Path) -> Result<Environment, SceneError> {
     Ok(match def {
         EnvironmentDef::None => Environment::None,
         EnvironmentDef::Uniform {
@@ -431,11 +394,7 @@ fn material(
         horizon: def.horizon,
         // Last, so errors come in the order of the documented keys.
         maps: MaterialMaps {
-            base_color: map(
-                "base_color_map",
-                &def.base_color_map,
-                TextureRole::BaseColor,
-            )?,
+            base_color: map("base_color_map", &def.base_color_map, TextureRole::BaseColor)?,
             normal: map("normal_map", &def.normal_map, TextureRole::Normal)?,
             detail: map("detail_map", &def.detail_map, TextureRole::Normal)?,
             noise: map("noise_map", &def.noise_map, TextureRole::Noise)?,
@@ -469,8 +428,7 @@ fn check_map(
             format!("must be an image path (relative to the scene file) or one of {builtins}"),
         ));
     }
-    if def.texture.starts_with(BUILTIN_PREFIX) && !BUILTIN_TEXTURES.contains(&def.texture.as_str())
-    {
+    if def.texture.starts_with(BUILTIN_PREFIX) && !BUILTIN_TEXTURES.contains(&def.texture.as_str()) {
         return Err(check.invalid(
             &key("texture"),
             &def.texture,
@@ -521,8 +479,7 @@ fn load_map_texture(
 ) -> Result<TextureData, SceneError> {
     if texture.starts_with(BUILTIN_PREFIX) {
         // Names were checked with the map; this only avoids an unwrap.
-        return builtin_texture(texture)
-            .ok_or_else(|| check.invalid(field, texture, "unknown builtin texture"));
+        return builtin_texture(texture).ok_or_else(|| check.invalid(field, texture, "unknown builtin texture"));
     }
     load_texture(&base_dir.join(texture), role).map_err(|error| SceneError::MaterialTexture {
         origin: check.origin.to_owned(),
@@ -532,12 +489,7 @@ fn load_map_texture(
     })
 }
 
-fn load_mesh(
-    check: &Checker,
-    field: &str,
-    name: &str,
-    base_dir: &Path,
-) -> Result<Mesh, SceneError> {
+fn load_mesh(check: &Checker, field: &str, name: &str, base_dir: &Path) -> Result<Mesh, SceneError> {
     if name.starts_with(BUILTIN_PREFIX) {
         return Mesh::builtin(name).ok_or_else(|| {
             check.invalid(
@@ -638,16 +590,10 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
     }
 }
 
-fn environment_def(
-    environment: &Environment,
-    relative: impl Fn(&Path) -> PathBuf,
-) -> EnvironmentDef {
+fn environment_def(environment: &Environment, relative: impl Fn(&Path) -> PathBuf) -> EnvironmentDef {
     match environment {
         Environment::None => EnvironmentDef::None,
-        Environment::Uniform {
-            radiance,
-            reflection,
-        } => {
+        Environment::Uniform { radiance, reflection } => {
             let (reflection, samples, seed_strength) = reflection_def(reflection);
             EnvironmentDef::Uniform {
                 radiance: widen3(*radiance),

@@ -32,11 +32,7 @@ fn triangles(indices: &[u32]) -> impl Iterator<Item = [usize; 3]> + '_ {
 /// Unit normals: `given` ones normalised where they have a length, otherwise
 /// the area-weighted average of the adjacent faces' normals, otherwise +y.
 /// `indices` must be in range.
-pub(super) fn vertex_normals(
-    positions: &[[f32; 3]],
-    given: Option<&[[f32; 3]]>,
-    indices: &[u32],
-) -> Vec<Vec3> {
+pub(super) fn vertex_normals(positions: &[[f32; 3]], given: Option<&[[f32; 3]]>, indices: &[u32]) -> Vec<Vec3> {
     let mut accumulated = vec![DVec3::ZERO; positions.len()];
     for [a, b, c] in triangles(indices) {
         let p0 = dvec3(positions[a]);
@@ -168,10 +164,7 @@ mod tests {
         for v in vertices {
             let n = Vec3::from(v.normal);
             let t = Vec4::from(v.tangent);
-            assert!(
-                n.is_finite() && t.is_finite() && Vec2::from(v.uv).is_finite(),
-                "{v:?}"
-            );
+            assert!(n.is_finite() && t.is_finite() && Vec2::from(v.uv).is_finite(), "{v:?}");
             assert!((n.length() - 1.0).abs() < 1e-5, "{v:?}");
             assert!((t.truncate().length() - 1.0).abs() < 1e-5, "{v:?}");
             assert!(n.dot(t.truncate()).abs() < 1e-5, "{v:?}");
@@ -179,12 +172,7 @@ mod tests {
         }
     }
 
-    const QUAD: [[f32; 3]; 4] = [
-        [-1.0, -1.0, 0.0],
-        [1.0, -1.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [-1.0, 1.0, 0.0],
-    ];
+    const QUAD: [[f32; 3]; 4] = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]];
     const QUAD_INDICES: [u32; 6] = [0, 1, 2, 0, 2, 3];
 
     fn quad(uvs: [[f32; 2]; 4]) -> Mesh {
@@ -278,16 +266,8 @@ mod tests {
             [1.0, 1.0, 1.0],
             [2.0, 2.0, 2.0],
         ];
-        let uvs = [
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [0.0, 1.0],
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [0.0, 1.0],
-        ];
-        let mesh = Mesh::from_triangles("flat", &positions, None, Some(&uvs), &[0, 1, 2, 3, 4, 5])
-            .unwrap();
+        let uvs = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+        let mesh = Mesh::from_triangles("flat", &positions, None, Some(&uvs), &[0, 1, 2, 3, 4, 5]).unwrap();
         assert_valid(&mesh.vertices);
         for v in &mesh.vertices {
             assert_eq!(v.normal, [0.0, 1.0, 0.0]);
@@ -326,24 +306,15 @@ mod tests {
     fn missing_uvs_give_an_orthonormal_basis() {
         let mesh = Mesh::from_triangles("no-uv", &QUAD, None, None, &QUAD_INDICES).unwrap();
         assert_valid(&mesh.vertices);
-        assert!(mesh
-            .vertices
-            .iter()
-            .all(|v| v.uv == [0.0, 0.0] && v.tangent[3] == 1.0));
+        assert!(mesh.vertices.iter().all(|v| v.uv == [0.0, 0.0] && v.tangent[3] == 1.0));
     }
 
     #[test]
     fn extreme_coordinates_stay_finite() {
         let big = 3.0e38;
-        let positions = [
-            [-big, -big, 0.0],
-            [big, -big, 0.0],
-            [big, big, 0.0],
-            [-big, big, 1e-30],
-        ];
+        let positions = [[-big, -big, 0.0], [big, -big, 0.0], [big, big, 0.0], [-big, big, 1e-30]];
         let uvs = [[0.0, 0.0], [1e-38, 0.0], [1e-38, 1e-38], [0.0, 1e-38]];
-        let mesh =
-            Mesh::from_triangles("big", &positions, None, Some(&uvs), &QUAD_INDICES).unwrap();
+        let mesh = Mesh::from_triangles("big", &positions, None, Some(&uvs), &QUAD_INDICES).unwrap();
         assert_valid(&mesh.vertices);
         assert_eq!(mesh.vertices[1].tangent, [1.0, 0.0, 0.0, 1.0]);
     }
@@ -362,16 +333,12 @@ mod tests {
         for _ in 0..500 {
             let count = 3 + next(6) as usize;
             let mut value = || next(5) as f32 * 0.5 - 1.0;
-            let positions: Vec<[f32; 3]> =
-                (0..count).map(|_| [value(), value(), value()]).collect();
+            let positions: Vec<[f32; 3]> = (0..count).map(|_| [value(), value(), value()]).collect();
             let normals: Vec<[f32; 3]> = (0..count).map(|_| [value(), value(), value()]).collect();
             let uvs: Vec<[f32; 2]> = (0..count).map(|_| [value(), value()]).collect();
-            let indices: Vec<u32> = (0..3 * (1 + next(8)))
-                .map(|_| next(count as u64) as u32)
-                .collect();
+            let indices: Vec<u32> = (0..3 * (1 + next(8))).map(|_| next(count as u64) as u32).collect();
             for normals in [None, Some(normals.as_slice())] {
-                let mesh = Mesh::from_triangles("soup", &positions, normals, Some(&uvs), &indices)
-                    .unwrap();
+                let mesh = Mesh::from_triangles("soup", &positions, normals, Some(&uvs), &indices).unwrap();
                 assert_valid(&mesh.vertices);
             }
         }

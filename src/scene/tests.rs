@@ -216,15 +216,9 @@ fn shader_constants_are_stable() {
         SpecularModel::None,
     ];
     assert_eq!(specular.map(|s| s as u32), [0, 1, 2, 3]);
+    assert_eq!([Distribution::Ggx as u32, Distribution::Beckmann as u32], [0, 1]);
     assert_eq!(
-        [Distribution::Ggx as u32, Distribution::Beckmann as u32],
-        [0, 1]
-    );
-    assert_eq!(
-        [
-            Geometry::SmithCorrelated as u32,
-            Geometry::SmithSeparable as u32
-        ],
+        [Geometry::SmithCorrelated as u32, Geometry::SmithSeparable as u32],
         [0, 1]
     );
     let blends = [
@@ -260,22 +254,10 @@ fn unknown_keys_are_named_with_their_line() {
 #[test]
 fn unknown_kinds_are_named() {
     for (text, kind) in [
-        (
-            format!("{CUBE}[materials.m]\ndiffuse = \"phong\"\n"),
-            "phong",
-        ),
-        (
-            format!("{CUBE}[materials.m]\nspecular = \"ward\"\n"),
-            "ward",
-        ),
-        (
-            format!("{CUBE}[materials.m]\ndistribution = \"gtr\"\n"),
-            "gtr",
-        ),
-        (
-            format!("{CUBE}[materials.m]\ngeometry = \"kelemen\"\n"),
-            "kelemen",
-        ),
+        (format!("{CUBE}[materials.m]\ndiffuse = \"phong\"\n"), "phong"),
+        (format!("{CUBE}[materials.m]\nspecular = \"ward\"\n"), "ward"),
+        (format!("{CUBE}[materials.m]\ndistribution = \"gtr\"\n"), "gtr"),
+        (format!("{CUBE}[materials.m]\ngeometry = \"kelemen\"\n"), "kelemen"),
         (format!("{CUBE}[environment]\nkind = \"sky\"\n"), "sky"),
         (format!("{CUBE}[[lights]]\nkind = \"spot\"\n"), "spot"),
     ] {
@@ -304,10 +286,7 @@ fn missing_required_keys_are_named() {
         "{CUBE}[[lights]]\nkind = \"point\"\nposition = [0.0, 1.0, 0.0]\n"
     ));
     assert!(message.contains("missing field `intensity`"), "{message}");
-    assert!(error(&format!(
-        "{CUBE}[environment]\nradiance = [1.0, 1.0, 1.0]\n"
-    ))
-    .contains("missing field `kind`"));
+    assert!(error(&format!("{CUBE}[environment]\nradiance = [1.0, 1.0, 1.0]\n")).contains("missing field `kind`"));
 }
 
 #[test]
@@ -346,10 +325,7 @@ fn out_of_range_values_name_the_field() {
         ("[[objects]]\nmesh = \"builtin:cone\"", "objects[1].mesh = \"builtin:cone\": unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube"),
     ];
     for (extra, expected) in cases {
-        assert_eq!(
-            error(&format!("{CUBE}{extra}\n")),
-            format!("scene.toml: {expected}")
-        );
+        assert_eq!(error(&format!("{CUBE}{extra}\n")), format!("scene.toml: {expected}"));
     }
 }
 
@@ -383,22 +359,13 @@ fn default_scene_is_a_valid_clay_scene() {
     let material = |i: usize| &scene.materials[scene.objects[i].material];
     let (plasticine, terracotta, ground) = (material(0), material(1), material(2));
     let file: SceneFile = toml::from_str(DEFAULT_SCENE_TOML).unwrap();
-    assert_eq!(
-        file.materials[&plasticine.name].preset,
-        Some(Preset::Plasticine)
-    );
-    assert_eq!(
-        file.materials[&terracotta.name].preset,
-        Some(Preset::Terracotta)
-    );
+    assert_eq!(file.materials[&plasticine.name].preset, Some(Preset::Plasticine));
+    assert_eq!(file.materials[&terracotta.name].preset, Some(Preset::Terracotta));
     assert_eq!(ground.maps, MaterialMaps::default());
     assert_eq!(terracotta.maps.detail, None);
     let detail = plasticine.maps.detail.unwrap();
     assert_eq!(scene.textures[detail.texture].name, "builtin:fingerprints");
-    assert!(scene
-        .textures
-        .iter()
-        .all(|t| t.name.starts_with("builtin:")));
+    assert!(scene.textures.iter().all(|t| t.name.starts_with("builtin:")));
     for material in &scene.materials {
         assert!((0.02..=0.04).contains(&material.f0), "{material:?}");
     }
@@ -434,13 +401,8 @@ fn default_scene_is_a_valid_clay_scene() {
     let [sphere, torus] = [0, 1].map(|i| camera.position.distance(scene.objects[i].position));
     assert!(sphere < torus);
     let ridge = std::f32::consts::TAU / detail.uv_scale.x / 75.0;
-    let pixels_per_unit =
-        1080.0 / (2.0 * (sphere - 1.0) * (camera.fov_y_degrees.to_radians() / 2.0).tan());
-    assert!(
-        ridge * pixels_per_unit >= 3.0,
-        "{}",
-        ridge * pixels_per_unit
-    );
+    let pixels_per_unit = 1080.0 / (2.0 * (sphere - 1.0) * (camera.fov_y_degrees.to_radians() / 2.0).tan());
+    assert!(ridge * pixels_per_unit >= 3.0, "{}", ridge * pixels_per_unit);
 }
 
 #[test]
@@ -469,13 +431,8 @@ fn scene_file_round_trips_through_toml() {
     );
     assert_eq!(file.materials["ground"].roughness, 0.8);
     assert_eq!(file.materials["ground"].base_color, [0.72, 0.68, 0.6]);
-    assert_eq!(
-        file.materials["ground"].wrap_width,
-        MaterialDef::default().wrap_width
-    );
-    assert!(
-        matches!(file.lights[0], LightDef::Point { intensity, .. } if intensity == [32.0, 30.0, 27.0])
-    );
+    assert_eq!(file.materials["ground"].wrap_width, MaterialDef::default().wrap_width);
+    assert!(matches!(file.lights[0], LightDef::Point { intensity, .. } if intensity == [32.0, 30.0, 27.0]));
     assert!(matches!(file.environment, EnvironmentDef::Uniform { .. }));
 }
 
@@ -538,13 +495,10 @@ fn edited_scene_saves_its_edits() {
 #[test]
 fn environment_map_is_resolved_and_checked() {
     let dir = TempDir::new();
-    let scene =
-        |env: &str| Scene::from_toml(&format!("{CUBE}[environment]\n{env}\n"), "s.toml", &dir.0);
+    let scene = |env: &str| Scene::from_toml(&format!("{CUBE}[environment]\n{env}\n"), "s.toml", &dir.0);
     dir.write("studio.EXR", "");
     assert_eq!(
-        scene("kind = \"map\"\npath = \"studio.EXR\"")
-            .unwrap()
-            .environment,
+        scene("kind = \"map\"\npath = \"studio.EXR\"").unwrap().environment,
         Environment::Map {
             path: dir.0.join("studio.EXR"),
             intensity: 1.0,
@@ -553,24 +507,17 @@ fn environment_map_is_resolved_and_checked() {
         }
     );
     assert_eq!(
-        scene("kind = \"map\"\npath = \"missing.hdr\"")
-            .unwrap_err()
-            .to_string(),
+        scene("kind = \"map\"\npath = \"missing.hdr\"").unwrap_err().to_string(),
         format!(
             "s.toml: environment.path = \"missing.hdr\": no such file: {}",
             dir.0.join("missing.hdr").display()
         )
     );
     assert_eq!(
-        scene("kind = \"map\"\npath = \"sky.png\"")
-            .unwrap_err()
-            .to_string(),
+        scene("kind = \"map\"\npath = \"sky.png\"").unwrap_err().to_string(),
         "s.toml: environment.path = \"sky.png\": must be an equirectangular .hdr or .exr image"
     );
-    assert_eq!(
-        scene("kind = \"none\"").unwrap().environment,
-        Environment::None
-    );
+    assert_eq!(scene("kind = \"none\"").unwrap().environment, Environment::None);
 }
 
 #[test]
@@ -648,11 +595,7 @@ texture = "builtin:clay-lumps"
     .unwrap();
     // One texture per (texture, role), in order of first use: the PNG as
     // colour and as noise; clay-lumps once for both normal and detail maps.
-    let names: Vec<(&str, TexelFormat)> = scene
-        .textures
-        .iter()
-        .map(|t| (t.name.as_str(), t.format))
-        .collect();
+    let names: Vec<(&str, TexelFormat)> = scene.textures.iter().map(|t| (t.name.as_str(), t.format)).collect();
     let skin = dir.0.join("textures/skin.png").display().to_string();
     assert_eq!(
         names,
@@ -760,22 +703,15 @@ fn map_errors_name_the_field() {
         "{message}"
     );
     let message = normal("green = \"left\"");
-    assert!(
-        message.contains("line 5") && message.contains("`left`"),
-        "{message}"
-    );
+    assert!(message.contains("line 5") && message.contains("`left`"), "{message}");
     let message = error(&format!("{CUBE}[materials.m.normal_map]\nstrength = 0.5\n"));
     assert!(
         message.contains("line 3")
-            && message
-                .contains("missing field `texture` in `normal_map` (no preset supplies this map)"),
+            && message.contains("missing field `texture` in `normal_map` (no preset supplies this map)"),
         "{message}"
     );
     let message = error(&format!("{CUBE}[materials.m]\nroughness_map = \"x.png\"\n"));
-    assert!(
-        message.contains("unknown field `roughness_map`"),
-        "{message}"
-    );
+    assert!(message.contains("unknown field `roughness_map`"), "{message}");
 }
 
 #[test]
@@ -848,13 +784,9 @@ fn presets_supply_every_field() {
         assert_eq!(material.diffuse, def.diffuse, "{preset:?}");
         assert!(material.maps.normal.is_some(), "{preset:?}");
         assert!(material.maps.noise.is_some(), "{preset:?}");
-        for map in [
-            material.maps.normal,
-            material.maps.detail,
-            material.maps.noise,
-        ]
-        .into_iter()
-        .flatten()
+        for map in [material.maps.normal, material.maps.detail, material.maps.noise]
+            .into_iter()
+            .flatten()
         {
             assert!(scene.textures[map.texture].name.starts_with("builtin:"));
         }
@@ -869,17 +801,9 @@ fn presets_look_like_their_clay() {
     let texture = |map: &Option<file::MapDef>| map.as_ref().map(|m| m.texture.clone());
 
     assert_eq!(plasticine.diffuse, DiffuseModel::Eon);
-    assert_eq!(
-        texture(&plasticine.detail_map).as_deref(),
-        Some("builtin:fingerprints")
-    );
-    assert_eq!(
-        texture(&plasticine.normal_map).as_deref(),
-        Some("builtin:clay-lumps")
-    );
-    assert!(
-        plasticine.roughness >= 0.5 && plasticine.wrap > 0.0 && plasticine.wrap_intensity > 0.0
-    );
+    assert_eq!(texture(&plasticine.detail_map).as_deref(), Some("builtin:fingerprints"));
+    assert_eq!(texture(&plasticine.normal_map).as_deref(), Some("builtin:clay-lumps"));
+    assert!(plasticine.roughness >= 0.5 && plasticine.wrap > 0.0 && plasticine.wrap_intensity > 0.0);
 
     assert!(matches!(
         terracotta.diffuse,
@@ -919,27 +843,19 @@ fn keys_written_in_a_table_override_its_preset() {
     let preset_detail = preset.detail_map.unwrap();
     let detail = material.maps.detail.unwrap();
     assert_eq!(detail.strength, 0.25);
-    assert_eq!(
-        detail.uv_scale.to_array().map(f64::from),
-        preset_detail.uv_scale
-    );
+    assert_eq!(detail.uv_scale.to_array().map(f64::from), preset_detail.uv_scale);
     let normal = material.maps.normal.unwrap();
     assert_eq!(normal.strength, preset.normal_map.unwrap().strength as f32);
     assert_eq!(material.maps.base_color.unwrap().strength, 1.0);
 
     // Without a preset the same keys start from the defaults.
-    let scene = parse(&format!(
-        "{CUBE}material = \"m\"\n[materials.m]\nroughness = 0.2\n"
-    ))
-    .unwrap();
+    let scene = parse(&format!("{CUBE}material = \"m\"\n[materials.m]\nroughness = 0.2\n")).unwrap();
     assert_eq!(scene.materials[0].maps, MaterialMaps::default());
     assert_eq!(scene.materials[0].diffuse, DiffuseModel::Lambert);
 
     let message = error(&format!("{CUBE}[materials.m]\npreset = \"plastecine\"\n"));
     assert!(
-        message.contains("line 4")
-            && message.contains("`plastecine`")
-            && message.contains("`wet-clay`"),
+        message.contains("line 4") && message.contains("`plastecine`") && message.contains("`wet-clay`"),
         "{message}"
     );
 }
@@ -973,10 +889,7 @@ fn maps_and_presets_round_trip_through_to_file() {
         ("builtin:fingerprints", file::Green::Down, [0.5, 0.25])
     );
     let base = file.materials["pot"].base_color_map.as_ref().unwrap();
-    assert_eq!(
-        (base.texture.as_str(), base.strength),
-        ("textures/skin.png", 0.75)
-    );
+    assert_eq!((base.texture.as_str(), base.strength), ("textures/skin.png", 0.75));
 
     let text = file.to_toml().unwrap();
     assert!(!text.contains("preset"), "{text}");
@@ -1023,10 +936,7 @@ fn assert_valid(mesh: &Mesh) {
         let t = Vec4::from(v.tangent);
         assert!(n.is_finite() && t.is_finite());
         assert!((n.length() - 1.0).abs() < 1e-5 && (t.truncate().length() - 1.0).abs() < 1e-5);
-        assert!(
-            n.dot(t.truncate()).abs() < 1e-5 && t.w.abs() == 1.0,
-            "{v:?}"
-        );
+        assert!(n.dot(t.truncate()).abs() < 1e-5 && t.w.abs() == 1.0, "{v:?}");
     }
 }
 
@@ -1075,10 +985,7 @@ fn obj_without_normals_gets_smooth_normals() {
     assert_valid(&mesh);
     assert_eq!(mesh.vertices.len(), 4);
     let corner = Vec3::from(mesh.vertices[0].normal);
-    assert!(
-        corner.abs_diff_eq(Vec3::splat(-1.0).normalize(), 1e-6),
-        "{corner}"
-    );
+    assert!(corner.abs_diff_eq(Vec3::splat(-1.0).normalize(), 1e-6), "{corner}");
     // Without UVs the tangent is some unit vector orthogonal to the normal.
     assert!(mesh.vertices.iter().all(|v| v.uv == [0.0, 0.0]));
 }
@@ -1113,10 +1020,7 @@ fn obj_models_are_merged() {
     assert_valid(&mesh);
     assert_eq!(mesh.indices.len(), 9);
     assert_eq!(mesh.vertices.len(), 9);
-    assert!(mesh
-        .indices
-        .iter()
-        .all(|&i| (i as usize) < mesh.vertices.len()));
+    assert!(mesh.indices.iter().all(|&i| (i as usize) < mesh.vertices.len()));
     let positions: Vec<[f32; 3]> = mesh
         .indices
         .iter()
@@ -1127,10 +1031,7 @@ fn obj_models_are_merged() {
     // The first object had no UVs: fallback tangents, zero UVs; the others
     // follow theirs.
     assert_eq!(mesh.vertices[mesh.indices[0] as usize].uv, [0.0, 0.0]);
-    assert_eq!(
-        mesh.vertices[mesh.indices[4] as usize].tangent,
-        [1.0, 0.0, 0.0, 1.0]
-    );
+    assert_eq!(mesh.vertices[mesh.indices[4] as usize].tangent, [1.0, 0.0, 0.0, 1.0]);
 }
 
 #[test]
@@ -1138,19 +1039,13 @@ fn broken_obj_files_are_reported() {
     assert_eq!(obj_error(""), "no triangles");
     assert_eq!(obj_error("v 0 0 0\nv 1 0 0\n"), "no triangles");
     assert_eq!(obj_error("v 0 0 0\nv 1 0 0\nl 1 2\n"), "no triangles");
-    assert_eq!(
-        obj_error("v 0 0\nf 1 1 1\n"),
-        "invalid OBJ: position parse error"
-    );
+    assert_eq!(obj_error("v 0 0\nf 1 1 1\n"), "invalid OBJ: position parse error");
     assert_eq!(
         obj_error("v 0 0 0\nv 1 0 0\nf 1 2 x\n"),
         "invalid OBJ: face parse error"
     );
-    assert!(
-        obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n").starts_with("invalid OBJ: face vertex")
-    );
-    assert!(obj_error(&format!("{TRIANGLE_OBJ}vt 0 0\nf 1/2 2/1 3/1\n"))
-        .starts_with("invalid OBJ: face texcoord"));
+    assert!(obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n").starts_with("invalid OBJ: face vertex"));
+    assert!(obj_error(&format!("{TRIANGLE_OBJ}vt 0 0\nf 1/2 2/1 3/1\n")).starts_with("invalid OBJ: face texcoord"));
     assert_eq!(
         obj_error("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
         "vertex 1: position [NaN, 0.0, 0.0] is not finite"
@@ -1184,15 +1079,14 @@ fn missing_obj_is_reported_with_the_object_and_the_file() {
 fn broken_obj_in_a_scene_is_reported_with_the_object_and_the_file() {
     let dir = TempDir::new();
     let obj = dir.write("bad.obj", "v 0 0 0\nf 1 2 3\n");
-    let message = Scene::from_toml(
-        &format!("{CUBE}[[objects]]\nmesh = \"bad.obj\"\n"),
-        "s.toml",
-        &dir.0,
-    )
-    .unwrap_err()
-    .to_string();
+    let message = Scene::from_toml(&format!("{CUBE}[[objects]]\nmesh = \"bad.obj\"\n"), "s.toml", &dir.0)
+        .unwrap_err()
+        .to_string();
     assert_eq!(
         message,
-        format!("s.toml: objects[1].mesh = \"bad.obj\": {}: invalid OBJ: face vertex index out of bounds", obj.display())
+        format!(
+            "s.toml: objects[1].mesh = \"bad.obj\": {}: invalid OBJ: face vertex index out of bounds",
+            obj.display()
+        )
     );
 }

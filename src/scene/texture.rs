@@ -101,12 +101,7 @@ pub fn load_texture(path: &Path, role: TextureRole) -> Result<TextureData, Scene
         .with_guessed_format()
         .map_err(io_error)?;
     let format = match reader.format() {
-        Some(
-            format @ (ImageFormat::Png
-            | ImageFormat::Jpeg
-            | ImageFormat::Hdr
-            | ImageFormat::OpenExr),
-        ) => format,
+        Some(format @ (ImageFormat::Png | ImageFormat::Jpeg | ImageFormat::Hdr | ImageFormat::OpenExr)) => format,
         Some(other) => {
             return Err(fail(format!(
                 "is a {other:?} image; textures must be PNG, JPEG, Radiance HDR or OpenEXR"
@@ -129,9 +124,7 @@ pub fn load_texture(path: &Path, role: TextureRole) -> Result<TextureData, Scene
     let mut limits = Limits::default();
     limits.max_alloc = Some(MAX_TEXTURE_BYTES);
     reader.limits(limits);
-    let decoder = reader
-        .into_decoder()
-        .map_err(|e| fail(describe(format, e)))?;
+    let decoder = reader.into_decoder().map_err(|e| fail(describe(format, e)))?;
 
     let (width, height) = decoder.dimensions();
     let color = decoder.color_type();
@@ -301,9 +294,7 @@ mod tests {
 
         // Grey without alpha gets alpha 1.
         let grey = dir.0.join("grey.png");
-        ImageBuffer::from_pixel(2, 2, image::Luma([77u8]))
-            .save(&grey)
-            .unwrap();
+        ImageBuffer::from_pixel(2, 2, image::Luma([77u8])).save(&grey).unwrap();
         let noise = load_texture(&grey, TextureRole::Noise).unwrap();
         assert_eq!(noise.pixels, [77, 77, 77, 255].repeat(4));
     }
@@ -312,9 +303,8 @@ mod tests {
     fn png_16_bit_keeps_its_precision() {
         let dir = TempDir::new();
         let path = dir.0.join("normal16.png");
-        let image: ImageBuffer<Rgba<u16>, Vec<u16>> = ImageBuffer::from_fn(4, 2, |x, y| {
-            Rgba([x as u16 * 1000 + 1, 65535, y as u16, 32768])
-        });
+        let image: ImageBuffer<Rgba<u16>, Vec<u16>> =
+            ImageBuffer::from_fn(4, 2, |x, y| Rgba([x as u16 * 1000 + 1, 65535, y as u16, 32768]));
         image.save(&path).unwrap();
         let normal = load_texture(&path, TextureRole::Normal).unwrap();
         assert_eq!(normal.format, TexelFormat::Rgba16Unorm);
@@ -330,11 +320,7 @@ mod tests {
         assert!((texels[0] - 1.0 / 65535.0 / 12.92).abs() < 1e-9);
         let srgb = 3001.0f64 / 65535.0;
         let expected = ((srgb + 0.055) / 1.055).powf(2.4);
-        assert!(
-            (f64::from(texels[12]) - expected).abs() < 1e-7,
-            "{}",
-            texels[12]
-        );
+        assert!((f64::from(texels[12]) - expected).abs() < 1e-7, "{}", texels[12]);
         assert!((texels[3] - 32768.0 / 65535.0).abs() < 1e-7);
     }
 
@@ -342,8 +328,7 @@ mod tests {
     fn jpeg_is_decoded_as_8_bit() {
         let dir = TempDir::new();
         let path = dir.0.join("photo.JPG");
-        let image: ImageBuffer<Rgb<u8>, Vec<u8>> =
-            ImageBuffer::from_pixel(16, 8, Rgb([200, 100, 50]));
+        let image: ImageBuffer<Rgb<u8>, Vec<u8>> = ImageBuffer::from_pixel(16, 8, Rgb([200, 100, 50]));
         image.save_with_format(&path, ImageFormat::Jpeg).unwrap();
         let texture = load_texture(&path, TextureRole::BaseColor).unwrap();
         assert_eq!(
@@ -399,15 +384,12 @@ mod tests {
         let dir = TempDir::new();
         for (value, shown) in [(f32::NAN, "NaN"), (f32::INFINITY, "inf"), (-1.0, "-1")] {
             let path = dir.0.join("bad.exr");
-            let mut image: ImageBuffer<Rgba<f32>, Vec<f32>> =
-                ImageBuffer::from_pixel(3, 3, Rgba([0.5; 4]));
+            let mut image: ImageBuffer<Rgba<f32>, Vec<f32>> = ImageBuffer::from_pixel(3, 3, Rgba([0.5; 4]));
             image.put_pixel(2, 1, Rgba([0.5, 0.5, value, 1.0]));
             image.save(&path).unwrap();
             assert_eq!(
                 message(&path, TextureRole::BaseColor),
-                format!(
-                    "texel (2, 1) has channel B = {shown}; every value must be finite and >= 0"
-                )
+                format!("texel (2, 1) has channel B = {shown}; every value must be finite and >= 0")
             );
         }
     }
@@ -571,25 +553,17 @@ mod tests {
             for length in [1, 16, 100, 4000] {
                 variants.push((0..length).map(|_| next() as u8).collect());
             }
-            let roles = [
-                TextureRole::BaseColor,
-                TextureRole::Normal,
-                TextureRole::Noise,
-            ];
+            let roles = [TextureRole::BaseColor, TextureRole::Normal, TextureRole::Noise];
             for (variant, role) in variants.iter().zip(roles.iter().cycle()) {
                 std::fs::write(&path, variant).unwrap();
                 match load_texture(&path, *role) {
                     Ok(texture) => assert_eq!(
                         texture.pixels.len(),
-                        (texture.width * texture.height) as usize
-                            * texture.format.bytes_per_texel()
+                        (texture.width * texture.height) as usize * texture.format.bytes_per_texel()
                     ),
                     Err(error) => {
                         let message = error.to_string();
-                        assert!(
-                            message.starts_with(&format!("{}: ", path.display())),
-                            "{message}"
-                        );
+                        assert!(message.starts_with(&format!("{}: ", path.display())), "{message}");
                         broken += 1;
                     }
                 }

@@ -76,11 +76,7 @@ impl Composite {
     /// geometry, as verify_brdf.comp decodes it.
     pub fn id(self) -> u32 {
         let m = self.models;
-        FIRST_SHADING
-            + 16 * m.diffuse as u32
-            + 4 * m.specular as u32
-            + 2 * m.distribution as u32
-            + m.geometry as u32
+        FIRST_SHADING + 16 * m.diffuse as u32 + 4 * m.specular as u32 + 2 * m.distribution as u32 + m.geometry as u32
     }
 
     pub fn is_blinn_phong(self) -> bool {
@@ -274,11 +270,7 @@ pub fn terminator_continuity(tuples: &[Tuple], gpu: &[Values<f32>], cpu: &[Value
             let gap = (value - 1.0).abs();
             let excess = gap - 2.0 * delta.max(0.0).powi(2);
             // NaN is the worst.
-            let excess = if excess.is_nan() {
-                f64::INFINITY
-            } else {
-                excess
-            };
+            let excess = if excess.is_nan() { f64::INFINITY } else { excess };
             if excess >= worst.0 {
                 worst = (excess, gap, Some(t));
             }

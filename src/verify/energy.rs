@@ -41,20 +41,12 @@ const FURNACE_VIEW_DEGREES: [f64; 4] = [0.0, 45.0, 80.0, 89.0];
 const OREN_NAYAR_SIGMAS: [f64; 3] = [0.25, 0.5, 1.0];
 const OREN_NAYAR_ORACLE_MAX: f64 = 1.012;
 /// Oracle: Blinn-Phong's albedo at normal incidence, (exponent, albedo).
-const BLINN_PHONG_ORACLE: [(f64, f64); 4] =
-    [(1.0, 1.024), (10.0, 1.075), (100.0, 1.018), (1000.0, 1.002)];
+const BLINN_PHONG_ORACLE: [(f64, f64); 4] = [(1.0, 1.024), (10.0, 1.075), (100.0, 1.018), (1000.0, 1.002)];
 const WRAP_AMOUNTS: [f64; 4] = [0.0, 0.25, 0.5, 1.0];
 const WRAP_WIDTHS: [f64; 3] = [0.1, 0.2, 0.4];
 const WHITE: Vec3 = [1.0; 3];
 
-fn row(
-    model: &str,
-    check: &str,
-    measured: String,
-    tolerance: String,
-    status: Status,
-    note: String,
-) -> Row {
+fn row(model: &str, check: &str, measured: String, tolerance: String, status: Status, note: String) -> Row {
     Row {
         model: model.to_owned(),
         check: check.to_owned(),
@@ -87,9 +79,7 @@ fn reported(ok: bool) -> Status {
 fn albedo(model: Model, p: f64, mu: f64, order_step: usize) -> f64 {
     let f = |v: Vec3, l: Vec3| model.eval(NORMAL, v, l, p, WHITE)[0];
     match model {
-        Model::Lambert | Model::OrenNayar | Model::Eon => {
-            diffuse_albedo(f, mu, DIFFUSE_ORDER + order_step)
-        }
+        Model::Lambert | Model::OrenNayar | Model::Eon => diffuse_albedo(f, mu, DIFFUSE_ORDER + order_step),
         _ => directional_albedo(f, mu, SPECULAR_ORDER + order_step),
     }
 }
@@ -137,10 +127,7 @@ fn sphere_integral(f: impl Fn(f64) -> f64, kinks: &[f64]) -> f64 {
     let mut total = 0.0;
     for panel in edges.windows(2) {
         let (mid, half) = (0.5 * (panel[0] + panel[1]), 0.5 * (panel[1] - panel[0]));
-        total += rule
-            .iter()
-            .map(|&(x, w)| w * half * f(mid + half * x))
-            .sum::<f64>();
+        total += rule.iter().map(|&(x, w)| w * half * f(mid + half * x)).sum::<f64>();
     }
     2.0 * PI * total
 }
@@ -178,8 +165,7 @@ pub fn rows() -> Vec<Row> {
         format!("gains energy: max albedo {:.4} at {}", on.max, on.at),
         format!("oracle {OREN_NAYAR_ORACLE_MAX} ± {ORACLE_TOLERANCE:e}"),
         reported((on.max - OREN_NAYAR_ORACLE_MAX).abs() <= ORACLE_TOLERANCE),
-        "seed eq. 12 is not energy-conserving at grazing angles; eon is the conserving one"
-            .to_owned(),
+        "seed eq. 12 is not energy-conserving at grazing angles; eon is the conserving one".to_owned(),
     ));
     let mut worst_oracle_gap: f64 = 0.0;
     let mut max_gain = (f64::NEG_INFINITY, 0.0);
@@ -195,10 +181,7 @@ pub fn rows() -> Vec<Row> {
     rows.push(row(
         Model::BlinnPhong.name(),
         "energy (white albedo)",
-        format!(
-            "gains energy: max albedo {:.4} at n {}, μo 1",
-            max_gain.0, max_gain.1
-        ),
+        format!("gains energy: max albedo {:.4} at n {}, μo 1", max_gain.0, max_gain.1),
         format!("oracle (n 1, 10, 100, 1000) ± {ORACLE_TOLERANCE:e}"),
         reported(worst_oracle_gap <= ORACLE_TOLERANCE),
         format!("the (n+8)/(8π) normalisation is approximate; oracle gap {worst_oracle_gap:.1e}"),
@@ -226,10 +209,7 @@ pub fn rows() -> Vec<Row> {
     rows.push(row(
         "wrap (plain, not in brdf.glsl)",
         "∫ wrap dω / π",
-        format!(
-            "gains energy: up to {:.3}x Lambert at w {w_max}",
-            1.0 + w_max
-        ),
+        format!("gains energy: up to {:.3}x Lambert at w {w_max}", 1.0 + w_max),
         format!("oracle 1 + w, |gap| <= {EXACT_TOLERANCE:e}"),
         reported(plain_gap <= EXACT_TOLERANCE),
         format!("saturate((n·l + w)/(1 + w)); gap to 1 + w {plain_gap:.1e}"),
@@ -260,10 +240,7 @@ pub fn rows() -> Vec<Row> {
     ));
 
     // ∫D(n·h)dω = 1.
-    for (name, d) in [
-        ("d_ggx", d_ggx as fn(f64, f64, f64) -> f64),
-        ("d_beckmann", d_beckmann),
-    ] {
+    for (name, d) in [("d_ggx", d_ggx as fn(f64, f64, f64) -> f64), ("d_beckmann", d_beckmann)] {
         let gap = ALPHAS
             .iter()
             .map(|&a| (d_normalisation(d, a) - 1.0).abs())
@@ -295,15 +272,13 @@ pub fn rows() -> Vec<Row> {
     };
     let ggx = furnace(&|a, t| weak_white_furnace(d_ggx, g1_smith_ggx, a, t) - 1.0);
     let exact = furnace(&|a, t| weak_white_furnace(d_beckmann, g1_beckmann_exact, a, t) - 1.0);
-    let v_cavity =
-        furnace(&|a, t| weak_white_furnace_microfacet(d_beckmann, g1_v_cavity, a, t) - 1.0);
+    let v_cavity = furnace(&|a, t| weak_white_furnace_microfacet(d_beckmann, g1_v_cavity, a, t) - 1.0);
     // With exact Smith masking W = 1, so with Walter's fit W = G1_fit/G1_exact: the furnace is
     // off exactly by the fit's error, which this checks and reports.
     let fit = furnace(&|a, t| weak_white_furnace(d_beckmann, g1_beckmann_fit, a, t) - 1.0);
     let fit_explained = furnace(&|a, t| {
         let mu = t.cos();
-        weak_white_furnace(d_beckmann, g1_beckmann_fit, a, t)
-            - g1_beckmann_fit(a, mu) / g1_beckmann_exact(a, mu)
+        weak_white_furnace(d_beckmann, g1_beckmann_fit, a, t) - g1_beckmann_fit(a, mu) / g1_beckmann_exact(a, mu)
     });
     let grid = format!("α in {FURNACE_ALPHAS:?}, θo in {FURNACE_VIEW_DEGREES:?}°");
     let furnace_rows = [

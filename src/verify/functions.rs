@@ -12,18 +12,14 @@ use crate::brdf::diffuse::{diffuse_eon, diffuse_lambert, diffuse_oren_nayar, e_f
 use crate::brdf::distribution::{d_beckmann, d_ggx};
 use crate::brdf::fresnel::{f_schlick, f_schlick_scalar};
 use crate::brdf::geometry::{
-    g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx,
-    g2_smith_separable_beckmann, g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann, lambda_ggx,
+    g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
+    g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann, lambda_ggx,
 };
 use crate::brdf::shading::shadow_terminator;
-use crate::brdf::specular::{
-    spec_blinn_phong, spec_cook_torrance, spec_torrance_sparrow, Distribution, Geometry,
-};
+use crate::brdf::specular::{spec_blinn_phong, spec_cook_torrance, spec_torrance_sparrow, Distribution, Geometry};
 use crate::brdf::tonemap::{srgb_oetf, srgb_oetf_rgb, tonemap_pbr_neutral};
 use crate::brdf::wrap::{wrap_energy_conserving, wrap_seed};
-use crate::brdf::{
-    clamp_alpha, cross, dot, safe_half_vector, Vec3, FP16_MAX, MAX_ALPHA, MIN_ALPHA, MIN_N_DOT_V,
-};
+use crate::brdf::{clamp_alpha, cross, dot, safe_half_vector, Vec3, FP16_MAX, MAX_ALPHA, MIN_ALPHA, MIN_N_DOT_V};
 
 use super::composite::Composite;
 use super::normals::UnitVector;
@@ -212,11 +208,7 @@ impl Term {
 
     fn cap(self) -> Cap {
         match self {
-            Term::DGgx
-            | Term::DBeckmann
-            | Term::LambdaGgx
-            | Term::LambdaBeckmann
-            | Term::EFonApprox => FP32,
+            Term::DGgx | Term::DBeckmann | Term::LambdaGgx | Term::LambdaBeckmann | Term::EFonApprox => FP32,
             Term::SpecBlinnPhong => FP16,
             _ => UNIT,
         }
@@ -286,12 +278,9 @@ impl Term {
             Term::G2SmithSeparableGgx
             | Term::G2SmithCorrelatedGgx
             | Term::G2SmithSeparableBeckmann
-            | Term::G2SmithCorrelatedBeckmann => scalars([
-                alpha,
-                sample_signed_cosine(rng),
-                sample_signed_cosine(rng),
-                0.0,
-            ]),
+            | Term::G2SmithCorrelatedBeckmann => {
+                scalars([alpha, sample_signed_cosine(rng), sample_signed_cosine(rng), 0.0])
+            }
             Term::G2VCavity => {
                 let (v, l) = sample_directions(rng, alpha);
                 let h = safe_half_vector(v, l, NORMAL);
@@ -338,12 +327,7 @@ impl Term {
                     ..Tuple::default()
                 }
             }
-            Term::WrapSeed => scalars([
-                rng.range(-1.0, 1.0),
-                rng.uniform(),
-                rng.log_uniform(1e-4, 1.0),
-                0.0,
-            ]),
+            Term::WrapSeed => scalars([rng.range(-1.0, 1.0), rng.uniform(), rng.log_uniform(1e-4, 1.0), 0.0]),
             Term::WrapEnergyConserving => scalars([rng.range(-1.0, 1.0), rng.uniform(), 0.0, 0.0]),
             Term::SpecBlinnPhong => {
                 let n_dot_h = if rng.uniform() < 0.03 {
@@ -551,15 +535,9 @@ impl Model {
     fn cook_torrance(self) -> Option<(Distribution, Geometry)> {
         match self {
             Model::CookTorranceGgxSeparable => Some((Distribution::Ggx, Geometry::SmithSeparable)),
-            Model::CookTorranceGgxCorrelated => {
-                Some((Distribution::Ggx, Geometry::SmithCorrelated))
-            }
-            Model::CookTorranceBeckmannSeparable => {
-                Some((Distribution::Beckmann, Geometry::SmithSeparable))
-            }
-            Model::CookTorranceBeckmannCorrelated => {
-                Some((Distribution::Beckmann, Geometry::SmithCorrelated))
-            }
+            Model::CookTorranceGgxCorrelated => Some((Distribution::Ggx, Geometry::SmithCorrelated)),
+            Model::CookTorranceBeckmannSeparable => Some((Distribution::Beckmann, Geometry::SmithSeparable)),
+            Model::CookTorranceBeckmannCorrelated => Some((Distribution::Beckmann, Geometry::SmithCorrelated)),
             _ => None,
         }
     }
@@ -571,9 +549,7 @@ impl Model {
     pub fn in_reciprocity_domain(self, t: &Tuple) -> bool {
         let (n, v, l) = (rgb(t.a), rgb(t.b), rgb(t.c));
         let sum = [v[0] + l[0], v[1] + l[1], v[2] + l[2]];
-        dot(n, v) > 0.0
-            && dot(n, l) > 0.0
-            && dot(sum, sum) >= MIN_RECIPROCAL_HALF_LEN * MIN_RECIPROCAL_HALF_LEN
+        dot(n, v) > 0.0 && dot(n, l) > 0.0 && dot(sum, sum) >= MIN_RECIPROCAL_HALF_LEN * MIN_RECIPROCAL_HALF_LEN
     }
 
     /// f(v, l) and f(l, v) in f64 for the tuple's directions made unit in f64, where
@@ -660,11 +636,7 @@ impl Model {
         let denormal = [DENORMAL, DENORMAL, 1.0, 0.0];
         pairs.push((denormal, [-DENORMAL, 0.0, 1.0, 0.0]));
         pairs.push((denormal, [1.0, 0.0, DENORMAL, 0.0]));
-        let colours = [
-            [0.0, 0.0, 0.0, 0.0],
-            [1.0, 1.0, 1.0, 0.0],
-            [0.0, 0.5, 1.0, 0.0],
-        ];
+        let colours = [[0.0, 0.0, 0.0, 0.0], [1.0, 1.0, 1.0, 0.0], [0.0, 0.5, 1.0, 0.0]];
         let mut out = Vec::new();
         for n in normals {
             for &(b, c) in &pairs {
@@ -756,11 +728,7 @@ impl Function {
         match self {
             Function::Term(term) => {
                 let (names, colour_name) = term.arguments();
-                let mut parts: Vec<String> = names
-                    .iter()
-                    .zip(t.a)
-                    .map(|(n, x)| format!("{n}={x:e}"))
-                    .collect();
+                let mut parts: Vec<String> = names.iter().zip(t.a).map(|(n, x)| format!("{n}={x:e}")).collect();
                 parts.extend(colour_name.map(colour));
                 parts.join(", ")
             }
@@ -829,8 +797,7 @@ impl Function {
         match self {
             Function::Term(term) => [term.eval(t), [0.0; 4]],
             Function::Model(m) => {
-                let (n, v, l, p, colour) =
-                    (rgb(t.a), rgb(t.b), rgb(t.c), f64::from(t.a[3]), rgb(t.d));
+                let (n, v, l, p, colour) = (rgb(t.a), rgb(t.b), rgb(t.c), f64::from(t.a[3]), rgb(t.d));
                 let [r, g, b] = m.eval(n, v, l, p, colour);
                 let [sr, sg, sb] = m.eval(n, l, v, p, colour);
                 [[r, g, b, 0.0], [sr, sg, sb, 0.0]]
@@ -865,9 +832,7 @@ pub const NORMAL: Vec3 = [0.0, 0.0, 1.0];
 pub(super) const DENORMAL: f32 = 1e-40;
 /// Roughness-like parameters (α, σ, r, wrap widths): 0, denormal, below MIN_ALPHA, both
 /// clamps, beyond 1, negative.
-const STRESS_ALPHAS: &[f32] = &[
-    0.0, DENORMAL, 1e-4, 0.002025, 0.007921, 0.5, 1.0, 1.5, 100.0, -0.5,
-];
+const STRESS_ALPHAS: &[f32] = &[0.0, DENORMAL, 1e-4, 0.002025, 0.007921, 0.5, 1.0, 1.5, 100.0, -0.5];
 /// Cosines: both sides of the horizon, denormal, the MIN_N_DOT_V clamp, one ulp below 1, and
 /// beyond 1 (non-unit vectors).
 const STRESS_COSINES: &[f32] = &[
@@ -877,18 +842,7 @@ const STRESS_COSINES: &[f32] = &[
 const STRESS_COLOURS: &[f32] = &[0.0, 1.0, 0.04, -0.5, 2.0];
 /// Radiances for the display transforms: 0, denormal, the toe, compression, FP16_MAX, fp32
 /// max, negative.
-const STRESS_RADIANCES: &[f32] = &[
-    0.0,
-    DENORMAL,
-    1e-3,
-    0.08,
-    0.76,
-    1.0,
-    1e4,
-    65504.0,
-    f32::MAX,
-    -1.0,
-];
+const STRESS_RADIANCES: &[f32] = &[0.0, DENORMAL, 1e-3, 0.08, 0.76, 1.0, 1e4, 65504.0, f32::MAX, -1.0];
 
 fn normalize(x: Vec3) -> Vec3 {
     let inverse = 1.0 / dot(x, x).sqrt();

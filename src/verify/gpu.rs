@@ -10,8 +10,8 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::vk::{
-    Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
-    Device, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device, OneShot,
+    Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
 use super::functions::{Function, Tuple, Values};
@@ -50,37 +50,18 @@ impl Harness {
             limits.max_storage_buffer_range
         );
         ensure!(
-            (capacity as u64).div_ceil(u64::from(WORKGROUP_SIZE))
-                <= u64::from(limits.max_compute_work_group_count[0]),
+            (capacity as u64).div_ceil(u64::from(WORKGROUP_SIZE)) <= u64::from(limits.max_compute_work_group_count[0]),
             "{capacity} tuples need more workgroups than {} dispatches",
             device.info.name
         );
 
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let inputs = Buffer::new(
-            device,
-            input_size,
-            storage,
-            MemoryLocation::CpuToGpu,
-            "verify inputs",
-        )?;
-        let outputs = Buffer::new(
-            device,
-            output_size,
-            storage,
-            MemoryLocation::GpuToCpu,
-            "verify results",
-        )?;
+        let inputs = Buffer::new(device, input_size, storage, MemoryLocation::CpuToGpu, "verify inputs")?;
+        let outputs = Buffer::new(device, output_size, storage, MemoryLocation::GpuToCpu, "verify results")?;
 
         let set_layout = DescriptorSetLayoutBuilder::default()
-            .binding(
-                vk::DescriptorType::STORAGE_BUFFER,
-                vk::ShaderStageFlags::COMPUTE,
-            )
-            .binding(
-                vk::DescriptorType::STORAGE_BUFFER,
-                vk::ShaderStageFlags::COMPUTE,
-            )
+            .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE)
+            .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE)
             .build(device, "verify set layout")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, 1)?;
         let set = pool.allocate(&set_layout)?;
@@ -89,8 +70,7 @@ impl Harness {
             .buffer(1, vk::DescriptorType::STORAGE_BUFFER, outputs.handle)
             .write(device, set);
         // The push constant is the tuple count.
-        let pipeline_layout =
-            PipelineLayout::new(device, &[&set_layout], 4, vk::ShaderStageFlags::COMPUTE)?;
+        let pipeline_layout = PipelineLayout::new(device, &[&set_layout], 4, vk::ShaderStageFlags::COMPUTE)?;
         let shader = ShaderModule::new(device, VERIFY_BRDF_COMP, "verify_brdf.comp")?;
         Ok(Self {
             device: device.clone(),
@@ -108,12 +88,7 @@ impl Harness {
 
     /// Evaluates `function` on every tuple on the GPU, in one dispatch, into `results`
     /// (reused: fresh 32 MB vectors per function cost more in page faults than the copy).
-    pub fn evaluate(
-        &mut self,
-        function: Function,
-        tuples: &[Tuple],
-        results: &mut Vec<Values<f32>>,
-    ) -> Result<()> {
+    pub fn evaluate(&mut self, function: Function, tuples: &[Tuple], results: &mut Vec<Values<f32>>) -> Result<()> {
         ensure!(
             tuples.len() <= self.capacity,
             "{} tuples for a harness of {}",
@@ -157,10 +132,7 @@ impl Harness {
                     .src_access_mask(vk::AccessFlags2::SHADER_STORAGE_WRITE)
                     .dst_stage_mask(vk::PipelineStageFlags2::HOST)
                     .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-                device.cmd_pipeline_barrier2(
-                    cmd,
-                    &vk::DependencyInfo::default().memory_barriers(&to_host),
-                );
+                device.cmd_pipeline_barrier2(cmd, &vk::DependencyInfo::default().memory_barriers(&to_host));
             })
             .with_context(|| format!("cannot run the harness on {}", function.name()))?;
         let bytes = &self.outputs.read()?[..tuples.len() * RESULT_SIZE];

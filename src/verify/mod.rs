@@ -79,23 +79,14 @@ pub struct Report {
 
 impl Report {
     pub fn failures(&self) -> usize {
-        self.rows
-            .iter()
-            .filter(|r| r.status == Status::Fail)
-            .count()
+        self.rows.iter().filter(|r| r.status == Status::Fail).count()
     }
 
     /// The table in aligned plain-text columns; notes run past the last column.
     pub fn table(&self) -> String {
         let header = ["model", "check", "measured", "tolerance", "status"];
         fn cells(r: &Row) -> [&str; 5] {
-            [
-                &r.model,
-                &r.check,
-                &r.measured,
-                &r.tolerance,
-                r.status.label(),
-            ]
+            [&r.model, &r.check, &r.measured, &r.tolerance, r.status.label()]
         }
         let mut widths = header.map(|h| h.chars().count());
         for r in &self.rows {
@@ -112,10 +103,7 @@ impl Report {
             s.trim_end().to_owned() + "\n"
         };
         let mut out = line(header, "note");
-        out += &line(
-            widths.map(|w| "-".repeat(w)).each_ref().map(String::as_str),
-            "----",
-        );
+        out += &line(widths.map(|w| "-".repeat(w)).each_ref().map(String::as_str), "----");
         for r in &self.rows {
             out += &line(cells(r), &r.note);
         }
@@ -232,9 +220,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<Report> {
             swept.push((function, own));
             std::mem::swap(&mut tuples, &mut next);
         }
-        let energy = energy
-            .join()
-            .map_err(|_| anyhow!("the energy quadrature panicked"))?;
+        let energy = energy.join().map_err(|_| anyhow!("the energy quadrature panicked"))?;
         Ok((swept, energy))
     })?;
     // Each function's energy rows follow its own.
@@ -242,8 +228,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<Report> {
     let mut energy = energy;
     for (function, own) in swept {
         rows.extend(own);
-        let (mine, rest): (Vec<Row>, Vec<Row>) =
-            energy.into_iter().partition(|r| r.model == function.name());
+        let (mine, rest): (Vec<Row>, Vec<Row>) = energy.into_iter().partition(|r| r.model == function.name());
         rows.extend(mine);
         energy = rest;
     }

@@ -3,15 +3,13 @@
 //! length (decoded normals above the surface, shading normals facing the viewer).
 
 use crate::brdf::normal_mapping::{
-    blend_rnm, blend_seed, blend_udn, blend_whiteout, decode_normal, tangent_to_world,
-    MIN_TANGENT_SIN2, MIN_TANGENT_Z,
+    blend_rnm, blend_seed, blend_udn, blend_whiteout, decode_normal, tangent_to_world, MIN_TANGENT_SIN2, MIN_TANGENT_Z,
 };
 use crate::brdf::shading::{view_facing_normal, MIN_SHADING_N_DOT_V};
 use crate::brdf::{dot, Vec3};
 
 use super::functions::{
-    about, direction, rgb, sample_cosine, uniform_sphere, vec4, Tuple, Values, DENORMAL, NORMAL,
-    UNIT_TOLERANCE,
+    about, direction, rgb, sample_cosine, uniform_sphere, vec4, Tuple, Values, DENORMAL, NORMAL, UNIT_TOLERANCE,
 };
 use super::rng::Rng;
 use super::sweep::RELATIVE_FLOOR;
@@ -136,20 +134,14 @@ impl UnitVector {
                     // Grazing, both sides: n·v = 0 gives the least n·v after the bend.
                     u if u < 0.5 => rng.log_uniform(1e-8, 0.1).copysign(rng.range(-1.0, 1.0)),
                     // Around the bend's threshold.
-                    u if u < 0.6 => {
-                        MIN_SHADING_N_DOT_V
-                            * (1.0 + rng.range(-1.0, 1.0) * rng.log_uniform(1e-7, 0.1))
-                    }
+                    u if u < 0.6 => MIN_SHADING_N_DOT_V * (1.0 + rng.range(-1.0, 1.0) * rng.log_uniform(1e-7, 0.1)),
                     // Near v = −n, where n + v·(m − n·v) is a difference of near-opposites.
                     u if u < 0.7 => -rng.log_uniform(1e-6, 0.3).cos(),
                     _ => sample_cosine(rng),
                 };
                 vectors(n, about(n, direction(n_dot_v, rng.azimuth())))
             }
-            _ => vectors(
-                sample_tangent_space_normal(rng),
-                sample_tangent_space_normal(rng),
-            ),
+            _ => vectors(sample_tangent_space_normal(rng), sample_tangent_space_normal(rng)),
         }
     }
 
@@ -277,12 +269,8 @@ impl UnitVector {
             }
             _ => return 0.0,
         };
-        let smallest = self
-            .eval(t)
-            .iter()
-            .fold(f64::INFINITY, |m, c| m.min(c.abs()));
-        COMPONENT_ROUNDINGS * f64::from(f32::EPSILON) * 0.5 * condition
-            / smallest.max(RELATIVE_FLOOR)
+        let smallest = self.eval(t).iter().fold(f64::INFINITY, |m, c| m.min(c.abs()));
+        COMPONENT_ROUNDINGS * f64::from(f32::EPSILON) * 0.5 * condition / smallest.max(RELATIVE_FLOOR)
     }
 
     /// Why `argument_rounding` is not 0, for the table.
@@ -311,12 +299,9 @@ impl UnitVector {
     pub fn describe(self, t: &Tuple) -> String {
         let v = |x: [f32; 4]| format!("({:e}, {:e}, {:e})", x[0], x[1], x[2]);
         match self {
-            UnitVector::DecodeNormal => format!(
-                "texel={}, strength={:e}, green_down={}",
-                v(t.a),
-                t.a[3],
-                t.b[0] != 0.0
-            ),
+            UnitVector::DecodeNormal => {
+                format!("texel={}, strength={:e}, green_down={}", v(t.a), t.a[3], t.b[0] != 0.0)
+            }
             UnitVector::TangentToWorld => format!(
                 "n_ts={}, normal={}, tangent=({:e}, {:e}, {:e}, {:e})",
                 v(t.a),
@@ -326,12 +311,7 @@ impl UnitVector {
                 t.c[2],
                 t.c[3]
             ),
-            UnitVector::ViewFacingNormal => format!(
-                "n={}, v={}, n·v={:e}",
-                v(t.a),
-                v(t.b),
-                dot(rgb(t.a), rgb(t.b))
-            ),
+            UnitVector::ViewFacingNormal => format!("n={}, v={}, n·v={:e}", v(t.a), v(t.b), dot(rgb(t.a), rgb(t.b))),
             _ => format!("base={}, detail={}", v(t.a), v(t.b)),
         }
     }
@@ -397,11 +377,7 @@ fn sample_tangent(rng: &mut Rng, normal: Vec3) -> [f32; 4] {
             break local;
         }
     };
-    let length = if rng.uniform() < 0.5 {
-        1.0
-    } else {
-        rng.range(0.25, 2.0)
-    };
+    let length = if rng.uniform() < 0.5 { 1.0 } else { rng.range(0.25, 2.0) };
     let [x, y, z] = about(normal, local).map(|c| c * length);
     let w = if rng.uniform() < 0.5 { 1.0 } else { -1.0 };
     [x as f32, y as f32, z as f32, w]
@@ -409,20 +385,12 @@ fn sample_tangent(rng: &mut Rng, normal: Vec3) -> [f32; 4] {
 
 /// What `normal` promises beyond accuracy and unit length, on every tuple, random and
 /// stress, GPU and f64.
-pub fn rows(
-    normal: UnitVector,
-    tuples: &[Tuple],
-    gpu: &[Values<f32>],
-    cpu: &[Values<f64>],
-) -> Vec<Row> {
+pub fn rows(normal: UnitVector, tuples: &[Tuple], gpu: &[Values<f32>], cpu: &[Values<f64>]) -> Vec<Row> {
     let both = || {
-        tuples
-            .iter()
-            .zip(gpu.iter().zip(cpu))
-            .flat_map(|(t, (g, c))| {
-                let g = [g[0][0], g[0][1], g[0][2]].map(f64::from);
-                [(t, g), (t, [c[0][0], c[0][1], c[0][2]])]
-            })
+        tuples.iter().zip(gpu.iter().zip(cpu)).flat_map(|(t, (g, c))| {
+            let g = [g[0][0], g[0][1], g[0][2]].map(f64::from);
+            [(t, g), (t, [c[0][0], c[0][1], c[0][2]])]
+        })
     };
     // The least value of `f` and where it is; NaN is the least.
     let least = |f: &dyn Fn(&Tuple, Vec3) -> f64| {

@@ -74,9 +74,6 @@ mod tests {
             deciles[(u * 10.0) as usize] += 1;
         }
         assert!((sum / 100_000.0 - 0.5).abs() < 0.005);
-        assert!(
-            deciles.iter().all(|&n| (9_500..10_500).contains(&n)),
-            "{deciles:?}"
-        );
+        assert!(deciles.iter().all(|&n| (9_500..10_500).contains(&n)), "{deciles:?}");
     }
 }

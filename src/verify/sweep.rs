@@ -5,9 +5,7 @@
 use crate::brdf::{cross, dot, Vec3};
 
 use super::composite::terminator_continuity;
-use super::functions::{
-    Function, Output, Term, Tuple, Values, MIN_RECIPROCAL_HALF_LEN, UNIT_TOLERANCE,
-};
+use super::functions::{Function, Output, Term, Tuple, Values, MIN_RECIPROCAL_HALF_LEN, UNIT_TOLERANCE};
 use super::{normals, Row, Status};
 
 /// Values below this are compared absolutely: |a − b| / max(|b|, floor). The functions'
@@ -138,11 +136,7 @@ fn range_row(
         Output::Capped(cap) => {
             // Random tuples count channel values, stress inputs tuples.
             let (check, of, tolerance) = if stress {
-                (
-                    "stress: finite, >= 0, capped",
-                    gpu.len(),
-                    format!("0; {}", cap.label),
-                )
+                ("stress: finite, >= 0, capped", gpu.len(), format!("0; {}", cap.label))
             } else {
                 (
                     "positive, finite, in range",
@@ -198,15 +192,14 @@ pub fn rows(
     cpu: &[Values<f64>],
 ) -> Vec<Row> {
     let name = function.name();
-    let row =
-        |check: &str, measured: String, tolerance: String, status: Status, note: String| Row {
-            model: name.to_owned(),
-            check: check.to_owned(),
-            measured,
-            tolerance,
-            status,
-            note,
-        };
+    let row = |check: &str, measured: String, tolerance: String, status: Status, note: String| Row {
+        model: name.to_owned(),
+        check: check.to_owned(),
+        measured,
+        tolerance,
+        status,
+        note,
+    };
     let pass = |ok: bool| if ok { Status::Pass } else { Status::Fail };
     let mut rows = Vec::new();
 
@@ -257,10 +250,7 @@ pub fn rows(
     ));
     if !rounded.is_empty() {
         let ratio = |i: usize| error(i) / (MAX_TOLERANCE + function.argument_rounding(&tuples[i]));
-        let worst = rounded
-            .iter()
-            .copied()
-            .max_by(|&i, &j| ratio(i).total_cmp(&ratio(j)));
+        let worst = rounded.iter().copied().max_by(|&i, &j| ratio(i).total_cmp(&ratio(j)));
         let max_ratio = worst.map_or(0.0, ratio);
         let max_error = rounded.iter().map(|&i| error(i)).fold(0.0, f64::max);
         rows.push(row(
@@ -295,23 +285,18 @@ pub fn rows(
             sci(max_angle),
             format!("<= {MAX_TOLERANCE:e}, as the max rel. error allows"),
             pass(max_angle <= MAX_TOLERANCE),
-            at.map_or_else(String::new, |i| {
-                format!("worst: {}", function.describe(&tuples[i]))
-            }),
+            at.map_or_else(String::new, |i| format!("worst: {}", function.describe(&tuples[i]))),
         ));
     }
 
     // 2. Positivity and range (or unit length) on the random tuples, on both sides.
-    let (check, measured, tolerance, ok) =
-        range_row(function, &gpu[..samples], &cpu[..samples], false);
+    let (check, measured, tolerance, ok) = range_row(function, &gpu[..samples], &cpu[..samples], false);
     rows.push(row(check, measured, tolerance, pass(ok), String::new()));
 
     // What the function promises besides, on every tuple.
     match function {
         Function::UnitVector(normal) => rows.extend(normals::rows(normal, tuples, gpu, cpu)),
-        Function::Term(Term::ShadowTerminator) => {
-            rows.push(terminator_continuity(tuples, gpu, cpu))
-        }
+        Function::Term(Term::ShadowTerminator) => rows.push(terminator_continuity(tuples, gpu, cpu)),
         _ => {}
     }
 
@@ -334,9 +319,7 @@ pub fn rows(
                     )
             };
             let at = |worst: Option<usize>| {
-                worst.map_or_else(String::new, |i| {
-                    format!("; worst: {}", function.describe(&tuples[i]))
-                })
+                worst.map_or_else(String::new, |i| format!("; worst: {}", function.describe(&tuples[i])))
             };
             let (cpu_gap, cpu_worst) = asymmetry(&|i| model.eval_unit_both_ways(&tuples[i]));
             let (gpu_gap, gpu_worst) = asymmetry(&|i| widen(&gpu[i]));
@@ -382,8 +365,7 @@ pub fn rows(
                 cpu[i]
             )
         });
-    let (check, measured, tolerance, ok) =
-        range_row(function, &gpu[samples..], &cpu[samples..], true);
+    let (check, measured, tolerance, ok) = range_row(function, &gpu[samples..], &cpu[samples..], true);
     rows.push(row(check, measured, tolerance, pass(ok), first_bad));
     rows
 }
@@ -458,29 +440,20 @@ mod tests {
             v[1] = v[1].map(|x| x * 0.999);
             v
         };
-        assert_eq!(
-            failing(&statuses(asymmetric)),
-            ["reciprocity f(v,l)=f(l,v), gpu"]
-        );
+        assert_eq!(failing(&statuses(asymmetric)), ["reciprocity f(v,l)=f(l,v), gpu"]);
         let nan_under_stress = |i, mut v: Values<f32>| {
             if i == 4000 + 11 {
                 v[1][2] = f32::NAN;
             }
             v
         };
-        assert_eq!(
-            failing(&statuses(nan_under_stress)),
-            ["stress: finite, >= 0, capped"]
-        );
+        assert_eq!(failing(&statuses(nan_under_stress)), ["stress: finite, >= 0, capped"]);
     }
 
     #[test]
     fn unit_vector_checks_catch_their_defects() {
         let function = Function::UnitVector(UnitVector::BlendUdn);
-        assert_eq!(
-            failing(&sweep_statuses(function, |_, v| v)),
-            Vec::<&str>::new()
-        );
+        assert_eq!(failing(&sweep_statuses(function, |_, v| v)), Vec::<&str>::new());
         let long = |_, v: Values<f32>| v.map(|half| half.map(|x| x * (1.0 + 2e-5)));
         assert_eq!(
             failing(&sweep_statuses(function, long)),

@@ -67,7 +67,10 @@ pub struct CameraControl {
 
 impl Default for CameraControl {
     fn default() -> Self {
-        Self { mode: Mode::Fly, speed: 2.0 }
+        Self {
+            mode: Mode::Fly,
+            speed: 2.0,
+        }
     }
 }
 
@@ -150,7 +153,9 @@ pub fn object_bounds(scene: &Scene, object: usize) -> (Vec3, f32) {
         .vertices
         .iter()
         .map(|v| Vec3::from(v.position))
-        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| {
+            (lo.min(p), hi.max(p))
+        });
     let centre = (min + max) * 0.5;
     (o.position + centre * o.scale, (max - min).length() * 0.5 * o.scale)
 }
@@ -160,7 +165,9 @@ pub fn scene_bounds(scene: &Scene) -> (Vec3, f32) {
     let spheres: Vec<(Vec3, f32)> = (0..scene.objects.len()).map(|i| object_bounds(scene, i)).collect();
     let (min, max) = spheres
         .iter()
-        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), (c, r)| (lo.min(*c - *r), hi.max(*c + *r)));
+        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), (c, r)| {
+            (lo.min(*c - *r), hi.max(*c + *r))
+        });
     let centre = (min + max) * 0.5;
     let radius = spheres.iter().map(|(c, r)| c.distance(centre) + r).fold(0.0, f32::max);
     (centre, radius)
@@ -173,7 +180,11 @@ pub fn frame_sphere(camera: &Camera, centre: Vec3, radius: f32, aspect: f32) -> 
     let half_x = (half_y.tan() * aspect.max(1e-3)).atan();
     let distance = (radius.max(Camera::NEAR) / half_y.min(half_x).sin()).max(MIN_ORBIT_DISTANCE);
     let forward = (camera.target - camera.position).try_normalize().unwrap_or(Vec3::NEG_Z);
-    Camera { position: centre - forward * distance, target: centre, fov_y_degrees: camera.fov_y_degrees }
+    Camera {
+        position: centre - forward * distance,
+        target: centre,
+        fov_y_degrees: camera.fov_y_degrees,
+    }
 }
 
 #[cfg(test)]
@@ -181,7 +192,11 @@ mod tests {
     use super::*;
 
     fn camera() -> Camera {
-        Camera { position: Vec3::new(0.0, 1.0, 5.0), target: Vec3::new(0.0, 1.0, 0.0), fov_y_degrees: 30.0 }
+        Camera {
+            position: Vec3::new(0.0, 1.0, 5.0),
+            target: Vec3::new(0.0, 1.0, 0.0),
+            fov_y_degrees: 30.0,
+        }
     }
 
     fn close(a: Vec3, b: Vec3) -> bool {
@@ -191,7 +206,10 @@ mod tests {
     #[test]
     fn idle_input_leaves_the_camera_bit_for_bit() {
         for mode in [Mode::Fly, Mode::Orbit] {
-            let mut control = CameraControl { mode, ..Default::default() };
+            let mut control = CameraControl {
+                mode,
+                ..Default::default()
+            };
             let mut cam = camera();
             // In orbit mode the pivot is the target, as after the first orbit frame.
             let pivot = cam.target;
@@ -205,12 +223,19 @@ mod tests {
     fn fly_moves_along_the_view_and_keeps_looking_the_same_way() {
         let mut control = CameraControl::default();
         let mut cam = camera();
-        let input = Input { movement: Vec3::new(0.0, 0.0, 1.0), ..Default::default() };
+        let input = Input {
+            movement: Vec3::new(0.0, 0.0, 1.0),
+            ..Default::default()
+        };
         assert!(control.update(&mut cam, Vec3::ZERO, &input, 0.5));
         // speed 2 for 0.5 s towards -z.
         assert!(close(cam.position, Vec3::new(0.0, 1.0, 4.0)), "{cam:?}");
         assert!(close(cam.target - cam.position, camera().target - camera().position));
-        let fast = Input { movement: Vec3::new(1.0, 1.0, 0.0), fast: true, ..Default::default() };
+        let fast = Input {
+            movement: Vec3::new(1.0, 1.0, 0.0),
+            fast: true,
+            ..Default::default()
+        };
         let before = cam.position;
         control.update(&mut cam, Vec3::ZERO, &fast, 0.25);
         // Right is +x looking down -z; Q/E move along world up; shift is 4x.
@@ -221,12 +246,21 @@ mod tests {
     fn mouse_right_turns_right_and_pitch_stops_short_of_vertical() {
         let mut control = CameraControl::default();
         let mut cam = camera();
-        let input = Input { look: Vec2::new(100.0, 0.0), ..Default::default() };
+        let input = Input {
+            look: Vec2::new(100.0, 0.0),
+            ..Default::default()
+        };
         control.update(&mut cam, Vec3::ZERO, &input, 0.016);
         let forward = (cam.target - cam.position).normalize();
         assert!(forward.x > 0.3 && forward.y.abs() < 1e-5, "{forward}");
-        assert!((cam.target.distance(cam.position) - 5.0).abs() < 1e-4, "distance to the target is kept");
-        let up = Input { look: Vec2::new(0.0, -1e5), ..Default::default() };
+        assert!(
+            (cam.target.distance(cam.position) - 5.0).abs() < 1e-4,
+            "distance to the target is kept"
+        );
+        let up = Input {
+            look: Vec2::new(0.0, -1e5),
+            ..Default::default()
+        };
         control.update(&mut cam, Vec3::ZERO, &up, 0.016);
         let forward = (cam.target - cam.position).normalize();
         assert!(forward.y > 0.99 && forward.y < 0.9999, "{forward}");
@@ -237,27 +271,73 @@ mod tests {
     fn wheel_changes_fly_speed_within_bounds() {
         let mut control = CameraControl::default();
         let mut cam = camera();
-        control.update(&mut cam, Vec3::ZERO, &Input { wheel: 2.0, ..Default::default() }, 0.016);
+        control.update(
+            &mut cam,
+            Vec3::ZERO,
+            &Input {
+                wheel: 2.0,
+                ..Default::default()
+            },
+            0.016,
+        );
         assert!((control.speed - 2.0 * 1.25 * 1.25).abs() < 1e-5);
-        control.update(&mut cam, Vec3::ZERO, &Input { wheel: -1000.0, ..Default::default() }, 0.016);
+        control.update(
+            &mut cam,
+            Vec3::ZERO,
+            &Input {
+                wheel: -1000.0,
+                ..Default::default()
+            },
+            0.016,
+        );
         assert_eq!(control.speed, MIN_SPEED);
         assert_eq!(cam, camera(), "the wheel changes the speed, not the camera");
     }
 
     #[test]
     fn orbit_looks_at_the_pivot_and_keeps_its_distance() {
-        let mut control = CameraControl { mode: Mode::Orbit, ..Default::default() };
+        let mut control = CameraControl {
+            mode: Mode::Orbit,
+            ..Default::default()
+        };
         let mut cam = camera();
         let pivot = Vec3::new(1.0, 0.0, 0.0);
-        assert!(control.update(&mut cam, pivot, &Input::default(), 0.016), "switching to orbit looks at the pivot");
+        assert!(
+            control.update(&mut cam, pivot, &Input::default(), 0.016),
+            "switching to orbit looks at the pivot"
+        );
         assert_eq!(cam.target, pivot);
         let distance = cam.position.distance(pivot);
-        control.update(&mut cam, pivot, &Input { look: Vec2::new(300.0, 50.0), ..Default::default() }, 0.016);
+        control.update(
+            &mut cam,
+            pivot,
+            &Input {
+                look: Vec2::new(300.0, 50.0),
+                ..Default::default()
+            },
+            0.016,
+        );
         assert!((cam.position.distance(pivot) - distance).abs() < 1e-4);
         assert_eq!(cam.target, pivot);
-        control.update(&mut cam, pivot, &Input { wheel: 1.0, ..Default::default() }, 0.016);
+        control.update(
+            &mut cam,
+            pivot,
+            &Input {
+                wheel: 1.0,
+                ..Default::default()
+            },
+            0.016,
+        );
         assert!((cam.position.distance(pivot) - distance / 1.25).abs() < 1e-4);
-        control.update(&mut cam, pivot, &Input { wheel: 1000.0, ..Default::default() }, 0.016);
+        control.update(
+            &mut cam,
+            pivot,
+            &Input {
+                wheel: 1000.0,
+                ..Default::default()
+            },
+            0.016,
+        );
         assert!(cam.position.distance(pivot) >= MIN_ORBIT_DISTANCE * 0.999);
         assert!(cam.view().is_finite());
     }
@@ -274,7 +354,10 @@ mod tests {
     #[test]
     fn keys_map_to_axes_and_opposite_keys_cancel() {
         let held = |keys: &'static [KeyCode]| move |k: KeyCode| keys.contains(&k);
-        assert_eq!(movement_from_keys(held(&[KeyCode::KeyW, KeyCode::KeyD])), Vec3::new(1.0, 0.0, 1.0));
+        assert_eq!(
+            movement_from_keys(held(&[KeyCode::KeyW, KeyCode::KeyD])),
+            Vec3::new(1.0, 0.0, 1.0)
+        );
         assert_eq!(
             movement_from_keys(held(&[KeyCode::KeyS, KeyCode::KeyQ, KeyCode::KeyA])),
             Vec3::new(-1.0, -1.0, -1.0)
@@ -295,7 +378,10 @@ mod tests {
             for offset in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y] {
                 let p = clip * (framed.target + offset * 2.0).extend(1.0);
                 let ndc = p.truncate() / p.w;
-                assert!(ndc.x.abs() <= 1.0 + 1e-4 && ndc.y.abs() <= 1.0 + 1e-4, "{aspect}: {ndc}");
+                assert!(
+                    ndc.x.abs() <= 1.0 + 1e-4 && ndc.y.abs() <= 1.0 + 1e-4,
+                    "{aspect}: {ndc}"
+                );
             }
         }
     }
@@ -310,6 +396,9 @@ mod tests {
         }
         // The sphere is the unit sphere at its object's position.
         let (c, r) = object_bounds(&scene, 0);
-        assert!(close(c, scene.objects[0].position) && (r - 3f32.sqrt()).abs() < 1e-4, "{c} {r}");
+        assert!(
+            close(c, scene.objects[0].position) && (r - 3f32.sqrt()).abs() < 1e-4,
+            "{c} {r}"
+        );
     }
 }

@@ -206,7 +206,9 @@ impl FrameLoop {
         if let Some(completed) = self.frame.checked_sub(FRAMES_IN_FLIGHT as u64) {
             self.overlay.free_textures(completed)?;
         }
-        let Some(swapchain) = self.swapchain.as_ref() else { bail!("no swapchain") };
+        let Some(swapchain) = self.swapchain.as_ref() else {
+            bail!("no swapchain")
+        };
         let image = match swapchain.acquire(self.slots[index].image_acquired.handle)? {
             Acquired::OutOfDate => {
                 self.stale = true;
@@ -225,12 +227,20 @@ impl FrameLoop {
             extent,
             from: ImageUse::ACQUIRED,
         };
-        let region = ImageRegion { handle: output.image, extent, aspect: vk::ImageAspectFlags::COLOR };
+        let region = ImageRegion {
+            handle: output.image,
+            extent,
+            aspect: vk::ImageAspectFlags::COLOR,
+        };
         let readback = capture
             .map(|c| {
                 Ok::<_, anyhow::Error>((
                     c.stage,
-                    PendingCapture { readback: Readback::new(&self.device, region, 4)?, path: c.path, format },
+                    PendingCapture {
+                        readback: Readback::new(&self.device, region, 4)?,
+                        path: c.path,
+                        format,
+                    },
                 ))
             })
             .transpose()?;
@@ -250,7 +260,8 @@ impl FrameLoop {
         if let Some(t) = &slot.ui_timestamps {
             t.reset(cmd);
         }
-        self.renderer.record(cmd, index, scene, &self.gpu, &slot.target, &output, exposure)?;
+        self.renderer
+            .record(cmd, index, scene, &self.gpu, &slot.target, &output, exposure)?;
 
         // The tone-mapped image is a colour attachment here; a capture leaves it a transfer source.
         let copy = |stage: CaptureStage| -> ImageUse {
@@ -264,19 +275,36 @@ impl FrameLoop {
         };
         // The UI loads what the tone-map pass stored.
         let before_ui = copy(CaptureStage::BeforeUi);
-        transition(&self.device, cmd, output.image, vk::ImageAspectFlags::COLOR, before_ui, ImageUse::COLOR_ATTACHMENT);
+        transition(
+            &self.device,
+            cmd,
+            output.image,
+            vk::ImageAspectFlags::COLOR,
+            before_ui,
+            ImageUse::COLOR_ATTACHMENT,
+        );
         if let Some(t) = &slot.ui_timestamps {
             t.begin(cmd, 0);
         }
-        self.overlay.record(cmd, output.view, extent, ui.pixels_per_point, &ui.primitives)?;
+        self.overlay
+            .record(cmd, output.view, extent, ui.pixels_per_point, &ui.primitives)?;
         if let Some(t) = &slot.ui_timestamps {
             t.end(cmd, 0);
         }
         let after_ui = copy(CaptureStage::AfterUi);
-        transition(&self.device, cmd, output.image, vk::ImageAspectFlags::COLOR, after_ui, ImageUse::PRESENT);
+        transition(
+            &self.device,
+            cmd,
+            output.image,
+            vk::ImageAspectFlags::COLOR,
+            after_ui,
+            ImageUse::PRESENT,
+        );
         unsafe { d.end_command_buffer(cmd)? };
 
-        let Some(swapchain) = self.swapchain.as_ref() else { bail!("no swapchain") };
+        let Some(swapchain) = self.swapchain.as_ref() else {
+            bail!("no swapchain")
+        };
         let waits = [vk::SemaphoreSubmitInfo::default()
             .semaphore(slot.image_acquired.handle)
             .stage_mask(vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT)];
@@ -318,7 +346,16 @@ impl FrameLoop {
 /// RGBA8 from a swapchain image's bytes (B8G8R8A8 formats swap red and blue), opaque.
 pub fn display_rgba(bytes: &[u8], format: vk::Format) -> Vec<u8> {
     let bgra = matches!(format, vk::Format::B8G8R8A8_SRGB | vk::Format::B8G8R8A8_UNORM);
-    bytes.chunks_exact(4).flat_map(|p| if bgra { [p[2], p[1], p[0], 255] } else { [p[0], p[1], p[2], 255] }).collect()
+    bytes
+        .chunks_exact(4)
+        .flat_map(|p| {
+            if bgra {
+                [p[2], p[1], p[0], 255]
+            } else {
+                [p[0], p[1], p[2], 255]
+            }
+        })
+        .collect()
 }
 
 fn write_screenshot(capture: &PendingCapture) -> Result<()> {
@@ -326,7 +363,9 @@ fn write_screenshot(capture: &PendingCapture) -> Result<()> {
     let rgba = display_rgba(capture.readback.bytes()?, capture.format);
     let image =
         image::RgbaImage::from_raw(extent.width, extent.height, rgba).context("screenshot has the wrong size")?;
-    image.save(&capture.path).with_context(|| format!("cannot write {}", capture.path.display()))
+    image
+        .save(&capture.path)
+        .with_context(|| format!("cannot write {}", capture.path.display()))
 }
 
 impl Drop for FrameLoop {
@@ -343,8 +382,14 @@ mod tests {
     #[test]
     fn swapchain_bytes_become_opaque_rgba() {
         let bytes = [10, 20, 30, 0, 1, 2, 3, 128];
-        assert_eq!(display_rgba(&bytes, vk::Format::B8G8R8A8_SRGB), vec![30, 20, 10, 255, 3, 2, 1, 255]);
-        assert_eq!(display_rgba(&bytes, vk::Format::R8G8B8A8_SRGB), vec![10, 20, 30, 255, 1, 2, 3, 255]);
+        assert_eq!(
+            display_rgba(&bytes, vk::Format::B8G8R8A8_SRGB),
+            vec![30, 20, 10, 255, 3, 2, 1, 255]
+        );
+        assert_eq!(
+            display_rgba(&bytes, vk::Format::R8G8B8A8_SRGB),
+            vec![10, 20, 30, 255, 1, 2, 3, 255]
+        );
     }
 
     #[test]

@@ -27,8 +27,8 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::render::gpu_scene::FrameData;
 use crate::render::environment::equirect;
+use crate::render::gpu_scene::FrameData;
 use crate::scene::{Environment, Scene};
 use crate::vk::{Device, DeviceChoice, DeviceOptions, WindowHandles};
 use camera_control::{frame_sphere, movement_from_keys, object_bounds, scene_bounds, CameraControl, Input};
@@ -88,7 +88,10 @@ pub fn run(scene: Scene, options: ViewOptions) -> Result<()> {
     let event_loop = EventLoop::new().context("cannot open a window: no display?")?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let now = Instant::now();
-    let save_path = options.scene_path.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_SAVE_PATH));
+    let save_path = options
+        .scene_path
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_SAVE_PATH));
     let mut app = App {
         view: ViewState {
             debug_view: Default::default(),
@@ -184,15 +187,22 @@ impl App {
             None => "argil — default clay scene".to_owned(),
         };
         let (width, height) = self.options.size;
-        let attributes =
-            Window::default_attributes().with_title(title).with_inner_size(PhysicalSize::new(width, height));
+        let attributes = Window::default_attributes()
+            .with_title(title)
+            .with_inner_size(PhysicalSize::new(width, height));
         let window = Arc::new(event_loop.create_window(attributes).context("cannot create a window")?);
         let handles = WindowHandles {
-            display: window.display_handle().context("window has no display handle")?.as_raw(),
+            display: window
+                .display_handle()
+                .context("window has no display handle")?
+                .as_raw(),
             window: window.window_handle().context("window has no window handle")?.as_raw(),
         };
         let device = Arc::new(Device::new(
-            DeviceOptions { choice: self.options.device.clone(), validation: self.options.validation },
+            DeviceOptions {
+                choice: self.options.device.clone(),
+                validation: self.options.validation,
+            },
             Some(handles),
         )?);
         eprintln!("argil: rendering on {}", device.info.name);
@@ -206,7 +216,14 @@ impl App {
             Some(device.limits.max_image_dimension2_d as usize),
         );
         let size = window.inner_size();
-        let frames = FrameLoop::new(device, &self.scene, vk::Extent2D { width: size.width, height: size.height })?;
+        let frames = FrameLoop::new(
+            device,
+            &self.scene,
+            vk::Extent2D {
+                width: size.width,
+                height: size.height,
+            },
+        )?;
         self.state = Some(Running { frames, egui, window });
         Ok(())
     }
@@ -242,7 +259,8 @@ impl App {
                 self.error.get_or_insert(e);
             }
             if self.options.screenshot.is_some() && !self.final_screenshot_written {
-                self.error.get_or_insert(anyhow!("the window closed before the screenshot was taken"));
+                self.error
+                    .get_or_insert(anyhow!("the window closed before the screenshot was taken"));
             }
         }
         event_loop.exit();
@@ -261,7 +279,9 @@ impl App {
     }
 
     fn reload(&mut self) -> Result<()> {
-        let Some(path) = self.watch.as_ref().map(|w| w.path.clone()) else { return Ok(()) };
+        let Some(path) = self.watch.as_ref().map(|w| w.path.clone()) else {
+            return Ok(());
+        };
         match load_scene(&path) {
             Ok(mut scene) => {
                 scene.camera = self.scene.camera;
@@ -323,7 +343,10 @@ impl App {
             Some(StormStep::Resize(width, height)) => {
                 // Applied at once on some platforms, which then send no Resized event.
                 if let Some(size) = state.window.request_inner_size(PhysicalSize::new(width, height)) {
-                    state.frames.resize(vk::Extent2D { width: size.width, height: size.height });
+                    state.frames.resize(vk::Extent2D {
+                        width: size.width,
+                        height: size.height,
+                    });
                 }
             }
             Some(StormStep::Minimise) => state.window.set_minimized(true),
@@ -346,14 +369,21 @@ impl App {
         if self.watch.as_mut().is_some_and(|w| w.poll(now)) {
             self.reload()?;
         }
-        let Some(state) = self.state.as_mut() else { return Ok(()) };
+        let Some(state) = self.state.as_mut() else {
+            return Ok(());
+        };
         if !Self::drawable(state) {
             return Ok(());
         }
         self.last_frame = Some(now);
 
         let pivot = object_bounds(&self.scene, self.view.selected_object).0;
-        self.camera.update(&mut self.scene.camera, pivot, &self.input.take(), dt.min(MAX_STEP_SECONDS));
+        self.camera.update(
+            &mut self.scene.camera,
+            pivot,
+            &self.input.take(),
+            dt.min(MAX_STEP_SECONDS),
+        );
 
         let raw = state.egui.take_egui_input(&state.window);
         let mut actions = std::mem::take(&mut self.pending);
@@ -369,17 +399,31 @@ impl App {
         if actions.frame_scene {
             let size = state.window.inner_size();
             let (centre, radius) = scene_bounds(&self.scene);
-            self.scene.camera =
-                frame_sphere(&self.scene.camera, centre, radius, size.width as f32 / size.height as f32);
+            self.scene.camera = frame_sphere(
+                &self.scene.camera,
+                centre,
+                radius,
+                size.width as f32 / size.height as f32,
+            );
         }
         let last_frame = self.options.frames.is_some_and(|n| state.frames.frame_count() + 1 >= n);
         let capture = match (&self.options.screenshot, last_frame) {
-            (Some(path), true) => Some(Capture { path: path.clone(), stage: CaptureStage::AfterUi }),
-            _ if actions.screenshot => Some(Capture { path: next_screenshot_path(), stage: CaptureStage::BeforeUi }),
+            (Some(path), true) => Some(Capture {
+                path: path.clone(),
+                stage: CaptureStage::AfterUi,
+            }),
+            _ if actions.screenshot => Some(Capture {
+                path: next_screenshot_path(),
+                stage: CaptureStage::BeforeUi,
+            }),
             _ => None,
         };
         state.frames.renderer.debug_view = self.view.debug_view;
-        let ui = UiFrame { primitives, textures: output.textures_delta, pixels_per_point: output.pixels_per_point };
+        let ui = UiFrame {
+            primitives,
+            textures: output.textures_delta,
+            pixels_per_point: output.pixels_per_point,
+        };
         let drawn = state.frames.draw(&self.scene, self.view.exposure, ui, capture)?;
         if !drawn {
             // Asked again with the next frame that is drawn.
@@ -423,7 +467,13 @@ impl ApplicationHandler for App {
         let Some(state) = self.state.as_mut() else { return };
         let tab = matches!(
             &event,
-            WindowEvent::KeyboardInput { event: KeyEvent { physical_key: PhysicalKey::Code(KeyCode::Tab), .. }, .. }
+            WindowEvent::KeyboardInput {
+                event: KeyEvent {
+                    physical_key: PhysicalKey::Code(KeyCode::Tab),
+                    ..
+                },
+                ..
+            }
         );
         // egui moves its keyboard focus with Tab and then takes every key; here Tab toggles
         // the camera mode instead, unless a text field is being edited.
@@ -434,14 +484,23 @@ impl ApplicationHandler for App {
         };
         match event {
             WindowEvent::CloseRequested => self.close(event_loop),
-            WindowEvent::Resized(size) => state.frames.resize(vk::Extent2D { width: size.width, height: size.height }),
+            WindowEvent::Resized(size) => state.frames.resize(vk::Extent2D {
+                width: size.width,
+                height: size.height,
+            }),
             WindowEvent::ModifiersChanged(m) => self.input.modifiers = m.state(),
             WindowEvent::Focused(false) => {
                 self.input.held.clear();
                 self.input.looking = false;
             }
             WindowEvent::KeyboardInput {
-                event: KeyEvent { physical_key: PhysicalKey::Code(key), state: key_state, repeat, .. },
+                event:
+                    KeyEvent {
+                        physical_key: PhysicalKey::Code(key),
+                        state: key_state,
+                        repeat,
+                        ..
+                    },
                 ..
             } => {
                 if key_state == ElementState::Released {
@@ -465,7 +524,11 @@ impl ApplicationHandler for App {
                 }
                 self.input.cursor = Some(position);
             }
-            WindowEvent::MouseInput { button: MouseButton::Right, state: button, .. } => {
+            WindowEvent::MouseInput {
+                button: MouseButton::Right,
+                state: button,
+                ..
+            } => {
                 self.input.looking = button == ElementState::Pressed && !self.egui.egui_wants_pointer_input();
             }
             WindowEvent::MouseWheel { delta, .. } if !response.consumed && !self.egui.egui_wants_pointer_input() => {

@@ -76,8 +76,13 @@ impl Overlay {
     pub fn set_format(&mut self, format: vk::Format) -> Result<()> {
         if format != self.format {
             // The sRGB option is fixed at creation, so a change between sRGB and UNORM needs a new renderer.
-            anyhow::ensure!(is_srgb(format) == is_srgb(self.format), "the swapchain changed its sRGB encoding");
-            self.renderer.set_render_mode(render_mode(format)).context("cannot rebuild the UI pipeline")?;
+            anyhow::ensure!(
+                is_srgb(format) == is_srgb(self.format),
+                "the swapchain changed its sRGB encoding"
+            );
+            self.renderer
+                .set_render_mode(render_mode(format))
+                .context("cannot rebuild the UI pipeline")?;
             self.format = format;
         }
         Ok(())
@@ -126,7 +131,10 @@ impl Overlay {
             .load_op(vk::AttachmentLoadOp::LOAD)
             .store_op(vk::AttachmentStoreOp::STORE)];
         let rendering = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D { offset: vk::Offset2D::default(), extent })
+            .render_area(vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent,
+            })
             .layer_count(1)
             .color_attachments(&color);
         unsafe { self.device.handle.cmd_begin_rendering(cmd, &rendering) };

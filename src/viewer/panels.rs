@@ -21,10 +21,18 @@ use crate::scene::{
 /// border line straddling the edge, unless the help window is open.
 pub const PANEL_WIDTH: f32 = 320.0;
 
-const DIFFUSE_MODELS: [DiffuseModel; 4] =
-    [DiffuseModel::Lambert, DiffuseModel::OrenNayar, DiffuseModel::Eon, DiffuseModel::None];
-const SPECULAR_MODELS: [SpecularModel; 4] =
-    [SpecularModel::CookTorrance, SpecularModel::TorranceSparrow, SpecularModel::BlinnPhong, SpecularModel::None];
+const DIFFUSE_MODELS: [DiffuseModel; 4] = [
+    DiffuseModel::Lambert,
+    DiffuseModel::OrenNayar,
+    DiffuseModel::Eon,
+    DiffuseModel::None,
+];
+const SPECULAR_MODELS: [SpecularModel; 4] = [
+    SpecularModel::CookTorrance,
+    SpecularModel::TorranceSparrow,
+    SpecularModel::BlinnPhong,
+    SpecularModel::None,
+];
 const DISTRIBUTIONS: [Distribution; 2] = [Distribution::Ggx, Distribution::Beckmann];
 const GEOMETRIES: [Geometry; 2] = [Geometry::SmithCorrelated, Geometry::SmithSeparable];
 
@@ -103,17 +111,22 @@ pub fn file_name<T: Serialize>(value: &T) -> String {
 /// Shows the whole UI for one frame.
 pub fn show(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState, camera: &mut CameraControl) -> Actions {
     let mut actions = Actions::default();
-    egui::Panel::left("argil-panel").exact_size(PANEL_WIDTH).resizable(false).show(ui, |ui| {
-        egui::ScrollArea::vertical().show(ui, |ui| {
-            scene_section(ui, view, &mut actions);
-            section(ui, "Camera", true, |ui| camera_section(ui, scene, view, camera, &mut actions));
-            section(ui, "Materials", true, |ui| materials_section(ui, scene, view));
-            section(ui, "Lights", false, |ui| lights_section(ui, scene));
-            section(ui, "Environment", false, |ui| environment_section(ui, scene));
-            section(ui, "Debug view", true, |ui| debug_section(ui, view));
-            section(ui, "Timings", true, |ui| timings_section(ui, view));
+    egui::Panel::left("argil-panel")
+        .exact_size(PANEL_WIDTH)
+        .resizable(false)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                scene_section(ui, view, &mut actions);
+                section(ui, "Camera", true, |ui| {
+                    camera_section(ui, scene, view, camera, &mut actions)
+                });
+                section(ui, "Materials", true, |ui| materials_section(ui, scene, view));
+                section(ui, "Lights", false, |ui| lights_section(ui, scene));
+                section(ui, "Environment", false, |ui| environment_section(ui, scene));
+                section(ui, "Debug view", true, |ui| debug_section(ui, view));
+                section(ui, "Timings", true, |ui| timings_section(ui, view));
+            });
         });
-    });
     let mut open = view.show_help;
     egui::Window::new("Keyboard")
         .open(&mut open)
@@ -168,17 +181,24 @@ fn camera_section(ui: &mut Ui, scene: &Scene, view: &mut ViewState, camera: &mut
     });
     grid(ui, "camera", |ui| {
         ui.label("fly speed");
-        ui.add(egui::DragValue::new(&mut camera.speed).speed(0.05).range(0.05..=200.0).suffix(" /s"));
+        ui.add(
+            egui::DragValue::new(&mut camera.speed)
+                .speed(0.05)
+                .range(0.05..=200.0)
+                .suffix(" /s"),
+        );
         ui.end_row();
         ui.label("orbit around");
         let name = |i: usize| object_name(scene, i);
-        egui::ComboBox::from_id_salt("object").selected_text(name(view.selected_object)).show_ui(ui, |ui| {
-            for i in 0..scene.objects.len() {
-                if ui.selectable_value(&mut view.selected_object, i, name(i)).clicked() {
-                    view.selected_material = scene.objects[i].material;
+        egui::ComboBox::from_id_salt("object")
+            .selected_text(name(view.selected_object))
+            .show_ui(ui, |ui| {
+                for i in 0..scene.objects.len() {
+                    if ui.selectable_value(&mut view.selected_object, i, name(i)).clicked() {
+                        view.selected_material = scene.objects[i].material;
+                    }
                 }
-            }
-        });
+            });
         ui.end_row();
         ui.label("exposure");
         ui.add(egui::Slider::new(&mut view.exposure, 0.05..=20.0).logarithmic(true));
@@ -188,16 +208,23 @@ fn camera_section(ui: &mut Ui, scene: &Scene, view: &mut ViewState, camera: &mut
 
 fn object_name(scene: &Scene, i: usize) -> String {
     let o = &scene.objects[i];
-    format!("{i}: {} ({})", scene.meshes[o.mesh].name, scene.materials[o.material].name)
+    format!(
+        "{i}: {} ({})",
+        scene.meshes[o.mesh].name, scene.materials[o.material].name
+    )
 }
 
 fn materials_section(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState) {
-    let Some(selected) = scene.materials.get(view.selected_material).map(|m| m.name.clone()) else { return };
-    egui::ComboBox::from_id_salt("material").selected_text(selected).show_ui(ui, |ui| {
-        for (i, m) in scene.materials.iter().enumerate() {
-            ui.selectable_value(&mut view.selected_material, i, m.name.as_str());
-        }
-    });
+    let Some(selected) = scene.materials.get(view.selected_material).map(|m| m.name.clone()) else {
+        return;
+    };
+    egui::ComboBox::from_id_salt("material")
+        .selected_text(selected)
+        .show_ui(ui, |ui| {
+            for (i, m) in scene.materials.iter().enumerate() {
+                ui.selectable_value(&mut view.selected_material, i, m.name.as_str());
+            }
+        });
     if let Some(m) = scene.materials.get_mut(view.selected_material) {
         grid(ui, "material", |ui| material_fields(ui, m));
     }
@@ -222,11 +249,13 @@ fn material_fields(ui: &mut Ui, m: &mut Material) {
 
 fn choice<T: Copy + PartialEq + Serialize>(ui: &mut Ui, label: &str, value: &mut T, options: &[T]) {
     ui.label(label);
-    egui::ComboBox::from_id_salt(label).selected_text(file_name(value)).show_ui(ui, |ui| {
-        for option in options {
-            ui.selectable_value(value, *option, file_name(option));
-        }
-    });
+    egui::ComboBox::from_id_salt(label)
+        .selected_text(file_name(value))
+        .show_ui(ui, |ui| {
+            for option in options {
+                ui.selectable_value(value, *option, file_name(option));
+            }
+        });
     ui.end_row();
 }
 
@@ -252,7 +281,14 @@ fn scaled_color(ui: &mut Ui, label: &str, value: &mut Vec3, unit: &str) {
     color(ui, &format!("{label} colour"), &mut tint);
     ui.label(label);
     let speed = (scale * 0.01).max(0.001);
-    if ui.add(egui::DragValue::new(&mut scale).speed(speed).range(0.0..=1e5).suffix(unit)).changed()
+    if ui
+        .add(
+            egui::DragValue::new(&mut scale)
+                .speed(speed)
+                .range(0.0..=1e5)
+                .suffix(unit),
+        )
+        .changed()
         | (tint != split_color(*value).0)
     {
         *value = tint * scale;
@@ -280,7 +316,10 @@ fn lights_section(ui: &mut Ui, scene: &mut Scene) {
     }
     ui.horizontal(|ui| {
         if scene.lights.len() < MAX_POINT_LIGHTS && ui.button("Add a light").clicked() {
-            scene.lights.push(PointLight { position: scene.camera.position, intensity: Vec3::splat(20.0) });
+            scene.lights.push(PointLight {
+                position: scene.camera.position,
+                intensity: Vec3::splat(20.0),
+            });
         }
         if !scene.lights.is_empty() && ui.button("Remove the last").clicked() {
             scene.lights.pop();
@@ -317,19 +356,37 @@ fn environment_section(ui: &mut Ui, scene: &mut Scene) {
     if chosen != kind {
         let reflection = scene.environment.reflection().copied().unwrap_or_default();
         scene.environment = match chosen {
-            EnvironmentKind::Uniform => Environment::Uniform { radiance: Vec3::splat(0.05), reflection },
-            EnvironmentKind::Studio => Environment::Studio { intensity: 1.0, rotation_degrees: 0.0, reflection },
+            EnvironmentKind::Uniform => Environment::Uniform {
+                radiance: Vec3::splat(0.05),
+                reflection,
+            },
+            EnvironmentKind::Studio => Environment::Studio {
+                intensity: 1.0,
+                rotation_degrees: 0.0,
+                reflection,
+            },
             EnvironmentKind::None | EnvironmentKind::Map => Environment::None,
         };
     }
     let reflection = match &mut scene.environment {
         Environment::None => return,
         Environment::Uniform { radiance, reflection } => {
-            grid(ui, "environment", |ui| scaled_color(ui, "radiance", radiance, " W/sr/m²"));
+            grid(ui, "environment", |ui| {
+                scaled_color(ui, "radiance", radiance, " W/sr/m²")
+            });
             reflection
         }
-        Environment::Studio { intensity, rotation_degrees, reflection }
-        | Environment::Map { intensity, rotation_degrees, reflection, .. } => {
+        Environment::Studio {
+            intensity,
+            rotation_degrees,
+            reflection,
+        }
+        | Environment::Map {
+            intensity,
+            rotation_degrees,
+            reflection,
+            ..
+        } => {
             grid(ui, "environment", |ui| {
                 number(ui, "intensity", intensity, 0.0..=8.0);
                 number(ui, "rotation °", rotation_degrees, -180.0..=180.0);
@@ -339,14 +396,13 @@ fn environment_section(ui: &mut Ui, scene: &mut Scene) {
     };
     grid(ui, "reflection", |ui| {
         ui.label("reflection");
-        egui::ComboBox::from_id_salt("reflection mode").selected_text(format!("{:?}", reflection.mode)).show_ui(
-            ui,
-            |ui| {
+        egui::ComboBox::from_id_salt("reflection mode")
+            .selected_text(format!("{:?}", reflection.mode))
+            .show_ui(ui, |ui| {
                 for mode in [ReflectionMode::SplitSum, ReflectionMode::Seed, ReflectionMode::Sampled] {
                     ui.selectable_value(&mut reflection.mode, mode, format!("{mode:?}"));
                 }
-            },
-        );
+            });
         ui.end_row();
         match reflection.mode {
             ReflectionMode::Sampled => {
@@ -361,11 +417,13 @@ fn environment_section(ui: &mut Ui, scene: &mut Scene) {
 }
 
 fn debug_section(ui: &mut Ui, view: &mut ViewState) {
-    egui::ComboBox::from_id_salt("debug view").selected_text(view.debug_view.label()).show_ui(ui, |ui| {
-        for v in DebugView::ALL {
-            ui.selectable_value(&mut view.debug_view, v, v.label());
-        }
-    });
+    egui::ComboBox::from_id_salt("debug view")
+        .selected_text(view.debug_view.label())
+        .show_ui(ui, |ui| {
+            for v in DebugView::ALL {
+                ui.selectable_value(&mut view.debug_view, v, v.label());
+            }
+        });
 }
 
 fn timings_section(ui: &mut Ui, view: &ViewState) {
@@ -400,7 +458,11 @@ fn history_graph(ui: &mut Ui, timings: &Timings) {
         egui::pos2(x, rect.bottom() - (ms / peak) as f32 * rect.height())
     };
     let cpu = timings.history().enumerate().map(|(i, t)| point(i, t.cpu_ms)).collect();
-    let gpu = timings.history().enumerate().map(|(i, t)| point(i, t.gpu_total_ms())).collect();
+    let gpu = timings
+        .history()
+        .enumerate()
+        .map(|(i, t)| point(i, t.gpu_total_ms()))
+        .collect();
     painter.add(egui::Shape::line(cpu, egui::Stroke::new(1.0, CPU_COLOR)));
     painter.add(egui::Shape::line(gpu, egui::Stroke::new(1.0, GPU_COLOR)));
     ui.horizontal(|ui| {
@@ -477,7 +539,10 @@ mod tests {
     #[test]
     fn help_window_opens_at_the_right() {
         let mut scene = Scene::default_scene();
-        let mut view = ViewState { show_help: true, ..state() };
+        let mut view = ViewState {
+            show_help: true,
+            ..state()
+        };
         let primitives = run(&mut scene, &mut view);
         let right = right_edge(&primitives);
         assert!(right > 1000.0, "help window at x = {right}");
@@ -503,7 +568,11 @@ mod tests {
     #[test]
     fn selections_are_clamped_to_a_reloaded_scene() {
         let scene = Scene::default_scene();
-        let mut view = ViewState { selected_object: 99, selected_material: 7, ..state() };
+        let mut view = ViewState {
+            selected_object: 99,
+            selected_material: 7,
+            ..state()
+        };
         view.clamp_selection(&scene);
         assert_eq!((view.selected_object, view.selected_material), (0, 0));
     }

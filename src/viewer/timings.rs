@@ -27,7 +27,10 @@ pub struct Timings {
 
 impl Timings {
     pub fn new(pass_names: Vec<&'static str>) -> Self {
-        Self { pass_names, history: VecDeque::with_capacity(HISTORY) }
+        Self {
+            pass_names,
+            history: VecDeque::with_capacity(HISTORY),
+        }
     }
 
     pub fn push(&mut self, times: FrameTimes) {
@@ -52,12 +55,18 @@ impl Timings {
                 *sum += ms / n;
             }
         }
-        FrameTimes { cpu_ms: self.history.iter().map(|t| t.cpu_ms).sum::<f64>() / n, gpu_ms }
+        FrameTimes {
+            cpu_ms: self.history.iter().map(|t| t.cpu_ms).sum::<f64>() / n,
+            gpu_ms,
+        }
     }
 
     /// The largest CPU or total GPU time in the history: the graph's scale.
     pub fn peak_ms(&self) -> f64 {
-        self.history.iter().map(|t| t.cpu_ms.max(t.gpu_total_ms())).fold(0.0, f64::max)
+        self.history
+            .iter()
+            .map(|t| t.cpu_ms.max(t.gpu_total_ms()))
+            .fold(0.0, f64::max)
     }
 }
 
@@ -66,7 +75,10 @@ mod tests {
     use super::*;
 
     fn times(cpu: f64, gpu: &[f64]) -> FrameTimes {
-        FrameTimes { cpu_ms: cpu, gpu_ms: gpu.to_vec() }
+        FrameTimes {
+            cpu_ms: cpu,
+            gpu_ms: gpu.to_vec(),
+        }
     }
 
     #[test]

@@ -19,7 +19,11 @@ fn modified(path: &Path) -> Option<SystemTime> {
 
 impl FileWatch {
     pub fn new(path: PathBuf, now: Instant) -> Self {
-        Self { seen: modified(&path), path, last_poll: now }
+        Self {
+            seen: modified(&path),
+            path,
+            last_poll: now,
+        }
     }
 
     /// Whether the file changed since it was last seen; looks at the disk at most once per
@@ -65,8 +69,12 @@ mod tests {
         assert!(!watch.poll(later(1)), "unchanged");
 
         let file = std::fs::File::options().write(true).open(&path).expect("open");
-        file.set_modified(SystemTime::now() + Duration::from_secs(5)).expect("set mtime");
-        assert!(!watch.poll(later(1) + Duration::from_millis(10)), "too soon to look again");
+        file.set_modified(SystemTime::now() + Duration::from_secs(5))
+            .expect("set mtime");
+        assert!(
+            !watch.poll(later(1) + Duration::from_millis(10)),
+            "too soon to look again"
+        );
         assert!(watch.poll(later(2)), "changed");
         assert!(!watch.poll(later(3)), "reported once");
 

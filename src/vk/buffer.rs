@@ -47,8 +47,17 @@ impl Buffer {
                 return Err(e).with_context(|| format!("cannot allocate {size} bytes for buffer '{name}'"));
             }
         };
-        let bound = unsafe { device.handle.bind_buffer_memory(handle, allocation.memory(), allocation.offset()) };
-        let buffer = Self { device: device.clone(), handle, allocation: Some(allocation), size };
+        let bound = unsafe {
+            device
+                .handle
+                .bind_buffer_memory(handle, allocation.memory(), allocation.offset())
+        };
+        let buffer = Self {
+            device: device.clone(),
+            handle,
+            allocation: Some(allocation),
+            size,
+        };
         bound.context("vkBindBufferMemory failed")?;
         device.set_name(handle, name);
         Ok(buffer)
@@ -64,12 +73,28 @@ impl Buffer {
     ) -> Result<Self> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         let size = bytes.len() as vk::DeviceSize;
-        let mut staging = Buffer::new(device, size, vk::BufferUsageFlags::TRANSFER_SRC, MemoryLocation::CpuToGpu, "staging")?;
+        let mut staging = Buffer::new(
+            device,
+            size,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+            "staging",
+        )?;
         staging.write(bytes)?;
-        let buffer = Buffer::new(device, size, usage | vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuOnly, name)?;
+        let buffer = Buffer::new(
+            device,
+            size,
+            usage | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+            name,
+        )?;
         one_shot.run(|cmd| {
             let region = vk::BufferCopy::default().size(size.max(1));
-            unsafe { device.handle.cmd_copy_buffer(cmd, staging.handle, buffer.handle, &[region]) };
+            unsafe {
+                device
+                    .handle
+                    .cmd_copy_buffer(cmd, staging.handle, buffer.handle, &[region])
+            };
         })?;
         Ok(buffer)
     }
@@ -88,7 +113,12 @@ impl Buffer {
             .as_mut()
             .and_then(|a| a.mapped_slice_mut())
             .context("buffer is not host-visible")?;
-        anyhow::ensure!(bytes.len() <= slice.len(), "write of {} bytes into a {}-byte buffer", bytes.len(), slice.len());
+        anyhow::ensure!(
+            bytes.len() <= slice.len(),
+            "write of {} bytes into a {}-byte buffer",
+            bytes.len(),
+            slice.len()
+        );
         slice[..bytes.len()].copy_from_slice(bytes);
         Ok(())
     }

@@ -19,9 +19,12 @@ impl CommandPool {
         let info = vk::CommandPoolCreateInfo::default()
             .queue_family_index(device.queue_family)
             .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let handle = unsafe { device.handle.create_command_pool(&info, None) }
-            .context("cannot create a command pool")?;
-        Ok(Self { device: device.clone(), handle })
+        let handle =
+            unsafe { device.handle.create_command_pool(&info, None) }.context("cannot create a command pool")?;
+        Ok(Self {
+            device: device.clone(),
+            handle,
+        })
     }
 
     pub fn allocate(&self, count: u32) -> Result<Vec<vk::CommandBuffer>> {
@@ -29,8 +32,7 @@ impl CommandPool {
             .command_pool(self.handle)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(count);
-        unsafe { self.device.handle.allocate_command_buffers(&info) }
-            .context("cannot allocate command buffers")
+        unsafe { self.device.handle.allocate_command_buffers(&info) }.context("cannot allocate command buffers")
     }
 }
 
@@ -56,7 +58,12 @@ impl OneShot {
         let pool = CommandPool::new(device)?;
         let cmd = pool.allocate(1)?[0];
         let fence = Fence::new(device, false)?;
-        Ok(Self { device: device.clone(), _pool: pool, cmd, fence })
+        Ok(Self {
+            device: device.clone(),
+            _pool: pool,
+            cmd,
+            fence,
+        })
     }
 
     /// Records `record` into a fresh command buffer, submits it and waits until the GPU is done.
@@ -64,8 +71,7 @@ impl OneShot {
         let device = &self.device.handle;
         unsafe {
             device.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())?;
-            let begin = vk::CommandBufferBeginInfo::default()
-                .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+            let begin = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
             device.begin_command_buffer(self.cmd, &begin)?;
         }
         let result = record(self.cmd);

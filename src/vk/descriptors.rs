@@ -37,8 +37,16 @@ impl DescriptorSetLayoutBuilder {
         let handle = unsafe { device.handle.create_descriptor_set_layout(&info, None) }
             .with_context(|| format!("cannot create descriptor set layout '{name}'"))?;
         device.set_name(handle, name);
-        let bindings = self.bindings.iter().map(|b| (b.descriptor_type, b.descriptor_count)).collect();
-        Ok(DescriptorSetLayout { device: device.clone(), handle, bindings })
+        let bindings = self
+            .bindings
+            .iter()
+            .map(|b| (b.descriptor_type, b.descriptor_count))
+            .collect();
+        Ok(DescriptorSetLayout {
+            device: device.clone(),
+            handle,
+            bindings,
+        })
     }
 }
 
@@ -59,12 +67,20 @@ impl DescriptorPool {
         let sizes: Vec<vk::DescriptorPoolSize> = layout
             .bindings
             .iter()
-            .map(|&(ty, count)| vk::DescriptorPoolSize { ty, descriptor_count: count * sets })
+            .map(|&(ty, count)| vk::DescriptorPoolSize {
+                ty,
+                descriptor_count: count * sets,
+            })
             .collect();
-        let info = vk::DescriptorPoolCreateInfo::default().max_sets(sets).pool_sizes(&sizes);
-        let handle = unsafe { device.handle.create_descriptor_pool(&info, None) }
-            .context("cannot create a descriptor pool")?;
-        Ok(Self { device: device.clone(), handle })
+        let info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(sets)
+            .pool_sizes(&sizes);
+        let handle =
+            unsafe { device.handle.create_descriptor_pool(&info, None) }.context("cannot create a descriptor pool")?;
+        Ok(Self {
+            device: device.clone(),
+            handle,
+        })
     }
 
     pub fn allocate(&self, layout: &DescriptorSetLayout) -> Result<vk::DescriptorSet> {
@@ -72,8 +88,10 @@ impl DescriptorPool {
         let info = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(self.handle)
             .set_layouts(&layouts);
-        Ok(unsafe { self.device.handle.allocate_descriptor_sets(&info) }
-            .context("cannot allocate a descriptor set")?[0])
+        Ok(
+            unsafe { self.device.handle.allocate_descriptor_sets(&info) }
+                .context("cannot allocate a descriptor set")?[0],
+        )
     }
 }
 
@@ -99,7 +117,11 @@ impl DescriptorWriter {
     }
 
     pub fn buffer(mut self, binding: u32, kind: vk::DescriptorType, buffer: vk::Buffer) -> Self {
-        let info = vk::DescriptorBufferInfo { buffer, offset: 0, range: vk::WHOLE_SIZE };
+        let info = vk::DescriptorBufferInfo {
+            buffer,
+            offset: 0,
+            range: vk::WHOLE_SIZE,
+        };
         self.writes.push((binding, kind, Resource::Buffer(info)));
         self
     }
@@ -112,7 +134,11 @@ impl DescriptorWriter {
         layout: vk::ImageLayout,
         sampler: vk::Sampler,
     ) -> Self {
-        let info = vk::DescriptorImageInfo { sampler, image_view: view, image_layout: layout };
+        let info = vk::DescriptorImageInfo {
+            sampler,
+            image_view: view,
+            image_layout: layout,
+        };
         self.writes.push((binding, kind, Resource::Image(info)));
         self
     }

@@ -87,8 +87,7 @@ fn pick_queue_family(
     physical: vk::PhysicalDevice,
     present: Option<&dyn Fn(vk::PhysicalDevice, u32) -> bool>,
 ) -> Option<u32> {
-    let families =
-        unsafe { instance.handle.get_physical_device_queue_family_properties(physical) };
+    let families = unsafe { instance.handle.get_physical_device_queue_family_properties(physical) };
     families.iter().enumerate().find_map(|(i, f)| {
         let i = i as u32;
         let flags = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
@@ -102,8 +101,12 @@ fn describe(instance: &Instance, index: usize, physical: vk::PhysicalDevice) -> 
     let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
     unsafe { instance.handle.get_physical_device_properties2(physical, &mut props2) };
     let props = props2.properties;
-    let name = props.device_name_as_c_str().map_or_else(|_| "?".into(), |n| n.to_string_lossy().into_owned());
-    let driver_name = driver.driver_info_as_c_str().map_or_else(|_| String::new(), |n| n.to_string_lossy().into_owned());
+    let name = props
+        .device_name_as_c_str()
+        .map_or_else(|_| "?".into(), |n| n.to_string_lossy().into_owned());
+    let driver_name = driver
+        .driver_info_as_c_str()
+        .map_or_else(|_| String::new(), |n| n.to_string_lossy().into_owned());
 
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
     let mut features = vk::PhysicalDeviceFeatures2::default().push_next(&mut v13);
@@ -117,13 +120,24 @@ fn describe(instance: &Instance, index: usize, physical: vk::PhysicalDevice) -> 
     } else {
         None
     };
-    DeviceInfo { index, name, kind: props.device_type, api_version: props.api_version, driver: driver_name, unsupported }
+    DeviceInfo {
+        index,
+        name,
+        kind: props.device_type,
+        api_version: props.api_version,
+        driver: driver_name,
+        unsupported,
+    }
 }
 
 fn enumerate(instance: &Instance) -> Result<Vec<(vk::PhysicalDevice, DeviceInfo)>> {
-    let physicals = unsafe { instance.handle.enumerate_physical_devices() }
-        .context("cannot enumerate Vulkan devices")?;
-    Ok(physicals.into_iter().enumerate().map(|(i, p)| (p, describe(instance, i, p))).collect())
+    let physicals =
+        unsafe { instance.handle.enumerate_physical_devices() }.context("cannot enumerate Vulkan devices")?;
+    Ok(physicals
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| (p, describe(instance, i, p)))
+        .collect())
 }
 
 /// Every Vulkan device on this machine, in the loader's order.
@@ -178,18 +192,18 @@ impl Device {
         };
         let instance = Instance::new(options.validation, &surface_extensions)?;
         let surface = window.map(|w| Surface::new(&instance, w)).transpose()?;
-        let present_check = surface.as_ref().map(|s| {
-            move |p: vk::PhysicalDevice, family: u32| s.supports(p, family)
-        });
-        let present: Option<&dyn Fn(vk::PhysicalDevice, u32) -> bool> =
-            present_check.as_ref().map(|f| f as &dyn Fn(vk::PhysicalDevice, u32) -> bool);
+        let present_check = surface
+            .as_ref()
+            .map(|s| move |p: vk::PhysicalDevice, family: u32| s.supports(p, family));
+        let present: Option<&dyn Fn(vk::PhysicalDevice, u32) -> bool> = present_check
+            .as_ref()
+            .map(|f| f as &dyn Fn(vk::PhysicalDevice, u32) -> bool);
         let candidates = enumerate(&instance)?;
         if candidates.is_empty() {
             bail!("no Vulkan device found (on Debian, `make setup` installs Mesa's lavapipe)");
         }
         let usable = |info: &DeviceInfo, p: vk::PhysicalDevice| {
-            info.unsupported.is_none()
-                && pick_queue_family(&instance, p, present).is_some()
+            info.unsupported.is_none() && pick_queue_family(&instance, p, present).is_some()
         };
         let (physical, info) = match &options.choice {
             DeviceChoice::Best => candidates
@@ -296,8 +310,7 @@ impl Device {
     /// Submits to the device's one queue.
     pub fn submit(&self, submits: &[vk::SubmitInfo2<'_>], fence: vk::Fence) -> Result<()> {
         let _guard = self.queue_lock.lock().unwrap_or_else(|e| e.into_inner());
-        unsafe { self.handle.queue_submit2(self.queue, submits, fence) }
-            .context("vkQueueSubmit2 failed")
+        unsafe { self.handle.queue_submit2(self.queue, submits, fence) }.context("vkQueueSubmit2 failed")
     }
 
     /// Presents on the device's queue (which was chosen to support presenting).
@@ -326,14 +339,20 @@ impl Device {
         }
         let Ok(name) = std::ffi::CString::new(name) else { return };
         let loader = ash::ext::debug_utils::Device::new(&self.instance.handle, &self.handle);
-        let info = vk::DebugUtilsObjectNameInfoEXT::default().object_handle(handle).object_name(&name);
+        let info = vk::DebugUtilsObjectNameInfoEXT::default()
+            .object_handle(handle)
+            .object_name(&name);
         // Naming is a debugging aid; failing to name is not an error worth stopping for.
         let _ = unsafe { loader.set_debug_utils_object_name(&info) };
     }
 }
 
 fn list(candidates: &[(vk::PhysicalDevice, DeviceInfo)]) -> String {
-    candidates.iter().map(|(_, i)| i.to_string()).collect::<Vec<_>>().join("; ")
+    candidates
+        .iter()
+        .map(|(_, i)| i.to_string())
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 impl Drop for Device {

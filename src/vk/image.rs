@@ -51,7 +51,12 @@ impl Image {
         aspect: vk::ImageAspectFlags,
         name: &str,
     ) -> Result<Self> {
-        let shape = Shape { extent, mip_levels, layers: 1, view_type: vk::ImageViewType::TYPE_2D };
+        let shape = Shape {
+            extent,
+            mip_levels,
+            layers: 1,
+            view_type: vk::ImageViewType::TYPE_2D,
+        };
         Self::create(device, shape, format, usage, aspect, name)
     }
 
@@ -65,8 +70,16 @@ impl Image {
         usage: vk::ImageUsageFlags,
         name: &str,
     ) -> Result<Self> {
-        let extent = vk::Extent2D { width: size, height: size };
-        let shape = Shape { extent, mip_levels, layers: 6, view_type: vk::ImageViewType::CUBE };
+        let extent = vk::Extent2D {
+            width: size,
+            height: size,
+        };
+        let shape = Shape {
+            extent,
+            mip_levels,
+            layers: 6,
+            view_type: vk::ImageViewType::CUBE,
+        };
         Self::create(device, shape, format, usage, vk::ImageAspectFlags::COLOR, name)
     }
 
@@ -79,7 +92,12 @@ impl Image {
         usage: vk::ImageUsageFlags,
         name: &str,
     ) -> Result<Self> {
-        let shape = Shape { extent, mip_levels: 1, layers, view_type: vk::ImageViewType::TYPE_2D_ARRAY };
+        let shape = Shape {
+            extent,
+            mip_levels: 1,
+            layers,
+            view_type: vk::ImageViewType::TYPE_2D_ARRAY,
+        };
         Self::create(device, shape, format, usage, vk::ImageAspectFlags::COLOR, name)
     }
 
@@ -91,7 +109,12 @@ impl Image {
         aspect: vk::ImageAspectFlags,
         name: &str,
     ) -> Result<Self> {
-        let Shape { extent, mip_levels, layers, view_type } = shape;
+        let Shape {
+            extent,
+            mip_levels,
+            layers,
+            view_type,
+        } = shape;
         let flags = if view_type == vk::ImageViewType::CUBE {
             vk::ImageCreateFlags::CUBE_COMPATIBLE
         } else {
@@ -101,7 +124,11 @@ impl Image {
             .flags(flags)
             .image_type(vk::ImageType::TYPE_2D)
             .format(format)
-            .extent(vk::Extent3D { width: extent.width, height: extent.height, depth: 1 })
+            .extent(vk::Extent3D {
+                width: extent.width,
+                height: extent.height,
+                depth: 1,
+            })
             .mip_levels(mip_levels)
             .array_layers(layers)
             .samples(vk::SampleCountFlags::TYPE_1)
@@ -109,8 +136,12 @@ impl Image {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
-        let handle = unsafe { device.handle.create_image(&info, None) }
-            .with_context(|| format!("cannot create image '{name}' {}x{} {format:?}", extent.width, extent.height))?;
+        let handle = unsafe { device.handle.create_image(&info, None) }.with_context(|| {
+            format!(
+                "cannot create image '{name}' {}x{} {format:?}",
+                extent.width, extent.height
+            )
+        })?;
         let requirements = unsafe { device.handle.get_image_memory_requirements(handle) };
         let allocation = device.allocator().allocate(&AllocationCreateDesc {
             name,
@@ -147,7 +178,9 @@ impl Image {
 
     /// Every level and layer.
     pub fn all_levels(&self) -> vk::ImageSubresourceRange {
-        full_range(self.aspect).level_count(self.mip_levels).layer_count(self.layers)
+        full_range(self.aspect)
+            .level_count(self.mip_levels)
+            .layer_count(self.layers)
     }
 
     /// Mip `level`, every layer.
@@ -158,7 +191,10 @@ impl Image {
     /// A 2D array view of mip `level`: what compute shaders write a level through.
     pub fn level_view(&self, level: u32) -> Result<ImageView> {
         let handle = self.create_view(vk::ImageViewType::TYPE_2D_ARRAY, self.level_range(level))?;
-        Ok(ImageView { device: self.device.clone(), handle })
+        Ok(ImageView {
+            device: self.device.clone(),
+            handle,
+        })
     }
 
     fn create_view(&self, view_type: vk::ImageViewType, range: vk::ImageSubresourceRange) -> Result<vk::ImageView> {
@@ -193,7 +229,10 @@ impl Drop for ImageView {
 
 /// The first mip level of a single-layer image (`.level_count(n)` for more).
 pub fn full_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
-    vk::ImageSubresourceRange::default().aspect_mask(aspect).level_count(1).layer_count(1)
+    vk::ImageSubresourceRange::default()
+        .aspect_mask(aspect)
+        .level_count(1)
+        .layer_count(1)
 }
 
 impl Drop for Image {

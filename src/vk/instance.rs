@@ -95,8 +95,7 @@ impl Instance {
         // SAFETY: loading the system Vulkan loader; failure is reported, not assumed.
         let entry = unsafe { ash::Entry::load() }
             .context("cannot load the Vulkan loader (libvulkan.so.1); run `make setup`")?;
-        let version = unsafe { entry.try_enumerate_instance_version() }?
-            .unwrap_or(vk::API_VERSION_1_0);
+        let version = unsafe { entry.try_enumerate_instance_version() }?.unwrap_or(vk::API_VERSION_1_0);
         if version < vk::API_VERSION_1_3 {
             bail!(
                 "the Vulkan loader supports {}.{}, argil needs 1.3",
@@ -126,8 +125,8 @@ impl Instance {
             .engine_name(&app_name)
             .api_version(vk::API_VERSION_1_3);
 
-        let mut severity = vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
-            | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING;
+        let mut severity =
+            vk::DebugUtilsMessageSeverityFlagsEXT::ERROR | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING;
         if std::env::var_os("ARGIL_VALIDATION_VERBOSE").is_some() {
             severity |= vk::DebugUtilsMessageSeverityFlagsEXT::INFO;
         }
@@ -156,13 +155,16 @@ impl Instance {
                 .push_next(&mut messenger_info)
                 .push_next(&mut validation_features);
         }
-        let handle = unsafe { entry.create_instance(&create_info, None) }
-            .context("vkCreateInstance failed")?;
+        let handle = unsafe { entry.create_instance(&create_info, None) }.context("vkCreateInstance failed")?;
 
         let messenger = if validation {
             let loader = ext::debug_utils::Instance::new(&entry, &handle);
             match unsafe { loader.create_debug_utils_messenger(&messenger_info, None) } {
-                Ok(h) => Some(Messenger { loader, handle: h, report }),
+                Ok(h) => Some(Messenger {
+                    loader,
+                    handle: h,
+                    report,
+                }),
                 Err(e) => {
                     unsafe { handle.destroy_instance(None) };
                     return Err(e).context("cannot create the debug messenger");
@@ -171,7 +173,11 @@ impl Instance {
         } else {
             None
         };
-        Ok(Self { entry, handle, messenger })
+        Ok(Self {
+            entry,
+            handle,
+            messenger,
+        })
     }
 
     /// The validation report, when validation is on.

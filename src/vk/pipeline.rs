@@ -24,13 +24,20 @@ impl PipelineLayout {
         push_stages: vk::ShaderStageFlags,
     ) -> Result<Self> {
         let sets: Vec<vk::DescriptorSetLayout> = set_layouts.iter().map(|l| l.handle).collect();
-        let ranges = [vk::PushConstantRange { stage_flags: push_stages, offset: 0, size: push_constant_size }];
+        let ranges = [vk::PushConstantRange {
+            stage_flags: push_stages,
+            offset: 0,
+            size: push_constant_size,
+        }];
         let info = vk::PipelineLayoutCreateInfo::default()
             .set_layouts(&sets)
             .push_constant_ranges(if push_constant_size > 0 { &ranges } else { &[] });
-        let handle = unsafe { device.handle.create_pipeline_layout(&info, None) }
-            .context("cannot create a pipeline layout")?;
-        Ok(Self { device: device.clone(), handle })
+        let handle =
+            unsafe { device.handle.create_pipeline_layout(&info, None) }.context("cannot create a pipeline layout")?;
+        Ok(Self {
+            device: device.clone(),
+            handle,
+        })
     }
 }
 
@@ -48,7 +55,11 @@ pub struct Specialization(pub Vec<u32>);
 impl Specialization {
     fn entries(&self) -> Vec<vk::SpecializationMapEntry> {
         (0..self.0.len() as u32)
-            .map(|i| vk::SpecializationMapEntry { constant_id: i, offset: i * 4, size: 4 })
+            .map(|i| vk::SpecializationMapEntry {
+                constant_id: i,
+                offset: i * 4,
+                size: 4,
+            })
             .collect()
     }
 }
@@ -80,12 +91,21 @@ impl Pipeline {
             .module(shader.handle)
             .name(c"main")
             .specialization_info(&spec_info);
-        let info = vk::ComputePipelineCreateInfo::default().stage(stage).layout(layout.handle);
-        let handle = unsafe { device.handle.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
-            .map_err(|(_, e)| e)
-            .with_context(|| format!("cannot create compute pipeline '{name}'"))?[0];
+        let info = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.handle);
+        let handle = unsafe {
+            device
+                .handle
+                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, e)| e)
+        .with_context(|| format!("cannot create compute pipeline '{name}'"))?[0];
         device.set_name(handle, name);
-        Ok(Self { device: device.clone(), handle })
+        Ok(Self {
+            device: device.clone(),
+            handle,
+        })
     }
 }
 
@@ -190,22 +210,24 @@ impl<'a> GraphicsPipelineBuilder<'a> {
                 .vertex_binding_descriptions(&bindings)
                 .vertex_attribute_descriptions(&self.vertex_attributes)
         };
-        let input_assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
-            .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
-        let viewport = vk::PipelineViewportStateCreateInfo::default().viewport_count(1).scissor_count(1);
+        let input_assembly =
+            vk::PipelineInputAssemblyStateCreateInfo::default().topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+        let viewport = vk::PipelineViewportStateCreateInfo::default()
+            .viewport_count(1)
+            .scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
             .cull_mode(self.cull_mode)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
-        let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-            .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let multisample =
+            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(self.depth_format.is_some())
             .depth_write_enable(self.depth_write)
             .depth_compare_op(self.depth_compare);
-        let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
-            .color_write_mask(vk::ColorComponentFlags::RGBA)];
+        let blend_attachments =
+            [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
@@ -225,11 +247,18 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             .dynamic_state(&dynamic)
             .layout(layout.handle)
             .push_next(&mut rendering);
-        let handle = unsafe { device.handle.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None) }
-            .map_err(|(_, e)| e)
-            .with_context(|| format!("cannot create graphics pipeline '{name}'"))?[0];
+        let handle = unsafe {
+            device
+                .handle
+                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+        }
+        .map_err(|(_, e)| e)
+        .with_context(|| format!("cannot create graphics pipeline '{name}'"))?[0];
         device.set_name(handle, name);
-        Ok(Pipeline { device: device.clone(), handle })
+        Ok(Pipeline {
+            device: device.clone(),
+            handle,
+        })
     }
 }
 
@@ -243,7 +272,10 @@ pub fn set_full_viewport(device: &Device, cmd: vk::CommandBuffer, extent: vk::Ex
         min_depth: 0.0,
         max_depth: 1.0,
     };
-    let scissor = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+    let scissor = vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent,
+    };
     unsafe {
         device.handle.cmd_set_viewport(cmd, 0, &[viewport]);
         device.handle.cmd_set_scissor(cmd, 0, &[scissor]);

@@ -22,7 +22,11 @@ pub struct ImageRegion {
 
 impl From<&Image> for ImageRegion {
     fn from(image: &Image) -> Self {
-        Self { handle: image.handle, extent: image.extent, aspect: image.aspect }
+        Self {
+            handle: image.handle,
+            extent: image.extent,
+            aspect: image.aspect,
+        }
     }
 }
 
@@ -36,8 +40,17 @@ impl Readback {
     pub fn new(device: &Arc<Device>, image: impl Into<ImageRegion>, bytes_per_pixel: u32) -> Result<Self> {
         let image = image.into();
         let size = u64::from(image.extent.width) * u64::from(image.extent.height) * u64::from(bytes_per_pixel);
-        let buffer = Buffer::new(device, size, vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuToCpu, "readback")?;
-        Ok(Self { buffer, extent: image.extent })
+        let buffer = Buffer::new(
+            device,
+            size,
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+            "readback",
+        )?;
+        Ok(Self {
+            buffer,
+            extent: image.extent,
+        })
     }
 
     /// Records the copy. The image is in use `from` and is left in `TRANSFER_SRC`; the
@@ -47,9 +60,15 @@ impl Readback {
         transition(device, cmd, image.handle, image.aspect, from, ImageUse::TRANSFER_SRC);
         let region = vk::BufferImageCopy::default()
             .image_subresource(
-                vk::ImageSubresourceLayers::default().aspect_mask(image.aspect).layer_count(1),
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(image.aspect)
+                    .layer_count(1),
             )
-            .image_extent(vk::Extent3D { width: image.extent.width, height: image.extent.height, depth: 1 });
+            .image_extent(vk::Extent3D {
+                width: image.extent.width,
+                height: image.extent.height,
+                depth: 1,
+            });
         unsafe {
             device.handle.cmd_copy_image_to_buffer(
                 cmd,

@@ -46,7 +46,10 @@ impl Sampler {
 
     fn create(device: &Arc<Device>, info: &vk::SamplerCreateInfo) -> Result<Self> {
         let handle = unsafe { device.handle.create_sampler(info, None) }.context("cannot create a sampler")?;
-        Ok(Self { device: device.clone(), handle })
+        Ok(Self {
+            device: device.clone(),
+            handle,
+        })
     }
 }
 

@@ -21,7 +21,10 @@ impl ShaderModule {
         let handle = unsafe { device.handle.create_shader_module(&info, None) }
             .with_context(|| format!("cannot create shader module '{name}'"))?;
         device.set_name(handle, name);
-        Ok(Self { device: device.clone(), handle })
+        Ok(Self {
+            device: device.clone(),
+            handle,
+        })
     }
 }
 

@@ -23,8 +23,11 @@ impl Surface {
 
     /// Whether `family` of `physical` can present to this surface.
     pub fn supports(&self, physical: vk::PhysicalDevice, family: u32) -> bool {
-        unsafe { self.loader.get_physical_device_surface_support(physical, family, self.handle) }
-            .unwrap_or(false)
+        unsafe {
+            self.loader
+                .get_physical_device_surface_support(physical, family, self.handle)
+        }
+        .unwrap_or(false)
     }
 }
 

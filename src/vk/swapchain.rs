@@ -23,7 +23,10 @@ pub struct Swapchain {
 
 /// What acquiring an image gave.
 pub enum Acquired {
-    Image { index: u32, suboptimal: bool },
+    Image {
+        index: u32,
+        suboptimal: bool,
+    },
     /// The swapchain no longer matches the surface: recreate it.
     OutOfDate,
 }
@@ -32,11 +35,18 @@ impl Swapchain {
     /// A swapchain for the device's surface of about `wanted` pixels (the surface decides),
     /// replacing `old` if given.
     pub fn new(device: &Arc<Device>, wanted: vk::Extent2D, old: Option<&Swapchain>) -> Result<Self> {
-        let surface = device.surface.as_ref().context("the device was created without a window surface")?;
+        let surface = device
+            .surface
+            .as_ref()
+            .context("the device was created without a window surface")?;
         let (caps, formats) = unsafe {
             (
-                surface.loader.get_physical_device_surface_capabilities(device.physical, surface.handle)?,
-                surface.loader.get_physical_device_surface_formats(device.physical, surface.handle)?,
+                surface
+                    .loader
+                    .get_physical_device_surface_capabilities(device.physical, surface.handle)?,
+                surface
+                    .loader
+                    .get_physical_device_surface_formats(device.physical, surface.handle)?,
             )
         };
         // An sRGB format lets the hardware encode; the tone-map pass encodes otherwise.
@@ -50,8 +60,12 @@ impl Swapchain {
             caps.current_extent
         } else {
             vk::Extent2D {
-                width: wanted.width.clamp(caps.min_image_extent.width, caps.max_image_extent.width),
-                height: wanted.height.clamp(caps.min_image_extent.height, caps.max_image_extent.height),
+                width: wanted
+                    .width
+                    .clamp(caps.min_image_extent.width, caps.max_image_extent.width),
+                height: wanted
+                    .height
+                    .clamp(caps.min_image_extent.height, caps.max_image_extent.height),
             }
         };
         let mut image_count = caps.min_image_count + 1;
@@ -91,14 +105,19 @@ impl Swapchain {
                 .view_type(vk::ImageViewType::TYPE_2D)
                 .format(chosen.format)
                 .subresource_range(super::image::full_range(vk::ImageAspectFlags::COLOR));
-            swapchain.views.push(unsafe { device.handle.create_image_view(&view_info, None) }?);
+            swapchain
+                .views
+                .push(unsafe { device.handle.create_image_view(&view_info, None) }?);
             swapchain.ready_to_present.push(Semaphore::new(device)?);
         }
         Ok(swapchain)
     }
 
     pub fn acquire(&self, signal: vk::Semaphore) -> Result<Acquired> {
-        match unsafe { self.loader.acquire_next_image(self.handle, u64::MAX, signal, vk::Fence::null()) } {
+        match unsafe {
+            self.loader
+                .acquire_next_image(self.handle, u64::MAX, signal, vk::Fence::null())
+        } {
             Ok((index, suboptimal)) => Ok(Acquired::Image { index, suboptimal }),
             Err(vk::Result::ERROR_OUT_OF_DATE_KHR) => Ok(Acquired::OutOfDate),
             Err(e) => Err(e).context("vkAcquireNextImageKHR failed"),

@@ -15,10 +15,21 @@ pub struct Fence {
 
 impl Fence {
     pub fn new(device: &Arc<Device>, signaled: bool) -> Result<Self> {
-        let flags = if signaled { vk::FenceCreateFlags::SIGNALED } else { vk::FenceCreateFlags::empty() };
-        let handle = unsafe { device.handle.create_fence(&vk::FenceCreateInfo::default().flags(flags), None) }
-            .context("cannot create a fence")?;
-        Ok(Self { device: device.clone(), handle })
+        let flags = if signaled {
+            vk::FenceCreateFlags::SIGNALED
+        } else {
+            vk::FenceCreateFlags::empty()
+        };
+        let handle = unsafe {
+            device
+                .handle
+                .create_fence(&vk::FenceCreateInfo::default().flags(flags), None)
+        }
+        .context("cannot create a fence")?;
+        Ok(Self {
+            device: device.clone(),
+            handle,
+        })
     }
 
     pub fn wait(&self) -> Result<()> {
@@ -44,9 +55,16 @@ pub struct Semaphore {
 
 impl Semaphore {
     pub fn new(device: &Arc<Device>) -> Result<Self> {
-        let handle = unsafe { device.handle.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
-            .context("cannot create a semaphore")?;
-        Ok(Self { device: device.clone(), handle })
+        let handle = unsafe {
+            device
+                .handle
+                .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
+        }
+        .context("cannot create a semaphore")?;
+        Ok(Self {
+            device: device.clone(),
+            handle,
+        })
     }
 }
 
@@ -88,7 +106,8 @@ impl ImageUse {
     pub const DEPTH_ATTACHMENT: Self = Self {
         layout: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
         stage: vk::PipelineStageFlags2::from_raw(
-            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw() | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
+            vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS.as_raw()
+                | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS.as_raw(),
         ),
         access: vk::AccessFlags2::from_raw(
             vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE.as_raw()

@@ -18,23 +18,36 @@ pub struct Timestamps {
 impl Timestamps {
     /// `None` when the device's queue cannot write timestamps.
     pub fn new(device: &Arc<Device>, passes: u32) -> Result<Option<Self>> {
-        let Some(period_ns) = device.timestamp_period_ns else { return Ok(None) };
+        let Some(period_ns) = device.timestamp_period_ns else {
+            return Ok(None);
+        };
         let info = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(passes * 2);
-        let pool = unsafe { device.handle.create_query_pool(&info, None) }
-            .context("cannot create a timestamp query pool")?;
-        Ok(Some(Self { device: device.clone(), pool, passes, period_ns }))
+        let pool =
+            unsafe { device.handle.create_query_pool(&info, None) }.context("cannot create a timestamp query pool")?;
+        Ok(Some(Self {
+            device: device.clone(),
+            pool,
+            passes,
+            period_ns,
+        }))
     }
 
     /// Resets every query; recorded before the first pass of a frame.
     pub fn reset(&self, cmd: vk::CommandBuffer) {
-        unsafe { self.device.handle.cmd_reset_query_pool(cmd, self.pool, 0, self.passes * 2) };
+        unsafe {
+            self.device
+                .handle
+                .cmd_reset_query_pool(cmd, self.pool, 0, self.passes * 2)
+        };
     }
 
     pub fn begin(&self, cmd: vk::CommandBuffer, pass: u32) {
         unsafe {
-            self.device.handle.cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, self.pool, pass * 2)
+            self.device
+                .handle
+                .cmd_write_timestamp2(cmd, vk::PipelineStageFlags2::TOP_OF_PIPE, self.pool, pass * 2)
         };
     }
 

@@ -26,8 +26,14 @@ pub fn gpu() -> &'static Gpu {
             .map(|s| s.parse().expect("infallible"))
             .unwrap_or(DeviceChoice::Best);
         let device = Arc::new(
-            Device::new(DeviceOptions { choice, validation: true }, None)
-                .expect("a Vulkan device with the validation layer (run `make setup`)"),
+            Device::new(
+                DeviceOptions {
+                    choice,
+                    validation: true,
+                },
+                None,
+            )
+            .expect("a Vulkan device with the validation layer (run `make setup`)"),
         );
         let renderer = Mutex::new(Renderer::new(device.clone(), 1).expect("renderer"));
         Gpu { device, renderer }
@@ -108,9 +114,18 @@ pub fn assert_matches_golden(frame: &OffscreenFrame, name: &str) {
         return;
     }
     let golden = image::open(&golden_path)
-        .unwrap_or_else(|e| panic!("cannot read golden {}: {e} (ARGIL_BLESS=1 creates it)", golden_path.display()))
+        .unwrap_or_else(|e| {
+            panic!(
+                "cannot read golden {}: {e} (ARGIL_BLESS=1 creates it)",
+                golden_path.display()
+            )
+        })
         .to_rgba8();
-    assert_eq!(golden.dimensions(), actual.dimensions(), "golden {name} has another size");
+    assert_eq!(
+        golden.dimensions(),
+        actual.dimensions(),
+        "golden {name} has another size"
+    );
     let (rmse, max) = rgb_difference(golden.as_raw(), actual.as_raw());
     if rmse > MAX_RMSE {
         let dir = failure_dir();
@@ -135,8 +150,12 @@ pub fn assert_matches_golden(frame: &OffscreenFrame, name: &str) {
 
 /// A scene from TOML text, with paths relative to `tests/`.
 pub fn scene(toml: &str) -> Scene {
-    Scene::from_toml(toml, "test scene", Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").as_path())
-        .expect("test scene parses")
+    Scene::from_toml(
+        toml,
+        "test scene",
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").as_path(),
+    )
+    .expect("test scene parses")
 }
 
 /// Runs the `argil` binary with the validation layer on and a private runtime directory.

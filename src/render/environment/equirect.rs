@@ -65,17 +65,9 @@ fn read(path: &Path) -> Result<Equirect> {
         }
         texels.push([r, g, b, 1.0]);
     }
-    let map = Equirect {
-        width,
-        height,
-        texels,
-    };
+    let map = Equirect { width, height, texels };
     let factor = width.div_ceil(MAX_UPLOAD_WIDTH);
-    Ok(if factor > 1 {
-        downsample(&map, factor)
-    } else {
-        map
-    })
+    Ok(if factor > 1 { downsample(&map, factor) } else { map })
 }
 
 /// The mean of each `factor`² block; the last column and row of blocks may be narrower.
@@ -96,19 +88,10 @@ fn downsample(map: &Equirect, factor: u32) -> Equirect {
                 }
             }
             let n = f64::from((x1 - x0) * (y1 - y0));
-            texels.push([
-                (sum[0] / n) as f32,
-                (sum[1] / n) as f32,
-                (sum[2] / n) as f32,
-                1.0,
-            ]);
+            texels.push([(sum[0] / n) as f32, (sum[1] / n) as f32, (sum[2] / n) as f32, 1.0]);
         }
     }
-    Equirect {
-        width,
-        height,
-        texels,
-    }
+    Equirect { width, height, texels }
 }
 
 #[cfg(test)]

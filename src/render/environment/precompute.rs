@@ -15,9 +15,9 @@ use super::equirect::Equirect;
 use crate::brdf::environment::LUT_LAYERS;
 use crate::render::shaders;
 use crate::vk::{
-    transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
-    DescriptorWriter, Device, Image, ImageUse, ImageView, OneShot, Pipeline, PipelineLayout,
-    Sampler, ShaderModule, Specialization, Timestamps,
+    transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
+    Device, Image, ImageUse, ImageView, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
+    Timestamps,
 };
 
 /// Every cube map and table is RGBA16F: filterable and storable on every Vulkan device.
@@ -28,10 +28,7 @@ pub const PREFILTERED_LEVELS: u32 = 6;
 /// GGX samples per prefiltered texel; filtered importance sampling keeps 128 noise-free.
 const PREFILTER_SAMPLES: u32 = 128;
 /// BRDF tables: n·v × roughness, and the samples per texel (QMC error ~1e-3).
-pub const LUT_SIZE: vk::Extent2D = vk::Extent2D {
-    width: 32,
-    height: 32,
-};
+pub const LUT_SIZE: vk::Extent2D = vk::Extent2D { width: 32, height: 32 };
 pub const LUT_SAMPLES: u32 = 512;
 /// Compute shaders' workgroups are 8×8 texels of one layer.
 const GROUP: u32 = 8;
@@ -50,8 +47,7 @@ const COMPUTE_STORAGE: ImageUse = ImageUse {
     layout: vk::ImageLayout::GENERAL,
     stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
     access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
-            | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+        vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
     ),
 };
 /// An image being cleared.
@@ -141,8 +137,7 @@ impl Precompute {
                 .get_physical_device_format_properties(device.physical, FORMAT)
         }
         .optimal_tiling_features;
-        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE
-            | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
+        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR;
         if !features.contains(needed) {
             bail!("this device cannot filter and store {FORMAT:?} images, which environment maps need");
         }
@@ -163,20 +158,9 @@ impl Precompute {
                     b.binding(t, vk::ShaderStageFlags::COMPUTE)
                 })
                 .build(&self.device, name)?;
-            let layout = PipelineLayout::new(
-                &self.device,
-                &[&set_layout],
-                push_size,
-                vk::ShaderStageFlags::COMPUTE,
-            )?;
+            let layout = PipelineLayout::new(&self.device, &[&set_layout], push_size, vk::ShaderStageFlags::COMPUTE)?;
             let shader = ShaderModule::new(&self.device, spirv, name)?;
-            let pipeline = Pipeline::compute(
-                &self.device,
-                &layout,
-                &shader,
-                &Specialization::default(),
-                name,
-            )?;
+            let pipeline = Pipeline::compute(&self.device, &layout, &shader, &Specialization::default(), name)?;
             self.kernels.insert(
                 kind,
                 Kernel {
@@ -200,36 +184,28 @@ impl Precompute {
         push: &[u8],
         texels: vk::Extent3D,
     ) -> Result<()> {
-        let kernel = self
-            .kernels
-            .get(&kind)
-            .context("compute kernel not created")?;
+        let kernel = self.kernels.get(&kind).context("compute kernel not created")?;
         let set = pool.allocate(&kernel.set_layout)?;
-        let writer = resources
-            .iter()
-            .enumerate()
-            .fold(DescriptorWriter::new(), |w, (i, r)| {
-                let binding = i as u32;
-                match r {
-                    Resource::Storage(view) => w.image(
-                        binding,
-                        vk::DescriptorType::STORAGE_IMAGE,
-                        *view,
-                        vk::ImageLayout::GENERAL,
-                        vk::Sampler::null(),
-                    ),
-                    Resource::Sampled(view, sampler) => w.image(
-                        binding,
-                        vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                        *view,
-                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                        sampler.handle,
-                    ),
-                    Resource::Buffer(buffer) => {
-                        w.buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer.handle)
-                    }
-                }
-            });
+        let writer = resources.iter().enumerate().fold(DescriptorWriter::new(), |w, (i, r)| {
+            let binding = i as u32;
+            match r {
+                Resource::Storage(view) => w.image(
+                    binding,
+                    vk::DescriptorType::STORAGE_IMAGE,
+                    *view,
+                    vk::ImageLayout::GENERAL,
+                    vk::Sampler::null(),
+                ),
+                Resource::Sampled(view, sampler) => w.image(
+                    binding,
+                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                    *view,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    sampler.handle,
+                ),
+                Resource::Buffer(buffer) => w.buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer.handle),
+            }
+        });
         writer.write(&self.device, set);
         let d = &self.device.handle;
         unsafe {
@@ -243,13 +219,7 @@ impl Precompute {
                 &[],
             );
             if !push.is_empty() {
-                d.cmd_push_constants(
-                    cmd,
-                    kernel.layout.handle,
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    push,
-                );
+                d.cmd_push_constants(cmd, kernel.layout.handle, vk::ShaderStageFlags::COMPUTE, 0, push);
             }
             d.cmd_dispatch(
                 cmd,
@@ -353,14 +323,7 @@ impl Precompute {
                 resources.push(Resource::Buffer(buffer));
                 push.extend_from_slice(bytemuck::bytes_of(&[m.width, m.height]));
             }
-            self.dispatch(
-                cmd,
-                kind,
-                &source_pool,
-                &resources,
-                &push,
-                cube_texels(size),
-            )
+            self.dispatch(cmd, kind, &source_pool, &resources, &push, cube_texels(size))
         })?;
         let mip_pool = self.pool(KernelKind::Downsample, levels.max(2) - 1)?;
         self.timed("mips", costs, |cmd| {
@@ -411,20 +374,13 @@ impl Precompute {
     }
 
     /// An equirectangular map's cube map.
-    pub fn equirect(
-        &mut self,
-        map: &Equirect,
-        size: u32,
-        costs: &mut Vec<Cost>,
-    ) -> Result<SourceCube> {
+    pub fn equirect(&mut self, map: &Equirect, size: u32, costs: &mut Vec<Cost>) -> Result<SourceCube> {
         self.source(KernelKind::Equirect, size, Some(map), costs)
     }
 
     /// A cube map that compute shaders write level by level, with one view per level.
     fn storage_cube(&self, size: u32, levels: u32, name: &str) -> Result<(Image, Vec<ImageView>)> {
-        let usage = vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC;
+        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
         let image = Image::cube(&self.device, size, levels, FORMAT, usage, name)?;
         let views = (0..levels)
             .map(|l| image.level_view(l))
@@ -433,18 +389,11 @@ impl Precompute {
     }
 
     /// The GGX-prefiltered cube of `source`: mip k filtered for roughness k/(levels − 1).
-    pub fn prefilter(
-        &mut self,
-        source: &SourceCube,
-        sampler: &Sampler,
-        costs: &mut Vec<Cost>,
-    ) -> Result<Image> {
-        let (image, views) =
-            self.storage_cube(PREFILTERED_SIZE, PREFILTERED_LEVELS, "prefiltered environment")?;
+    pub fn prefilter(&mut self, source: &SourceCube, sampler: &Sampler, costs: &mut Vec<Cost>) -> Result<Image> {
+        let (image, views) = self.storage_cube(PREFILTERED_SIZE, PREFILTERED_LEVELS, "prefiltered environment")?;
         let pool = self.pool(KernelKind::Prefilter, PREFILTERED_LEVELS)?;
         let source_size = source.image.extent.width;
-        let texel_solid_angle =
-            4.0 * std::f32::consts::PI / (6.0 * (source_size * source_size) as f32);
+        let texel_solid_angle = 4.0 * std::f32::consts::PI / (6.0 * (source_size * source_size) as f32);
         self.timed("prefilter", costs, |cmd| {
             transition_levels(
                 &self.device,
@@ -493,17 +442,8 @@ impl Precompute {
 
     /// The BRDF tables, `LUT_LAYERS` layers of `LUT_SIZE`.
     pub fn brdf_lut(&mut self, costs: &mut Vec<Cost>) -> Result<Image> {
-        let usage = vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let image = Image::array_2d(
-            &self.device,
-            LUT_SIZE,
-            LUT_LAYERS,
-            FORMAT,
-            usage,
-            "brdf tables",
-        )?;
+        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = Image::array_2d(&self.device, LUT_SIZE, LUT_LAYERS, FORMAT, usage, "brdf tables")?;
         let pool = self.pool(KernelKind::BrdfLut, 1)?;
         self.timed("brdf tables", costs, |cmd| {
             transition_levels(
@@ -614,37 +554,13 @@ impl Precompute {
     /// statically used binding valid): a 1² cube and a 1×1 table layer, cleared to 0.
     pub fn placeholders(&self) -> Result<(Image, Image)> {
         let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
-        let unit = vk::Extent2D {
-            width: 1,
-            height: 1,
-        };
-        let cube = Image::cube(
-            &self.device,
-            1,
-            1,
-            FORMAT,
-            usage,
-            "environment placeholder cube",
-        )?;
-        let table = Image::array_2d(
-            &self.device,
-            unit,
-            1,
-            FORMAT,
-            usage,
-            "environment placeholder table",
-        )?;
+        let unit = vk::Extent2D { width: 1, height: 1 };
+        let cube = Image::cube(&self.device, 1, 1, FORMAT, usage, "environment placeholder cube")?;
+        let table = Image::array_2d(&self.device, unit, 1, FORMAT, usage, "environment placeholder table")?;
         self.one_shot.run(|cmd| {
             for image in [&cube, &table] {
                 let range = image.all_levels();
-                transition_levels(
-                    &self.device,
-                    cmd,
-                    image.handle,
-                    range,
-                    ImageUse::UNDEFINED,
-                    CLEAR_DST,
-                );
+                transition_levels(&self.device, cmd, image.handle, range, ImageUse::UNDEFINED, CLEAR_DST);
                 let black = vk::ClearColorValue { float32: [0.0; 4] };
                 unsafe {
                     self.device.handle.cmd_clear_color_image(
@@ -655,14 +571,7 @@ impl Precompute {
                         &[range],
                     )
                 };
-                transition_levels(
-                    &self.device,
-                    cmd,
-                    image.handle,
-                    range,
-                    CLEAR_DST,
-                    SHADING_READ,
-                );
+                transition_levels(&self.device, cmd, image.handle, range, CLEAR_DST, SHADING_READ);
             }
         })?;
         Ok((cube, table))
