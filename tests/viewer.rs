@@ -60,9 +60,9 @@ fn lobe_views_add_up_to_the_shaded_image() {
             if s[3] < 1.0 {
                 continue;
             }
-            for c in 0..3 {
+            for (c, shaded) in s.iter().take(3).enumerate() {
                 let sum: f32 = views.iter().map(|v| pixel(v, x, y)[c]).sum();
-                worst = worst.max((sum - s[c]).abs() / s[c].max(1e-3));
+                worst = worst.max((sum - shaded).abs() / shaded.max(1e-3));
             }
             for (count, v) in lit.iter_mut().zip(&views) {
                 *count += usize::from(pixel(v, x, y)[0] > 1e-4);

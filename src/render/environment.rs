@@ -297,7 +297,7 @@ impl EnvironmentPass {
         let lut_view = self.brdf_lut.as_ref().map_or(self.placeholder_table.view, |i| i.view);
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
-        DescriptorWriter::new()
+        DescriptorWriter::default()
             .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, self.data.handle)
             .image(1, sampled, radiance_view, layout, self.sampler.handle)
             .image(2, sampled, prefiltered_view, layout, self.sampler.handle)

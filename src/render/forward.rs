@@ -138,7 +138,7 @@ impl ForwardPass {
     }
 
     fn write_set(device: &Device, set: vk::DescriptorSet, frame_data: &Buffer, materials: &Buffer) {
-        DescriptorWriter::new()
+        DescriptorWriter::default()
             .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, frame_data.handle)
             .buffer(1, vk::DescriptorType::STORAGE_BUFFER, materials.handle)
             .write(device, set);

@@ -223,7 +223,7 @@ impl GpuScene {
                 let set = pool.allocate(material_layout)?;
                 let maps = [&m.maps.base_color, &m.maps.normal, &m.maps.detail, &m.maps.noise];
                 let writer = maps.iter().zip(&placeholders).enumerate().fold(
-                    DescriptorWriter::new(),
+                    DescriptorWriter::default(),
                     |writer, (binding, (map, placeholder))| {
                         let texture = map.as_ref().map_or(placeholder, |m| &textures[m.texture]);
                         writer.image(

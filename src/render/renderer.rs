@@ -21,14 +21,15 @@ const PASS_FORWARD: u32 = 0;
 const PASS_SKYBOX: u32 = 1;
 const PASS_TONEMAP: u32 = 2;
 
-/// Where the display transform writes: an image in use `from` before this frame, and how
-/// the frame leaves it (`to`).
+/// Where the display transform writes (an image in use `from` before this frame), and
+/// the exposure it applies before tone mapping.
 pub struct DisplayOutput {
     pub image: vk::Image,
     pub view: vk::ImageView,
     pub format: vk::Format,
     pub extent: vk::Extent2D,
     pub from: ImageUse,
+    pub exposure: f32,
 }
 
 /// One offscreen frame read back to the CPU.
@@ -101,7 +102,6 @@ impl Renderer {
         gpu: &GpuScene,
         target: &RenderTarget,
         output: &DisplayOutput,
-        exposure: f32,
     ) -> Result<()> {
         let d = &self.device;
         let timestamps = self.timestamps.get(slot);
@@ -158,7 +158,7 @@ impl Renderer {
             t.begin(cmd, PASS_TONEMAP);
         }
         self.tonemap
-            .record(cmd, slot, output.view, output.format, output.extent, exposure)?;
+            .record(cmd, slot, output.view, output.format, output.extent, output.exposure)?;
         if let Some(t) = timestamps {
             t.end(cmd, PASS_TONEMAP);
         }
@@ -202,9 +202,10 @@ impl Renderer {
             format: DISPLAY_FORMAT,
             extent,
             from: ImageUse::UNDEFINED,
+            exposure,
         };
         self.one_shot.run(|cmd| -> Result<()> {
-            self.record(cmd, 0, scene, gpu, &target, &output, exposure)?;
+            self.record(cmd, 0, scene, gpu, &target, &output)?;
             hdr_readback.record(&self.device, cmd, &target.color, ImageUse::FRAGMENT_READ);
             display_readback.record(&self.device, cmd, &display, ImageUse::COLOR_ATTACHMENT);
             Ok(())

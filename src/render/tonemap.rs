@@ -63,7 +63,7 @@ impl TonemapPass {
 
     /// Points `slot`'s set at `target` and creates the pipeline for `format` if needed.
     pub fn prepare(&mut self, slot: usize, target: &RenderTarget, format: vk::Format) -> Result<()> {
-        DescriptorWriter::new()
+        DescriptorWriter::default()
             .image(
                 0,
                 vk::DescriptorType::SAMPLED_IMAGE,

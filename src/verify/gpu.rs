@@ -65,7 +65,7 @@ impl Harness {
             .build(device, "verify set layout")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, 1)?;
         let set = pool.allocate(&set_layout)?;
-        DescriptorWriter::new()
+        DescriptorWriter::default()
             .buffer(0, vk::DescriptorType::STORAGE_BUFFER, inputs.handle)
             .buffer(1, vk::DescriptorType::STORAGE_BUFFER, outputs.handle)
             .write(device, set);

@@ -226,6 +226,7 @@ impl FrameLoop {
             format,
             extent,
             from: ImageUse::ACQUIRED,
+            exposure,
         };
         let region = ImageRegion {
             handle: output.image,
@@ -261,7 +262,7 @@ impl FrameLoop {
             t.reset(cmd);
         }
         self.renderer
-            .record(cmd, index, scene, &self.gpu, &slot.target, &output, exposure)?;
+            .record(cmd, index, scene, &self.gpu, &slot.target, &output)?;
 
         // The tone-mapped image is a colour attachment here; a capture leaves it a transfer source.
         let copy = |stage: CaptureStage| -> ImageUse {

@@ -107,15 +107,12 @@ enum Resource {
 }
 
 /// Collects the resources of one set, binding by binding, then writes them at once.
+#[derive(Default)]
 pub struct DescriptorWriter {
     writes: Vec<(u32, vk::DescriptorType, Resource)>,
 }
 
 impl DescriptorWriter {
-    pub fn new() -> Self {
-        Self { writes: Vec::new() }
-    }
-
     pub fn buffer(mut self, binding: u32, kind: vk::DescriptorType, buffer: vk::Buffer) -> Self {
         let info = vk::DescriptorBufferInfo {
             buffer,

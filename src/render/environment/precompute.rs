@@ -186,26 +186,29 @@ impl Precompute {
     ) -> Result<()> {
         let kernel = self.kernels.get(&kind).context("compute kernel not created")?;
         let set = pool.allocate(&kernel.set_layout)?;
-        let writer = resources.iter().enumerate().fold(DescriptorWriter::new(), |w, (i, r)| {
-            let binding = i as u32;
-            match r {
-                Resource::Storage(view) => w.image(
-                    binding,
-                    vk::DescriptorType::STORAGE_IMAGE,
-                    *view,
-                    vk::ImageLayout::GENERAL,
-                    vk::Sampler::null(),
-                ),
-                Resource::Sampled(view, sampler) => w.image(
-                    binding,
-                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    *view,
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    sampler.handle,
-                ),
-                Resource::Buffer(buffer) => w.buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer.handle),
-            }
-        });
+        let writer = resources
+            .iter()
+            .enumerate()
+            .fold(DescriptorWriter::default(), |w, (i, r)| {
+                let binding = i as u32;
+                match r {
+                    Resource::Storage(view) => w.image(
+                        binding,
+                        vk::DescriptorType::STORAGE_IMAGE,
+                        *view,
+                        vk::ImageLayout::GENERAL,
+                        vk::Sampler::null(),
+                    ),
+                    Resource::Sampled(view, sampler) => w.image(
+                        binding,
+                        vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                        *view,
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                        sampler.handle,
+                    ),
+                    Resource::Buffer(buffer) => w.buffer(binding, vk::DescriptorType::STORAGE_BUFFER, buffer.handle),
+                }
+            });
         writer.write(&self.device, set);
         let d = &self.device.handle;
         unsafe {
