@@ -13,8 +13,8 @@ use super::timings::Timings;
 use crate::render::gpu_scene::MAX_POINT_LIGHTS;
 use crate::render::DebugView;
 use crate::scene::{
-    DiffuseModel, Distribution, Environment, Geometry, Material, PointLight, Reflection, ReflectionMode, Scene,
-    SpecularModel,
+    DetailBlend, DiffuseModel, Distribution, Environment, Geometry, Horizon, MapRef, Material, PointLight, Reflection,
+    ReflectionMode, Scene, SpecularModel,
 };
 
 /// Width of the left panel in points; nothing of the UI is drawn right of it, but for its
@@ -245,6 +245,49 @@ fn material_fields(ui: &mut Ui, m: &mut Material) {
     number(ui, "wrap_width", &mut m.wrap_width, 0.01..=1.0);
     color(ui, "wrap_color", &mut m.wrap_color);
     number(ui, "wrap_intensity", &mut m.wrap_intensity, 0.0..=4.0);
+    choice(ui, "horizon", &mut m.horizon, &[Horizon::Smooth, Horizon::Seed]);
+    let maps = &mut m.maps;
+    if maps.detail.is_some() {
+        let blends = [
+            DetailBlend::Rnm,
+            DetailBlend::Udn,
+            DetailBlend::Whiteout,
+            DetailBlend::Seed,
+        ];
+        choice(ui, "detail_blend", &mut maps.detail_blend, &blends);
+    }
+    // A map's texture is fixed by the scene file; its parameters are live.
+    for (name, map) in [
+        ("base_color_map", &mut maps.base_color),
+        ("normal_map", &mut maps.normal),
+        ("detail_map", &mut maps.detail),
+        ("noise_map", &mut maps.noise),
+    ] {
+        if let Some(map) = map {
+            map_fields(ui, name, map);
+        }
+    }
+}
+
+fn map_fields(ui: &mut Ui, name: &str, map: &mut MapRef) {
+    number(ui, &format!("{name}.strength"), &mut map.strength, 0.0..=8.0);
+    ui.label(format!("{name}.uv_scale"));
+    ui.horizontal(|ui| {
+        ui.add(egui::DragValue::new(&mut map.uv_scale.x).speed(0.05).range(0.01..=1e4));
+        ui.add(egui::DragValue::new(&mut map.uv_scale.y).speed(0.05).range(0.01..=1e4));
+    });
+    ui.end_row();
+    ui.label(format!("{name}.uv_offset"));
+    ui.horizontal(|ui| {
+        ui.add(egui::DragValue::new(&mut map.uv_offset.x).speed(0.01));
+        ui.add(egui::DragValue::new(&mut map.uv_offset.y).speed(0.01));
+    });
+    ui.end_row();
+    if name != "base_color_map" && name != "noise_map" {
+        ui.label(format!("{name}.green"));
+        ui.checkbox(&mut map.green_down, "down (DirectX)");
+        ui.end_row();
+    }
 }
 
 fn choice<T: Copy + PartialEq + Serialize>(ui: &mut Ui, label: &str, value: &mut T, options: &[T]) {
