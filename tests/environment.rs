@@ -14,8 +14,7 @@ use argil::brdf::shading::{diffuse_lobe, specular_lobe};
 use argil::render::environment::{LUT_SAMPLES, LUT_SIZE};
 use argil::render::OffscreenFrame;
 use argil::scene::{Environment, Reflection, ReflectionMode, Scene};
-use ash::vk;
-use common::{assert_matches_golden, gpu, render, scene};
+use common::{assert_matches_golden, gpu, render, scene, try_render};
 
 /// A sphere filling most of a square frame, seen from +z.
 fn sphere_scene(environment: &str, material: &str) -> String {
@@ -353,9 +352,7 @@ fn equirect_hdr_map_loads_and_renders() {
 
 fn render_error(scene: &Scene) -> String {
     let error = gpu().exclusive(|renderer| {
-        let gpu_scene = renderer.upload(scene).expect("upload");
-        renderer
-            .render_offscreen(scene, &gpu_scene, vk::Extent2D { width: 16, height: 16 }, 1.0)
+        try_render(renderer, scene, 16, 16)
             .err()
             .expect("rendering a broken map fails")
     });
@@ -492,10 +489,7 @@ fn studio_cube_matches_its_f64_twin() {
         "specular = \"none\"",
     ));
     let texels = gpu().exclusive(|renderer| {
-        let gpu_scene = renderer.upload(&scene).expect("upload");
-        renderer
-            .render_offscreen(&scene, &gpu_scene, vk::Extent2D { width: 8, height: 8 }, 1.0)
-            .expect("render");
+        try_render(renderer, &scene, 8, 8).expect("render");
         renderer
             .environment()
             .read_radiance_level(0)
@@ -531,10 +525,7 @@ fn brdf_tables_match_their_f64_twin() {
         "diffuse = \"oren-nayar\"\nroughness = 0.5",
     ));
     let texels = gpu().exclusive(|renderer| {
-        let gpu_scene = renderer.upload(&scene).expect("upload");
-        renderer
-            .render_offscreen(&scene, &gpu_scene, vk::Extent2D { width: 8, height: 8 }, 1.0)
-            .expect("render");
+        try_render(renderer, &scene, 8, 8).expect("render");
         renderer
             .environment()
             .read_brdf_lut()

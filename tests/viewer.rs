@@ -8,15 +8,13 @@ use std::process::Command;
 
 use argil::render::{DebugView, OffscreenFrame};
 use argil::scene::{DiffuseModel, Scene, SpecularModel};
-use ash::vk;
-use common::{gpu, render, rgb_difference, scene};
+use common::{gpu, render, rgb_difference, scene, try_render};
 use glam::Vec3;
 
 fn render_view(scene: &Scene, view: DebugView, width: u32, height: u32) -> OffscreenFrame {
     gpu().exclusive(|renderer| {
         renderer.debug_view = view;
-        let gpu_scene = renderer.upload(scene).expect("upload");
-        let frame = renderer.render_offscreen(scene, &gpu_scene, vk::Extent2D { width, height }, 1.0);
+        let frame = try_render(renderer, scene, width, height);
         renderer.debug_view = DebugView::Shaded;
         frame.expect("render")
     })

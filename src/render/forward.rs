@@ -59,6 +59,8 @@ pub struct ForwardPass {
     vertex: ShaderModule,
     fragment: ShaderModule,
     pipelines: HashMap<Specialization, Pipeline>,
+    /// The pipeline of each material of the scene last prepared, in `Scene::materials` order.
+    material_pipelines: Vec<vk::Pipeline>,
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
@@ -117,6 +119,7 @@ impl ForwardPass {
             vertex,
             fragment,
             pipelines: HashMap::new(),
+            material_pipelines: Vec::new(),
             _pool: pool,
             slots,
         })
@@ -173,9 +176,11 @@ impl ForwardPass {
         let mut frame_data = FrameData::new(scene, aspect)?;
         frame_data.counts[1] = debug_view as u32;
         let materials: Vec<MaterialData> = scene.materials.iter().map(MaterialData::from).collect();
-        for m in &scene.materials {
-            self.pipeline(&material_specialization(m))?;
-        }
+        self.material_pipelines = scene
+            .materials
+            .iter()
+            .map(|m| self.pipeline(&material_specialization(m)))
+            .collect::<Result<_>>()?;
         let s = &mut self.slots[slot];
         s.frame_data.write(bytemuck::bytes_of(&frame_data))?;
         let bytes: &[u8] = bytemuck::cast_slice(&materials);
@@ -249,12 +254,10 @@ impl ForwardPass {
         }
         let mut bound = vk::Pipeline::null();
         for object in &scene.objects {
-            let material = &scene.materials[object.material];
-            let pipeline = self
-                .pipelines
-                .get(&material_specialization(material))
-                .context("forward pipeline missing: prepare() was not called for this scene")?
-                .handle;
+            let pipeline = *self
+                .material_pipelines
+                .get(object.material)
+                .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
             let push = ObjectPush::new(object);
             unsafe {

@@ -59,14 +59,16 @@ impl Gpu {
     }
 }
 
+/// Uploads `scene` and renders it offscreen at `width`×`height`, exposure 1; for tests that
+/// inspect the renderer afterwards or expect an error. Call inside [`Gpu::exclusive`].
+pub fn try_render(renderer: &mut Renderer, scene: &Scene, width: u32, height: u32) -> anyhow::Result<OffscreenFrame> {
+    let gpu_scene = renderer.upload(scene)?;
+    renderer.render_offscreen(scene, &gpu_scene, vk::Extent2D { width, height }, 1.0)
+}
+
 /// Renders `scene` at `width`×`height` and checks the frame has no NaN/Inf value.
 pub fn render(scene: &Scene, width: u32, height: u32) -> OffscreenFrame {
-    let frame = gpu().exclusive(|renderer| {
-        let gpu_scene = renderer.upload(scene).expect("upload");
-        renderer
-            .render_offscreen(scene, &gpu_scene, vk::Extent2D { width, height }, 1.0)
-            .expect("render")
-    });
+    let frame = gpu().exclusive(|renderer| try_render(renderer, scene, width, height).expect("render"));
     assert_eq!(count_non_finite(&frame.hdr), 0, "NaN/Inf values in the rendered frame");
     frame
 }
