@@ -104,8 +104,7 @@ impl Renderer {
         output: &DisplayOutput,
     ) -> Result<()> {
         let d = &self.device;
-        let timestamps = self.timestamps.get(slot);
-        if let Some(t) = timestamps {
+        if let Some(t) = self.timestamps.get(slot) {
             t.reset(cmd);
         }
         transition(
@@ -124,19 +123,14 @@ impl Renderer {
             ImageUse::UNDEFINED,
             ImageUse::DEPTH_ATTACHMENT,
         );
-        if let Some(t) = timestamps {
-            t.begin(cmd, PASS_FORWARD);
-        }
-        self.forward
-            .record(cmd, slot, scene, gpu, target, background(scene), self.environment.set())?;
-        if let Some(t) = timestamps {
-            t.end(cmd, PASS_FORWARD);
-            t.begin(cmd, PASS_SKYBOX);
-        }
-        self.environment.record_skybox(cmd, target, &scene.camera);
-        if let Some(t) = timestamps {
-            t.end(cmd, PASS_SKYBOX);
-        }
+        self.timed(cmd, slot, PASS_FORWARD, || {
+            self.forward
+                .record(cmd, slot, scene, gpu, target, background(scene), self.environment.set())
+        })?;
+        self.timed(cmd, slot, PASS_SKYBOX, || {
+            self.environment.record_skybox(cmd, target, &scene.camera);
+            Ok(())
+        })?;
 
         transition(
             d,
@@ -154,13 +148,21 @@ impl Renderer {
             output.from,
             ImageUse::COLOR_ATTACHMENT,
         );
+        self.timed(cmd, slot, PASS_TONEMAP, || {
+            self.tonemap
+                .record(cmd, slot, output.view, output.format, output.extent, output.exposure)
+        })
+    }
+
+    /// Records `pass` between the two timestamps that time it, when the device has them.
+    fn timed(&self, cmd: vk::CommandBuffer, slot: usize, pass: u32, record: impl FnOnce() -> Result<()>) -> Result<()> {
+        let timestamps = self.timestamps.get(slot);
         if let Some(t) = timestamps {
-            t.begin(cmd, PASS_TONEMAP);
+            t.begin(cmd, pass);
         }
-        self.tonemap
-            .record(cmd, slot, output.view, output.format, output.extent, output.exposure)?;
+        record()?;
         if let Some(t) = timestamps {
-            t.end(cmd, PASS_TONEMAP);
+            t.end(cmd, pass);
         }
         Ok(())
     }
