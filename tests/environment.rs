@@ -14,7 +14,7 @@ use argil::brdf::shading::{diffuse_lobe, specular_lobe};
 use argil::render::environment::{LUT_SAMPLES, LUT_SIZE};
 use argil::render::OffscreenFrame;
 use argil::scene::{Environment, Reflection, ReflectionMode, Scene};
-use common::{assert_matches_golden, gpu, render, scene, try_render};
+use common::{argil, assert_matches_golden, gpu, render, scene, try_render};
 
 /// A sphere filling most of a square frame, seen from +z.
 fn sphere_scene(environment: &str, material: &str) -> String {
@@ -572,18 +572,16 @@ fn render_prints_precomputation_costs() {
     let scene_path = dir.0.join("studio.toml");
     std::fs::write(&scene_path, sphere_scene("kind = \"studio\"", "roughness = 0.5")).expect("write scene");
     let out = dir.0.join("studio.png");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_argil"))
-        .args([
-            "render",
-            scene_path.to_str().expect("utf-8"),
-            "--out",
-            out.to_str().expect("utf-8"),
-        ])
-        .args(["--width", "48", "--height", "32"])
-        .env("ARGIL_VALIDATION", "1")
-        .env("XDG_RUNTIME_DIR", &dir.0)
-        .output()
-        .expect("run argil");
+    let o = argil(&[
+        "render",
+        scene_path.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--width",
+        "48",
+        "--height",
+        "32",
+    ]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     assert!(!stderr.contains("vulkan validation"), "{stderr}");

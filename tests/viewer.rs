@@ -4,11 +4,9 @@
 
 mod common;
 
-use std::process::Command;
-
 use argil::render::{DebugView, OffscreenFrame};
 use argil::scene::{DiffuseModel, Scene, SpecularModel};
-use common::{gpu, render, rgb_difference, scene, try_render};
+use common::{argil, gpu, render, rgb_difference, scene, try_render};
 use glam::Vec3;
 
 fn render_view(scene: &Scene, view: DebugView, width: u32, height: u32) -> OffscreenFrame {
@@ -170,17 +168,17 @@ fn saved_scene_renders_the_same_image_with_argil_render() {
     let (w, h) = (192, 108);
     let shown = render(&scene, w, h);
     let out = dir.join("edited.png");
-    let o = Command::new(env!("CARGO_BIN_EXE_argil"))
-        .args([
-            "render",
-            path.to_str().expect("utf-8"),
-            "--out",
-            out.to_str().expect("utf-8"),
-        ])
-        .args(["--width", &w.to_string(), "--height", &h.to_string()])
-        .env("ARGIL_VALIDATION", "1")
-        .output()
-        .expect("run argil render");
+    let (width, height) = (w.to_string(), h.to_string());
+    let o = argil(&[
+        "render",
+        path.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--width",
+        &width,
+        "--height",
+        &height,
+    ]);
     assert!(
         o.status.success(),
         "argil render failed: {}",
