@@ -16,11 +16,13 @@ layout(constant_id = 3) const uint GEOMETRY = 0;
 // Horizon of the shading normal: 0 smooth (brdf_cos), 1 the report's cutoff (brdf_cos_seed).
 layout(constant_id = 9) const uint HORIZON = 0;
 const uint HORIZON_SEED = 1u;
+layout(constant_id = 10) const uint SUBSURFACE = 0;
 
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
+layout(location = 4) in float in_curvature;
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -40,7 +42,7 @@ vec3 surface_normal(vec3 interpolated, vec3 world_position, bool front_facing) {
 
 void main() {
     Material m = materials[object.material_index];
-    ShadingModels models = ShadingModels(DIFFUSE_MODEL, SPECULAR_MODEL, DISTRIBUTION, GEOMETRY);
+    ShadingModels models = ShadingModels(DIFFUSE_MODEL, SPECULAR_MODEL, DISTRIBUTION, GEOMETRY, SUBSURFACE);
     vec3 v = normalize(frame.camera_position.xyz - in_world_position);
     m.base_color.rgb = mapped_base_color(m, in_uv);
     vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
@@ -50,11 +52,13 @@ void main() {
     bool seed_horizon = HORIZON == HORIZON_SEED;
     vec3 n = seed_horizon ? n_mapped : view_facing_normal(n_mapped, v);
 
-    vec3 environment = environment_light(models, m, n, n_geometric, v, mapped_noise(m, in_uv), gl_FragCoord.xy);
-    vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, seed_horizon) + environment;
+    vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_uv),
+                                         gl_FragCoord.xy);
+    vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
+                                          seed_horizon) + environment;
     out_radiance = vec4(radiance, 1.0);
     if (frame.counts.y != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(frame.counts.y, models, m, n, n_geometric, v, in_world_position,
-                                               in_normal, in_uv, in_tangent, environment, radiance);
+                                               in_normal, in_uv, in_tangent, environment, radiance, in_curvature);
     }
 }

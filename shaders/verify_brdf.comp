@@ -31,6 +31,8 @@ const uint WRAP_SEED = 14u;
 const uint WRAP_ENERGY_CONSERVING = 15u;
 const uint SPEC_BLINN_PHONG = 16u;
 const uint SHADOW_TERMINATOR = 17u;
+const uint PREINTEGRATED_LOOKUP = 18u;
+const uint WRAP_ENERGY_CONSERVING_SH_KERNEL = 19u;
 // From here on, BRDF models of directions: f(n, v, l) and f(n, l, v) are both written.
 const uint FIRST_MODEL = 32u;
 const uint LAMBERT = 32u;
@@ -51,15 +53,17 @@ const uint BLEND_WHITEOUT = 51u;
 const uint BLEND_SEED = 52u;
 const uint TANGENT_TO_WORLD = 53u;
 const uint VIEW_FACING_NORMAL = 54u;
-// From here on, brdf_cos of shading.glsl: FUNCTION = FIRST_SHADING + 16 diffuse +
-// 4 specular + 2 distribution + geometry, the models' specialization constant values.
+// From here on, brdf_cos of shading.glsl: FUNCTION = FIRST_SHADING + 64 subsurface +
+// 16 diffuse + 4 specular + 2 distribution + geometry, the models' specialization constant
+// values.
 const uint FIRST_SHADING = 64u;
 
 // Terms: a holds the scalar arguments, d a colour argument.
 // Models: a = (n, α / σ / r), b = (v, 0), c = (l, 0), d = (F0 or ρ, 0).
 // Unit vectors: the vector arguments in a, b, c (tangent: all of c), scalars in a.w, b.x.
 // brdf_cos: a = (n_geometric, roughness), b = (v, f0), c = (l, diffuse_roughness),
-// d = (base_color, wrap_intensity), e = (specular_color, wrap), f = (wrap_color, wrap_width).
+// d = (base_color, wrap_intensity), e = (specular_color, wrap), f = (wrap_color, wrap_width),
+// g = (scatter_color, curvature), with scatter_radius 1 (only σκ counts).
 struct Tuple {
     vec4 a;
     vec4 b;
@@ -67,6 +71,7 @@ struct Tuple {
     vec4 d;
     vec4 e;
     vec4 f;
+    vec4 g;
 };
 
 layout(std430, set = 0, binding = 0) readonly buffer Inputs {
@@ -120,6 +125,10 @@ vec4 term(Tuple t) {
         return vec4(spec_blinn_phong(a.x, a.y, t.d.rgb, a.z), 0.0);
     case SHADOW_TERMINATOR: // shadow_terminator(n_g·l, n_s·l, n_g·n_s)
         return vec4(shadow_terminator(a.x, a.y, a.z));
+    case PREINTEGRATED_LOOKUP: // preintegrated_lookup(n·l, σκ)
+        return preintegrated_lookup(a.x, a.y);
+    case WRAP_ENERGY_CONSERVING_SH_KERNEL: // wrap_energy_conserving_sh_kernel(w)
+        return vec4(wrap_energy_conserving_sh_kernel(a.x), 0.0);
     }
     return vec4(0.0);
 }
@@ -182,12 +191,13 @@ vec3 unit_vector(Tuple t) {
 // (n_geometric leans away from it instead), and the models FUNCTION encodes.
 vec3 shading(Tuple t) {
     uint code = FUNCTION - FIRST_SHADING;
-    ShadingModels models = ShadingModels(code >> 4, (code >> 2) & 3u, (code >> 1) & 1u, code & 1u);
-    Material m = Material(vec4(t.d.rgb, 1.0), vec4(t.e.rgb, 1.0), vec4(t.f.rgb, t.d.w),
+    ShadingModels models = ShadingModels((code >> 4) & 3u, (code >> 2) & 3u, (code >> 1) & 1u, code & 1u,
+                                         code >> 6);
+    Material m = Material(vec4(t.d.rgb, 1.0), vec4(t.e.rgb, 1.0), vec4(t.f.rgb, t.d.w), vec4(t.g.rgb, 1.0),
                           t.a.w, t.b.w, t.c.w, t.e.w, t.f.w, 0.0, 0.0, 0.0,
                           // No maps: brdf_cos does not read them.
                           vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), uvec4(0u));
-    return brdf_cos(models, m, vec3(0.0, 0.0, 1.0), t.a.xyz, t.b.xyz, t.c.xyz);
+    return brdf_cos(models, m, vec3(0.0, 0.0, 1.0), t.a.xyz, t.b.xyz, t.c.xyz, t.g.w);
 }
 
 void main() {

@@ -31,10 +31,11 @@ vec3 direction_color(vec3 d) {
 
 // What debug view `view` shows at a surface point; `shaded` is the normal result there.
 // `n` is the shading normal, `n_geometric` the surface's, `normal` and `tangent` the
-// interpolated vertex attributes, `environment` the environment's term.
+// interpolated vertex attributes, `environment` the environment's term, `curvature` the
+// surface's.
 vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
                          vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 environment,
-                         vec3 shaded) {
+                         vec3 shaded, float curvature) {
     if (view == DEBUG_VIEW_NORMALS) return direction_color(n);
     if (view == DEBUG_VIEW_TANGENTS) return direction_color(tangent.xyz);
     if (view == DEBUG_VIEW_BITANGENTS) {
@@ -50,21 +51,25 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         }
         return vec3(min(sum, 1.0));
     }
-    Material no_wrap = m;
-    no_wrap.wrap_color.a = 0.0;
     if (view == DEBUG_VIEW_DIFFUSE) {
         ShadingModels diffuse_only = models;
         diffuse_only.specular = MODEL_NONE;
-        return point_lights_radiance(diffuse_only, no_wrap, n, n_geometric, v, p, false);
+        diffuse_only.subsurface = SUBSURFACE_NONE;
+        return point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false);
     }
     if (view == DEBUG_VIEW_SPECULAR) {
         ShadingModels specular_only = models;
         specular_only.diffuse = MODEL_NONE;
-        return point_lights_radiance(specular_only, no_wrap, n, n_geometric, v, p, false);
+        specular_only.subsurface = SUBSURFACE_NONE;
+        return point_lights_radiance(specular_only, m, n, n_geometric, v, p, curvature, false);
     }
     if (view == DEBUG_VIEW_WRAP) {
-        ShadingModels neither = ShadingModels(MODEL_NONE, MODEL_NONE, models.distribution, models.geometry);
-        return point_lights_radiance(neither, m, n, n_geometric, v, p, false);
+        // The report's wrap term alone; a redistributing model has no term of its own, so
+        // the diffuse lobe with its transfer is shown (compare with DEBUG_VIEW_DIFFUSE).
+        ShadingModels subsurface = models;
+        subsurface.specular = MODEL_NONE;
+        if (models.subsurface == SUBSURFACE_SEED) subsurface.diffuse = MODEL_NONE;
+        return point_lights_radiance(subsurface, m, n, n_geometric, v, p, curvature, false);
     }
     if (view == DEBUG_VIEW_ENVIRONMENT) return environment;
     if (view == DEBUG_VIEW_NAN) {

@@ -31,9 +31,9 @@ uint lut_layer(ShadingModels models) {
 // The specular models of a specular layer (diffuse none).
 ShadingModels lut_layer_models(uint layer) {
     if (layer < LUT_LAYER_TORRANCE_SPARROW)
-        return ShadingModels(DIFFUSE_NONE, SPECULAR_COOK_TORRANCE, layer / 2u, layer % 2u);
+        return ShadingModels(DIFFUSE_NONE, SPECULAR_COOK_TORRANCE, layer / 2u, layer % 2u, SUBSURFACE_NONE);
     uint specular = layer == LUT_LAYER_TORRANCE_SPARROW ? SPECULAR_TORRANCE_SPARROW : SPECULAR_BLINN_PHONG;
-    return ShadingModels(DIFFUSE_NONE, specular, 0u, 0u);
+    return ShadingModels(DIFFUSE_NONE, specular, 0u, 0u, SUBSURFACE_NONE);
 }
 
 #endif

@@ -74,17 +74,27 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 }
 
 // Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
-// times irradiance/π from SH (exact for Lambert under band-limited light), the wrap term
-// through its own SH kernel, and the specular lobe as prefiltered radiance along the
+// times irradiance/π from SH (exact for Lambert under band-limited light), the subsurface
+// term through its own SH kernels, and the specular lobe as prefiltered radiance along the
 // mirror direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
 // by the report's eq. 17: one lookup along the mirror direction × seed_strength × noise.
 // `noise` modulates the seed mode's lookup: the material's noise map, or 1.
-vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float noise) {
+vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float curvature, float noise) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
-    vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * env_convolve(n, SH_IRRADIANCE_OVER_PI);
-    if (m.wrap_color.a > 0.0) {
-        vec3 kernel = wrap_sh_kernel(m.wrap, m.wrap_width);
-        radiance += m.wrap_color.rgb * (m.wrap_color.a / PI) * env_convolve(n, kernel);
+    vec3 irradiance_over_pi = env_convolve(n, SH_IRRADIANCE_OVER_PI);
+    vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * irradiance_over_pi;
+    if (subsurface_lights(models, m)) {
+        if (models.subsurface == SUBSURFACE_SEED) {
+            vec3 kernel = wrap_sh_kernel(m.wrap, m.wrap_width);
+            radiance += m.wrap_color.rgb * (m.wrap_color.a / PI) * env_convolve(n, kernel);
+        } else {
+            // ρ/π (∫ L K − ∫ L max(0, n·l)), a kernel per channel.
+            vec3 reach = subsurface_reach(models.subsurface, m, curvature);
+            vec3 transferred = vec3(env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.r)).r,
+                                    env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.g)).g,
+                                    env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.b)).b);
+            radiance += m.base_color.rgb * (transferred / PI - irradiance_over_pi);
+        }
     }
     if (models.specular == SPECULAR_NONE) return radiance;
     vec3 r = seed_reflection(n, v);
@@ -115,9 +125,10 @@ vec2 pixel_offset(vec2 pixel) {
 // multi-sample balance heuristic (Veach 1997, §9.2.2): Σ f(l) L(l) / Σ_k N_k p_k(l). Each
 // lookup reads the mip matching its pdf (filtered importance sampling), which trades
 // noise for blur; as N grows the mips go to 0 and the estimate to the integral.
-vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec2 pixel) {
+vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float curvature,
+                         vec2 pixel) {
     uvec3 counts = strategy_counts(env.mode.z, models.diffuse != DIFFUSE_NONE,
-                                   models.specular != SPECULAR_NONE, m.wrap_color.a > 0.0);
+                                   models.specular != SPECULAR_NONE, subsurface_lights(models, m));
     mat3 frame = tangent_frame(n);
     vec3 v_local = v * frame;
     float n_dot_v = max(v_local.z, MIN_N_DOT_V);
@@ -141,17 +152,18 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
                     + float(counts.y) * pdf_ggx_vndf(alpha, n_dot_v, max(dot(n, h), 0.0), dot(n_cross_h, n_cross_h))
                     + float(counts.z) * PDF_UNIFORM_SPHERE;
         if (n_pdf <= 0.0) continue;
-        vec3 f = brdf_cos(models, m, n, n_geometric, v, l);
+        vec3 f = brdf_cos(models, m, n, n_geometric, v, l, curvature);
         sum += f * env_radiance(l, filtered_lod(n_pdf, env.texel.x)) / n_pdf;
     }
     return sum;
 }
 
 // The light the environment reflects towards v: replaces the report's constant ambient.
-vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float noise, vec2 pixel) {
+vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float curvature,
+                       float noise, vec2 pixel) {
     if (env.mode.x == ENV_NONE) return vec3(0.0);
-    if (env.mode.y == REFLECTION_SAMPLED) return environment_sampled(models, m, n, n_geometric, v, pixel);
-    return environment_split_sum(models, m, n, v, noise);
+    if (env.mode.y == REFLECTION_SAMPLED) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel);
+    return environment_split_sum(models, m, n, v, curvature, noise);
 }
 
 #endif

@@ -16,13 +16,13 @@ vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
 // Radiance from the point lights through brdf_cos with the given models and material, or
 // through the report's composition (brdf_cos_seed) when `seed_horizon`.
 vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec3 p,
-                           bool seed_horizon) {
+                           float curvature, bool seed_horizon) {
     vec3 radiance = vec3(0.0);
     for (uint i = 0; i < frame.counts.x; ++i) {
         vec3 l;
         vec3 irradiance = point_light_irradiance(i, p, l);
         radiance += irradiance * (seed_horizon ? brdf_cos_seed(models, m, n, v, l)
-                                               : brdf_cos(models, m, n, n_geometric, v, l));
+                                               : brdf_cos(models, m, n, n_geometric, v, l, curvature));
     }
     return radiance;
 }

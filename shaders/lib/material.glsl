@@ -6,7 +6,8 @@
 struct Material {
     vec4 base_color;      // rgb linear albedo
     vec4 specular_color;  // rgb tint of the specular lobe
-    vec4 wrap_color;      // rgb colour of the wrap term, a = its intensity
+    vec4 wrap_color;      // rgb colour of the report's wrap term, a = its intensity
+    vec4 scatter;         // rgb scatter_color (per-channel reach), a = scatter_radius
     float roughness;      // perceptual; alpha = roughness^2
     float f0;             // Schlick reflectance at normal incidence
     float diffuse_roughness;

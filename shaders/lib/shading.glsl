@@ -6,6 +6,7 @@
 #define ARGIL_SHADING_GLSL
 #include "brdf.glsl"
 #include "material.glsl"
+#include "subsurface.glsl"
 
 // Values of the models' specialization constants: `as u32` of the Rust enums in
 // src/brdf/shading.rs.
@@ -23,6 +24,7 @@ struct ShadingModels {
     uint specular;
     uint distribution;
     uint geometry;
+    uint subsurface;
 };
 
 // A light closer than 1e-4 to a surface point would give unbounded irradiance.
@@ -85,21 +87,54 @@ vec3 specular_lobe(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l, flo
     return m.specular_color.rgb * f;
 }
 
+// Whether the subsurface model moves diffuse light across the terminator
+// (subsurface_transfer) rather than adding a term.
+bool subsurface_redistributes(uint model) {
+    return model == SUBSURFACE_ENERGY_CONSERVING_WRAP || model == SUBSURFACE_PRE_INTEGRATED;
+}
+
+// Whether the subsurface term lights anything: only it reaches below the horizon.
+bool subsurface_lights(ShadingModels models, Material m) {
+    if (models.subsurface == SUBSURFACE_SEED) return m.wrap_color.a > 0.0;
+    return subsurface_redistributes(models.subsurface) && models.diffuse != DIFFUSE_NONE;
+}
+
+// The reach of a redistributing model per channel: w · scatter_color for the
+// energy-conserving wrap, t = σκ with σ = scatter_radius · scatter_color for the
+// pre-integrated model, κ the surface's curvature (concave counts as flat).
+vec3 subsurface_reach(uint model, Material m, float curvature) {
+    if (model == SUBSURFACE_ENERGY_CONSERVING_WRAP) return m.wrap * m.scatter.rgb;
+    return m.scatter.rgb * (m.scatter.a * max(curvature, 0.0));
+}
+
+// The subsurface term, per unit irradiance: the report's wrap (eq. 18, colour ×
+// intensity/π × s) for SUBSURFACE_SEED, or ρ/π (K − max(0, n·l)) for the models that move
+// light across the terminator.
+vec3 subsurface_cos(ShadingModels models, Material m, float n_dot_l, float curvature) {
+    if (!subsurface_lights(models, m)) return vec3(0.0);
+    if (models.subsurface == SUBSURFACE_SEED) {
+        return m.wrap_color.rgb * (m.wrap_color.a / PI) * wrap_seed(n_dot_l, m.wrap, m.wrap_width);
+    }
+    vec3 transfer = subsurface_transfer(models.subsurface, n_dot_l,
+                                        subsurface_reach(models.subsurface, m, curvature));
+    return m.base_color.rgb / PI * (transfer - max(n_dot_l, 0.0));
+}
+
 // Reflected radiance per unit irradiance E⊥ arriving along l, for shading normal n
-// (already facing the viewer) on a surface of geometric normal n_geometric:
-// f(n, v, l)(n·l) times the terminator shadowing, plus the wrap term of seed eq. 18
-// (colour × intensity/π × s), which lights where n·l ≤ 0 too.
-vec3 brdf_cos(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec3 l) {
+// (already facing the viewer) on a surface of geometric normal n_geometric and curvature
+// `curvature`: f(n, v, l)(n·l) times the terminator shadowing, plus the subsurface term,
+// which lights where n·l ≤ 0 too.
+vec3 brdf_cos(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec3 l, float curvature) {
     float n_dot_l = dot(n, l);
-    vec3 wrap = m.wrap_color.a > 0.0
-        ? m.wrap_color.rgb * (m.wrap_color.a / PI) * wrap_seed(n_dot_l, m.wrap, m.wrap_width)
-        : vec3(0.0);
-    if (n_dot_l <= 0.0) return wrap;
+    vec3 subsurface = subsurface_cos(models, m, n_dot_l, curvature);
+    if (n_dot_l <= 0.0) return subsurface;
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     vec3 f = diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l)
            + specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l);
     float shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, dot(n_geometric, n));
-    return f * (n_dot_l * shadowing) + wrap;
+    vec3 lit = f * (n_dot_l * shadowing) + subsurface;
+    // Where the terminator shadows the lobes, less may be left than the model moves away.
+    return subsurface_redistributes(models.subsurface) ? max(lit, vec3(0.0)) : lit;
 }
 
 // The report's composition, for comparison (`horizon = "seed"`): i = d + s (seed eq. 3)

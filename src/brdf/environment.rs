@@ -7,6 +7,7 @@ use super::distribution::d_ggx;
 use super::geometry::g1_smith_ggx;
 use super::shading::{diffuse_lobe, specular_lobe, DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
 use super::specular::{Distribution, Geometry};
+use super::subsurface::Subsurface;
 use super::wrap::{hermite_step, wrap_seed, MIN_WRAP_WIDTH};
 use super::{clamp_alpha, cross, dot, Vec3, MIN_N_DOT_V, PI};
 
@@ -317,6 +318,7 @@ pub fn lut_layer_models(layer: u32) -> ShadingModels {
         specular,
         distribution,
         geometry,
+        subsurface: Subsurface::None,
     }
 }
 
@@ -332,6 +334,8 @@ fn lut_material(y: f64, f0: f64) -> ShadingParams {
         diffuse_roughness: y,
         wrap: 0.0,
         wrap_width: 1.0,
+        scatter_color: [0.0; 3],
+        scatter_radius: 0.0,
     }
 }
 

@@ -268,6 +268,7 @@ fn lut_layers_round_trip() {
         specular: SpecularModel::CookTorrance,
         distribution: Distribution::Beckmann,
         geometry: Geometry::SmithSeparable,
+        subsurface: Subsurface::None,
     };
     assert_eq!(lut_layer(models), 3);
 }

@@ -16,6 +16,7 @@ pub mod normal_mapping;
 pub mod quadrature;
 pub mod shading;
 pub mod specular;
+pub mod subsurface;
 pub mod tonemap;
 pub mod wrap;
 

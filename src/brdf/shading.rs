@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::diffuse::{diffuse_eon, diffuse_lambert, diffuse_oren_nayar};
 use super::specular::{spec_blinn_phong, spec_cook_torrance, spec_torrance_sparrow, Distribution, Geometry};
+use super::subsurface::{subsurface_transfer, Subsurface};
 use super::wrap::wrap_seed;
 use super::{clamp_alpha, cross, dot, safe_half_vector, Vec3, MIN_N_DOT_V, PI};
 
@@ -55,6 +56,7 @@ pub struct ShadingModels {
     pub specular: SpecularModel,
     pub distribution: Distribution,
     pub geometry: Geometry,
+    pub subsurface: Subsurface,
 }
 
 /// A material's parameters in f64 (`Material` in GLSL).
@@ -69,6 +71,10 @@ pub struct ShadingParams {
     pub diffuse_roughness: f64,
     pub wrap: f64,
     pub wrap_width: f64,
+    /// Per-channel reach of the energy-conserving wrap and pre-integrated models.
+    pub scatter_color: Vec3,
+    /// The pre-integrated model's profile σ at scatter_color 1, in scene units.
+    pub scatter_radius: f64,
 }
 
 /// Smallest n·v of a shading normal after it is turned towards the viewer.
@@ -168,22 +174,60 @@ pub fn specular_lobe(
     mul(m.specular_color, f)
 }
 
-/// Reflected radiance per unit irradiance E⊥ arriving along l, for shading normal `n`
-/// (already facing the viewer) on a surface of geometric normal `n_geometric`:
-/// f(n, v, l)(n·l) times the terminator shadowing, plus the wrap term of seed eq. 18
-/// (colour × intensity/π × s), which lights where n·l ≤ 0 too.
-pub fn brdf_cos(models: ShadingModels, m: &ShadingParams, n: Vec3, n_geometric: Vec3, v: Vec3, l: Vec3) -> Vec3 {
-    let n_dot_l = dot(n, l);
-    let wrap = if m.wrap_intensity > 0.0 {
-        scale(
+/// Whether the subsurface term lights anything: only it reaches below the horizon.
+pub fn subsurface_lights(models: ShadingModels, m: &ShadingParams) -> bool {
+    match models.subsurface {
+        Subsurface::Seed => m.wrap_intensity > 0.0,
+        model => model.redistributes() && models.diffuse != DiffuseModel::None,
+    }
+}
+
+/// The reach of a redistributing model per channel: w · scatter_color for the
+/// energy-conserving wrap, t = σκ with σ = scatter_radius · scatter_color for the
+/// pre-integrated model, κ the surface's curvature (concave counts as flat).
+pub fn subsurface_reach(model: Subsurface, m: &ShadingParams, curvature: f64) -> Vec3 {
+    if model == Subsurface::EnergyConservingWrap {
+        return scale(m.scatter_color, m.wrap);
+    }
+    scale(m.scatter_color, m.scatter_radius * curvature.max(0.0))
+}
+
+/// The subsurface term, per unit irradiance: the report's wrap (eq. 18, colour ×
+/// intensity/π × s) for `Seed`, or ρ/π (K − max(0, n·l)) for the models that move light
+/// across the terminator (`subsurface_transfer`).
+pub fn subsurface_cos(models: ShadingModels, m: &ShadingParams, n_dot_l: f64, curvature: f64) -> Vec3 {
+    if !subsurface_lights(models, m) {
+        return [0.0; 3];
+    }
+    if models.subsurface == Subsurface::Seed {
+        return scale(
             m.wrap_color,
             m.wrap_intensity / PI * wrap_seed(n_dot_l, m.wrap, m.wrap_width),
-        )
-    } else {
-        [0.0; 3]
-    };
+        );
+    }
+    let reach = subsurface_reach(models.subsurface, m, curvature);
+    let transfer = subsurface_transfer(models.subsurface, n_dot_l, reach);
+    let lambert = n_dot_l.max(0.0);
+    std::array::from_fn(|c| m.base_color[c] / PI * (transfer[c] - lambert))
+}
+
+/// Reflected radiance per unit irradiance E⊥ arriving along l, for shading normal `n`
+/// (already facing the viewer) on a surface of geometric normal `n_geometric` and
+/// curvature `curvature`: f(n, v, l)(n·l) times the terminator shadowing, plus the
+/// subsurface term, which lights where n·l ≤ 0 too.
+pub fn brdf_cos(
+    models: ShadingModels,
+    m: &ShadingParams,
+    n: Vec3,
+    n_geometric: Vec3,
+    v: Vec3,
+    l: Vec3,
+    curvature: f64,
+) -> Vec3 {
+    let n_dot_l = dot(n, l);
+    let subsurface = subsurface_cos(models, m, n_dot_l, curvature);
     if n_dot_l <= 0.0 {
-        return wrap;
+        return subsurface;
     }
     let n_dot_v = dot(n, v).max(MIN_N_DOT_V);
     let f = add(
@@ -191,7 +235,13 @@ pub fn brdf_cos(models: ShadingModels, m: &ShadingParams, n: Vec3, n_geometric: 
         specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l),
     );
     let shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, dot(n_geometric, n));
-    add(scale(f, n_dot_l * shadowing), wrap)
+    let lit = add(scale(f, n_dot_l * shadowing), subsurface);
+    if models.subsurface.redistributes() {
+        // Where the terminator shadows the lobes, less may be left than the model moves away.
+        lit.map(|x| x.max(0.0))
+    } else {
+        lit
+    }
 }
 
 /// The report's composition, for comparison (`horizon = "seed"`): i = d + s (seed eq. 3)

@@ -1,7 +1,7 @@
 //! The forward pass: every object, shaded by every point light, into the HDR target.
 //!
 //! Set 0: binding 0 the `FrameData` uniform buffer, binding 1 the `Materials` storage
-//! buffer; set 2: the environment (see environment.rs); push constants: `ObjectPush` (see
+//! buffer, binding 2 the pre-integrated subsurface table; set 2: the environment (see environment.rs); push constants: `ObjectPush` (see
 //! shaders/lib/scene_data.glsl). One pipeline per combination of BRDF models in use,
 //! chosen by specialization constants.
 
@@ -15,16 +15,16 @@ use gpu_allocator::MemoryLocation;
 use super::debug_view::DebugView;
 use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
 use super::shaders;
+use super::subsurface::SubsurfaceTable;
 use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::scene::{Material, Scene, Vertex};
 use crate::vk::{
     set_full_viewport, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
-    Device, GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
-/// The specialization constants of `forward.frag` for a material.
 /// The specialization constants of `forward.frag` for a material: its models (shading.glsl),
-/// which maps it has (material_maps.glsl) and its horizon treatment.
+/// which maps it has (material_maps.glsl), its horizon treatment and subsurface model.
 pub fn material_specialization(m: &Material) -> Specialization {
     let models = m.shading_models();
     let maps = &m.maps;
@@ -39,6 +39,7 @@ pub fn material_specialization(m: &Material) -> Specialization {
         u32::from(maps.noise.is_some()),
         maps.detail_blend as u32,
         m.horizon as u32,
+        models.subsurface as u32,
     ])
 }
 
@@ -64,17 +65,28 @@ pub struct ForwardPass {
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
+    subsurface: SubsurfaceTable,
 }
 
 impl ForwardPass {
-    pub fn new(device: &Arc<Device>, frames_in_flight: u32, environment_layout: &DescriptorSetLayout) -> Result<Self> {
+    pub fn new(
+        device: &Arc<Device>,
+        one_shot: &OneShot,
+        frames_in_flight: u32,
+        environment_layout: &DescriptorSetLayout,
+    ) -> Result<Self> {
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(
                 vk::DescriptorType::UNIFORM_BUFFER,
                 vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
             )
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::FRAGMENT)
+            .binding(
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::ShaderStageFlags::FRAGMENT,
+            )
             .build(device, "forward set")?;
+        let subsurface = SubsurfaceTable::upload(device, one_shot)?;
         let material_layout = (0..4)
             .fold(DescriptorSetLayoutBuilder::default(), |b, _| {
                 b.binding(
@@ -103,7 +115,7 @@ impl ForwardPass {
                 )?;
                 let materials = Self::material_buffer(device, 1)?;
                 let set = pool.allocate(&set_layout)?;
-                Self::write_set(device, set, &frame_data, &materials);
+                Self::write_set(device, set, &frame_data, &materials, &subsurface);
                 Ok(FrameSlot {
                     frame_data,
                     materials,
@@ -122,6 +134,7 @@ impl ForwardPass {
             material_pipelines: Vec::new(),
             _pool: pool,
             slots,
+            subsurface,
         })
     }
 
@@ -140,11 +153,17 @@ impl ForwardPass {
         )
     }
 
-    fn write_set(device: &Device, set: vk::DescriptorSet, frame_data: &Buffer, materials: &Buffer) {
-        DescriptorWriter::default()
+    fn write_set(
+        device: &Device,
+        set: vk::DescriptorSet,
+        frame_data: &Buffer,
+        materials: &Buffer,
+        subsurface: &SubsurfaceTable,
+    ) {
+        let writer = DescriptorWriter::default()
             .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, frame_data.handle)
-            .buffer(1, vk::DescriptorType::STORAGE_BUFFER, materials.handle)
-            .write(device, set);
+            .buffer(1, vk::DescriptorType::STORAGE_BUFFER, materials.handle);
+        subsurface.bind(writer).write(device, set);
     }
 
     fn pipeline(&mut self, specialization: &Specialization) -> Result<vk::Pipeline> {
@@ -186,7 +205,7 @@ impl ForwardPass {
         let bytes: &[u8] = bytemuck::cast_slice(&materials);
         if bytes.len() as u64 > s.materials.size {
             s.materials = Self::material_buffer(&self.device, materials.len())?;
-            Self::write_set(&self.device, s.set, &s.frame_data, &s.materials);
+            Self::write_set(&self.device, s.set, &s.frame_data, &s.materials, &self.subsurface);
         }
         s.materials.write(bytes)
     }

@@ -62,9 +62,10 @@ impl Renderer {
             .filter_map(|_| Timestamps::new(&device, PASS_NAMES.len() as u32).transpose())
             .collect::<Result<_>>()?;
         let environment = EnvironmentPass::new(&device)?;
+        let one_shot = OneShot::new(&device)?;
         Ok(Self {
-            one_shot: OneShot::new(&device)?,
-            forward: ForwardPass::new(&device, frames_in_flight, environment.set_layout())?,
+            forward: ForwardPass::new(&device, &one_shot, frames_in_flight, environment.set_layout())?,
+            one_shot,
             environment,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
             timestamps,

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use super::light::ReflectionMode;
-use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, SpecularModel};
+use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, SpecularModel, Subsurface};
 use super::preset::Preset;
 
 /// A whole scene file. Every section is optional; validation rejects a scene
@@ -161,6 +161,9 @@ pub struct MaterialDef {
     pub wrap_width: f64,
     pub wrap_color: [f64; 3],
     pub wrap_intensity: f64,
+    pub subsurface: Subsurface,
+    pub scatter_color: [f64; 3],
+    pub scatter_radius: f64,
     pub horizon: Horizon,
     pub detail_blend: DetailBlend,
     // Tables last: TOML writes them after the plain keys.
@@ -193,6 +196,9 @@ impl Default for MaterialDef {
             wrap_width: 0.3,
             wrap_color: [1.0; 3],
             wrap_intensity: 0.0,
+            subsurface: Subsurface::Seed,
+            scatter_color: [1.0; 3],
+            scatter_radius: 0.0,
             horizon: Horizon::Smooth,
             detail_blend: DetailBlend::Rnm,
             base_color_map: None,
@@ -259,6 +265,9 @@ struct MaterialKeys {
     wrap_width: Option<f64>,
     wrap_color: Option<[f64; 3]>,
     wrap_intensity: Option<f64>,
+    subsurface: Option<Subsurface>,
+    scatter_color: Option<[f64; 3]>,
+    scatter_radius: Option<f64>,
     horizon: Option<Horizon>,
     detail_blend: Option<DetailBlend>,
     base_color_map: Option<MapKeys>,
@@ -296,6 +305,9 @@ impl TryFrom<MaterialKeys> for MaterialDef {
         set(&mut def.wrap_width, keys.wrap_width);
         set(&mut def.wrap_color, keys.wrap_color);
         set(&mut def.wrap_intensity, keys.wrap_intensity);
+        set(&mut def.subsurface, keys.subsurface);
+        set(&mut def.scatter_color, keys.scatter_color);
+        set(&mut def.scatter_radius, keys.scatter_radius);
         set(&mut def.horizon, keys.horizon);
         set(&mut def.detail_blend, keys.detail_blend);
         def.base_color_map = merge_map("base_color_map", def.base_color_map, keys.base_color_map)?;

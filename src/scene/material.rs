@@ -3,6 +3,7 @@ use serde::{Deserialize, Serialize};
 
 pub use crate::brdf::shading::{DiffuseModel, Horizon, ShadingModels, ShadingParams, SpecularModel};
 pub use crate::brdf::specular::{Distribution, Geometry};
+pub use crate::brdf::subsurface::Subsurface;
 
 /// A validated material; see docs/scene-format.md for the meaning and range
 /// of each field.
@@ -21,11 +22,17 @@ pub struct Material {
     pub f0: f32,
     pub diffuse_roughness: f32,
     pub specular_color: Vec3,
-    /// Wrap-lighting subsurface approximation; 0 disables it.
+    /// The report's wrap lighting (`Subsurface::Seed`): w₁, w₂, colour and intensity;
+    /// `wrap` is also the energy-conserving wrap's w.
     pub wrap: f32,
     pub wrap_width: f32,
     pub wrap_color: Vec3,
     pub wrap_intensity: f32,
+    pub subsurface: Subsurface,
+    /// Per-channel reach of the energy-conserving wrap and the pre-integrated model.
+    pub scatter_color: Vec3,
+    /// The pre-integrated model's diffusion σ, in scene units, at scatter_color 1.
+    pub scatter_radius: f32,
     /// Treatment of the shading normal\'s horizon.
     pub horizon: Horizon,
     pub maps: MaterialMaps,
@@ -39,6 +46,7 @@ impl Material {
             specular: self.specular,
             distribution: self.distribution,
             geometry: self.geometry,
+            subsurface: self.subsurface,
         }
     }
 
@@ -55,6 +63,8 @@ impl Material {
             diffuse_roughness: f64::from(self.diffuse_roughness),
             wrap: f64::from(self.wrap),
             wrap_width: f64::from(self.wrap_width),
+            scatter_color: rgb(self.scatter_color),
+            scatter_radius: f64::from(self.scatter_radius),
         }
     }
 }

@@ -28,6 +28,7 @@ pub use file::SceneFile;
 pub use light::{Environment, PointLight, Reflection, ReflectionMode};
 pub use material::{
     DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, Material, MaterialMaps, SpecularModel,
+    Subsurface,
 };
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
 pub use preset::Preset;

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::file::{MapDef, MaterialDef};
-use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, SpecularModel};
+use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, SpecularModel, Subsurface};
 
 /// A kind of clay whose look a material can start from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -56,6 +56,9 @@ impl Preset {
                 wrap_width: 0.4,
                 wrap_color: [0.9, 0.35, 0.15],
                 wrap_intensity: 0.3,
+                subsurface: Subsurface::PreIntegrated,
+                scatter_color: [1.0, 0.5, 0.3],
+                scatter_radius: 0.15,
                 normal_map: map("builtin:clay-lumps", 0.6, [4.0, 2.0]),
                 detail_map: map("builtin:fingerprints", 0.7, [6.0, 3.0]),
                 noise_map: map("builtin:noise", 0.5, [2.0, 1.0]),
@@ -78,6 +81,9 @@ impl Preset {
                 wrap_width: 0.3,
                 wrap_color: [1.0; 3],
                 wrap_intensity: 0.0,
+                subsurface: Subsurface::None,
+                scatter_color: [1.0; 3],
+                scatter_radius: 0.0,
                 normal_map: map("builtin:clay-lumps", 0.3, [8.0, 4.0]),
                 detail_map: None,
                 noise_map: map("builtin:noise", 0.3, [2.0, 1.0]),
@@ -100,6 +106,9 @@ impl Preset {
                 wrap_width: 0.5,
                 wrap_color: [0.6, 0.3, 0.15],
                 wrap_intensity: 0.5,
+                subsurface: Subsurface::EnergyConservingWrap,
+                scatter_color: [1.0, 0.7, 0.5],
+                scatter_radius: 0.0,
                 normal_map: map("builtin:clay-lumps", 0.8, [3.0, 1.5]),
                 detail_map: None,
                 noise_map: map("builtin:noise", 0.7, [2.0, 1.0]),
@@ -122,6 +131,9 @@ impl Preset {
                 wrap_width: 0.3,
                 wrap_color: [0.2, 0.35, 0.9],
                 wrap_intensity: 0.2,
+                subsurface: Subsurface::PreIntegrated,
+                scatter_color: [0.35, 0.6, 1.0],
+                scatter_radius: 0.3,
                 normal_map: map("builtin:clay-lumps", 0.25, [8.0, 4.0]),
                 detail_map: map("builtin:fingerprints", 0.4, [6.0, 3.0]),
                 noise_map: map("builtin:noise", 0.4, [2.0, 1.0]),

@@ -68,6 +68,15 @@ impl Checker<'_> {
         }
     }
 
+    fn unit_color(&self, field: &str, v: [f64; 3]) -> Result<Vec3, SceneError> {
+        let narrowed = narrow3(v);
+        if narrowed.to_array().iter().all(|x| (0.0..=1.0).contains(x)) {
+            Ok(narrowed)
+        } else {
+            Err(self.invalid(field, v, "every component must be a finite number in [0, 1]"))
+        }
+    }
+
     fn unit(&self, field: &str, x: f64) -> Result<f32, SceneError> {
         self.scalar(
             field,
@@ -391,6 +400,14 @@ fn material(
         wrap_width: check.positive(&field("wrap_width"), def.wrap_width)?,
         wrap_color: check.color(&field("wrap_color"), def.wrap_color)?,
         wrap_intensity: check.non_negative(&field("wrap_intensity"), def.wrap_intensity)?,
+        subsurface: def.subsurface,
+        scatter_color: check.unit_color(&field("scatter_color"), def.scatter_color)?,
+        scatter_radius: check.scalar(
+            &field("scatter_radius"),
+            def.scatter_radius,
+            |x| (0.0..=MAX_SCATTER_RADIUS).contains(&x),
+            &format!("must be a finite number in [0, {MAX_SCATTER_RADIUS:e}]"),
+        )?,
         horizon: def.horizon,
         // Last, so errors come in the order of the documented keys.
         maps: MaterialMaps {
@@ -402,6 +419,10 @@ fn material(
         },
     })
 }
+
+/// Largest scatter radius, in scene units: far beyond any object, so the pre-integrated
+/// model is already uniform (t = σκ ≫ 1) there; it keeps σκ finite in fp32.
+const MAX_SCATTER_RADIUS: f32 = 1e6;
 
 /// Largest |uv_scale| component: beyond it a map repeats more often than
 /// texels can be told apart even on a 16384² texture.
@@ -577,6 +598,9 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
                     wrap_width: widen(m.wrap_width),
                     wrap_color: widen3(m.wrap_color),
                     wrap_intensity: widen(m.wrap_intensity),
+                    subsurface: m.subsurface,
+                    scatter_color: widen3(m.scatter_color),
+                    scatter_radius: widen(m.scatter_radius),
                     horizon: m.horizon,
                     detail_blend: m.maps.detail_blend,
                     base_color_map: map(&m.maps.base_color),

@@ -90,6 +90,9 @@ fn minimal_scene_gets_the_documented_defaults() {
             wrap_width: 0.3,
             wrap_color: Vec3::ONE,
             wrap_intensity: 0.0,
+            subsurface: Subsurface::Seed,
+            scatter_color: Vec3::ONE,
+            scatter_radius: 0.0,
             horizon: Horizon::Smooth,
             maps: MaterialMaps::default(),
         }]

@@ -4,6 +4,7 @@
 
 use crate::brdf::shading::{brdf_cos, DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
 use crate::brdf::specular::{Distribution, Geometry};
+use crate::brdf::subsurface::Subsurface;
 use crate::brdf::{dot, safe_half_vector, Vec3, MIN_N_DOT_V};
 
 use super::functions::{
@@ -31,9 +32,9 @@ const TERMINATOR_WINDOW: f64 = 1e-3;
 const TERMINATOR_ROUNDING: f64 = 1.0 / (1u64 << 22) as f64;
 
 impl Composite {
-    /// Every diffuse model, every specular model but none, both distributions and both
-    /// masking forms at least once.
-    pub const ALL: [Composite; 4] = [
+    /// Every diffuse model, every specular model, both distributions, both masking forms and
+    /// every subsurface model but none at least once.
+    pub const ALL: [Composite; 7] = [
         Composite {
             name: "brdf_cos lambert + ct ggx correlated",
             models: ShadingModels {
@@ -41,6 +42,7 @@ impl Composite {
                 specular: SpecularModel::CookTorrance,
                 distribution: Distribution::Ggx,
                 geometry: Geometry::SmithCorrelated,
+                subsurface: Subsurface::Seed,
             },
         },
         Composite {
@@ -50,6 +52,7 @@ impl Composite {
                 specular: SpecularModel::CookTorrance,
                 distribution: Distribution::Beckmann,
                 geometry: Geometry::SmithSeparable,
+                subsurface: Subsurface::Seed,
             },
         },
         Composite {
@@ -59,6 +62,7 @@ impl Composite {
                 specular: SpecularModel::TorranceSparrow,
                 distribution: Distribution::Ggx,
                 geometry: Geometry::SmithCorrelated,
+                subsurface: Subsurface::Seed,
             },
         },
         Composite {
@@ -68,15 +72,51 @@ impl Composite {
                 specular: SpecularModel::BlinnPhong,
                 distribution: Distribution::Ggx,
                 geometry: Geometry::SmithCorrelated,
+                subsurface: Subsurface::Seed,
+            },
+        },
+        Composite {
+            name: "brdf_cos lambert + ct ggx, energy-conserving wrap",
+            models: ShadingModels {
+                diffuse: DiffuseModel::Lambert,
+                specular: SpecularModel::CookTorrance,
+                distribution: Distribution::Ggx,
+                geometry: Geometry::SmithCorrelated,
+                subsurface: Subsurface::EnergyConservingWrap,
+            },
+        },
+        Composite {
+            name: "brdf_cos eon + ct ggx, pre-integrated",
+            models: ShadingModels {
+                diffuse: DiffuseModel::Eon,
+                specular: SpecularModel::CookTorrance,
+                distribution: Distribution::Ggx,
+                geometry: Geometry::SmithCorrelated,
+                subsurface: Subsurface::PreIntegrated,
+            },
+        },
+        Composite {
+            name: "brdf_cos oren-nayar + none, pre-integrated",
+            models: ShadingModels {
+                diffuse: DiffuseModel::OrenNayar,
+                specular: SpecularModel::None,
+                distribution: Distribution::Ggx,
+                geometry: Geometry::SmithCorrelated,
+                subsurface: Subsurface::PreIntegrated,
             },
         },
     ];
 
-    /// The harness's `FUNCTION`: FIRST_SHADING + 16 diffuse + 4 specular + 2 distribution +
-    /// geometry, as verify_brdf.comp decodes it.
+    /// The harness's `FUNCTION`: FIRST_SHADING + 64 subsurface + 16 diffuse + 4 specular +
+    /// 2 distribution + geometry, as verify_brdf.comp decodes it.
     pub fn id(self) -> u32 {
         let m = self.models;
-        FIRST_SHADING + 16 * m.diffuse as u32 + 4 * m.specular as u32 + 2 * m.distribution as u32 + m.geometry as u32
+        FIRST_SHADING
+            + 64 * m.subsurface as u32
+            + 16 * m.diffuse as u32
+            + 4 * m.specular as u32
+            + 2 * m.distribution as u32
+            + m.geometry as u32
     }
 
     pub fn is_blinn_phong(self) -> bool {
@@ -108,8 +148,18 @@ impl Composite {
             diffuse_roughness: f64::from(t.c[3]),
             wrap: f64::from(t.e[3]),
             wrap_width: f64::from(t.f[3]),
+            scatter_color: rgb(t.g),
+            scatter_radius: 1.0,
         };
-        brdf_cos(self.models, &material, NORMAL, rgb(t.a), rgb(t.b), rgb(t.c))
+        brdf_cos(
+            self.models,
+            &material,
+            NORMAL,
+            rgb(t.a),
+            rgb(t.b),
+            rgb(t.c),
+            f64::from(t.g[3]),
+        )
     }
 
     /// v and l as for the models (about the lobe of α = roughness², grazing, mirrored,
@@ -138,6 +188,12 @@ impl Composite {
             rng.log_uniform(1e-2, 10.0)
         };
         let wrap_width = rng.log_uniform(1e-3, 1.0);
+        // σκ: flat or concave, then from far below to far above the profile's width.
+        let curvature = match rng.uniform() {
+            u if u < 0.1 => 0.0,
+            u if u < 0.2 => -rng.log_uniform(1e-3, 10.0),
+            _ => rng.log_uniform(1e-3, 100.0),
+        };
         let with = |mut x: [f32; 4], w: f64| {
             x[3] = w as f32;
             x
@@ -149,13 +205,15 @@ impl Composite {
             d: with(colour(rng), wrap_intensity),
             e: with(colour(rng), wrap),
             f: with(colour(rng), wrap_width),
+            g: with(colour(rng), curvature),
         }
     }
 
     /// n_geometric along, against and across the shading normal, and denormal; v along n,
     /// across it (n·v = 0), against it (v = −n), grazing and denormal; l along, against and
     /// across n, equal, opposite and mirrored to v; roughness 0, denormal and 1; a black
-    /// material, a white one with the widest wrap, and one with a denormal wrap width.
+    /// material, a white one with the widest wrap and a huge curvature, and one with a
+    /// denormal wrap width and curvature.
     pub fn stress(self) -> Vec<Tuple> {
         let z = [0.0, 0.0, 1.0, 0.0];
         let n_geometrics = [
@@ -172,24 +230,28 @@ impl Composite {
             vec4(direction(1e-7, 0.0)),
             [DENORMAL, DENORMAL, 1.0, 0.0],
         ];
-        // Materials: b.w = f0, c.w = diffuse_roughness, d, e and f as in every tuple.
-        let material = |f0, diffuse_roughness, d, e, f| Tuple {
+        // Materials: b.w = f0, c.w = diffuse_roughness, d, e, f and g as in every tuple.
+        let material = |f0, diffuse_roughness, [d, e, f, g]: [[f32; 4]; 4]| Tuple {
             b: [0.0, 0.0, 0.0, f0],
             c: [0.0, 0.0, 0.0, diffuse_roughness],
             d,
             e,
             f,
+            g,
             ..Tuple::default()
         };
         let materials = [
-            material(0.0, 0.0, [0.0; 4], [0.0; 4], [0.0, 0.0, 0.0, 1.0]),
-            material(1.0, 1.0, [1.0; 4], [1.0; 4], [1.0; 4]),
+            material(0.0, 0.0, [[0.0; 4], [0.0; 4], [0.0, 0.0, 0.0, 1.0], [0.0; 4]]),
+            material(1.0, 1.0, [[1.0; 4], [1.0; 4], [1.0; 4], [1.0, 1.0, 1.0, f32::MAX]]),
             material(
                 0.04,
                 0.5,
-                [0.0, 0.5, 1.0, 10.0],
-                [1.0, 1.0, 1.0, 0.5],
-                [1.0, 0.5, 0.0, DENORMAL],
+                [
+                    [0.0, 0.5, 1.0, 10.0],
+                    [1.0, 1.0, 1.0, 0.5],
+                    [1.0, 0.5, 0.0, DENORMAL],
+                    [1.0, 0.5, 0.0, DENORMAL],
+                ],
             ),
         ];
         let mut out = Vec::new();
@@ -231,7 +293,8 @@ impl Composite {
         let h = safe_half_vector(v, l, NORMAL);
         format!(
             "roughness={:e}, n·v={:e}, n·l={:e}, n·h={:e}, n_g·n={:e}, n_g·l={:e}, f0={:e}, \
-             diffuse_roughness={:e}, base=({:e}, {:e}, {:e}), wrap intensity {:e}, w {:e}, width {:e}",
+             diffuse_roughness={:e}, base=({:e}, {:e}, {:e}), wrap intensity {:e}, w {:e}, width {:e}, \
+             scatter=({:e}, {:e}, {:e}), curvature {:e}",
             t.a[3],
             v[2],
             l[2],
@@ -245,7 +308,11 @@ impl Composite {
             t.d[2],
             t.d[3],
             t.e[3],
-            t.f[3]
+            t.f[3],
+            t.g[0],
+            t.g[1],
+            t.g[2],
+            t.g[3]
         )
     }
 }

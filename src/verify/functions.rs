@@ -17,6 +17,7 @@ use crate::brdf::geometry::{
 };
 use crate::brdf::shading::shadow_terminator;
 use crate::brdf::specular::{spec_blinn_phong, spec_cook_torrance, spec_torrance_sparrow, Distribution, Geometry};
+use crate::brdf::subsurface::{wrap_energy_conserving_sh_kernel, PreintegratedTable};
 use crate::brdf::tonemap::{srgb_oetf, srgb_oetf_rgb, tonemap_pbr_neutral};
 use crate::brdf::wrap::{wrap_energy_conserving, wrap_seed};
 use crate::brdf::{clamp_alpha, cross, dot, safe_half_vector, Vec3, FP16_MAX, MAX_ALPHA, MIN_ALPHA, MIN_N_DOT_V};
@@ -28,7 +29,7 @@ use super::rng::Rng;
 /// One input of the harness, as `Tuple` in verify_brdf.comp. Terms: `a` holds the scalar
 /// arguments and `d` a colour argument. Models: `a` = (n, p), `b` = (v, 0), `c` = (l, 0),
 /// `d` = (F0 or ρ, 0), p being α, σ or r. Unit vectors and `brdf_cos`: see `UnitVector` and
-/// `Composite`; only `brdf_cos`, whose material has three colours, uses `e` and `f`.
+/// `Composite`; only `brdf_cos`, whose material has four colours, uses `e`, `f` and `g`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Tuple {
@@ -38,6 +39,7 @@ pub struct Tuple {
     pub d: [f32; 4],
     pub e: [f32; 4],
     pub f: [f32; 4],
+    pub g: [f32; 4],
 }
 
 /// What the harness writes per tuple: the value (up to four channels) and, for models, the
@@ -65,6 +67,8 @@ pub enum Term {
     WrapEnergyConserving = 15,
     SpecBlinnPhong = 16,
     ShadowTerminator = 17,
+    PreintegratedLookup = 18,
+    WrapEnergyConservingShKernel = 19,
 }
 
 /// BRDF models of directions. The value is the GLSL `FUNCTION` of verify_brdf.comp.
@@ -120,6 +124,11 @@ const FP16: Cap = Cap {
     value: FP16_MAX,
     label: "<= FP16_MAX",
 };
+/// Funk–Hecke coefficients of a transfer ≤ 1 (k₀ ≤ 4π·max/π = 4 for the uniform 1/π).
+const SH_KERNEL: Cap = Cap {
+    value: 4.0,
+    label: "<= 4",
+};
 /// Intermediates (D, Λ, E_FON) are never stored, and brdf_cos is scaled by the irradiance
 /// before it is: only fp32 overflow matters.
 const FP32: Cap = Cap {
@@ -128,7 +137,7 @@ const FP32: Cap = Cap {
 };
 
 impl Term {
-    pub const ALL: [Term; 18] = [
+    pub const ALL: [Term; 20] = [
         Term::DGgx,
         Term::DBeckmann,
         Term::LambdaGgx,
@@ -147,6 +156,8 @@ impl Term {
         Term::WrapEnergyConserving,
         Term::SpecBlinnPhong,
         Term::ShadowTerminator,
+        Term::PreintegratedLookup,
+        Term::WrapEnergyConservingShKernel,
     ];
 
     /// The GLSL function's name (F and sRGB also evaluate their scalar overloads).
@@ -170,12 +181,20 @@ impl Term {
             Term::WrapEnergyConserving => "wrap_energy_conserving",
             Term::SpecBlinnPhong => "spec_blinn_phong",
             Term::ShadowTerminator => "shadow_terminator",
+            Term::PreintegratedLookup => "preintegrated_lookup",
+            Term::WrapEnergyConservingShKernel => "wrap_energy_conserving_sh_kernel",
         }
     }
 
-    /// The wrap terms: weights of n·l for lighting, not BRDFs.
+    /// The wrap and subsurface terms: weights of n·l for lighting, not BRDFs.
     pub fn is_lighting_weight(self) -> bool {
-        matches!(self, Term::WrapSeed | Term::WrapEnergyConserving)
+        matches!(
+            self,
+            Term::WrapSeed
+                | Term::WrapEnergyConserving
+                | Term::PreintegratedLookup
+                | Term::WrapEnergyConservingShKernel
+        )
     }
 
     /// Names of the scalar arguments in `Tuple::a`, and of the colour argument in `Tuple::d`.
@@ -195,13 +214,15 @@ impl Term {
             Term::WrapEnergyConserving => (&["n·l", "w"], None),
             Term::SpecBlinnPhong => (&["α", "n·h", "v·h"], Some("F0")),
             Term::ShadowTerminator => (&["n_g·l", "n_s·l", "n_g·n_s"], None),
+            Term::PreintegratedLookup => (&["n·l", "σκ"], None),
+            Term::WrapEnergyConservingShKernel => (&["w"], None),
         }
     }
 
     fn channels(self) -> usize {
         match self {
-            Term::FSchlick | Term::SrgbOetf => 4,
-            Term::TonemapPbrNeutral | Term::SpecBlinnPhong => 3,
+            Term::FSchlick | Term::SrgbOetf | Term::PreintegratedLookup => 4,
+            Term::TonemapPbrNeutral | Term::SpecBlinnPhong | Term::WrapEnergyConservingShKernel => 3,
             _ => 1,
         }
     }
@@ -210,6 +231,7 @@ impl Term {
         match self {
             Term::DGgx | Term::DBeckmann | Term::LambdaGgx | Term::LambdaBeckmann | Term::EFonApprox => FP32,
             Term::SpecBlinnPhong => FP16,
+            Term::PreintegratedLookup | Term::WrapEnergyConservingShKernel => SH_KERNEL,
             _ => UNIT,
         }
     }
@@ -250,6 +272,11 @@ impl Term {
                 [r, g, b, 0.0]
             }
             Term::ShadowTerminator => scalar(shadow_terminator(x, y, z)),
+            Term::PreintegratedLookup => PreintegratedTable::get().lookup(x, y),
+            Term::WrapEnergyConservingShKernel => {
+                let [k0, k1, k2] = wrap_energy_conserving_sh_kernel(x);
+                [k0, k1, k2, 0.0]
+            }
         }
     }
 
@@ -329,6 +356,15 @@ impl Term {
             }
             Term::WrapSeed => scalars([rng.range(-1.0, 1.0), rng.uniform(), rng.log_uniform(1e-4, 1.0), 0.0]),
             Term::WrapEnergyConserving => scalars([rng.range(-1.0, 1.0), rng.uniform(), 0.0, 0.0]),
+            Term::PreintegratedLookup => {
+                let t = if rng.uniform() < 0.1 {
+                    0.0
+                } else {
+                    rng.log_uniform(1e-4, 1e4)
+                };
+                scalars([rng.range(-1.0, 1.0), t, 0.0, 0.0])
+            }
+            Term::WrapEnergyConservingShKernel => scalars([rng.uniform(), 0.0, 0.0, 0.0]),
             Term::SpecBlinnPhong => {
                 let n_dot_h = if rng.uniform() < 0.03 {
                     -rng.uniform()
@@ -463,11 +499,17 @@ impl Term {
                     }
                 }
             }
-            Term::WrapEnergyConserving => {
+            Term::WrapEnergyConserving | Term::PreintegratedLookup => {
+                // σκ: the same extremes as w, and fp32's largest.
                 for &n_dot_l in STRESS_COSINES {
-                    for &w in STRESS_ALPHAS {
+                    for &w in STRESS_ALPHAS.iter().chain(&[f32::MAX]) {
                         push([n_dot_l, w, 0.0, 0.0], [0.0; 4]);
                     }
+                }
+            }
+            Term::WrapEnergyConservingShKernel => {
+                for &w in STRESS_ALPHAS {
+                    push([w, 0.0, 0.0, 0.0], [0.0; 4]);
                 }
             }
             Term::SpecBlinnPhong => {

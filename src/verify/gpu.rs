@@ -9,6 +9,7 @@ use anyhow::{ensure, Context, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use crate::render::subsurface::SubsurfaceTable;
 use crate::vk::{
     Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device, OneShot,
     Pipeline, PipelineLayout, ShaderModule, Specialization,
@@ -34,6 +35,8 @@ pub struct Harness {
     set: vk::DescriptorSet,
     inputs: Buffer,
     outputs: Buffer,
+    /// Read by brdf_cos with a pre-integrated subsurface model.
+    _subsurface: SubsurfaceTable,
     capacity: usize,
 }
 
@@ -62,19 +65,25 @@ impl Harness {
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE)
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE)
+            .binding(
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::ShaderStageFlags::COMPUTE,
+            )
             .build(device, "verify set layout")?;
+        let one_shot = OneShot::new(device)?;
+        let subsurface = SubsurfaceTable::upload(device, &one_shot)?;
         let pool = DescriptorPool::for_layout(device, &set_layout, 1)?;
         let set = pool.allocate(&set_layout)?;
-        DescriptorWriter::default()
+        let writer = DescriptorWriter::default()
             .buffer(0, vk::DescriptorType::STORAGE_BUFFER, inputs.handle)
-            .buffer(1, vk::DescriptorType::STORAGE_BUFFER, outputs.handle)
-            .write(device, set);
+            .buffer(1, vk::DescriptorType::STORAGE_BUFFER, outputs.handle);
+        subsurface.bind(writer).write(device, set);
         // The push constant is the tuple count.
         let pipeline_layout = PipelineLayout::new(device, &[&set_layout], 4, vk::ShaderStageFlags::COMPUTE)?;
         let shader = ShaderModule::new(device, VERIFY_BRDF_COMP, "verify_brdf.comp")?;
         Ok(Self {
             device: device.clone(),
-            one_shot: OneShot::new(device)?,
+            one_shot,
             shader,
             pipeline_layout,
             _pool: pool,
@@ -82,6 +91,7 @@ impl Harness {
             set,
             inputs,
             outputs,
+            _subsurface: subsurface,
             capacity,
         })
     }

@@ -14,7 +14,7 @@ use crate::render::gpu_scene::MAX_POINT_LIGHTS;
 use crate::render::DebugView;
 use crate::scene::{
     DetailBlend, DiffuseModel, Distribution, Environment, Geometry, Horizon, MapRef, Material, PointLight, Reflection,
-    ReflectionMode, Scene, SpecularModel,
+    ReflectionMode, Scene, SpecularModel, Subsurface,
 };
 
 /// Width of the left panel in points; nothing of the UI is drawn right of it, but for its
@@ -35,6 +35,12 @@ const SPECULAR_MODELS: [SpecularModel; 4] = [
 ];
 const DISTRIBUTIONS: [Distribution; 2] = [Distribution::Ggx, Distribution::Beckmann];
 const GEOMETRIES: [Geometry; 2] = [Geometry::SmithCorrelated, Geometry::SmithSeparable];
+const SUBSURFACE_MODELS: [Subsurface; 4] = [
+    Subsurface::None,
+    Subsurface::Seed,
+    Subsurface::EnergyConservingWrap,
+    Subsurface::PreIntegrated,
+];
 
 /// The keys of the viewer, for the help window.
 pub const KEYS: &[(&str, &str)] = &[
@@ -245,6 +251,9 @@ fn material_fields(ui: &mut Ui, m: &mut Material) {
     number(ui, "wrap_width", &mut m.wrap_width, 0.01..=1.0);
     color(ui, "wrap_color", &mut m.wrap_color);
     number(ui, "wrap_intensity", &mut m.wrap_intensity, 0.0..=4.0);
+    choice(ui, "subsurface", &mut m.subsurface, &SUBSURFACE_MODELS);
+    color(ui, "scatter_color", &mut m.scatter_color);
+    number(ui, "scatter_radius", &mut m.scatter_radius, 0.0..=2.0);
     choice(ui, "horizon", &mut m.horizon, &[Horizon::Smooth, Horizon::Seed]);
     let maps = &mut m.maps;
     if maps.detail.is_some() {
