@@ -21,6 +21,7 @@ layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
+layout(location = 4) in float in_curvature;
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -55,6 +56,6 @@ void main() {
     out_radiance = vec4(radiance, 1.0);
     if (frame.counts.y != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(frame.counts.y, models, m, n, n_geometric, v, in_world_position,
-                                               in_normal, in_uv, in_tangent, environment, radiance);
+                                               in_normal, in_uv, in_tangent, environment, radiance, in_curvature);
     }
 }
