@@ -5,11 +5,13 @@ layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
+layout(location = 4) in float in_curvature;
 
 layout(location = 0) out vec3 out_world_position;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) out vec4 out_tangent;
+layout(location = 4) out float out_curvature;
 
 void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
@@ -18,5 +20,10 @@ void main() {
     out_normal = normal_matrix * in_normal;
     out_uv = in_uv;
     out_tangent = vec4(mat3(object.model) * in_tangent.xyz, in_tangent.w);
+    // Curvature is 1/length, so it shrinks as the object grows: divide by the model's
+    // scale, the cube root of its volume scale. Exact for a uniform scale (all objects
+    // have one); under a non-uniform scale it is only an average.
+    float scale = pow(abs(determinant(mat3(object.model))), 1.0 / 3.0);
+    out_curvature = scale > 0.0 ? in_curvature / scale : 0.0;
     gl_Position = frame.view_proj * world;
 }

@@ -136,6 +136,37 @@ mesh = "builtin:sphere"
     }
 }
 
+/// The curvature view of a sphere scaled by 0.5 (world curvature 2, convex) is red at
+/// 1 - exp(-2 · 0.5) all over, which checks the vertex attribute and the vertex shader's
+/// division by the object's scale; a plane is black.
+#[test]
+fn curvature_view_shows_the_world_space_curvature() {
+    let shapes = scene(
+        r#"
+[camera]
+position = [0.0, 3.0, 4.0]
+target = [0.0, 0.0, 0.0]
+[[objects]]
+mesh = "builtin:sphere"
+position = [0.0, 0.5, 0.0]
+scale = 0.5
+[[objects]]
+mesh = "builtin:plane"
+scale = 3
+"#,
+    );
+    let (w, h) = (101, 101);
+    let frame = render_view(&shapes, DebugView::Curvature, w, h);
+    let expected = 1.0 - (-1.0f32).exp();
+    let sphere = pixel(&frame, 50, 50);
+    assert!(
+        (sphere[0] - expected).abs() < 1e-4 && sphere[1] == 0.0 && sphere[2] == 0.0,
+        "sphere: {sphere:?}, expected red {expected}"
+    );
+    let plane = pixel(&frame, 50, 95);
+    assert_eq!(plane, [0.0, 0.0, 0.0, 1.0], "plane");
+}
+
 /// On a finite image the NaN highlight shows the shaded image unchanged.
 #[test]
 fn nan_highlight_leaves_a_finite_image_alone() {

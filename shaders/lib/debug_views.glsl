@@ -19,6 +19,12 @@ const uint DEBUG_VIEW_SPECULAR = 7u;
 const uint DEBUG_VIEW_WRAP = 8u;
 const uint DEBUG_VIEW_ENVIRONMENT = 9u;
 const uint DEBUG_VIEW_NAN = 10u;
+const uint DEBUG_VIEW_CURVATURE = 11u;
+
+// The curvature view's brightness is 1 - exp(-|κ| · CURVATURE_VIEW_SCALE): a sphere of
+// radius 1 shows at 0.39, of radius 0.35 (the builtin torus's tube) at 0.76, of radius
+// 0.1 at 0.99; a plane is black.
+const float CURVATURE_VIEW_SCALE = 0.5;
 
 // The model value that turns a lobe off (DiffuseModel::None, SpecularModel::None).
 const uint MODEL_NONE = 3u;
@@ -30,9 +36,9 @@ vec3 direction_color(vec3 d) {
 }
 
 // What debug view `view` shows at a surface point; `shaded` is the normal result there.
-// `n` is the shading normal, `n_geometric` the surface's, `normal` and `tangent` the
-// interpolated vertex attributes, `environment` the environment's term, `curvature` the
-// surface's.
+// `n` is the shading normal, `n_geometric` the surface's, `normal`, `tangent` and
+// `curvature` the interpolated vertex attributes (curvature in 1/world length),
+// `environment` the environment's term.
 vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
                          vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 environment,
                          vec3 shaded, float curvature) {
@@ -42,6 +48,11 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         return direction_color(cross(normal, tangent.xyz) * (tangent.w < 0.0 ? -1.0 : 1.0));
     }
     if (view == DEBUG_VIEW_UVS) return vec3(fract(uv), 0.0);
+    if (view == DEBUG_VIEW_CURVATURE) {
+        // Red where convex, blue where concave.
+        float strength = 1.0 - exp(-abs(curvature) * CURVATURE_VIEW_SCALE);
+        return curvature > 0.0 ? vec3(strength, 0.0, 0.0) : vec3(0.0, 0.0, strength);
+    }
     if (view == DEBUG_VIEW_N_DOT_L) {
         float sum = 0.0;
         for (uint i = 0; i < frame.counts.x; ++i) {

@@ -30,10 +30,13 @@ pub enum DebugView {
     Environment = 9,
     /// The shaded image with NaN/Inf pixels in magenta.
     NanHighlight = 10,
+    /// The mesh's mean curvature (1/world length): red where convex, blue where concave,
+    /// brightness 1 - exp(-|κ|/2), so a sphere of radius 1 shows at 0.39 and a plane black.
+    Curvature = 11,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 11] = [
+    pub const ALL: [DebugView; 12] = [
         DebugView::Shaded,
         DebugView::Normals,
         DebugView::Tangents,
@@ -45,6 +48,7 @@ impl DebugView {
         DebugView::Wrap,
         DebugView::Environment,
         DebugView::NanHighlight,
+        DebugView::Curvature,
     ];
 
     pub fn label(self) -> &'static str {
@@ -60,6 +64,7 @@ impl DebugView {
             DebugView::Wrap => "wrap (subsurface) term",
             DebugView::Environment => "environment",
             DebugView::NanHighlight => "NaN/Inf highlight",
+            DebugView::Curvature => "curvature",
         }
     }
 }

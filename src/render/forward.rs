@@ -6,6 +6,7 @@
 //! chosen by specialization constants.
 
 use std::collections::HashMap;
+use std::mem::offset_of;
 use std::sync::Arc;
 
 use anyhow::{Context, Result};
@@ -171,14 +172,16 @@ impl ForwardPass {
             return Ok(p.handle);
         }
         let stride = std::mem::size_of::<Vertex>() as u32;
+        // Locations 0..=4, as forward.vert declares them.
         let pipeline = GraphicsPipelineBuilder::new(&self.vertex, &self.fragment, HDR_FORMAT)
             .vertex_layout(
                 stride,
                 &[
-                    (vk::Format::R32G32B32_SFLOAT, 0),
-                    (vk::Format::R32G32B32_SFLOAT, 12),
-                    (vk::Format::R32G32_SFLOAT, 24),
-                    (vk::Format::R32G32B32A32_SFLOAT, 32),
+                    (vk::Format::R32G32B32_SFLOAT, offset_of!(Vertex, position) as u32),
+                    (vk::Format::R32G32B32_SFLOAT, offset_of!(Vertex, normal) as u32),
+                    (vk::Format::R32G32_SFLOAT, offset_of!(Vertex, uv) as u32),
+                    (vk::Format::R32G32B32A32_SFLOAT, offset_of!(Vertex, tangent) as u32),
+                    (vk::Format::R32_SFLOAT, offset_of!(Vertex, curvature) as u32),
                 ],
             )
             .depth(DEPTH_FORMAT)

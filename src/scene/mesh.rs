@@ -3,9 +3,9 @@ use std::f32::consts::TAU;
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 
-use super::{tangents, SceneError};
+use super::{curvature, tangents, SceneError};
 
-/// One vertex as the vertex shader reads it (48 bytes, no padding).
+/// One vertex as the vertex shader reads it (52 bytes, no padding).
 ///
 /// Tangent-space convention (builtins, OBJ files and normal maps alike):
 /// `tangent.xyz` is the unit direction of increasing u, orthogonal to
@@ -13,6 +13,11 @@ use super::{tangents, SceneError};
 /// towards increasing v, and `tangent.w` is +1 or -1 (-1 where the UVs are
 /// mirrored). v increases upwards in the texture, as in OBJ files, so normal
 /// maps are OpenGL-style (+Y = +v = bitangent); this matches MikkTSpace.
+///
+/// `curvature` is the surface's mean curvature at the vertex in object space
+/// (1/length): +1/R on a sphere of radius R, 0 on a plane, negative where the
+/// surface is concave. Every `Mesh` constructor computes it from the positions and
+/// normals (see `curvature.rs`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
@@ -20,9 +25,10 @@ pub struct Vertex {
     pub normal: [f32; 3],
     pub uv: [f32; 2],
     pub tangent: [f32; 4],
+    pub curvature: f32,
 }
 
-const _: () = assert!(std::mem::size_of::<Vertex>() == 48);
+const _: () = assert!(std::mem::size_of::<Vertex>() == 52);
 
 /// An indexed triangle list; front faces are counter-clockwise seen from
 /// outside (from the side the normals point to).
@@ -114,7 +120,7 @@ impl Mesh {
             indices: Vec::with_capacity(6),
         };
         mesh.push_face(Vec3::Y, Vec3::X, Vec3::ZERO);
-        mesh
+        mesh.with_curvature()
     }
 
     /// Cube of side 2 centred at the origin: 24 vertices so that each face has
@@ -140,7 +146,7 @@ impl Mesh {
         for (normal, tangent) in faces {
             mesh.push_face(normal, tangent, normal);
         }
-        mesh
+        mesh.with_curvature()
     }
 
     /// Builds a mesh from raw triangle data, filling in what is missing.
@@ -152,7 +158,7 @@ impl Mesh {
     /// * `uvs`: with `None`, UVs are 0 and each tangent is an arbitrary unit
     ///   vector orthogonal to the normal (glam's `any_orthonormal_vector`,
     ///   continuous except where the normal's z changes sign) with w = +1.
-    /// * Tangents follow the convention on [`Vertex`].
+    /// * Tangents follow the convention on [`Vertex`], and so does the curvature.
     ///
     /// `name` is the mesh's name and the origin shown in errors: a non-finite
     /// coordinate, an index out of range, an index count that is not a
@@ -207,13 +213,15 @@ impl Mesh {
                 normal: normals[i].to_array(),
                 uv: uvs.map_or([0.0; 2], |uvs| uvs[i]),
                 tangent: tangents[i].to_array(),
+                curvature: 0.0,
             })
             .collect();
         Ok(Mesh {
             name: name.to_owned(),
             vertices,
             indices: indices.to_vec(),
-        })
+        }
+        .with_curvature())
     }
 
     /// A (segments + 1) × (rings + 1) vertex grid over u, v ∈ [0, 1] with a
@@ -237,6 +245,7 @@ impl Mesh {
                     normal: normal.to_array(),
                     uv: [u, v],
                     tangent: tangent.extend(1.0).to_array(),
+                    curvature: 0.0,
                 });
             }
         }
@@ -258,6 +267,14 @@ impl Mesh {
             vertices,
             indices,
         }
+        .with_curvature()
+    }
+
+    /// The mesh with every vertex's curvature estimated from its positions,
+    /// normals and triangles.
+    fn with_curvature(mut self) -> Mesh {
+        curvature::fill_curvature(&mut self.vertices, &self.indices);
+        self
     }
 
     /// Appends a 2 × 2 quad centred at `centre` facing `normal`, with u along
@@ -277,6 +294,7 @@ impl Mesh {
                 normal: normal.to_array(),
                 uv: uv.to_array(),
                 tangent: tangent.extend(1.0).to_array(),
+                curvature: 0.0,
             });
         }
         self.indices.extend([0, 1, 2, 0, 2, 3].map(|i| base + i));
@@ -484,11 +502,12 @@ mod tests {
     }
 
     #[test]
-    fn vertex_is_48_bytes_and_pod() {
+    fn vertex_is_52_bytes_and_pod() {
         let vertices = Mesh::plane().vertices;
         let bytes: &[u8] = bytemuck::cast_slice(&vertices);
-        assert_eq!(bytes.len(), 4 * 48);
+        assert_eq!(bytes.len(), 4 * 52);
         assert_eq!(std::mem::offset_of!(Vertex, tangent), 32);
+        assert_eq!(std::mem::offset_of!(Vertex, curvature), 48);
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! camera.
 
 mod camera;
+mod curvature;
 mod error;
 pub mod file;
 mod light;

@@ -159,7 +159,7 @@ mod tests {
 
     use super::*;
 
-    /// The guarantees every generated vertex must meet.
+    /// The guarantees every generated vertex must meet, curvature included.
     fn assert_valid(vertices: &[Vertex]) {
         for v in vertices {
             let n = Vec3::from(v.normal);
@@ -169,6 +169,7 @@ mod tests {
             assert!((t.truncate().length() - 1.0).abs() < 1e-5, "{v:?}");
             assert!(n.dot(t.truncate()).abs() < 1e-5, "{v:?}");
             assert!(t.w == 1.0 || t.w == -1.0, "{v:?}");
+            assert!(v.curvature.is_finite(), "{v:?}");
         }
     }
 
