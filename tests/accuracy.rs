@@ -306,6 +306,25 @@ wrap_intensity = 0.8"#,
             1e-5,
             1e-4,
         ),
+        (
+            r#"diffuse = "lambert"
+specular = "cook-torrance"
+subsurface = "energy-conserving-wrap"
+wrap = 0.6
+scatter_color = [1.0, 0.5, 0.25]"#,
+            1e-5,
+            1e-4,
+        ),
+        (
+            r#"diffuse = "eon"
+diffuse_roughness = 0.5
+specular = "cook-torrance"
+subsurface = "pre-integrated"
+scatter_radius = 0.4
+scatter_color = [1.0, 0.5, 0.25]"#,
+            1e-5,
+            1e-4,
+        ),
     ];
     let mut failures = Vec::new();
     for (material, p99_bound, max_bound) in cases {
@@ -343,7 +362,8 @@ f0 = 0.04
                 return None;
             }
             let n_s = view_facing_normal(n.to_array(), v.to_array());
-            let f = brdf_cos(models, &params, n_s, n.to_array(), v.to_array(), l.to_array());
+            // The unit sphere's curvature is 1.
+            let f = brdf_cos(models, &params, n_s, n.to_array(), v.to_array(), l.to_array(), 1.0);
             let radiance = DVec3::from(f) * intensity / d2;
             // Where a lobe is ~0 (a highlight's far tail), relative error means nothing.
             (radiance.min_element() > 1e-7).then_some(radiance)

@@ -5,7 +5,7 @@
 mod common;
 
 use argil::render::{DebugView, OffscreenFrame};
-use argil::scene::{DiffuseModel, Scene, SpecularModel};
+use argil::scene::{DiffuseModel, Scene, SpecularModel, Subsurface};
 use common::{argil, gpu, render, rgb_difference, scene, try_render};
 use glam::Vec3;
 
@@ -23,13 +23,15 @@ fn pixel(frame: &OffscreenFrame, x: u32, y: u32) -> [f32; 4] {
     [frame.hdr[i], frame.hdr[i + 1], frame.hdr[i + 2], frame.hdr[i + 3]]
 }
 
-/// The default scene with the wrap term on, so that every lobe contributes somewhere.
-fn every_lobe_scene() -> Scene {
+/// The default scene with the ball's subsurface term on, so that every lobe contributes
+/// somewhere: the report's wrap, or the ball's own pre-integrated scattering.
+fn every_lobe_scene(subsurface: Subsurface) -> Scene {
     let mut scene = Scene::default_scene();
-    let terracotta = &mut scene.materials[scene.objects[0].material];
-    terracotta.wrap = 0.5;
-    terracotta.wrap_intensity = 1.0;
-    terracotta.wrap_color = Vec3::new(1.0, 0.3, 0.2);
+    let ball = &mut scene.materials[scene.objects[0].material];
+    ball.subsurface = subsurface;
+    ball.wrap = 0.5;
+    ball.wrap_intensity = 1.0;
+    ball.wrap_color = Vec3::new(1.0, 0.3, 0.2);
     scene
 }
 
@@ -38,16 +40,21 @@ fn every_lobe_scene() -> Scene {
 /// lobe must light some pixel.
 #[test]
 fn lobe_views_add_up_to_the_shaded_image() {
-    let scene = every_lobe_scene();
+    for subsurface in [Subsurface::Seed, Subsurface::PreIntegrated] {
+        lobe_views_add_up(&every_lobe_scene(subsurface));
+    }
+}
+
+fn lobe_views_add_up(scene: &Scene) {
     let (w, h) = (160, 90);
-    let shaded = render_view(&scene, DebugView::Shaded, w, h);
+    let shaded = render_view(scene, DebugView::Shaded, w, h);
     let lobes = [
         DebugView::Diffuse,
         DebugView::Specular,
-        DebugView::Wrap,
+        DebugView::Subsurface,
         DebugView::Environment,
     ];
-    let views: Vec<OffscreenFrame> = lobes.iter().map(|v| render_view(&scene, *v, w, h)).collect();
+    let views: Vec<OffscreenFrame> = lobes.iter().map(|v| render_view(scene, *v, w, h)).collect();
     let mut worst = 0.0f32;
     let mut lit = [0usize; 4];
     for y in 0..h {
@@ -182,10 +189,13 @@ fn nan_highlight_leaves_a_finite_image_alone() {
 fn saved_scene_renders_the_same_image_with_argil_render() {
     let dir = std::env::temp_dir().join(format!("argil-save-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let mut scene = every_lobe_scene();
+    let mut scene = every_lobe_scene(Subsurface::PreIntegrated);
     scene.camera.position = Vec3::new(0.3137, 1.7071, 7.1234567);
     scene.camera.target += Vec3::new(0.0123, -0.0456, 0.0789);
     scene.camera.fov_y_degrees = 33.3333;
+    let ball = &mut scene.materials[scene.objects[0].material];
+    ball.scatter_radius = 0.314_159_27;
+    ball.scatter_color = Vec3::new(0.2, 0.666_666_7, 1.0);
     let m = &mut scene.materials[1];
     m.diffuse = DiffuseModel::Lambert;
     m.specular = SpecularModel::BlinnPhong;

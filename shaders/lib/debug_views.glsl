@@ -16,7 +16,7 @@ const uint DEBUG_VIEW_UVS = 4u;
 const uint DEBUG_VIEW_N_DOT_L = 5u;
 const uint DEBUG_VIEW_DIFFUSE = 6u;
 const uint DEBUG_VIEW_SPECULAR = 7u;
-const uint DEBUG_VIEW_WRAP = 8u;
+const uint DEBUG_VIEW_SUBSURFACE = 8u;
 const uint DEBUG_VIEW_ENVIRONMENT = 9u;
 const uint DEBUG_VIEW_NAN = 10u;
 const uint DEBUG_VIEW_CURVATURE = 11u;
@@ -74,13 +74,14 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         specular_only.subsurface = SUBSURFACE_NONE;
         return point_lights_radiance(specular_only, m, n, n_geometric, v, p, curvature, false);
     }
-    if (view == DEBUG_VIEW_WRAP) {
-        // The report's wrap term alone; a redistributing model has no term of its own, so
-        // the diffuse lobe with its transfer is shown (compare with DEBUG_VIEW_DIFFUSE).
-        ShadingModels subsurface = models;
-        subsurface.specular = MODEL_NONE;
-        if (models.subsurface == SUBSURFACE_SEED) subsurface.diffuse = MODEL_NONE;
-        return point_lights_radiance(subsurface, m, n, n_geometric, v, p, curvature, false);
+    if (view == DEBUG_VIEW_SUBSURFACE) {
+        // The subsurface term alone: the report's wrap, or what a redistributing model adds
+        // to the diffuse lobe, negative (black) where it takes light away.
+        ShadingModels diffuse_only = models;
+        diffuse_only.specular = MODEL_NONE;
+        vec3 with_subsurface = point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false);
+        diffuse_only.subsurface = SUBSURFACE_NONE;
+        return with_subsurface - point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false);
     }
     if (view == DEBUG_VIEW_ENVIRONMENT) return environment;
     if (view == DEBUG_VIEW_NAN) {

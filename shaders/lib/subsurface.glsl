@@ -21,13 +21,18 @@ const int PREINTEGRATED_HEIGHT = 65;
 const float MAX_PREINTEGRATED_T = 1e30;
 
 // Bilinear between the four texels around (n·l, t/(1 + t)), with fp32 weights: texels are
-// fetched because a sampler's filtering may keep only a few bits of the weights.
+// fetched because a sampler's filtering may keep only a few bits of the weights. The column
+// is found from n·l·64 (exact) rather than (n·l + 1)·64, whose rounding would cost n·l its
+// last digits right where D is small, at the terminator.
 vec4 preintegrated_lookup(float n_dot_l, float t) {
-    float x = (clamp(n_dot_l, -1.0, 1.0) + 1.0) * 0.5 * float(PREINTEGRATED_WIDTH - 1);
+    const int half_width = (PREINTEGRATED_WIDTH - 1) / 2;
+    float s = clamp(n_dot_l, -1.0, 1.0) * float(half_width);
+    float column = min(floor(s), float(half_width - 1));
     float tc = clamp(t, 0.0, MAX_PREINTEGRATED_T);
     float y = tc / (1.0 + tc) * float(PREINTEGRATED_HEIGHT - 1);
-    ivec2 i = min(ivec2(floor(vec2(x, y))), ivec2(PREINTEGRATED_WIDTH - 2, PREINTEGRATED_HEIGHT - 2));
-    vec2 f = vec2(x, y) - vec2(i);
+    float row = min(floor(y), float(PREINTEGRATED_HEIGHT - 2));
+    ivec2 i = ivec2(int(column) + half_width, int(row));
+    vec2 f = vec2(s - column, y - row);
     vec4 t00 = texelFetch(preintegrated_table, i, 0);
     vec4 t10 = texelFetch(preintegrated_table, i + ivec2(1, 0), 0);
     vec4 t01 = texelFetch(preintegrated_table, i + ivec2(0, 1), 0);

@@ -192,14 +192,14 @@ impl PreintegratedTable {
     /// (n·l, t/(1 + t)), weights computed as the shader computes them (it fetches texels
     /// rather than trusting the sampler's few bits of filtering precision).
     pub fn lookup(&self, n_dot_l: f64, t: f64) -> [f64; 4] {
-        let x = (n_dot_l.clamp(-1.0, 1.0) + 1.0) * 0.5 * (PREINTEGRATED_WIDTH - 1) as f64;
+        let half_width = (PREINTEGRATED_WIDTH - 1) / 2;
+        let s = n_dot_l.clamp(-1.0, 1.0) * half_width as f64;
+        let column = s.floor().min((half_width - 1) as f64);
         let t = t.clamp(0.0, MAX_PREINTEGRATED_T);
         let y = t / (1.0 + t) * (PREINTEGRATED_HEIGHT - 1) as f64;
-        let (i, j) = (
-            (x.floor() as usize).min(PREINTEGRATED_WIDTH - 2),
-            (y.floor() as usize).min(PREINTEGRATED_HEIGHT - 2),
-        );
-        let (fx, fy) = (x - i as f64, y - j as f64);
+        let row = y.floor().min((PREINTEGRATED_HEIGHT - 2) as f64);
+        let (i, j) = ((column as i64 + half_width as i64) as usize, row as usize);
+        let (fx, fy) = (s - column, y - row);
         let lerp = |a: [f64; 4], b: [f64; 4], f: f64| std::array::from_fn(|c| a[c] + (b[c] - a[c]) * f);
         let below = lerp(self.texel(i, j), self.texel(i + 1, j), fx);
         let above = lerp(self.texel(i, j + 1), self.texel(i + 1, j + 1), fx);

@@ -24,8 +24,9 @@ pub enum DebugView {
     Diffuse = 6,
     /// The specular lobe alone under the point lights.
     Specular = 7,
-    /// The wrap (subsurface) term alone under the point lights.
-    Wrap = 8,
+    /// The subsurface term alone under the point lights: the report's wrap, or what a
+    /// redistributing model adds to the diffuse lobe (negative, so black, where it takes).
+    Subsurface = 8,
     /// The uniform environment's contribution alone.
     Environment = 9,
     /// The shaded image with NaN/Inf pixels in magenta.
@@ -45,7 +46,7 @@ impl DebugView {
         DebugView::NDotL,
         DebugView::Diffuse,
         DebugView::Specular,
-        DebugView::Wrap,
+        DebugView::Subsurface,
         DebugView::Environment,
         DebugView::NanHighlight,
         DebugView::Curvature,
@@ -61,7 +62,7 @@ impl DebugView {
             DebugView::NDotL => "n·l",
             DebugView::Diffuse => "diffuse lobe",
             DebugView::Specular => "specular lobe",
-            DebugView::Wrap => "wrap (subsurface) term",
+            DebugView::Subsurface => "subsurface term",
             DebugView::Environment => "environment",
             DebugView::NanHighlight => "NaN/Inf highlight",
             DebugView::Curvature => "curvature",

@@ -58,7 +58,7 @@ impl Preset {
                 wrap_intensity: 0.3,
                 subsurface: Subsurface::PreIntegrated,
                 scatter_color: [1.0, 0.5, 0.3],
-                scatter_radius: 0.15,
+                scatter_radius: 0.2,
                 normal_map: map("builtin:clay-lumps", 0.6, [4.0, 2.0]),
                 detail_map: map("builtin:fingerprints", 0.7, [6.0, 3.0]),
                 noise_map: map("builtin:noise", 0.5, [2.0, 1.0]),

@@ -2,15 +2,19 @@
 //! shadowing put together, for a few combinations of models; and the continuity of
 //! `shadow_terminator` at g = 1.
 
-use crate::brdf::shading::{brdf_cos, DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
+use crate::brdf::shading::{
+    brdf_cos, diffuse_lobe, shadow_terminator, specular_lobe, subsurface_reach, DiffuseModel, ShadingModels,
+    ShadingParams, SpecularModel,
+};
 use crate::brdf::specular::{Distribution, Geometry};
-use crate::brdf::subsurface::Subsurface;
-use crate::brdf::{dot, safe_half_vector, Vec3, MIN_N_DOT_V};
+use crate::brdf::subsurface::{subsurface_transfer, Subsurface};
+use crate::brdf::{dot, safe_half_vector, Vec3, MIN_N_DOT_V, PI};
 
 use super::functions::{
     colour, direction, rgb, sample_alpha, sample_directions, vec4, Tuple, Values, DENORMAL, NORMAL,
 };
 use super::rng::Rng;
+use super::sweep::RELATIVE_FLOOR;
 use super::{Row, Status};
 
 /// `brdf_cos` for one combination of models. Tuples: a = (n_geometric, roughness),
@@ -123,6 +127,11 @@ impl Composite {
         self.models.specular == SpecularModel::BlinnPhong
     }
 
+    /// Whether the subsurface model moves light (and so may cancel against the lobes).
+    pub fn redistributes(self) -> bool {
+        self.models.subsurface.redistributes()
+    }
+
     pub const SHADOWING_ROUNDING: &'static str = "rounding: n_g·l, a dot product of unit \
         vectors, is good to 3·2^-24 in fp32, and the terminator shadowing is proportional to it \
         below g = 1; bound 3·2^-24/n_g·l";
@@ -136,9 +145,44 @@ impl Composite {
         3.0 * f64::from(f32::EPSILON) * 0.5 / dot(rgb(t.a), rgb(t.c)).abs()
     }
 
-    /// The f64 twin on the tuple's (widened) f32 arguments.
-    pub fn eval(self, t: &Tuple) -> Vec3 {
-        let material = ShadingParams {
+    pub const CANCELLATION_ROUNDING: &'static str = "rounding: a redistributing subsurface model \
+        adds ρ/π (K − n·l) to the shadowed lobes, which may cancel; bound 16·2^-24 of the \
+        summands' magnitude, relative to the value";
+
+    /// The relative error fp32 rounding may cause where a redistributing subsurface model's
+    /// ρ/π (K − max(0, n·l)) cancels against f·(n·l)·shadowing: each summand is good to a few
+    /// 2^-24 of its own magnitude, not of the (smaller) sum.
+    pub fn cancellation_rounding(self, t: &Tuple) -> f64 {
+        let model = self.models.subsurface;
+        if !model.redistributes() || self.models.diffuse == DiffuseModel::None {
+            return 0.0;
+        }
+        let m = Self::params(t);
+        let (n_geometric, v, l) = (rgb(t.a), rgb(t.b), rgb(t.c));
+        let n_dot_l = l[2];
+        let lit = n_dot_l.max(0.0);
+        let lobes = if n_dot_l > 0.0 {
+            let n_dot_v = v[2].max(MIN_N_DOT_V);
+            let d = diffuse_lobe(self.models.diffuse, &m, NORMAL, v, l, n_dot_v, n_dot_l);
+            let s = specular_lobe(self.models, &m, NORMAL, v, l, n_dot_v, n_dot_l);
+            let shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, n_geometric[2]);
+            std::array::from_fn(|c| (d[c] + s[c]).abs() * lit * shadowing)
+        } else {
+            [0.0; 3]
+        };
+        let transfer = subsurface_transfer(model, n_dot_l, subsurface_reach(model, &m, f64::from(t.g[3])));
+        let value = self.eval(t);
+        (0..3)
+            .map(|c| {
+                let magnitude = lobes[c] + m.base_color[c] / PI * (transfer[c] + lit);
+                16.0 * f64::from(f32::EPSILON) * 0.5 * magnitude / value[c].abs().max(RELATIVE_FLOOR)
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The material of a tuple, in f64.
+    fn params(t: &Tuple) -> ShadingParams {
+        ShadingParams {
             base_color: rgb(t.d),
             specular_color: rgb(t.e),
             wrap_color: rgb(t.f),
@@ -150,10 +194,14 @@ impl Composite {
             wrap_width: f64::from(t.f[3]),
             scatter_color: rgb(t.g),
             scatter_radius: 1.0,
-        };
+        }
+    }
+
+    /// The f64 twin on the tuple's (widened) f32 arguments.
+    pub fn eval(self, t: &Tuple) -> Vec3 {
         brdf_cos(
             self.models,
-            &material,
+            &Self::params(t),
             NORMAL,
             rgb(t.a),
             rgb(t.b),

@@ -813,7 +813,7 @@ impl Function {
                 } else {
                     0.0
                 };
-                specular + c.shadowing_rounding(t)
+                specular + c.shadowing_rounding(t) + c.cancellation_rounding(t)
             }
             Function::UnitVector(n) => n.argument_rounding(t),
             _ => 0.0,
@@ -826,6 +826,13 @@ impl Function {
             Function::Model(Model::BlinnPhong) => BLINN_PHONG_ROUNDING.to_owned(),
             Function::Composite(c) if c.is_blinn_phong() => {
                 format!("{}; {BLINN_PHONG_ROUNDING}", Composite::SHADOWING_ROUNDING)
+            }
+            Function::Composite(c) if c.redistributes() => {
+                format!(
+                    "{}; {}",
+                    Composite::SHADOWING_ROUNDING,
+                    Composite::CANCELLATION_ROUNDING
+                )
             }
             Function::Composite(_) => Composite::SHADOWING_ROUNDING.to_owned(),
             Function::UnitVector(n) => n.argument_rounding_reason().to_owned(),
