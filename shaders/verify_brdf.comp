@@ -53,9 +53,9 @@ const uint BLEND_WHITEOUT = 51u;
 const uint BLEND_SEED = 52u;
 const uint TANGENT_TO_WORLD = 53u;
 const uint VIEW_FACING_NORMAL = 54u;
-// From here on, brdf_cos of shading.glsl: FUNCTION = FIRST_SHADING + 64 subsurface +
-// 16 diffuse + 4 specular + 2 distribution + geometry, the models' specialization constant
-// values.
+// From here on, brdf_cos of shading.glsl: FUNCTION = FIRST_SHADING + 256 horizon +
+// 64 subsurface + 16 diffuse + 4 specular + 2 distribution + geometry, the models'
+// specialization constant values; horizon 1 is brdf_cos_seed.
 const uint FIRST_SHADING = 64u;
 
 // Terms: a holds the scalar arguments, d a colour argument.
@@ -187,16 +187,18 @@ vec3 unit_vector(Tuple t) {
     return vec3(0.0);
 }
 
-// brdf_cos with shading normal +z, the frame where n × h is exact in fp32 as for the models
-// (n_geometric leans away from it instead), and the models FUNCTION encodes.
+// brdf_cos (or brdf_cos_seed) with shading normal +z, the frame where n × h is exact in fp32
+// as for the models (n_geometric leans away from it instead), and the models FUNCTION
+// encodes.
 vec3 shading(Tuple t) {
     uint code = FUNCTION - FIRST_SHADING;
     ShadingModels models = ShadingModels((code >> 4) & 3u, (code >> 2) & 3u, (code >> 1) & 1u, code & 1u,
-                                         code >> 6);
+                                         (code >> 6) & 3u);
     Material m = Material(vec4(t.d.rgb, 1.0), vec4(t.e.rgb, 1.0), vec4(t.f.rgb, t.d.w), vec4(t.g.rgb, 1.0),
                           t.a.w, t.b.w, t.c.w, t.e.w, t.f.w, 0.0, 0.0, 0.0,
                           // No maps: brdf_cos does not read them.
                           vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), uvec4(0u));
+    if ((code >> 8) == 1u) return brdf_cos_seed(models, m, vec3(0.0, 0.0, 1.0), t.b.xyz, t.c.xyz, t.g.w);
     return brdf_cos(models, m, vec3(0.0, 0.0, 1.0), t.a.xyz, t.b.xyz, t.c.xyz, t.g.w);
 }
 

@@ -8,6 +8,7 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 use clap::{Parser, Subcommand};
 
+use argil::brdf::subsurface::PreintegratedTable;
 use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
 use argil::scene::Scene;
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
@@ -151,6 +152,10 @@ fn render(
             .collect();
         eprintln!("argil: environment precomputed once: {}", steps.join(", "));
     }
+    eprintln!(
+        "argil: pre-integrated subsurface table computed once: {:.2} ms (CPU)",
+        PreintegratedTable::get().compute_time().as_secs_f64() * 1e3
+    );
     drop(gpu);
     drop(renderer);
     if let Some(report) = device.validation() {

@@ -21,7 +21,7 @@ vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geom
     for (uint i = 0; i < frame.counts.x; ++i) {
         vec3 l;
         vec3 irradiance = point_light_irradiance(i, p, l);
-        radiance += irradiance * (seed_horizon ? brdf_cos_seed(models, m, n, v, l)
+        radiance += irradiance * (seed_horizon ? brdf_cos_seed(models, m, n, v, l, curvature)
                                                : brdf_cos(models, m, n, n_geometric, v, l, curvature));
     }
     return radiance;

@@ -120,6 +120,12 @@ vec3 subsurface_cos(ShadingModels models, Material m, float n_dot_l, float curva
     return m.base_color.rgb / PI * (transfer - max(n_dot_l, 0.0));
 }
 
+// `lit` (the lobes plus the subsurface term), clamped at 0 for the models that take light
+// away: where the lobes are shadowed or below Lambert, less may be left than they move.
+vec3 with_subsurface(ShadingModels models, vec3 lit) {
+    return subsurface_redistributes(models.subsurface) ? max(lit, vec3(0.0)) : lit;
+}
+
 // Reflected radiance per unit irradiance E⊥ arriving along l, for shading normal n
 // (already facing the viewer) on a surface of geometric normal n_geometric and curvature
 // `curvature`: f(n, v, l)(n·l) times the terminator shadowing, plus the subsurface term,
@@ -132,21 +138,22 @@ vec3 brdf_cos(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v
     vec3 f = diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l)
            + specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l);
     float shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, dot(n_geometric, n));
-    vec3 lit = f * (n_dot_l * shadowing) + subsurface;
-    // Where the terminator shadows the lobes, less may be left than the model moves away.
-    return subsurface_redistributes(models.subsurface) ? max(lit, vec3(0.0)) : lit;
+    return with_subsurface(models, f * (n_dot_l * shadowing) + subsurface);
 }
 
 // The report's composition, for comparison (`horizon = "seed"`): i = d + s (seed eq. 3)
 // with d the diffuse lobe times n·l and s the specular BRDF of eq. 11 without a cosine,
-// hard-coded to 0 where n·l ≤ 0 (the report's fix of its figure 5a). Where n·l → 0⁺ the
-// specular term stays finite and non-zero, so the cutoff is a visible line (figure 5b).
-vec3 brdf_cos_seed(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l) {
+// hard-coded to 0 where n·l ≤ 0 (the report's fix of its figure 5a); the subsurface term
+// is added as in brdf_cos. Where n·l → 0⁺ the specular term stays finite and non-zero, so
+// the cutoff is a visible line (figure 5b).
+vec3 brdf_cos_seed(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l, float curvature) {
     float n_dot_l = dot(n, l);
-    if (n_dot_l <= 0.0) return vec3(0.0);
+    vec3 subsurface = subsurface_cos(models, m, n_dot_l, curvature);
+    if (n_dot_l <= 0.0) return subsurface;
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
-    return diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l) * n_dot_l
-         + specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l);
+    vec3 lobes = diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l) * n_dot_l
+               + specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l);
+    return with_subsurface(models, lobes + subsurface);
 }
 
 #endif

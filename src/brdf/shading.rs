@@ -235,9 +235,13 @@ pub fn brdf_cos(
         specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l),
     );
     let shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, dot(n_geometric, n));
-    let lit = add(scale(f, n_dot_l * shadowing), subsurface);
+    with_subsurface(models, add(scale(f, n_dot_l * shadowing), subsurface))
+}
+
+/// `lit` (the lobes plus the subsurface term), clamped at 0 for the models that take light
+/// away: where the lobes are shadowed or below Lambert, less may be left than they move.
+fn with_subsurface(models: ShadingModels, lit: Vec3) -> Vec3 {
     if models.subsurface.redistributes() {
-        // Where the terminator shadows the lobes, less may be left than the model moves away.
         lit.map(|x| x.max(0.0))
     } else {
         lit
@@ -246,17 +250,20 @@ pub fn brdf_cos(
 
 /// The report's composition, for comparison (`horizon = "seed"`): i = d + s (seed eq. 3)
 /// with d the diffuse lobe times n·l and s the specular BRDF of eq. 11 without a cosine,
-/// hard-coded to 0 where n·l ≤ 0 (the report's fix of its figure 5a).
-pub fn brdf_cos_seed(models: ShadingModels, m: &ShadingParams, n: Vec3, v: Vec3, l: Vec3) -> Vec3 {
+/// hard-coded to 0 where n·l ≤ 0 (the report's fix of its figure 5a); the subsurface term
+/// is added as in `brdf_cos`.
+pub fn brdf_cos_seed(models: ShadingModels, m: &ShadingParams, n: Vec3, v: Vec3, l: Vec3, curvature: f64) -> Vec3 {
     let n_dot_l = dot(n, l);
+    let subsurface = subsurface_cos(models, m, n_dot_l, curvature);
     if n_dot_l <= 0.0 {
-        return [0.0; 3];
+        return subsurface;
     }
     let n_dot_v = dot(n, v).max(MIN_N_DOT_V);
-    add(
+    let lobes = add(
         scale(diffuse_lobe(models.diffuse, m, n, v, l, n_dot_v, n_dot_l), n_dot_l),
         specular_lobe(models, m, n, v, l, n_dot_v, n_dot_l),
-    )
+    );
+    with_subsurface(models, add(lobes, subsurface))
 }
 
 #[cfg(test)]

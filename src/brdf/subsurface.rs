@@ -7,6 +7,7 @@
 //! ρ/π · (K − max(0, n·l)), so light moves across the terminator rather than being added.
 
 use std::sync::OnceLock;
+use std::time::{Duration, Instant};
 
 use serde::{Deserialize, Serialize};
 
@@ -152,6 +153,7 @@ pub fn wrap_energy_conserving_sh_kernel(w: f64) -> Vec3 {
 /// t (the same along a row), in f32, as uploaded.
 pub struct PreintegratedTable {
     texels: Vec<[f32; 4]>,
+    compute_time: Duration,
 }
 
 impl PreintegratedTable {
@@ -161,22 +163,53 @@ impl PreintegratedTable {
         TABLE.get_or_init(Self::compute)
     }
 
+    /// Rows are independent: each thread computes an interleaved share of them.
     fn compute() -> PreintegratedTable {
-        let mut texels = Vec::with_capacity(PREINTEGRATED_WIDTH * PREINTEGRATED_HEIGHT);
-        for row in 0..PREINTEGRATED_HEIGHT {
-            let t = row_t(row);
-            let [k0, k1, k2] = preintegrated_sh_kernel(t).map(|k| k as f32);
-            for column in 0..PREINTEGRATED_WIDTH {
-                let mu = column_n_dot_l(column);
+        let start = Instant::now();
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(PREINTEGRATED_HEIGHT);
+        let mut rows: Vec<(usize, Vec<[f32; 4]>)> = std::thread::scope(|scope| {
+            let workers: Vec<_> = (0..threads)
+                .map(|first| {
+                    scope.spawn(move || {
+                        (first..PREINTEGRATED_HEIGHT)
+                            .step_by(threads)
+                            .map(|row| (row, Self::row(row)))
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            workers
+                .into_iter()
+                .flat_map(|w| w.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)))
+                .collect()
+        });
+        rows.sort_by_key(|(row, _)| *row);
+        PreintegratedTable {
+            texels: rows.into_iter().flat_map(|(_, texels)| texels).collect(),
+            compute_time: start.elapsed(),
+        }
+    }
+
+    fn row(row: usize) -> Vec<[f32; 4]> {
+        let t = row_t(row);
+        let [k0, k1, k2] = preintegrated_sh_kernel(t).map(|k| k as f32);
+        (0..PREINTEGRATED_WIDTH)
+            .map(|column| {
                 let d = if t.is_infinite() {
                     1.0 / PI
                 } else {
-                    preintegrated_diffusion(mu, t)
+                    preintegrated_diffusion(column_n_dot_l(column), t)
                 };
-                texels.push([d as f32, k0, k1, k2]);
-            }
-        }
-        PreintegratedTable { texels }
+                [d as f32, k0, k1, k2]
+            })
+            .collect()
+    }
+
+    /// How long computing the table took (once per process).
+    pub fn compute_time(&self) -> Duration {
+        self.compute_time
     }
 
     /// Row-major texels, `PREINTEGRATED_WIDTH` per row.

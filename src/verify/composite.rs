@@ -3,8 +3,8 @@
 //! `shadow_terminator` at g = 1.
 
 use crate::brdf::shading::{
-    brdf_cos, diffuse_lobe, shadow_terminator, specular_lobe, subsurface_reach, DiffuseModel, ShadingModels,
-    ShadingParams, SpecularModel,
+    brdf_cos, brdf_cos_seed, diffuse_lobe, shadow_terminator, specular_lobe, subsurface_reach, DiffuseModel, Horizon,
+    ShadingModels, ShadingParams, SpecularModel,
 };
 use crate::brdf::specular::{Distribution, Geometry};
 use crate::brdf::subsurface::{subsurface_transfer, Subsurface};
@@ -25,6 +25,8 @@ use super::{Row, Status};
 pub struct Composite {
     pub name: &'static str,
     models: ShadingModels,
+    /// `Seed` evaluates `brdf_cos_seed`, the report's composition, which ignores n_geometric.
+    horizon: Horizon,
 }
 
 /// The GLSL `FUNCTION` of the first combination; the models are encoded above it.
@@ -37,8 +39,8 @@ const TERMINATOR_ROUNDING: f64 = 1.0 / (1u64 << 22) as f64;
 
 impl Composite {
     /// Every diffuse model, every specular model, both distributions, both masking forms and
-    /// every subsurface model but none at least once.
-    pub const ALL: [Composite; 7] = [
+    /// every subsurface model but none at least once; and the report's composition.
+    pub const ALL: [Composite; 8] = [
         Composite {
             name: "brdf_cos lambert + ct ggx correlated",
             models: ShadingModels {
@@ -48,6 +50,7 @@ impl Composite {
                 geometry: Geometry::SmithCorrelated,
                 subsurface: Subsurface::Seed,
             },
+            horizon: Horizon::Smooth,
         },
         Composite {
             name: "brdf_cos oren-nayar + ct beckmann separable",
@@ -58,6 +61,7 @@ impl Composite {
                 geometry: Geometry::SmithSeparable,
                 subsurface: Subsurface::Seed,
             },
+            horizon: Horizon::Smooth,
         },
         Composite {
             name: "brdf_cos eon + torrance-sparrow",
@@ -68,6 +72,7 @@ impl Composite {
                 geometry: Geometry::SmithCorrelated,
                 subsurface: Subsurface::Seed,
             },
+            horizon: Horizon::Smooth,
         },
         Composite {
             name: "brdf_cos lambert + blinn-phong",
@@ -78,6 +83,7 @@ impl Composite {
                 geometry: Geometry::SmithCorrelated,
                 subsurface: Subsurface::Seed,
             },
+            horizon: Horizon::Smooth,
         },
         Composite {
             name: "brdf_cos lambert + ct ggx, energy-conserving wrap",
@@ -88,6 +94,7 @@ impl Composite {
                 geometry: Geometry::SmithCorrelated,
                 subsurface: Subsurface::EnergyConservingWrap,
             },
+            horizon: Horizon::Smooth,
         },
         Composite {
             name: "brdf_cos eon + ct ggx, pre-integrated",
@@ -98,6 +105,7 @@ impl Composite {
                 geometry: Geometry::SmithCorrelated,
                 subsurface: Subsurface::PreIntegrated,
             },
+            horizon: Horizon::Smooth,
         },
         Composite {
             name: "brdf_cos oren-nayar + none, pre-integrated",
@@ -108,14 +116,27 @@ impl Composite {
                 geometry: Geometry::SmithCorrelated,
                 subsurface: Subsurface::PreIntegrated,
             },
+            horizon: Horizon::Smooth,
+        },
+        Composite {
+            name: "brdf_cos_seed eon + ct ggx, pre-integrated",
+            models: ShadingModels {
+                diffuse: DiffuseModel::Eon,
+                specular: SpecularModel::CookTorrance,
+                distribution: Distribution::Ggx,
+                geometry: Geometry::SmithCorrelated,
+                subsurface: Subsurface::PreIntegrated,
+            },
+            horizon: Horizon::Seed,
         },
     ];
 
-    /// The harness's `FUNCTION`: FIRST_SHADING + 64 subsurface + 16 diffuse + 4 specular +
-    /// 2 distribution + geometry, as verify_brdf.comp decodes it.
+    /// The harness's `FUNCTION`: FIRST_SHADING + 256 horizon + 64 subsurface + 16 diffuse +
+    /// 4 specular + 2 distribution + geometry, as verify_brdf.comp decodes it.
     pub fn id(self) -> u32 {
         let m = self.models;
         FIRST_SHADING
+            + 256 * self.horizon as u32
             + 64 * m.subsurface as u32
             + 16 * m.diffuse as u32
             + 4 * m.specular as u32
@@ -139,7 +160,7 @@ impl Composite {
     /// The relative error fp32 rounding of n_g·l causes where the lobes are lit (n·l > 0):
     /// G ≈ g ∝ n_g·l for small g.
     pub fn shadowing_rounding(self, t: &Tuple) -> f64 {
-        if t.c[2] <= 0.0 {
+        if t.c[2] <= 0.0 || self.horizon == Horizon::Seed {
             return 0.0;
         }
         3.0 * f64::from(f32::EPSILON) * 0.5 / dot(rgb(t.a), rgb(t.c)).abs()
@@ -165,7 +186,10 @@ impl Composite {
             let n_dot_v = v[2].max(MIN_N_DOT_V);
             let d = diffuse_lobe(self.models.diffuse, &m, NORMAL, v, l, n_dot_v, n_dot_l);
             let s = specular_lobe(self.models, &m, NORMAL, v, l, n_dot_v, n_dot_l);
-            let shadowing = shadow_terminator(dot(n_geometric, l), n_dot_l, n_geometric[2]);
+            let shadowing = match self.horizon {
+                Horizon::Smooth => shadow_terminator(dot(n_geometric, l), n_dot_l, n_geometric[2]),
+                Horizon::Seed => 1.0,
+            };
             std::array::from_fn(|c| (d[c] + s[c]).abs() * lit * shadowing)
         } else {
             [0.0; 3]
@@ -199,15 +223,11 @@ impl Composite {
 
     /// The f64 twin on the tuple's (widened) f32 arguments.
     pub fn eval(self, t: &Tuple) -> Vec3 {
-        brdf_cos(
-            self.models,
-            &Self::params(t),
-            NORMAL,
-            rgb(t.a),
-            rgb(t.b),
-            rgb(t.c),
-            f64::from(t.g[3]),
-        )
+        let (m, curvature) = (Self::params(t), f64::from(t.g[3]));
+        match self.horizon {
+            Horizon::Smooth => brdf_cos(self.models, &m, NORMAL, rgb(t.a), rgb(t.b), rgb(t.c), curvature),
+            Horizon::Seed => brdf_cos_seed(self.models, &m, NORMAL, rgb(t.b), rgb(t.c), curvature),
+        }
     }
 
     /// v and l as for the models (about the lobe of α = roughness², grazing, mirrored,
