@@ -8,7 +8,7 @@
 //! that wrap around the edges.
 
 use std::f32::consts::{PI, TAU};
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 
 use glam::{Vec2, Vec3};
 
@@ -48,16 +48,47 @@ struct Field {
 }
 
 impl Field {
-    fn new(size: usize, height: impl Fn(f32, f32) -> f32) -> Field {
-        let heights = (0..size * size)
-            .map(|i| height((i % size) as f32, (i / size) as f32))
-            .collect();
+    fn new(size: usize, height: impl Fn(f32, f32) -> f32 + Sync) -> Field {
+        Field::from_rows(size, |y, row| {
+            for (x, h) in row.iter_mut().enumerate() {
+                *h = height(x as f32, y as f32);
+            }
+        })
+    }
+
+    /// A field of zeros with each row `y` then passed to `fill(y, row)`, rows
+    /// shared out over the cores in small bands as each core comes free. A
+    /// row's heights depend only on `fill`, so the result does not depend on
+    /// the number of cores.
+    fn from_rows(size: usize, fill: impl Fn(usize, &mut [f32]) + Sync) -> Field {
+        const BAND: usize = 8;
+        let mut heights = vec![0.0; size * size];
+        let bands = Mutex::new(heights.chunks_mut(BAND * size).enumerate());
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        std::thread::scope(|scope| {
+            for _ in 0..cores {
+                scope.spawn(|| loop {
+                    let Some((band, rows)) = bands.lock().unwrap().next() else {
+                        break;
+                    };
+                    for (i, row) in rows.chunks_mut(size).enumerate() {
+                        fill(band * BAND + i, row);
+                    }
+                });
+            }
+        });
         Field { size, heights }
     }
 
     fn at(&self, x: isize, y: isize) -> f32 {
-        let n = self.size as isize;
-        self.heights[(y.rem_euclid(n) * n + x.rem_euclid(n)) as usize]
+        self.row(y)[x.rem_euclid(self.size as isize) as usize]
+    }
+
+    /// Row `y`, wrapped.
+    fn row(&self, y: isize) -> &[f32] {
+        let n = self.size;
+        let start = y.rem_euclid(n as isize) as usize * n;
+        &self.heights[start..start + n]
     }
 
     /// Calls `apply(texel, offset)` for every texel within `radius` texels
@@ -146,19 +177,31 @@ fn clay_lumps(size: usize) -> Field {
 /// Ridge period of a fingerprint: 0.4 mm when the map covers about 3 cm.
 const RIDGE_PERIOD_MM: f32 = 0.4;
 const FINGERPRINT_MAP_MM: f32 = 30.0;
+/// Prints pressed into one map: enough, at their sizes, to cover it about
+/// twice over.
+const PRINTS: usize = 20;
+/// How far the ragged outline moves a pad's edge, as a fraction of its size.
+const RAGGED: f32 = 0.12;
+/// `fbm` with 3 octaves of gain 0.5 stays within √2/2 · 1.75 of zero, so a
+/// ragged pad never reaches past this multiple of its ellipse.
+const PAD_REACH: f32 = 1.0 + RAGGED * 1.25;
 
-/// Overlapping fingertip prints pressed into flat clay at random
-/// orientations, spread over a jittered 4 × 3 grid so they cover the map.
-/// Each print is an elliptical pad of concentric ridges around one whorl
-/// core (sometimes a spiral) or two (Cassini ovals, a double-loop whorl),
-/// bent by low-frequency noise; a later print flattens what an earlier one
-/// left.
+/// Fingertip prints pressed one after another into flat clay, each at its
+/// own place, size, orientation and pressure. Where a print lands, it takes
+/// over from what earlier prints left, fading out over its ragged rim, so
+/// later prints overlap earlier ones without a cut. Positions are spread by
+/// best-candidate sampling on the torus: evenly, with no lattice.
+///
+/// A print is a slightly dished elliptical pad of ridges, one ridge period
+/// apart, in a whorl (rings or a spiral around a core) or a loop (ridges
+/// that come in from one side, turn round the core and go back out), bent
+/// by low-frequency noise.
 ///
 /// Minutiae (ridge endings and forks) are phase singularities: a pair of
 /// opposite ones adds the angle between the directions to the two points,
 /// which makes a short extra ridge between them, continuous everywhere
 /// (the angle jumps by a whole turn only across the segment joining them)
-/// and fading to nothing a few periods away.
+/// and fading to nothing three times their distance apart away.
 fn fingerprints(size: usize) -> Field {
     let period = RIDGE_PERIOD_MM / FINGERPRINT_MAP_MM * size as f32;
     let scale = size as f32 / 1024.0;
@@ -168,69 +211,274 @@ fn fingerprints(size: usize) -> Field {
     // Ragged pad outlines.
     let ragged = Field::new(size, |x, y| fbm(texel(x, y), 16, 3, 0.5, 24));
 
-    let mut field = Field::new(size, |_, _| 0.0);
     let mut rng = Rng(0xf1a9_e2b0_0d1e);
-    let cell = Vec2::new(size as f32 / 4.0, size as f32 / 3.0);
-    for print in 0..12 {
-        let jitter = Vec2::new(rng.range(-0.4, 0.4), rng.range(-0.4, 0.4));
-        let centre = (Vec2::new((print % 4) as f32, (print / 4) as f32) + Vec2::splat(0.5) + jitter) * cell;
-        let (sin, cos) = rng.range(0.0, TAU).sin_cos();
-        let rotate = |d: Vec2| Vec2::new(d.x * cos + d.y * sin, d.y * cos - d.x * sin);
-        let half_width = rng.range(170.0, 230.0) * scale;
-        let half_length = half_width * rng.range(1.2, 1.4);
-        let axes = Vec2::new(half_width, half_length);
+    let prints: Vec<Print> = scatter(PRINTS, size, &mut rng)
+        .into_iter()
+        .map(|centre| Print::new(centre, period, scale, size, &mut rng))
+        .collect();
+    let n = size as isize;
+    Field::from_rows(size, |y, row| {
+        // Each print replaces the ridges under it but deepens the dents:
+        // a finger flattens the finer marks and pushes the clay further in.
+        let mut dents = vec![0.0; size];
+        let ragged = ragged.row(y as isize);
+        for print in &prints {
+            // This row's offset from the print's centre through the nearest wrap.
+            let dy = (y as f32 - print.centre.y + 0.5 * size as f32).rem_euclid(size as f32) - 0.5 * size as f32;
+            let Some((x0, x1)) = print.span(dy) else { continue };
+            let wobble = wobble.row(y as isize + print.shift.1);
+            // Column x of the span is start + (x − x0), wrapped.
+            let (start, shifted) = (x0.rem_euclid(n) as usize, (x0 + print.shift.0).rem_euclid(n) as usize);
+            for (k, x) in (x0..=x1).enumerate() {
+                let wrap = |i: usize| if i >= size { i - size } else { i };
+                let (i, w) = (wrap(start + k), wrap(shifted + k));
+                let d = Vec2::new(x as f32 - print.centre.x, dy);
+                print.press(d, &mut row[i], &mut dents[i], wobble[w], ragged[i]);
+            }
+        }
+        for (h, dent) in row.iter_mut().zip(dents) {
+            *h += dent;
+        }
+    })
+}
+
+/// `count` points in the size × size torus, each the best of a few random
+/// candidates: the one farthest from the points before it (Mitchell's best
+/// candidate), which spreads them evenly and irregularly.
+fn scatter(count: usize, size: usize, rng: &mut Rng) -> Vec<Vec2> {
+    let wrapped = |a: Vec2, b: Vec2| {
+        let d = (a - b).abs();
+        d.min(Vec2::splat(size as f32) - d).length_squared()
+    };
+    let mut points: Vec<Vec2> = Vec::with_capacity(count);
+    for _ in 0..count {
+        let nearest = |c: Vec2| points.iter().map(|&p| wrapped(c, p)).fold(f32::MAX, f32::min);
+        let best = (0..8)
+            .map(|_| rng.point(size))
+            .map(|c| (nearest(c), c))
+            .fold((-1.0, Vec2::ZERO), |best, c| if c.0 > best.0 { c } else { best });
+        points.push(best.1);
+    }
+    points
+}
+
+/// How a print's ridges run, in the pad's frame (y along the finger).
+enum Pattern {
+    /// Rings at equal distances from a short core line (a plain whorl when
+    /// it is a point, a central-pocket whorl when it is longer), or a spiral
+    /// of a whole number of turns around it (so the phase is continuous
+    /// across atan2's cut), which makes a twin loop of a long one.
+    Whorl { core: Vec2, line: Vec2, spiral: f32 },
+    /// Ridges at equal distances from a ray out of the core, bent away from
+    /// the fingertip: they come in along one side of it, turn round the core
+    /// and go back out along the other.
+    Loop {
+        core: Vec2,
+        along: Vec2,
+        across: Vec2,
+        bend: f32,
+    },
+}
+
+/// A pair of opposite minutiae, in the pad's frame, `apart` texels apart.
+struct Minutiae {
+    a: Vec2,
+    b: Vec2,
+    mid: Vec2,
+    apart: f32,
+}
+
+/// One fingertip pressed into the clay.
+struct Print {
+    centre: Vec2,
+    /// Turns offsets from the centre into the pad's frame (a unit complex number).
+    to_pad: Vec2,
+    /// Semi-axes of the pad's ellipse, in texels.
+    axes: Vec2,
+    /// (xx, xy, yy) of the inverse of the quadratic form in
+    /// |to_pad(d) / (axes · PAD_REACH)|² ≤ 1, which bounds the print.
+    bounds: Vec3,
+    /// How much more the ridges are stretched along the finger than across it.
+    elongation: f32,
+    pattern: Pattern,
+    minutiae: Vec<Minutiae>,
+    pressure: f32,
+    /// Depth of the ridges, and of the dent of the whole pad, in texels.
+    depth: f32,
+    dent: f32,
+    period: f32,
+    /// The radius, in texels, within which the ridges round off at a core
+    /// (twice that to flatten into a singularity).
+    soft: f32,
+    /// Where this print reads the wobble field: each print bends its own way.
+    shift: (isize, isize),
+}
+
+impl Print {
+    fn new(centre: Vec2, period: f32, scale: f32, size: usize, rng: &mut Rng) -> Print {
+        let to_pad = Vec2::from_angle(-rng.range(0.0, TAU));
+        // From a light touch of a little finger to a thumb pressed hard.
+        let half_width = rng.range(115.0, 210.0) * scale;
+        let axes = Vec2::new(half_width, half_width * rng.range(1.2, 1.45));
         let elongation = rng.range(1.1, 1.35);
         let core = Vec2::new(rng.range(-0.1, 0.1), rng.range(-0.3, 0.0)) * axes;
-        let second_core = (rng.uniform() < 0.35).then(|| {
-            let (s, c) = rng.range(-0.6, 0.6).sin_cos();
-            core + Vec2::new(c, s) * rng.range(25.0, 50.0) * scale
-        });
-        // A whole number of turns, so the phase is continuous across atan2's cut.
-        let spiral = [-1.0, 0.0, 0.0, 1.0][(rng.next() % 4) as usize];
-        let minutiae: Vec<(Vec2, Vec2, f32)> = (0..14)
+        let pattern = if rng.uniform() < 0.55 {
+            let side = if rng.uniform() < 0.5 { -1.0 } else { 1.0 };
+            let along = Vec2::from_angle(-rng.range(0.2, 0.8)) * Vec2::new(side, 1.0);
+            let across = if along.perp().y < 0.0 {
+                along.perp()
+            } else {
+                -along.perp()
+            };
+            Pattern::Loop {
+                core,
+                along,
+                across,
+                bend: rng.range(0.3, 1.0) / axes.x,
+            }
+        } else {
+            let line = Vec2::from_angle(rng.range(0.0, TAU)) * rng.range(0.0, 2.5) * period;
+            let spiral = [-1.0, 0.0, 0.0, 1.0][(rng.next() % 4) as usize];
+            Pattern::Whorl {
+                core: core - 0.5 * line,
+                line,
+                spiral,
+            }
+        };
+        let minutiae = (0..14)
             .map(|_| {
-                let (s, c) = rng.range(0.0, TAU).sin_cos();
-                let at = Vec2::new(c, s) * rng.range(0.1, 0.85).sqrt() * axes;
-                let (s, c) = rng.range(0.0, TAU).sin_cos();
-                let apart = Vec2::new(c, s) * rng.range(1.5, 4.0) * period;
-                (at, at + apart, apart.length())
+                let a = Vec2::from_angle(rng.range(0.0, TAU)) * rng.range(0.1, 0.85).sqrt() * axes;
+                let apart = rng.range(1.5, 4.0) * period;
+                let b = a + Vec2::from_angle(rng.range(0.0, TAU)) * apart;
+                Minutiae {
+                    a,
+                    b,
+                    mid: 0.5 * (a + b),
+                    apart,
+                }
             })
             .collect();
-        let pressure = rng.range(0.6, 1.0);
-        let depth = 2.6 * scale;
-        field.around(centre, half_length * 1.05, |h, d| {
-            let local = rotate(d);
-            let texel = (d + centre).round();
-            let (x, y) = (texel.x as isize, texel.y as isize);
-            let pad = (local / axes).length() + 0.12 * ragged.at(x, y);
-            let weight = 1.0 - smoothstep(0.75, 1.0, pad);
-            if weight == 0.0 {
-                return;
-            }
-            let ring = |core: Vec2| {
-                let r = local - core;
-                Vec2::new(r.x, r.y / elongation)
-            };
-            let r1 = ring(core);
-            let mut phase = match second_core {
-                Some(second) => (r1.length() * ring(second).length()).sqrt(),
-                None => r1.length() + spiral * period * r1.y.atan2(r1.x) / TAU,
-            } / period
-                + wobble.at(x, y);
-            for &(a, b, apart) in &minutiae {
-                let distance = (local - 0.5 * (a + b)).length_squared();
-                if distance < (4.0 * apart).powi(2) {
-                    let fade = 1.0 - smoothstep(2.0, 4.0, distance.sqrt() / apart);
-                    let (pa, pb) = (a - local, b - local);
-                    phase += fade * pa.perp_dot(pb).atan2(pa.dot(pb)) / TAU;
+        // The form is Rᵀ·diag(reach)⁻²·R for the rotation R; its inverse is
+        // Rᵀ·diag(reach)²·R.
+        let reach = axes * PAD_REACH;
+        let (c, s) = (to_pad.x, to_pad.y);
+        let bounds = Vec3::new(
+            (reach.x * c).powi(2) + (reach.y * s).powi(2),
+            (reach.y * reach.y - reach.x * reach.x) * c * s,
+            (reach.x * s).powi(2) + (reach.y * c).powi(2),
+        );
+        let n = size as u64;
+        let shift = ((rng.next() % n) as isize, (rng.next() % n) as isize);
+        Print {
+            centre,
+            to_pad,
+            axes,
+            bounds,
+            elongation,
+            pattern,
+            minutiae,
+            pressure: rng.range(0.6, 1.0),
+            depth: 2.6 * scale,
+            dent: 8.0 * scale,
+            period,
+            soft: 0.4 * period,
+            shift,
+        }
+    }
+
+    /// The columns (unwrapped, so that x − centre.x is the offset) the print
+    /// covers in the row `dy` below its centre, if any; fewer than the map's
+    /// width, as prints are less than half its size.
+    fn span(&self, dy: f32) -> Option<(isize, isize)> {
+        let Vec3 { x: xx, y: xy, z: yy } = self.bounds;
+        // With P the inverse form, the ellipse spans |dy| ≤ √yy, and the row
+        // dy from x = (xy·dy ± √(det P · (yy − dy²))) / yy.
+        let room = yy - dy * dy;
+        if room < 0.0 {
+            return None;
+        }
+        let mid = xy * dy / yy;
+        let half = (xx * yy - xy * xy).sqrt() * room.sqrt() / yy;
+        Some((
+            (self.centre.x + mid - half).floor() as isize,
+            (self.centre.x + mid + half).ceil() as isize,
+        ))
+    }
+
+    /// 0 at a singularity, `r2` the squared distance from it, rising as r2 to
+    /// 1 two soft radii away: a ridge profile times this is smooth there.
+    fn settle(&self, r2: f32) -> f32 {
+        smoothstep(0.0, 2.0 * self.soft, r2.sqrt())
+    }
+
+    /// Presses the print into the texel at offset `d` from its centre: its
+    /// ridges take over from the `ridges` earlier prints left, as far as the
+    /// pad touches, and its dish adds to `dent`.
+    fn press(&self, d: Vec2, ridges: &mut f32, dent: &mut f32, wobble: f32, ragged: f32) {
+        let local = d.rotate(self.to_pad);
+        let pad = (local / self.axes).length() + RAGGED * ragged;
+        let weight = 1.0 - smoothstep(0.82, 1.0, pad);
+        if weight == 0.0 {
+            return;
+        }
+        let inside = 1.0 - pad * pad;
+        *dent -= self.dent * self.pressure * inside * inside;
+        let ring = |core: Vec2| {
+            let r = local - core;
+            Vec2::new(r.x, r.y / self.elongation)
+        };
+        // Distances rounded off at zero, sqrt(d² + ε²) − ε: the wobble
+        // shifts the phase there, and a sharp |d| would crease the ridge.
+        let round = |d2: f32| (d2 + self.soft * self.soft).sqrt() - self.soft;
+        // At a phase singularity (a minutia, a spiral's centre) the phase
+        // takes every value: the ridges flatten into it, as they do where
+        // real ridges end or fork.
+        let mut calm = 1.0;
+        let distance = match self.pattern {
+            Pattern::Whorl { core, line, spiral } => {
+                let r = ring(core);
+                let t = (r.dot(line) / line.length_squared().max(1e-6)).clamp(0.0, 1.0);
+                let rings = round((r - t * line).length_squared());
+                if spiral == 0.0 {
+                    rings
+                } else {
+                    let m = r - 0.5 * line;
+                    calm = self.settle(m.length_squared());
+                    rings + spiral * self.period * m.y.atan2(m.x) / TAU
                 }
             }
-            let groove = 0.5 + 0.5 * (TAU * phase).cos();
-            let strength = pressure * (1.0 - 0.5 * pad * pad);
-            *h += weight * (-depth * strength * groove - *h);
-        });
+            Pattern::Loop {
+                core,
+                along,
+                across,
+                bend,
+            } => {
+                let r = ring(core);
+                let t = r.dot(along);
+                if t <= 0.0 {
+                    round(r.length_squared())
+                } else {
+                    // The offset from the parabola over its slope: about the
+                    // distance to it, so the ridges keep their spacing.
+                    round((r.dot(across) - bend * t * t).powi(2) / (1.0 + 4.0 * bend * bend * t * t))
+                }
+            }
+        };
+        let mut phase = distance / self.period + wobble;
+        for m in &self.minutiae {
+            let distance = (local - m.mid).length_squared();
+            if distance < 9.0 * m.apart * m.apart {
+                // Whole (fade 1) across the segment, where the angle jumps.
+                let fade = 1.0 - smoothstep(1.5, 3.0, distance.sqrt() / m.apart);
+                let (pa, pb) = (m.a - local, m.b - local);
+                phase += fade * pa.perp_dot(pb).atan2(pa.dot(pb)) / TAU;
+                calm *= self.settle(pa.length_squared()) * self.settle(pb.length_squared());
+            }
+        }
+        let groove = calm * (0.5 + 0.5 * (TAU * phase).cos());
+        let strength = self.pressure * (1.0 - 0.5 * pad * pad);
+        *ridges += weight * (-self.depth * strength * groove - *ridges);
     }
-    field
 }
 
 /// A normal map of `field`: OpenGL convention (+x = +u, +y = +v with v up
@@ -470,26 +718,120 @@ mod tests {
         }
     }
 
+    /// The 1024² fingerprint height field, made once for the tests that look
+    /// at it.
+    fn fingerprint_field() -> &'static Field {
+        static FIELD: OnceLock<Field> = OnceLock::new();
+        FIELD.get_or_init(|| fingerprints(1024))
+    }
+
     #[test]
     fn fingerprint_ridges_are_about_0_4_mm_apart() {
-        // Along a row through a print, height maxima are one ridge period
-        // apart (in texels), give or take the ellipticity of the rings.
-        let field = fingerprints(1024);
+        // Along a row through a print, ridge tops are one ridge period apart
+        // (in texels), more where the ridges cross the row at a slant. A top
+        // stands 0.3 texels above the texels half a period either side, so
+        // that the faint ones in a print's fading rim don't count.
+        let field = fingerprint_field();
         let expected = RIDGE_PERIOD_MM / FINGERPRINT_MAP_MM * 1024.0;
+        let half = (0.5 * expected) as isize;
         let mut spacings = Vec::new();
         for y in (0..1024).step_by(64) {
-            let row: Vec<f32> = (0..1024).map(|x| field.at(x, y)).collect();
-            let peaks: Vec<usize> = (1..1023)
-                .filter(|&x| row[x] > row[x - 1] && row[x] >= row[x + 1] && row[x] > -0.3)
+            let peaks: Vec<isize> = (0..1024)
+                .filter(|&x| {
+                    let h = field.at(x, y);
+                    let around = |range: std::ops::RangeInclusive<isize>| range.map(|x| field.at(x, y));
+                    around(x - 2..=x + 2).all(|other| other <= h)
+                        && around(x - half..=x - half)
+                            .chain(around(x + half..=x + half))
+                            .all(|low| low < h - 0.3)
+                })
                 .collect();
             spacings.extend(peaks.windows(2).map(|w| (w[1] - w[0]) as f32));
         }
+        assert!(spacings.len() > 400, "{} spacings", spacings.len());
         spacings.sort_by(f32::total_cmp);
         let median = spacings[spacings.len() / 2];
         assert!(
             (0.8 * expected..=1.5 * expected).contains(&median),
             "{median} vs {expected}"
         );
+    }
+
+    #[test]
+    fn fingerprint_normals_turn_smoothly_everywhere() {
+        // A print cut off at its bounds, or a pattern that jumps, turns the
+        // normal abruptly along a line; across ridges it turns steadily. So
+        // the largest change between neighbouring texels stays close to the
+        // common ones.
+        let map = builtin_texture("builtin:fingerprints").unwrap();
+        let size = map.width as usize;
+        let normal = |x: usize, y: usize| decode(&map.pixels[(y % size * size + x % size) * 4..][..3]);
+        for (dx, dy) in [(1, 0), (0, 1)] {
+            let mut steps: Vec<f32> = (0..size * size)
+                .map(|i| {
+                    let (x, y) = (i % size, i / size);
+                    (normal(x + dx, y + dy) - normal(x, y)).abs().max_element()
+                })
+                .collect();
+            steps.sort_by(f32::total_cmp);
+            let (common, largest) = (steps[steps.len() * 99 / 100], steps[steps.len() - 1]);
+            assert!(
+                largest < 3.5 * common,
+                "step ({dx}, {dy}): largest {largest}, 99th percentile {common}"
+            );
+        }
+    }
+
+    #[test]
+    fn fingerprints_cover_the_map_evenly() {
+        // No band across the map, in either direction, is left much flatter
+        // or much busier than the rest, as it is when prints sit in rows.
+        let map = builtin_texture("builtin:fingerprints").unwrap();
+        let size = map.width as usize;
+        let slope2: Vec<f32> = map
+            .pixels
+            .chunks_exact(4)
+            .map(|t| {
+                let n = decode(t);
+                (n.x * n.x + n.y * n.y) / (n.z * n.z)
+            })
+            .collect();
+        let mean = slope2.iter().sum::<f32>() / slope2.len() as f32;
+        const BANDS: usize = 16;
+        let width = size / BANDS;
+        for band in 0..BANDS {
+            let rows = &slope2[band * width * size..(band + 1) * width * size];
+            let across = rows.iter().sum::<f32>() / rows.len() as f32;
+            let down = (0..size * width)
+                .map(|i| slope2[(i / width) * size + band * width + i % width])
+                .sum::<f32>()
+                / (size * width) as f32;
+            for (along, relief) in [("rows", across), ("columns", down)] {
+                assert!(
+                    (0.5 * mean..=2.0 * mean).contains(&relief),
+                    "{along} band {band}: {relief} vs {mean} over the map"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_print_spans_every_texel_its_ragged_pad_can_reach() {
+        // Anything a print's rows leave out would end in a cut line.
+        let mut rng = Rng(7);
+        for _ in 0..20 {
+            let print = Print::new(Vec2::new(500.25, 480.5), 13.65, 1.0, 1024, &mut rng);
+            for y in -400..=400 {
+                for x in -400..=400 {
+                    let d = Vec2::new(x as f32, y as f32);
+                    if (d.rotate(print.to_pad) / print.axes).length() < PAD_REACH {
+                        let (x0, x1) = print.span(d.y).expect("a row through the pad");
+                        let column = (print.centre.x + d.x) as isize;
+                        assert!((x0..=x1).contains(&column), "({x}, {y}) outside {x0}..={x1}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]
