@@ -122,8 +122,10 @@ vec3 subsurface_cos(ShadingModels models, Material m, float n_dot_l, float curva
 
 // `lit` (the lobes plus the subsurface term), clamped at 0 for the models that take light
 // away: where the lobes are shadowed or below Lambert, less may be left than they move.
+// A NaN is kept (max(NaN, 0) may be either), so that checks still see it.
 vec3 with_subsurface(ShadingModels models, vec3 lit) {
-    return subsurface_redistributes(models.subsurface) ? max(lit, vec3(0.0)) : lit;
+    if (!subsurface_redistributes(models.subsurface)) return lit;
+    return mix(lit, vec3(0.0), lessThan(lit, vec3(0.0)));
 }
 
 // Reflected radiance per unit irradiance E⊥ arriving along l, for shading normal n

@@ -240,9 +240,10 @@ pub fn brdf_cos(
 
 /// `lit` (the lobes plus the subsurface term), clamped at 0 for the models that take light
 /// away: where the lobes are shadowed or below Lambert, less may be left than they move.
+/// A NaN is kept, not clamped, so that checks still see it.
 fn with_subsurface(models: ShadingModels, lit: Vec3) -> Vec3 {
     if models.subsurface.redistributes() {
-        lit.map(|x| x.max(0.0))
+        lit.map(|x| if x < 0.0 { 0.0 } else { x })
     } else {
         lit
     }
