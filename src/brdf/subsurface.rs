@@ -23,14 +23,14 @@ use super::{Vec3, PI};
 pub enum Subsurface {
     /// None: the diffuse lobe ends at the terminator.
     None = 0,
-    /// The report's wrap lighting (seed eq. 18): a coloured term added to the BRDF, lit
-    /// up to past the terminator; it adds energy (up to 1.6× Lambert's).
+    /// The report's wrap lighting (seed eq. 18): a coloured term added to the BRDF, which
+    /// lights past the terminator; it adds energy (up to 1.6× Lambert's).
     #[default]
     Seed = 1,
     /// saturate((n·l + w)/(1 + w)²) per channel, w = wrap · scatter_color: the same
     /// reflected energy as Lambert under any light, spread past the terminator.
     EnergyConservingWrap = 2,
-    /// Penner's ring integral of a Gaussian diffusion profile of radius
+    /// Penner's ring integral of a Gaussian diffusion profile of standard deviation
     /// scatter_radius · scatter_color, over a surface of the mesh's curvature.
     PreIntegrated = 3,
 }
