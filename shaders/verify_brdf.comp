@@ -121,8 +121,8 @@ vec4 term(Tuple t) {
         return vec4(wrap_seed(a.x, a.y, a.z));
     case WRAP_ENERGY_CONSERVING: // wrap_energy_conserving(n·l, w)
         return vec4(wrap_energy_conserving(a.x, a.y));
-    case SPEC_BLINN_PHONG: // spec_blinn_phong(α, n·h, F0, v·h) on given n·h (models derive it)
-        return vec4(spec_blinn_phong(a.x, a.y, t.d.rgb, a.z), 0.0);
+    case SPEC_BLINN_PHONG: // spec_blinn_phong(α, n·h, |n×h|², F0, v·h)
+        return vec4(spec_blinn_phong(a.x, a.y, a.z, t.d.rgb, a.w), 0.0);
     case SHADOW_TERMINATOR: // shadow_terminator(n_g·l, n_s·l, n_g·n_s)
         return vec4(shadow_terminator(a.x, a.y, a.z));
     case PREINTEGRATED_LOOKUP: // preintegrated_lookup(n·l, σκ)
@@ -150,8 +150,8 @@ vec3 model(vec3 n, vec3 v, vec3 l, float p, vec3 colour) {
         return vec3(diffuse_oren_nayar(p, n, v, l));
     case EON: // diffuse_eon(ρ, r, n·v, n·l, v·l)
         return diffuse_eon(colour, p, nv, nl, dot(v, l));
-    case BLINN_PHONG: // spec_blinn_phong(α, n·h, F0, v·h)
-        return spec_blinn_phong(p, nh, colour, vh);
+    case BLINN_PHONG: // spec_blinn_phong(α, n·h, |n×h|², F0, v·h)
+        return spec_blinn_phong(p, nh, nxh2, colour, vh);
     case TORRANCE_SPARROW: // spec_torrance_sparrow(α, n·v, n·l, n·h, |n×h|², F0, v·h)
         return spec_torrance_sparrow(p, nv, nl, nh, nxh2, colour, vh);
     case COOK_TORRANCE_GGX_SEPARABLE: // spec_cook_torrance(…, GGX, separable Smith)

@@ -33,6 +33,8 @@ const float MIN_HALF_LEN2 = 1e-10;
 const float FLT_MIN_NORMAL = 1.17549435e-38;
 // log_near_one's series holds from here to 1; below, log() errs little relative to the result.
 const float LOG_SERIES_MIN = 0.7;
+// log_n_dot_h sums ½ ln(1 − |n×h|²) by series below this |n×h|² (n·h > 0.866 for unit n, h).
+const float SIN2_SERIES_MAX = 0.25;
 // exp(−x) is treated as 0 beyond this: Beckmann D is then below 1e-31 of its peak.
 const float BECKMANN_MAX_EXPONENT = 80.0;
 // Walter et al. 2007's Beckmann fit sets G1 = 1 from a = 1/(α tan θ) ≥ 1.6.
@@ -229,6 +231,12 @@ vec3 spec_torrance_sparrow(float alpha, float n_dot_v, float n_dot_l, float n_do
     return f_schlick(f0, v_dot_h) * min(d_g / (4.0 * nv * nl), FP16_MAX);
 }
 
+// 2 atanh(u) = ln((1 + u)/(1 − u)), by its series to u⁹.
+float two_atanh(float u) {
+    float u2 = u * u;
+    return 2.0 * u * (1.0 + u2 * (1.0 / 3.0 + u2 * (1.0 / 5.0 + u2 * (1.0 / 7.0 + u2 / 9.0))));
+}
+
 // ln x for x clamped to [FLT_MIN_NORMAL, 1], relatively precise near 1. log2 on GPUs (and
 // lavapipe) errs by about 2⁻²² absolutely near 1, and (n·h)ⁿ = exp(n ln(n·h)) multiplies that
 // by n ≤ 4.9e5: pow() was 9% off at MIN_ALPHA. From LOG_SERIES_MIN up, ln x = 2 atanh(u),
@@ -239,20 +247,32 @@ float log_near_one(float x) {
     if (c < LOG_SERIES_MIN) {
         return log(c);
     }
-    float u = (c - 1.0) / (c + 1.0);
-    float u2 = u * u;
-    return 2.0 * u * (1.0 + u2 * (1.0 / 3.0 + u2 * (1.0 / 5.0 + u2 * (1.0 / 7.0 + u2 / 9.0))));
+    return two_atanh((c - 1.0) / (c + 1.0));
 }
 
-// Blinn 1977 (seed eq. 5) normalised: (n+8)/(8π) (n·h)ⁿ F(v·h), n = 2/α² − 2.
+// ln(n·h) = ½ ln(1 − s²), s² = |n×h|², for (n·h)ⁿ: fp32 n·h is rounded to 2⁻²⁴ near 1 before
+// any log, an error (n·h)ⁿ multiplies by n ≤ 4.9e5, while s² is relatively precise. Below
+// SIN2_SERIES_MAX, ln(1 − s²) = 2 atanh(u), u = −s²/(2 − s²), by its series to u⁹: five
+// terms, |u| ≤ 1/7, truncation < u¹⁰/(11(1 − u²)) < 4e-10 relative. From there (also s² ≥ 1
+// of non-unit inputs), log_near_one(n·h). Both are ln n·h for unit n, h: the switch is
+// continuous to rounding.
+float log_n_dot_h(float n_dot_h, float n_cross_h_len2) {
+    float s2 = max(n_cross_h_len2, 0.0);
+    if (s2 < SIN2_SERIES_MAX) {
+        return 0.5 * two_atanh(-s2 / (2.0 - s2));
+    }
+    return log_near_one(n_dot_h);
+}
+
+// Blinn 1977 (seed eq. 5) normalised: (n+8)/(8π) (n·h)ⁿ F(v·h), n = 2/α² − 2, (n·h)ⁿ via |n×h|².
 // Peaks at 1.94e4 for MIN_ALPHA, so it needs no cap.
-vec3 spec_blinn_phong(float alpha, float n_dot_h, vec3 f0, float v_dot_h) {
+vec3 spec_blinn_phong(float alpha, float n_dot_h, float n_cross_h_len2, vec3 f0, float v_dot_h) {
     if (n_dot_h <= 0.0) {
         return vec3(0.0);
     }
     float a = clamp_alpha(alpha);
     float n = 2.0 / (a * a) - 2.0;
-    float lobe = (n + 8.0) / (8.0 * PI) * exp(n * log_near_one(n_dot_h));
+    float lobe = (n + 8.0) / (8.0 * PI) * exp(n * log_n_dot_h(n_dot_h, n_cross_h_len2));
     return f_schlick(f0, v_dot_h) * lobe;
 }
 

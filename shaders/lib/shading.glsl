@@ -82,7 +82,7 @@ vec3 specular_lobe(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l, flo
     } else if (models.specular == SPECULAR_TORRANCE_SPARROW) {
         f = spec_torrance_sparrow(alpha, n_dot_v, n_dot_l, n_dot_h, len2, f0, v_dot_h);
     } else {
-        f = spec_blinn_phong(alpha, n_dot_h, f0, v_dot_h);
+        f = spec_blinn_phong(alpha, n_dot_h, len2, f0, v_dot_h);
     }
     return m.specular_color.rgb * f;
 }

@@ -169,7 +169,7 @@ pub fn specular_lobe(
             models.geometry,
         ),
         SpecularModel::TorranceSparrow => spec_torrance_sparrow(alpha, n_dot_v, n_dot_l, n_dot_h, len2, f0, v_dot_h),
-        SpecularModel::BlinnPhong | SpecularModel::None => spec_blinn_phong(alpha, n_dot_h, f0, v_dot_h),
+        SpecularModel::BlinnPhong | SpecularModel::None => spec_blinn_phong(alpha, n_dot_h, len2, f0, v_dot_h),
     };
     mul(m.specular_color, f)
 }

@@ -100,20 +100,41 @@ pub fn spec_torrance_sparrow(
     f_schlick(f0, v_dot_h).map(|f| f * df)
 }
 
+/// Largest |n×h|² whose ln(n·h) `log_n_dot_h` takes as ½ ln(1 − |n×h|²): the GLSL twin's
+/// `SIN2_SERIES_MAX` (n·h > 0.866 for unit n, h).
+const SIN2_SERIES_MAX: f64 = 0.25;
+
+/// 2 atanh(u) = ln((1 + u)/(1 − u)); the GLSL twin sums its series to u⁹.
+pub fn two_atanh(u: f64) -> f64 {
+    2.0 * u.atanh()
+}
+
 /// ln x for x clamped to (0, 1]. The GLSL twin sums the atanh series near 1, where fp32 log2
 /// is only absolutely precise; f64's ln is relatively precise there already.
 pub fn log_near_one(x: f64) -> f64 {
     x.clamp(f64::MIN_POSITIVE, 1.0).ln()
 }
 
-/// Blinn 1977 (seed eq. 5) normalised: (n+8)/(8π) (n·h)ⁿ F(v·h), n = 2/α² − 2.
+/// ln(n·h) = ½ ln(1 − s²), s² = |n×h|², for (n·h)ⁿ: below `SIN2_SERIES_MAX` from s², as
+/// 2 atanh(−s²/(2 − s²)), otherwise (also for s² ≥ 1, non-unit inputs) `log_near_one(n·h)`,
+/// the branches of the GLSL twin, which needs s² because fp32 n·h is rounded near 1.
+pub fn log_n_dot_h(n_dot_h: f64, n_cross_h_len2: f64) -> f64 {
+    let s2 = n_cross_h_len2.max(0.0);
+    if s2 < SIN2_SERIES_MAX {
+        0.5 * two_atanh(-s2 / (2.0 - s2))
+    } else {
+        log_near_one(n_dot_h)
+    }
+}
+
+/// Blinn 1977 (seed eq. 5) normalised: (n+8)/(8π) (n·h)ⁿ F(v·h), n = 2/α² − 2, (n·h)ⁿ via |n×h|².
 /// Peaks at 1.94e4 for `MIN_ALPHA`, so it needs no cap.
-pub fn spec_blinn_phong(alpha: f64, n_dot_h: f64, f0: Vec3, v_dot_h: f64) -> Vec3 {
+pub fn spec_blinn_phong(alpha: f64, n_dot_h: f64, n_cross_h_len2: f64, f0: Vec3, v_dot_h: f64) -> Vec3 {
     if n_dot_h <= 0.0 {
         return [0.0; 3];
     }
     let a = clamp_alpha(alpha);
     let n = 2.0 / (a * a) - 2.0;
-    let lobe = (n + 8.0) / (8.0 * PI) * (n * log_near_one(n_dot_h)).exp();
+    let lobe = (n + 8.0) / (8.0 * PI) * (n * log_n_dot_h(n_dot_h, n_cross_h_len2)).exp();
     f_schlick(f0, v_dot_h).map(|f| f * lobe)
 }

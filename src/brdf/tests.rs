@@ -47,8 +47,8 @@ fn torrance_sparrow(alpha: f64, f0: Vec3, v: Vec3, l: Vec3) -> Vec3 {
 }
 
 fn blinn_phong(alpha: f64, f0: Vec3, v: Vec3, l: Vec3) -> Vec3 {
-    let (nh, _, vh) = half_terms(v, l);
-    spec_blinn_phong(alpha, nh, f0, vh)
+    let (nh, nxh, vh) = half_terms(v, l);
+    spec_blinn_phong(alpha, nh, nxh, f0, vh)
 }
 
 fn eon(rho: Vec3, r: f64, v: Vec3, l: Vec3) -> Vec3 {
@@ -359,7 +359,7 @@ fn stress_inputs_are_finite_and_non_negative() {
                     for &d in &cosines {
                         let mut lobes = vec![
                             spec_torrance_sparrow(alpha, a, b, c, d, f0, a),
-                            spec_blinn_phong(alpha, c, f0, d),
+                            spec_blinn_phong(alpha, c, d, f0, a),
                             diffuse_eon(f0, alpha, a, b, c),
                         ];
                         for dist in [Distribution::Ggx, Distribution::Beckmann] {

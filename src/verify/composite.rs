@@ -144,10 +144,6 @@ impl Composite {
             + m.geometry as u32
     }
 
-    pub fn is_blinn_phong(self) -> bool {
-        self.models.specular == SpecularModel::BlinnPhong
-    }
-
     /// Whether the subsurface model moves light (and so may cancel against the lobes).
     pub fn redistributes(self) -> bool {
         self.models.subsurface.redistributes()

@@ -20,7 +20,7 @@ use crate::brdf::specular::{spec_blinn_phong, spec_cook_torrance, spec_torrance_
 use crate::brdf::subsurface::{wrap_energy_conserving_sh_kernel, PreintegratedTable};
 use crate::brdf::tonemap::{srgb_oetf, srgb_oetf_rgb, tonemap_pbr_neutral};
 use crate::brdf::wrap::{wrap_energy_conserving, wrap_seed};
-use crate::brdf::{clamp_alpha, cross, dot, safe_half_vector, Vec3, FP16_MAX, MAX_ALPHA, MIN_ALPHA, MIN_N_DOT_V};
+use crate::brdf::{cross, dot, safe_half_vector, Vec3, FP16_MAX, MAX_ALPHA, MIN_ALPHA, MIN_N_DOT_V};
 
 use super::composite::Composite;
 use super::normals::UnitVector;
@@ -212,7 +212,7 @@ impl Term {
             Term::TonemapPbrNeutral | Term::SrgbOetf => (&[], Some("rgb")),
             Term::WrapSeed => (&["n·l", "w1", "w2"], None),
             Term::WrapEnergyConserving => (&["n·l", "w"], None),
-            Term::SpecBlinnPhong => (&["α", "n·h", "v·h"], Some("F0")),
+            Term::SpecBlinnPhong => (&["α", "n·h", "|n×h|²", "v·h"], Some("F0")),
             Term::ShadowTerminator => (&["n_g·l", "n_s·l", "n_g·n_s"], None),
             Term::PreintegratedLookup => (&["n·l", "σκ"], None),
             Term::WrapEnergyConservingShKernel => (&["w"], None),
@@ -268,7 +268,7 @@ impl Term {
             Term::WrapSeed => scalar(wrap_seed(x, y, z)),
             Term::WrapEnergyConserving => scalar(wrap_energy_conserving(x, y)),
             Term::SpecBlinnPhong => {
-                let [r, g, b] = spec_blinn_phong(x, y, colour, z);
+                let [r, g, b] = spec_blinn_phong(x, y, z, colour, w);
                 [r, g, b, 0.0]
             }
             Term::ShadowTerminator => scalar(shadow_terminator(x, y, z)),
@@ -366,12 +366,13 @@ impl Term {
             }
             Term::WrapEnergyConservingShKernel => scalars([rng.uniform(), 0.0, 0.0, 0.0]),
             Term::SpecBlinnPhong => {
-                let n_dot_h = if rng.uniform() < 0.03 {
-                    -rng.uniform()
+                let theta = if rng.uniform() < 0.03 {
+                    rng.range(FRAC_PI_2, std::f64::consts::PI) // below the horizon: 0
                 } else {
-                    sample_half_angle(rng, alpha).cos()
+                    sample_half_angle(rng, alpha)
                 };
-                let a = [alpha, n_dot_h, sample_signed_cosine(rng), 0.0].map(|x| x as f32);
+                let (sin, cos) = theta.sin_cos();
+                let a = [alpha, cos, sin * sin, sample_signed_cosine(rng)].map(|x| x as f32);
                 Tuple {
                     a,
                     d: colour(rng),
@@ -515,8 +516,10 @@ impl Term {
             Term::SpecBlinnPhong => {
                 for &alpha in STRESS_ALPHAS {
                     for &n_dot_h in STRESS_COSINES {
-                        for &v_dot_h in STRESS_COSINES {
-                            push([alpha, n_dot_h, v_dot_h, 0.0], [0.0, 1.0, 0.04, 0.0]);
+                        for &s in STRESS_COSINES {
+                            for &v_dot_h in STRESS_COSINES {
+                                push([alpha, n_dot_h, s, v_dot_h], [0.0, 1.0, 0.04, 0.0]);
+                            }
                         }
                     }
                 }
@@ -624,7 +627,7 @@ impl Model {
             Model::Lambert => [diffuse_lambert(); 3],
             Model::OrenNayar => [diffuse_oren_nayar(p, n, v, l); 3],
             Model::Eon => diffuse_eon(colour, p, nv, nl, dot(v, l)),
-            Model::BlinnPhong => spec_blinn_phong(p, nh, colour, vh),
+            Model::BlinnPhong => spec_blinn_phong(p, nh, nxh2, colour, vh),
             _ => spec_torrance_sparrow(p, nv, nl, nh, nxh2, colour, vh),
         }
     }
@@ -800,21 +803,11 @@ impl Function {
     }
 
     /// Relative error that fp32 rounding of the arguments the harness (or brdf_cos) derives
-    /// from the directions can cause on this tuple, beyond the function's own error: (n·h)ⁿ
-    /// magnifies n·h's rounding n = 2/α² − 2 times (up to 4.9e5), and the terminator
-    /// shadowing is proportional to n_g·l near n_g's horizon. 0 where it is benign.
+    /// from the directions can cause on this tuple, beyond the function's own error: the
+    /// terminator shadowing is proportional to n_g·l near n_g's horizon. 0 where it is benign.
     pub fn argument_rounding(self, t: &Tuple) -> f64 {
         match self {
-            Function::Model(Model::BlinnPhong) => blinn_phong_rounding(f64::from(t.a[3])),
-            Function::Composite(c) => {
-                let roughness = f64::from(t.a[3]);
-                let specular = if c.is_blinn_phong() {
-                    blinn_phong_rounding(roughness * roughness)
-                } else {
-                    0.0
-                };
-                specular + c.shadowing_rounding(t) + c.cancellation_rounding(t)
-            }
+            Function::Composite(c) => c.shadowing_rounding(t) + c.cancellation_rounding(t),
             Function::UnitVector(n) => n.argument_rounding(t),
             _ => 0.0,
         }
@@ -823,10 +816,6 @@ impl Function {
     /// Why `argument_rounding` is not 0, for the table.
     pub fn argument_rounding_reason(self) -> String {
         match self {
-            Function::Model(Model::BlinnPhong) => BLINN_PHONG_ROUNDING.to_owned(),
-            Function::Composite(c) if c.is_blinn_phong() => {
-                format!("{}; {BLINN_PHONG_ROUNDING}", Composite::SHADOWING_ROUNDING)
-            }
             Function::Composite(c) if c.redistributes() => {
                 format!(
                     "{}; {}",
@@ -857,23 +846,9 @@ impl Function {
     }
 }
 
-/// The relative error fp32 rounding of n·h causes in Blinn-Phong's (n·h)ⁿ at microfacet
-/// roughness `alpha`.
-fn blinn_phong_rounding(alpha: f64) -> f64 {
-    let a = clamp_alpha(alpha);
-    (2.0 / (a * a) - 2.0) * N_DOT_H_ROUNDINGS * f64::from(f32::EPSILON) * 0.5
-}
-
-const BLINN_PHONG_ROUNDING: &str = "rounding: n·h is rounded to 2^-24 in fp32 before (n·h)^n, \
-    n = 2/α²−2 <= 4.9e5, bound n·8·2^-24; spec_blinn_phong on a given n·h is within 1e-5 (its \
-    row); a |n×h|² argument, as d_ggx has, would remove this";
-
 /// |v + l| below which v·h is too ill-conditioned in fp32 for reciprocity: v and l more than
 /// 174° apart, both grazing.
 pub const MIN_RECIPROCAL_HALF_LEN: f64 = 0.3;
-/// Roundings of 2⁻²⁴ (the fp32 spacing below 1) in n·h as the harness derives it: normalising
-/// v and l, v + l, its normalisation, the dot product.
-const N_DOT_H_ROUNDINGS: f64 = 8.0;
 
 /// The shading normal of the random tuples.
 pub const NORMAL: Vec3 = [0.0, 0.0, 1.0];
