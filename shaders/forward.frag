@@ -23,6 +23,10 @@ layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
 layout(location = 4) in float in_curvature;
+layout(location = 5) in vec2 in_base_color_uv;
+layout(location = 6) in vec2 in_normal_uv;
+layout(location = 7) in vec2 in_detail_uv;
+layout(location = 8) in vec2 in_noise_uv;
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -44,15 +48,15 @@ void main() {
     Material m = materials[object.material_index];
     ShadingModels models = ShadingModels(DIFFUSE_MODEL, SPECULAR_MODEL, DISTRIBUTION, GEOMETRY, SUBSURFACE);
     vec3 v = normalize(frame.camera_position.xyz - in_world_position);
-    m.base_color.rgb = mapped_base_color(m, in_uv);
+    m.base_color.rgb = mapped_base_color(m, in_base_color_uv);
     vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
     // The tangent frame follows the normal to the viewer's side.
     vec4 tangent = gl_FrontFacing ? in_tangent : vec4(in_tangent.xyz, -in_tangent.w);
-    vec3 n_mapped = mapped_normal(m, n_geometric, tangent, in_uv);
+    vec3 n_mapped = mapped_normal(m, n_geometric, tangent, in_normal_uv, in_detail_uv);
     bool seed_horizon = HORIZON == HORIZON_SEED;
     vec3 n = seed_horizon ? n_mapped : view_facing_normal(n_mapped, v);
 
-    vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_uv),
+    vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_noise_uv),
                                          gl_FragCoord.xy);
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;

@@ -12,6 +12,13 @@ layout(location = 1) out vec3 out_normal;
 layout(location = 2) out vec2 out_uv;
 layout(location = 3) out vec4 out_tangent;
 layout(location = 4) out float out_curvature;
+// Each map's uv (material_maps.glsl), transformed here rather than per fragment: the result
+// interpolates the same, and lavapipe's helper invocations read storage buffers as zero,
+// which gave fragment-side uvs wrong derivatives, so wrong mip levels, along triangle edges.
+layout(location = 5) out vec2 out_base_color_uv;
+layout(location = 6) out vec2 out_normal_uv;
+layout(location = 7) out vec2 out_detail_uv;
+layout(location = 8) out vec2 out_noise_uv;
 
 void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
@@ -19,6 +26,11 @@ void main() {
     out_world_position = world.xyz;
     out_normal = normal_matrix * in_normal;
     out_uv = in_uv;
+    Material m = materials[object.material_index];
+    out_base_color_uv = map_uv(m.base_color_uv, in_uv);
+    out_normal_uv = map_uv(m.normal_uv, in_uv);
+    out_detail_uv = map_uv(m.detail_uv, in_uv);
+    out_noise_uv = map_uv(m.noise_uv, in_uv);
     out_tangent = vec4(mat3(object.model) * in_tangent.xyz, in_tangent.w);
     // Curvature is 1/length, so it shrinks as the object grows: divide by the model's
     // scale, the cube root of its volume scale. Exact for a uniform scale (all objects

@@ -25,4 +25,9 @@ struct Material {
     uvec4 green_down;     // x normal map, y detail map: 1 for DirectX-style maps
 };
 
+// A map's uv from the mesh's: uv · scale + offset (`transform` is one of the *_uv fields).
+vec2 map_uv(vec4 transform, vec2 uv) {
+    return uv * transform.xy + transform.zw;
+}
+
 #endif

@@ -1,6 +1,7 @@
 // A material's texture maps (set 1 of the forward pass), and what they change: base
 // colour, the shading normal (seed eqs. 13–16) and the reflection noise (eq. 17). Which maps
 // a material has are specialization constants, so a material without maps samples nothing.
+// Each function takes its map's uv, already transformed by map_uv in forward.vert.
 #ifndef ARGIL_MATERIAL_MAPS_GLSL
 #define ARGIL_MATERIAL_MAPS_GLSL
 #include "material.glsl"
@@ -17,27 +18,23 @@ layout(set = 1, binding = 1) uniform sampler2D normal_map;
 layout(set = 1, binding = 2) uniform sampler2D detail_map;
 layout(set = 1, binding = 3) uniform sampler2D noise_map;
 
-vec2 map_uv(vec4 transform, vec2 uv) {
-    return uv * transform.xy + transform.zw;
-}
-
 // base_color · mix(1, map, strength).
 vec3 mapped_base_color(Material m, vec2 uv) {
     if (!HAS_BASE_COLOR_MAP) return m.base_color.rgb;
-    vec3 texel = texture(base_color_map, map_uv(m.base_color_uv, uv)).rgb;
+    vec3 texel = texture(base_color_map, uv).rgb;
     return m.base_color.rgb * mix(vec3(1.0), texel, m.map_strength.x);
 }
 
 // The shading normal: the normal map, with the detail map blended over it, through the
 // vertex's tangent frame. `normal` is the unit surface normal on the viewer's side.
-vec3 mapped_normal(Material m, vec3 normal, vec4 tangent, vec2 uv) {
+vec3 mapped_normal(Material m, vec3 normal, vec4 tangent, vec2 normal_uv, vec2 detail_uv) {
     if (!HAS_NORMAL_MAP && !HAS_DETAIL_MAP) return normal;
     vec3 n = vec3(0.0, 0.0, 1.0);
     if (HAS_NORMAL_MAP) {
-        n = decode_normal(texture(normal_map, map_uv(m.normal_uv, uv)).rgb, m.green_down.x != 0u, m.map_strength.y);
+        n = decode_normal(texture(normal_map, normal_uv).rgb, m.green_down.x != 0u, m.map_strength.y);
     }
     if (HAS_DETAIL_MAP) {
-        vec3 d = decode_normal(texture(detail_map, map_uv(m.detail_uv, uv)).rgb, m.green_down.y != 0u, m.map_strength.z);
+        vec3 d = decode_normal(texture(detail_map, detail_uv).rgb, m.green_down.y != 0u, m.map_strength.z);
         n = HAS_NORMAL_MAP ? blend_detail(DETAIL_BLEND, n, d) : d;
     }
     return tangent_to_world(n, normal, tangent);
@@ -46,7 +43,7 @@ vec3 mapped_normal(Material m, vec3 normal, vec4 tangent, vec2 uv) {
 // mix(1, noise, strength), from the noise map's red channel; 1 without a map.
 float mapped_noise(Material m, vec2 uv) {
     if (!HAS_NOISE_MAP) return 1.0;
-    return mix(1.0, texture(noise_map, map_uv(m.noise_uv, uv)).r, m.map_strength.w);
+    return mix(1.0, texture(noise_map, uv).r, m.map_strength.w);
 }
 
 #endif
