@@ -8,7 +8,7 @@
 //! that wrap around the edges.
 
 use std::f32::consts::{PI, TAU};
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 use glam::{Vec2, Vec3};
 
@@ -68,7 +68,7 @@ impl Field {
         std::thread::scope(|scope| {
             for _ in 0..cores {
                 scope.spawn(|| loop {
-                    let Some((band, rows)) = bands.lock().unwrap().next() else {
+                    let Some((band, rows)) = bands.lock().unwrap_or_else(PoisonError::into_inner).next() else {
                         break;
                     };
                     for (i, row) in rows.chunks_mut(size).enumerate() {
