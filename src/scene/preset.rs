@@ -37,16 +37,21 @@ impl Preset {
                 ..MapDef::new(texture)
             })
         };
+        // What every clay shares: a GGX Cook-Torrance highlight of white specular colour,
+        // RNM detail blending, the smooth horizon and no base colour map.
+        let clay = MaterialDef {
+            preset: Some(self),
+            specular: SpecularModel::CookTorrance,
+            distribution: Distribution::Ggx,
+            geometry: Geometry::SmithCorrelated,
+            specular_color: [1.0; 3],
+            detail_blend: DetailBlend::Rnm,
+            horizon: Horizon::Smooth,
+            base_color_map: None,
+            ..MaterialDef::default()
+        };
         match self {
             Preset::Plasticine => MaterialDef {
-                preset: Some(self),
-                specular: SpecularModel::CookTorrance,
-                distribution: Distribution::Ggx,
-                geometry: Geometry::SmithCorrelated,
-                specular_color: [1.0; 3],
-                detail_blend: DetailBlend::Rnm,
-                horizon: Horizon::Smooth,
-                base_color_map: None,
                 base_color: [0.6, 0.36, 0.17],
                 diffuse: DiffuseModel::Eon,
                 diffuse_roughness: 0.5,
@@ -62,16 +67,9 @@ impl Preset {
                 normal_map: map("builtin:clay-lumps", 0.6, [4.0, 2.0]),
                 detail_map: map("builtin:fingerprints", 0.7, [6.0, 3.0]),
                 noise_map: map("builtin:noise", 0.5, [2.0, 1.0]),
+                ..clay
             },
             Preset::Terracotta => MaterialDef {
-                preset: Some(self),
-                specular: SpecularModel::CookTorrance,
-                distribution: Distribution::Ggx,
-                geometry: Geometry::SmithCorrelated,
-                specular_color: [1.0; 3],
-                detail_blend: DetailBlend::Rnm,
-                horizon: Horizon::Smooth,
-                base_color_map: None,
                 base_color: [0.58, 0.22, 0.1],
                 diffuse: DiffuseModel::OrenNayar,
                 diffuse_roughness: 0.8,
@@ -87,16 +85,9 @@ impl Preset {
                 normal_map: map("builtin:clay-lumps", 0.3, [8.0, 4.0]),
                 detail_map: None,
                 noise_map: map("builtin:noise", 0.3, [2.0, 1.0]),
+                ..clay
             },
             Preset::WetClay => MaterialDef {
-                preset: Some(self),
-                specular: SpecularModel::CookTorrance,
-                distribution: Distribution::Ggx,
-                geometry: Geometry::SmithCorrelated,
-                specular_color: [1.0; 3],
-                detail_blend: DetailBlend::Rnm,
-                horizon: Horizon::Smooth,
-                base_color_map: None,
                 base_color: [0.2, 0.12, 0.07],
                 diffuse: DiffuseModel::Eon,
                 diffuse_roughness: 0.3,
@@ -112,16 +103,9 @@ impl Preset {
                 normal_map: map("builtin:clay-lumps", 0.8, [3.0, 1.5]),
                 detail_map: None,
                 noise_map: map("builtin:noise", 0.7, [2.0, 1.0]),
+                ..clay
             },
             Preset::PolymerClay => MaterialDef {
-                preset: Some(self),
-                specular: SpecularModel::CookTorrance,
-                distribution: Distribution::Ggx,
-                geometry: Geometry::SmithCorrelated,
-                specular_color: [1.0; 3],
-                detail_blend: DetailBlend::Rnm,
-                horizon: Horizon::Smooth,
-                base_color_map: None,
                 base_color: [0.1, 0.24, 0.5],
                 diffuse: DiffuseModel::Eon,
                 diffuse_roughness: 0.3,
@@ -137,6 +121,7 @@ impl Preset {
                 normal_map: map("builtin:clay-lumps", 0.25, [8.0, 4.0]),
                 detail_map: map("builtin:fingerprints", 0.4, [6.0, 3.0]),
                 noise_map: map("builtin:noise", 0.4, [2.0, 1.0]),
+                ..clay
             },
         }
     }
