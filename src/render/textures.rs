@@ -7,7 +7,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use crate::scene::{TexelFormat, TextureData};
-use crate::vk::{full_range, mip_count, transition_levels, Buffer, Device, Image, ImageUse, OneShot};
+use crate::vk::{copy_region, full_range, mip_count, transition_levels, Buffer, Device, Image, ImageUse, OneShot};
 
 fn vk_format(format: TexelFormat) -> (vk::Format, u32) {
     match format {
@@ -107,17 +107,7 @@ fn record_upload(device: &Device, cmd: vk::CommandBuffer, staging: &Buffer, imag
         ImageUse::UNDEFINED,
         ImageUse::TRANSFER_DST,
     );
-    let region = vk::BufferImageCopy::default()
-        .image_subresource(
-            vk::ImageSubresourceLayers::default()
-                .aspect_mask(image.aspect)
-                .layer_count(1),
-        )
-        .image_extent(vk::Extent3D {
-            width: image.extent.width,
-            height: image.extent.height,
-            depth: 1,
-        });
+    let region = copy_region(image.aspect, 0, 1, image.extent);
     unsafe {
         device.handle.cmd_copy_buffer_to_image(
             cmd,

@@ -227,6 +227,22 @@ impl Drop for ImageView {
     }
 }
 
+/// A tightly packed buffer ⇄ image copy of `extent` texels of mip `level`, all `layers`.
+pub fn copy_region(aspect: vk::ImageAspectFlags, level: u32, layers: u32, extent: vk::Extent2D) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(
+            vk::ImageSubresourceLayers::default()
+                .aspect_mask(aspect)
+                .mip_level(level)
+                .layer_count(layers),
+        )
+        .image_extent(vk::Extent3D {
+            width: extent.width,
+            height: extent.height,
+            depth: 1,
+        })
+}
+
 /// The first mip level of a single-layer image (`.level_count(n)` for more).
 pub fn full_range(aspect: vk::ImageAspectFlags) -> vk::ImageSubresourceRange {
     vk::ImageSubresourceRange::default()

@@ -20,7 +20,7 @@ pub use buffer::Buffer;
 pub use commands::{CommandPool, OneShot};
 pub use descriptors::{DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter};
 pub use device::{Device, DeviceChoice, DeviceInfo, DeviceOptions, WindowHandles};
-pub use image::{full_range, mip_count, Image, ImageView};
+pub use image::{copy_region, full_range, mip_count, Image, ImageView};
 pub use pipeline::{set_full_viewport, GraphicsPipelineBuilder, Pipeline, PipelineLayout, Specialization};
 pub use readback::{ImageRegion, Readback};
 pub use sampler::Sampler;

@@ -9,7 +9,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::buffer::Buffer;
 use super::device::Device;
-use super::image::Image;
+use super::image::{copy_region, Image};
 use super::sync::{transition, ImageUse};
 
 /// What a copy needs to know of an image: an [`Image`] of ours, or a swapchain's.
@@ -58,17 +58,7 @@ impl Readback {
     pub fn record(&self, device: &Device, cmd: vk::CommandBuffer, image: impl Into<ImageRegion>, from: ImageUse) {
         let image = image.into();
         transition(device, cmd, image.handle, image.aspect, from, ImageUse::TRANSFER_SRC);
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(
-                vk::ImageSubresourceLayers::default()
-                    .aspect_mask(image.aspect)
-                    .layer_count(1),
-            )
-            .image_extent(vk::Extent3D {
-                width: image.extent.width,
-                height: image.extent.height,
-                depth: 1,
-            });
+        let region = copy_region(image.aspect, 0, 1, image.extent);
         unsafe {
             device.handle.cmd_copy_image_to_buffer(
                 cmd,

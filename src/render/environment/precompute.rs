@@ -15,9 +15,9 @@ use super::equirect::Equirect;
 use crate::brdf::environment::LUT_LAYERS;
 use crate::render::shaders;
 use crate::vk::{
-    transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
-    Device, Image, ImageUse, ImageView, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
-    Timestamps,
+    copy_region, transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    DescriptorWriter, Device, Image, ImageUse, ImageView, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule,
+    Specialization, Timestamps,
 };
 
 /// Every cube map and table is RGBA16F: filterable and storable on every Vulkan device.
@@ -508,18 +508,7 @@ impl Precompute {
                 SHADING_READ,
                 ImageUse::TRANSFER_SRC,
             );
-            let region = vk::BufferImageCopy::default()
-                .image_subresource(
-                    vk::ImageSubresourceLayers::default()
-                        .aspect_mask(image.aspect)
-                        .mip_level(level)
-                        .layer_count(image.layers),
-                )
-                .image_extent(vk::Extent3D {
-                    width: w,
-                    height: h,
-                    depth: 1,
-                });
+            let region = copy_region(image.aspect, level, image.layers, vk::Extent2D { width: w, height: h });
             unsafe {
                 self.device.handle.cmd_copy_image_to_buffer(
                     cmd,
