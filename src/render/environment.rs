@@ -29,8 +29,9 @@ use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::brdf::environment::{map_rotation, sh_project_cube, Sh9};
 use crate::scene::{Camera, DiffuseModel, Environment, ReflectionMode, Scene, SpecularModel};
 use crate::vk::{
-    transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
-    GraphicsPipelineBuilder, Image, ImageUse, Pipeline, PipelineLayout, Sampler, ShaderModule,
+    begin_full_rendering, transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, Pipeline, PipelineLayout, Sampler,
+    ShaderModule,
 };
 pub use equirect::{MAX_UPLOAD_WIDTH, MAX_WIDTH};
 pub use precompute::{Cost, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
@@ -413,32 +414,13 @@ impl Skybox {
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::LOAD)
             .store_op(vk::AttachmentStoreOp::DONT_CARE);
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: target.extent,
-        };
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&color)
-            .depth_attachment(&depth);
-        let viewport = vk::Viewport {
-            x: 0.0,
-            y: 0.0,
-            width: target.extent.width as f32,
-            height: target.extent.height as f32,
-            min_depth: 0.0,
-            max_depth: 1.0,
-        };
         let view_proj: Mat4 = camera.projection(target.aspect()) * camera.view();
         let push = SkyboxPush {
             inverse_view_proj: view_proj.inverse().to_cols_array_2d(),
             camera_position: camera.position.extend(1.0).to_array(),
         };
+        begin_full_rendering(&self.device, cmd, target.extent, &color, Some(&depth));
         unsafe {
-            d.cmd_begin_rendering(cmd, &rendering);
-            d.cmd_set_viewport(cmd, 0, &[viewport]);
-            d.cmd_set_scissor(cmd, 0, &[area]);
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle);
             d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout.handle, 0, &[set], &[]);
             d.cmd_push_constants(

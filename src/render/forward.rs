@@ -20,7 +20,7 @@ use super::subsurface::SubsurfaceTable;
 use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::scene::{Material, Scene, Vertex};
 use crate::vk::{
-    set_full_viewport, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
+    begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
     Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
@@ -246,19 +246,7 @@ impl ForwardPass {
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: target.extent,
-        };
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&color)
-            .depth_attachment(&depth);
-        unsafe {
-            d.cmd_begin_rendering(cmd, &rendering);
-        }
-        set_full_viewport(&self.device, cmd, target.extent);
+        begin_full_rendering(&self.device, cmd, target.extent, &color, Some(&depth));
         unsafe {
             d.cmd_bind_descriptor_sets(
                 cmd,

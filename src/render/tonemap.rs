@@ -11,7 +11,7 @@ use ash::vk;
 use super::shaders;
 use super::target::RenderTarget;
 use crate::vk::{
-    set_full_viewport, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
+    begin_full_rendering, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
     GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
@@ -104,18 +104,7 @@ impl TonemapPass {
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::DONT_CARE)
             .store_op(vk::AttachmentStoreOp::STORE)];
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent,
-        };
-        let rendering = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .color_attachments(&color);
-        unsafe {
-            d.cmd_begin_rendering(cmd, &rendering);
-        }
-        set_full_viewport(&self.device, cmd, extent);
+        begin_full_rendering(&self.device, cmd, extent, &color, None);
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.handle);
             d.cmd_bind_descriptor_sets(

@@ -12,7 +12,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::AllocationSizes;
 
 use crate::render::tonemap::is_srgb;
-use crate::vk::{CommandPool, Device};
+use crate::vk::{begin_full_rendering, CommandPool, Device};
 
 /// Memory blocks of the UI's allocator: its font atlas and vertex buffers are a few MiB.
 const UI_MEMORY_BLOCK: u64 = 8 << 20;
@@ -130,14 +130,7 @@ impl Overlay {
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::LOAD)
             .store_op(vk::AttachmentStoreOp::STORE)];
-        let rendering = vk::RenderingInfo::default()
-            .render_area(vk::Rect2D {
-                offset: vk::Offset2D::default(),
-                extent,
-            })
-            .layer_count(1)
-            .color_attachments(&color);
-        unsafe { self.device.handle.cmd_begin_rendering(cmd, &rendering) };
+        begin_full_rendering(&self.device, cmd, extent, &color, None);
         let drawn = self.renderer.cmd_draw(cmd, extent, pixels_per_point, primitives);
         unsafe { self.device.handle.cmd_end_rendering(cmd) };
         drawn.context("cannot record the UI")

@@ -262,8 +262,26 @@ impl<'a> GraphicsPipelineBuilder<'a> {
     }
 }
 
-/// Sets the dynamic viewport and scissor to the whole of `extent` (depth range 0..1).
-pub fn set_full_viewport(device: &Device, cmd: vk::CommandBuffer, extent: vk::Extent2D) {
+/// Begins dynamic rendering into the whole of `extent` and sets the dynamic viewport
+/// (depth range 0..1) and scissor to it, as every pass of the renderer draws.
+pub fn begin_full_rendering(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    extent: vk::Extent2D,
+    color: &[vk::RenderingAttachmentInfo],
+    depth: Option<&vk::RenderingAttachmentInfo>,
+) {
+    let area = vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent,
+    };
+    let mut rendering = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1)
+        .color_attachments(color);
+    if let Some(depth) = depth {
+        rendering = rendering.depth_attachment(depth);
+    }
     let viewport = vk::Viewport {
         x: 0.0,
         y: 0.0,
@@ -272,12 +290,9 @@ pub fn set_full_viewport(device: &Device, cmd: vk::CommandBuffer, extent: vk::Ex
         min_depth: 0.0,
         max_depth: 1.0,
     };
-    let scissor = vk::Rect2D {
-        offset: vk::Offset2D::default(),
-        extent,
-    };
     unsafe {
+        device.handle.cmd_begin_rendering(cmd, &rendering);
         device.handle.cmd_set_viewport(cmd, 0, &[viewport]);
-        device.handle.cmd_set_scissor(cmd, 0, &[scissor]);
+        device.handle.cmd_set_scissor(cmd, 0, &[area]);
     }
 }
