@@ -6,9 +6,12 @@
 //! - [`brdf`]: f64 reference models, twins of the GLSL in `shaders/lib`.
 //! - [`viewer`]: the interactive window.
 //! - [`verify`]: `argil verify`, the GPU and f64 checks of every BRDF.
+//! - [`reference`]: `argil reference`, the Monte Carlo ground truth of a scene, in f64.
 
 pub mod brdf;
+pub mod reference;
 pub mod render;
+pub mod rng;
 pub mod scene;
 pub mod verify;
 pub mod viewer;

@@ -9,6 +9,8 @@ use ash::vk;
 use clap::{Parser, Subcommand};
 
 use argil::brdf::subsurface::PreintegratedTable;
+use argil::reference::{Filter, Sampling, Settings, Stop, Transport};
+use argil::render::output::{write_linear, OutputKind};
 use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
 use argil::scene::Scene;
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
@@ -72,6 +74,55 @@ enum Command {
         /// Resize, minimise and restore the window while rendering (for tests).
         #[arg(long, hide = true)]
         resize_storm: bool,
+    },
+    /// Render the ground truth of a scene on the CPU: Monte Carlo integration in f64 of the
+    /// same scene, camera, meshes, materials, maps, lights and environment, on every core.
+    /// Writes an EXR (linear radiance, alpha = coverage, the settings and the noise in its
+    /// header) or a PNG (the display transform of `render`).
+    Reference {
+        /// Scene file (TOML); without one, the embedded default clay scene.
+        scene: Option<PathBuf>,
+        /// Output file: .exr (linear radiance, RGBA32F) or .png (tone-mapped, 8-bit sRGB).
+        #[arg(long, short)]
+        out: PathBuf,
+        #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        width: u32,
+        #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        height: u32,
+        /// Samples per pixel [default: 64, unless --noise is given].
+        #[arg(long, conflicts_with = "noise", value_parser = clap::value_parser!(u32).range(1..))]
+        spp: Option<u32>,
+        /// Sample until the estimated relative RMS noise of the image (from two independent
+        /// half images) is below this, e.g. 0.01 for 1%, or until --max-spp.
+        #[arg(long, value_name = "X")]
+        noise: Option<f64>,
+        /// Most samples per pixel with --noise.
+        #[arg(long, default_value_t = 65536, requires = "noise", value_parser = clap::value_parser!(u32).range(1..))]
+        max_spp: u32,
+        /// Light transport: direct (the real-time renderer's: each light, no visibility),
+        /// shadows (direct light with visibility) or full (path tracing).
+        #[arg(long, default_value_t = Transport::Full)]
+        transport: Transport,
+        /// Pixel filter: box (the pixel's area) or center (its centre, as the rasteriser
+        /// samples without anti-aliasing).
+        #[arg(long, default_value_t = Filter::Box)]
+        filter: Filter,
+        /// How the environment is sampled: mis (by its luminance and by the material's
+        /// lobes, power heuristic), material (lobes only) or light (luminance only).
+        #[arg(long, default_value_t = Sampling::Mis)]
+        sampling: Sampling,
+        /// Seed of the samples: the same seed gives the same image on any number of threads.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Longest path, in surfaces, for --transport full.
+        #[arg(long, default_value_t = Settings::DEFAULT_MAX_DEPTH, value_parser = clap::value_parser!(u32).range(1..))]
+        max_depth: u32,
+        /// Worker threads [default: one per core].
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Exposure multiplier applied before tone mapping (PNG only).
+        #[arg(long, default_value_t = 1.0)]
+        exposure: f32,
     },
     /// List the Vulkan devices on this machine.
     Devices,
@@ -166,6 +217,69 @@ fn render(
     Ok(())
 }
 
+/// A progress bar with an ETA on stderr; indicatif draws nothing when stderr is not a
+/// terminal.
+struct ProgressBar(indicatif::ProgressBar);
+
+impl argil::reference::Progress for ProgressBar {
+    fn update(&self, done: u64, total: u64) {
+        self.0.set_length(total);
+        self.0.set_position(done);
+    }
+}
+
+fn reference(
+    scene: Option<PathBuf>,
+    out: PathBuf,
+    settings: Settings,
+    threads: Option<usize>,
+    exposure: f32,
+) -> Result<()> {
+    check_exposure(exposure)?;
+    if let Stop::Noise { target, .. } = settings.stop {
+        if !(target.is_finite() && target > 0.0) {
+            bail!("--noise {target}: must be a finite number > 0");
+        }
+    }
+    OutputKind::of(&out)?;
+    let scene = load_scene(scene.as_deref())?;
+    let mut pool = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        pool = pool.num_threads(n);
+    }
+    let pool = pool.build().context("cannot start the worker threads")?;
+    let bar = indicatif::ProgressBar::new(1).with_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent}% ETA {eta}")
+            .context("progress bar template")?,
+    );
+    let image = pool.install(|| argil::reference::render(&scene, &settings, &ProgressBar(bar.clone())))?;
+    bar.finish_and_clear();
+    let attributes = [
+        ("argil.transport", settings.transport.to_string()),
+        ("argil.filter", settings.filter.to_string()),
+        ("argil.sampling", settings.sampling.to_string()),
+        ("argil.spp", image.samples.to_string()),
+        ("argil.noise", format!("{:e}", image.noise)),
+        ("argil.seed", settings.seed.to_string()),
+        ("argil.max_depth", settings.max_depth.to_string()),
+    ];
+    write_linear(&out, image.width, image.height, &image.rgba, exposure, &attributes)?;
+    println!("{}", out.display());
+    eprintln!(
+        "argil: reference {}x{}, {} transport, {} filter, {} spp, noise {:.2}%, {:.1} s, {:.2} Mrays/s on {} threads",
+        image.width,
+        image.height,
+        settings.transport,
+        settings.filter,
+        image.samples,
+        image.noise * 100.0,
+        image.elapsed.as_secs_f64(),
+        image.rays_per_second() / 1e6,
+        pool.current_num_threads()
+    );
+    Ok(())
+}
+
 fn verify(
     choice: DeviceChoice,
     validation: bool,
@@ -228,6 +342,41 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Verify { json, samples, seed } => {
             verify(choice, validation, json, argil::verify::Options { samples, seed })
+        }
+        Command::Reference {
+            scene,
+            out,
+            width,
+            height,
+            spp,
+            noise,
+            max_spp,
+            transport,
+            filter,
+            sampling,
+            seed,
+            max_depth,
+            threads,
+            exposure,
+        } => {
+            let stop = match noise {
+                Some(target) => Stop::Noise {
+                    target,
+                    max_samples: max_spp,
+                },
+                None => Stop::Samples(spp.unwrap_or(64)),
+            };
+            let settings = Settings {
+                width,
+                height,
+                transport,
+                filter,
+                sampling,
+                stop,
+                seed,
+                max_depth,
+            };
+            reference(scene, out, settings, threads, exposure)
         }
         Command::Devices => {
             let devices = device::list_devices().context("cannot list Vulkan devices")?;

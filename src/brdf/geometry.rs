@@ -51,6 +51,17 @@ pub fn lambda_beckmann_exact(alpha: f64, n_dot_x: f64) -> f64 {
     }
 }
 
+/// erf(x) in f64: its series below |x| = 3, `1 − e^(−x²)/√π · K(x)` beyond.
+pub fn erf(x: f64) -> f64 {
+    let a = x.abs();
+    let e = if a < ERFC_SERIES_MAX {
+        erf_series(a)
+    } else {
+        1.0 - (-a * a).exp() / std::f64::consts::PI.sqrt() * erfc_fraction(a)
+    };
+    e.copysign(x)
+}
+
 /// erf by its Maclaurin series 2/√π Σ (−1)ⁿ x²ⁿ⁺¹/(n!(2n+1)); used for |x| < 3.
 pub(super) fn erf_series(x: f64) -> f64 {
     let x2 = x * x;

@@ -13,9 +13,9 @@ use crate::brdf::{dot, safe_half_vector, Vec3, MIN_N_DOT_V, PI};
 use super::functions::{
     colour, direction, rgb, sample_alpha, sample_directions, vec4, Tuple, Values, DENORMAL, NORMAL,
 };
-use super::rng::Rng;
 use super::sweep::RELATIVE_FLOOR;
 use super::{Row, Status};
+use crate::rng::Rng;
 
 /// `brdf_cos` for one combination of models. Tuples: a = (n_geometric, roughness),
 /// b = (v, f0), c = (l, diffuse_roughness), d = (base_color, wrap_intensity),

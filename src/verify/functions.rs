@@ -24,7 +24,7 @@ use crate::brdf::{cross, dot, safe_half_vector, Vec3, FP16_MAX, MAX_ALPHA, MIN_A
 
 use super::composite::Composite;
 use super::normals::UnitVector;
-use super::rng::Rng;
+use crate::rng::Rng;
 
 /// One input of the harness, as `Tuple` in verify_brdf.comp. Terms: `a` holds the scalar
 /// arguments and `d` a colour argument. Models: `a` = (n, p), `b` = (v, 0), `c` = (l, 0),

@@ -17,7 +17,6 @@ mod energy;
 mod functions;
 mod gpu;
 mod normals;
-mod rng;
 mod sweep;
 
 use std::fmt::Write as _;
@@ -26,6 +25,7 @@ use std::time::Instant;
 
 use anyhow::{anyhow, ensure, Result};
 
+use crate::rng::Rng;
 use crate::vk::Device;
 use functions::{Function, Tuple};
 
@@ -172,12 +172,12 @@ fn json_string(s: &str) -> String {
 pub fn run(device: &Arc<Device>, options: &Options) -> Result<Report> {
     ensure!(options.samples > 0, "--samples must be at least 1");
     let start = Instant::now();
-    let mut rng = rng::Rng::new(options.seed);
+    let mut rng = Rng::new(options.seed);
     let stress_max = Function::all().map(|f| f.stress().len()).max().unwrap_or(0);
     let mut harness = gpu::Harness::new(device, options.samples + stress_max)?;
 
     let functions: Vec<Function> = Function::all().collect();
-    let draw = |function: Function, rng: &mut rng::Rng, tuples: &mut Vec<Tuple>| {
+    let draw = |function: Function, rng: &mut Rng, tuples: &mut Vec<Tuple>| {
         tuples.clear();
         tuples.extend((0..options.samples).map(|_| function.sample(rng)));
         tuples.extend(function.stress());

@@ -11,9 +11,9 @@ use crate::brdf::{dot, Vec3};
 use super::functions::{
     about, direction, rgb, sample_cosine, uniform_sphere, vec4, Tuple, Values, DENORMAL, NORMAL, UNIT_TOLERANCE,
 };
-use super::rng::Rng;
 use super::sweep::RELATIVE_FLOOR;
 use super::{Row, Status};
+use crate::rng::Rng;
 
 /// Unit-vector functions. The value is the GLSL `FUNCTION` of verify_brdf.comp. Tuples:
 /// decode_normal a = (texel, strength), b.x = green_down (0 or 1); the blends a = base,

@@ -374,8 +374,8 @@ pub fn rows(
 mod tests {
     use super::super::functions::Model;
     use super::super::normals::UnitVector;
-    use super::super::rng::Rng;
     use super::*;
+    use crate::rng::Rng;
 
     /// The rows of a Cook-Torrance sweep whose "GPU" results are `perturb`ed f64 ones.
     fn statuses(perturb: impl Fn(usize, Values<f32>) -> Values<f32>) -> Vec<(String, Status)> {

@@ -1,6 +1,6 @@
-//! A seeded pseudo-random generator for the verification inputs: xoshiro256** (Blackman &
-//! Vigna 2018) seeded through splitmix64. Same seed, same tuples on every platform, so a
-//! failing input can be regenerated.
+//! A seeded pseudo-random generator, for `argil verify`'s input tuples and the reference's
+//! samples: xoshiro256** (Blackman & Vigna 2018) seeded through splitmix64. Same seed,
+//! same numbers on every platform, so a failing input or an image can be regenerated.
 
 pub struct Rng {
     state: [u64; 4],

@@ -1,0 +1,321 @@
+//! The scene's environment as the reference sees it: the radiance arriving from each
+//! direction, evaluated exactly (the studio's f64 function, an equirectangular map read
+//! bilinearly as `env_equirect.comp` reads it, before any cube map, mip or fp16 rounding),
+//! and sampled in proportion to its luminance (a piecewise-constant distribution over
+//! the map's (u, v), pbrt-v4's `PiecewiseConstant2D`).
+
+use std::f64::consts::PI;
+use std::path::Path;
+
+use anyhow::Result;
+use glam::DVec3;
+
+use crate::brdf::environment::{equirect_uv, map_rotation, rotate_y, studio_radiance};
+use crate::render::environment::equirect;
+use crate::scene::Environment;
+
+/// Columns × rows of the studio's sampling distribution: a texel of it subtends
+/// 0.7° × 0.7°, finer than the studio's softest box edge.
+const STUDIO_GRID: (usize, usize) = (512, 256);
+/// Every cell keeps this fraction of the mean weight, so no direction with light has
+/// pdf 0 (bilinear filtering lights a little beyond the brightest texels).
+const WEIGHT_FLOOR: f64 = 1e-3;
+
+enum Source {
+    Uniform(DVec3),
+    Studio,
+    Map {
+        width: usize,
+        height: usize,
+        texels: Vec<DVec3>,
+    },
+}
+
+pub struct EnvironmentLight {
+    source: Source,
+    intensity: f64,
+    /// (cos, sin) taking world directions into the map's frame.
+    to_map: [f64; 2],
+    /// Importance sampling over the map's (u, v); none for a uniform environment, which is
+    /// sampled uniformly over the sphere.
+    distribution: Option<Distribution2d>,
+}
+
+fn luminance(c: DVec3) -> f64 {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+}
+
+/// The direction of equirectangular (u, v): the inverse of `equirect_uv`.
+fn equirect_direction(u: f64, v: f64) -> DVec3 {
+    let theta = v * PI;
+    let phi = (u - 0.5) * 2.0 * PI;
+    let (sin_t, cos_t) = theta.sin_cos();
+    DVec3::new(sin_t * phi.sin(), cos_t, -sin_t * phi.cos())
+}
+
+impl EnvironmentLight {
+    /// None for `Environment::None`.
+    pub fn new(environment: &Environment) -> Result<Option<Self>> {
+        let (source, intensity, rotation) = match environment {
+            Environment::None => return Ok(None),
+            Environment::Uniform { radiance, .. } => (Source::Uniform(radiance.as_dvec3()), 1.0, 0.0),
+            Environment::Studio {
+                intensity,
+                rotation_degrees,
+                ..
+            } => (Source::Studio, *intensity, *rotation_degrees),
+            Environment::Map {
+                path,
+                intensity,
+                rotation_degrees,
+                ..
+            } => (load_map(path)?, *intensity, *rotation_degrees),
+        };
+        let distribution = match &source {
+            Source::Uniform(_) => None,
+            Source::Studio => {
+                let (w, h) = STUDIO_GRID;
+                let weights = (0..w * h)
+                    .map(|i| {
+                        let (x, y) = (i % w, i / w);
+                        let d = equirect_direction((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64);
+                        luminance(DVec3::from(studio_radiance(d.to_array())))
+                    })
+                    .collect();
+                Some(Distribution2d::new(weights, w, h))
+            }
+            Source::Map { width, height, texels } => Some(Distribution2d::new(
+                texels.iter().map(|&t| luminance(t)).collect(),
+                *width,
+                *height,
+            )),
+        };
+        Ok(Some(Self {
+            source,
+            intensity: f64::from(intensity),
+            to_map: map_rotation(f64::from(rotation)),
+            distribution,
+        }))
+    }
+
+    /// Radiance arriving from unit world direction d.
+    pub fn radiance(&self, d: DVec3) -> DVec3 {
+        let m = DVec3::from(rotate_y(d.to_array(), self.to_map));
+        self.intensity
+            * match &self.source {
+                Source::Uniform(radiance) => *radiance,
+                Source::Studio => DVec3::from(studio_radiance(m.to_array())),
+                Source::Map { width, height, texels } => {
+                    let [u, v] = equirect_uv(m.to_array());
+                    bilinear(texels, *width, *height, u, v)
+                }
+            }
+    }
+
+    /// Whether sampling by luminance helps: a uniform environment is better integrated by
+    /// the material's own sampling alone (cosine-weighted lobes against a uniform sphere),
+    /// which also makes a white Lambert furnace exact at one sample.
+    pub fn worth_sampling(&self) -> bool {
+        self.distribution.is_some()
+    }
+
+    /// A direction towards the environment and its pdf per steradian.
+    pub fn sample(&self, u: [f64; 2]) -> (DVec3, f64) {
+        let (m, pdf) = match &self.distribution {
+            None => {
+                let z = 1.0 - 2.0 * u[0];
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                let phi = 2.0 * PI * u[1];
+                (DVec3::new(r * phi.cos(), r * phi.sin(), z), 0.25 / PI)
+            }
+            Some(distribution) => {
+                let ([su, sv], pdf_uv) = distribution.sample(u);
+                let sin_theta = (sv * PI).sin();
+                let pdf = if sin_theta > 0.0 {
+                    pdf_uv / (2.0 * PI * PI * sin_theta)
+                } else {
+                    0.0
+                };
+                (equirect_direction(su, sv), pdf)
+            }
+        };
+        let from_map = [self.to_map[0], -self.to_map[1]];
+        (DVec3::from(rotate_y(m.to_array(), from_map)), pdf)
+    }
+
+    /// The pdf of `sample` choosing unit world direction d.
+    pub fn pdf(&self, d: DVec3) -> f64 {
+        let Some(distribution) = &self.distribution else {
+            return 0.25 / PI;
+        };
+        let m = rotate_y(d.to_array(), self.to_map);
+        let sin_theta = (1.0 - m[1] * m[1]).max(0.0).sqrt();
+        if sin_theta <= 0.0 {
+            return 0.0;
+        }
+        let [u, v] = equirect_uv(m);
+        distribution.pdf([u, v]) / (2.0 * PI * PI * sin_theta)
+    }
+}
+
+fn load_map(path: &Path) -> Result<Source> {
+    let map = equirect::load(path)?;
+    Ok(Source::Map {
+        width: map.width as usize,
+        height: map.height as usize,
+        texels: map
+            .texels
+            .iter()
+            .map(|t| DVec3::new(f64::from(t[0]), f64::from(t[1]), f64::from(t[2])))
+            .collect(),
+    })
+}
+
+/// As `env_equirect.comp`: texel centres at (i + ½)/w, wrapping in u, clamped in v.
+fn bilinear(texels: &[DVec3], width: usize, height: usize, u: f64, v: f64) -> DVec3 {
+    let x = u * width as f64 - 0.5;
+    let y = v * height as f64 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let column = |i: f64| (i.rem_euclid(width as f64) as usize).min(width - 1);
+    let row = |j: f64| j.clamp(0.0, (height - 1) as f64) as usize;
+    let at = |i: f64, j: f64| texels[row(j) * width + column(i)];
+    let top = at(x0, y0).lerp(at(x0 + 1.0, y0), fx);
+    let bottom = at(x0, y0 + 1.0).lerp(at(x0 + 1.0, y0 + 1.0), fx);
+    top.lerp(bottom, fy)
+}
+
+/// A piecewise-constant density on [0, 1]² over a grid of cells, each weighted by its
+/// value times the solid angle its row subtends (sin θ), sampled by inverting the marginal
+/// CDF of rows and then the row's conditional CDF.
+struct Distribution2d {
+    width: usize,
+    height: usize,
+    /// Per row, the running sum of its cells' weights (width + 1 entries, from 0).
+    conditional: Vec<Vec<f64>>,
+    /// The running sum of the rows' totals.
+    marginal: Vec<f64>,
+    /// Density on [0, 1]² of each cell.
+    density: Vec<f64>,
+}
+
+impl Distribution2d {
+    fn new(values: Vec<f64>, width: usize, height: usize) -> Self {
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let floor = (WEIGHT_FLOOR * mean).max(f64::MIN_POSITIVE);
+        let weight = |i: usize| {
+            let row = i / width;
+            let sin_theta = ((row as f64 + 0.5) / height as f64 * PI).sin();
+            (values[i].max(0.0) + floor) * sin_theta
+        };
+        let weights: Vec<f64> = (0..values.len()).map(weight).collect();
+        let conditional: Vec<Vec<f64>> = weights
+            .chunks_exact(width)
+            .map(|row| {
+                std::iter::once(0.0)
+                    .chain(row.iter().scan(0.0, |sum, w| {
+                        *sum += w;
+                        Some(*sum)
+                    }))
+                    .collect()
+            })
+            .collect();
+        let marginal: Vec<f64> = std::iter::once(0.0)
+            .chain(conditional.iter().scan(0.0, |sum, row| {
+                *sum += row[width];
+                Some(*sum)
+            }))
+            .collect();
+        let total = marginal[height];
+        let cell_area = 1.0 / (width * height) as f64;
+        let density = weights.iter().map(|w| w / total / cell_area).collect();
+        Self {
+            width,
+            height,
+            conditional,
+            marginal,
+            density,
+        }
+    }
+
+    /// The index i with cdf[i] ≤ x < cdf[i + 1] and where x falls inside that interval.
+    fn invert(cdf: &[f64], x: f64) -> (usize, f64) {
+        let n = cdf.len() - 1;
+        let target = x * cdf[n];
+        let i = cdf.partition_point(|&c| c <= target).clamp(1, n) - 1;
+        let width = cdf[i + 1] - cdf[i];
+        let t = if width > 0.0 { (target - cdf[i]) / width } else { 0.5 };
+        (i, t.clamp(0.0, 1.0))
+    }
+
+    /// A point of [0, 1]² and its density.
+    fn sample(&self, u: [f64; 2]) -> ([f64; 2], f64) {
+        let (row, tv) = Self::invert(&self.marginal, u[1]);
+        let (column, tu) = Self::invert(&self.conditional[row], u[0]);
+        let point = [
+            (column as f64 + tu) / self.width as f64,
+            (row as f64 + tv) / self.height as f64,
+        ];
+        (point, self.density[row * self.width + column])
+    }
+
+    fn pdf(&self, p: [f64; 2]) -> f64 {
+        let column = ((p[0].rem_euclid(1.0) * self.width as f64) as usize).min(self.width - 1);
+        let row = ((p[1] * self.height as f64) as usize).min(self.height - 1);
+        self.density[row * self.width + column]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    #[test]
+    fn equirect_directions_invert_equirect_uv() {
+        for (u, v) in [(0.5, 0.5), (0.75, 0.3), (0.1, 0.9), (0.99, 0.01)] {
+            let [u2, v2] = equirect_uv(equirect_direction(u, v).to_array());
+            assert!(
+                (u2 - u).abs() < 1e-12 && (v2 - v).abs() < 1e-12,
+                "({u}, {v}) → ({u2}, {v2})"
+            );
+        }
+    }
+
+    /// ∫ L(ω)/pdf(ω) over samples of the studio equals ∫ L dω by quadrature: the sampler's
+    /// pdf is the density of what it draws, and `pdf` agrees with `sample`.
+    #[test]
+    fn studio_samples_estimate_its_integral() {
+        let light = EnvironmentLight::new(&Environment::Studio {
+            intensity: 1.0,
+            rotation_degrees: 30.0,
+            reflection: Default::default(),
+        })
+        .unwrap()
+        .unwrap();
+        let mut rng = Rng::new(7);
+        let n = 200_000;
+        let mut estimate = 0.0;
+        for _ in 0..n {
+            let (d, pdf) = light.sample([rng.uniform(), rng.uniform()]);
+            assert!((light.pdf(d) / pdf - 1.0).abs() < 1e-6, "pdf {pdf} vs {}", light.pdf(d));
+            estimate += luminance(light.radiance(d)) / pdf;
+        }
+        estimate /= n as f64;
+        // Midpoint quadrature on a 2048 × 1024 grid in (u, v).
+        let (w, h) = (2048, 1024);
+        let mut exact = 0.0;
+        for y in 0..h {
+            let v = (y as f64 + 0.5) / h as f64;
+            let solid_angle = (v * PI).sin() * (PI / h as f64) * (2.0 * PI / w as f64);
+            for x in 0..w {
+                let d = equirect_direction((x as f64 + 0.5) / w as f64, v);
+                exact += luminance(DVec3::from(studio_radiance(d.to_array()))) * solid_angle;
+            }
+        }
+        assert!(
+            (estimate / exact - 1.0).abs() < 5e-3,
+            "estimate {estimate}, quadrature {exact}"
+        );
+    }
+}

@@ -1,0 +1,319 @@
+//! The light arriving at the camera along one ray, by Monte Carlo integration of the
+//! rendering equation (Kajiya 1986; the report's eq. 2) with the material's own f64
+//! `brdf_cos`. Point lights are sampled directly (they are deltas); the environment both by
+//! its luminance and by the material's lobes, the two combined by the power heuristic
+//! (Veach 1997). `Direct` and `Shadows` stop after the first surface; `Full` follows the
+//! path with Russian roulette.
+
+use glam::DVec3;
+
+use super::environment::EnvironmentLight;
+use super::sampling::{power_heuristic, Lobes};
+use super::world::{Surface, World};
+use super::{Sampling, Settings, Transport};
+use crate::brdf::environment::tangent_frame;
+use crate::brdf::shading::{brdf_cos, brdf_cos_seed, subsurface_lights, view_facing_normal};
+use crate::rng::Rng;
+use crate::scene::{Camera, Scene};
+
+/// `MIN_LIGHT_DISTANCE2` of shading.glsl: a light closer than 1e-4 would give unbounded
+/// irradiance.
+const MIN_LIGHT_DISTANCE2: f64 = 1e-8;
+/// Ray origins leave a surface by this fraction of the scene's extent: far above f64's
+/// rounding of a hit position (~1e-16 of it), far below anything visible.
+const RAY_OFFSET: f64 = 1e-9;
+/// Bounces before Russian roulette may end a path.
+const ROULETTE_DEPTH: u32 = 3;
+
+/// Primary rays of a pinhole camera, as `Camera::view` and `Camera::projection` place them.
+pub struct CameraRays {
+    position: DVec3,
+    forward: DVec3,
+    /// Screen right and up, scaled to the image plane at unit distance along `forward`.
+    right: DVec3,
+    up: DVec3,
+}
+
+impl CameraRays {
+    pub fn new(camera: &Camera, width: u32, height: u32) -> Self {
+        let position = camera.position.as_dvec3();
+        let forward = (camera.target.as_dvec3() - position).normalize_or(DVec3::NEG_Z);
+        let world_up = if forward.y.abs() > 0.9999 {
+            DVec3::new(0.0, 0.0, forward.y.signum())
+        } else {
+            DVec3::Y
+        };
+        let right = forward.cross(world_up).normalize();
+        let up = right.cross(forward);
+        let tan_half = (f64::from(camera.fov_y_degrees).to_radians() * 0.5).tan();
+        let aspect = f64::from(width) / f64::from(height);
+        Self {
+            position,
+            forward,
+            right: right * tan_half * aspect,
+            up: up * tan_half,
+        }
+    }
+
+    /// The ray through image point (x, y) in pixels from the top-left corner: its origin and
+    /// a direction whose component along the view axis is 1, so that t is view depth and
+    /// (NEAR, FAR) clips as the rasteriser does.
+    pub fn ray(&self, x: f64, y: f64, width: u32, height: u32) -> (DVec3, DVec3) {
+        let ndc_x = 2.0 * x / f64::from(width) - 1.0;
+        let ndc_y = 2.0 * y / f64::from(height) - 1.0;
+        (self.position, self.forward + ndc_x * self.right - ndc_y * self.up)
+    }
+}
+
+pub struct Integrator<'a> {
+    world: &'a World,
+    environment: Option<&'a EnvironmentLight>,
+    lights: Vec<(DVec3, DVec3)>,
+    transport: Transport,
+    max_depth: u32,
+    /// Whether the environment is sampled by its luminance, and by the material's lobes.
+    light_sampling: bool,
+    material_sampling: bool,
+}
+
+/// What one camera ray brought back.
+pub struct Sample {
+    pub radiance: DVec3,
+    /// Whether it hit an object (the pixel's coverage).
+    pub hit: bool,
+    pub rays: u64,
+}
+
+/// A surface point ready to shade, seen from v: the shading normal (turned towards v
+/// unless the material keeps the report's horizon), its frame and the lobes to sample.
+struct Shading<'s> {
+    surface: &'s Surface,
+    n: DVec3,
+    v: DVec3,
+    seed_horizon: bool,
+    /// (t, b, n) of the shading normal.
+    frame: [DVec3; 3],
+    lobes: Lobes,
+}
+
+impl Shading<'_> {
+    fn local(&self, d: DVec3) -> DVec3 {
+        DVec3::new(d.dot(self.frame[0]), d.dot(self.frame[1]), d.dot(self.frame[2]))
+    }
+
+    fn world(&self, d: DVec3) -> DVec3 {
+        self.frame[0] * d.x + self.frame[1] * d.y + self.frame[2] * d.z
+    }
+
+    /// The pdf of the material's sampling choosing unit world direction l.
+    fn lobes_pdf(&self, l: DVec3) -> f64 {
+        self.lobes.pdf(self.local(self.v), self.local(l))
+    }
+}
+
+impl<'a> Integrator<'a> {
+    pub fn new(
+        scene: &Scene,
+        world: &'a World,
+        environment: Option<&'a EnvironmentLight>,
+        settings: &Settings,
+    ) -> Self {
+        let worth = environment.is_some_and(EnvironmentLight::worth_sampling);
+        Self {
+            world,
+            environment,
+            lights: scene
+                .lights
+                .iter()
+                .map(|l| (l.position.as_dvec3(), l.intensity.as_dvec3()))
+                .collect(),
+            transport: settings.transport,
+            max_depth: settings.max_depth,
+            light_sampling: match settings.sampling {
+                Sampling::Mis => worth,
+                Sampling::Material => false,
+                Sampling::Light => true,
+            },
+            material_sampling: settings.sampling != Sampling::Light,
+        }
+    }
+
+    /// The weight of the material's sample l of pdf `pdf` in the environment's estimate.
+    fn material_weight(&self, pdf: f64, l: DVec3) -> f64 {
+        match (self.material_sampling, self.light_sampling, self.environment) {
+            (false, _, _) | (_, _, None) => 0.0,
+            (true, false, _) => 1.0,
+            (true, true, Some(e)) => power_heuristic(pdf, e.pdf(l)),
+        }
+    }
+
+    /// The weight of the environment's sample l of pdf `pdf`, for the material's lobes.
+    fn light_weight(&self, s: &Shading, pdf: f64, l: DVec3) -> f64 {
+        if self.material_sampling {
+            power_heuristic(pdf, s.lobes_pdf(l))
+        } else {
+            1.0
+        }
+    }
+
+    fn shading<'s>(&self, surface: &'s Surface, v: DVec3) -> Shading<'s> {
+        let m = self.world.material(surface.material);
+        let n = if m.seed_horizon {
+            surface.mapped_normal
+        } else {
+            DVec3::from(view_facing_normal(surface.mapped_normal.to_array(), v.to_array()))
+        };
+        let frame = tangent_frame(n.to_array()).map(DVec3::from);
+        let lobes = Lobes::new(
+            m.models,
+            &surface.params,
+            v.dot(n),
+            subsurface_lights(m.models, &surface.params),
+        );
+        Shading {
+            surface,
+            n,
+            v,
+            seed_horizon: m.seed_horizon,
+            frame,
+            lobes,
+        }
+    }
+
+    /// f(l) (n·l) of the material at the shading point, as the forward pass evaluates it.
+    fn brdf_cos(&self, s: &Shading, l: DVec3) -> DVec3 {
+        let m = self.world.material(s.surface.material);
+        let (n, v, l) = (s.n.to_array(), s.v.to_array(), l.to_array());
+        let params = &s.surface.params;
+        DVec3::from(if s.seed_horizon {
+            brdf_cos_seed(m.models, params, n, v, l, s.surface.curvature)
+        } else {
+            brdf_cos(
+                m.models,
+                params,
+                n,
+                s.surface.normal.to_array(),
+                v,
+                l,
+                s.surface.curvature,
+            )
+        })
+    }
+
+    /// Where a ray towards l leaves the surface, and the object it must ignore: above the
+    /// triangle's plane from the terminator-safe origin; below it (light the subsurface
+    /// term gathers through the object, or a shading normal leaning past the plane)
+    /// through the object itself.
+    fn leave(&self, s: &Surface, l: DVec3) -> (DVec3, Option<usize>) {
+        let offset = RAY_OFFSET * self.world.extent;
+        if l.dot(s.face_normal) > 0.0 {
+            (s.ray_origin + s.face_normal * offset, None)
+        } else {
+            (s.position, Some(s.object))
+        }
+    }
+
+    fn visible(&self, s: &Surface, l: DVec3, distance: f64, rays: &mut u64) -> bool {
+        if self.transport == Transport::Direct {
+            return true;
+        }
+        *rays += 1;
+        let (origin, skip) = self.leave(s, l);
+        !self.world.occluded(origin, l, 0.0, distance, skip)
+    }
+
+    /// The light a camera ray (origin, direction not necessarily unit) brings back.
+    pub fn trace(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64, rng: &mut Rng) -> Sample {
+        let mut rays = 1;
+        let Some(hit) = self.world.intersect(origin, dir, t_min, t_max, None) else {
+            let background = self.environment.map_or(DVec3::ZERO, |e| e.radiance(dir.normalize()));
+            return Sample {
+                radiance: background,
+                hit: false,
+                rays,
+            };
+        };
+        let mut surface = self.world.surface(&hit, dir);
+        let mut v = -dir.normalize();
+        let mut throughput = DVec3::ONE;
+        let mut radiance = DVec3::ZERO;
+        for depth in 0..self.max_depth {
+            let s = self.shading(&surface, v);
+            radiance += throughput * self.direct_light(&s, rng, &mut rays);
+
+            // The material's own sample: the environment's light along it (MIS) and, for
+            // the full transport, the next surface.
+            let v_local = s.local(v);
+            let Some(l_local) = s.lobes.sample(v_local, [rng.uniform(), rng.uniform(), rng.uniform()]) else {
+                break;
+            };
+            let l = s.world(l_local).normalize();
+            let pdf = s.lobes.pdf(v_local, l_local);
+            let f = self.brdf_cos(&s, l);
+            if pdf <= 0.0 || f == DVec3::ZERO || !f.is_finite() {
+                break;
+            }
+            let weight = f / pdf;
+            let escaped = |radiance: &mut DVec3| {
+                if let Some(e) = self.environment {
+                    *radiance += throughput * weight * e.radiance(l) * self.material_weight(pdf, l);
+                }
+            };
+            if self.transport == Transport::Direct {
+                escaped(&mut radiance);
+                break;
+            }
+            rays += 1;
+            let (origin, skip) = self.leave(&surface, l);
+            let next = self.world.intersect(origin, l, 0.0, f64::INFINITY, skip);
+            let Some(next) = next else {
+                escaped(&mut radiance);
+                break;
+            };
+            if self.transport == Transport::Shadows {
+                break;
+            }
+            throughput *= weight;
+            if depth + 1 >= ROULETTE_DEPTH {
+                let survive = throughput.max_element().clamp(0.05, 1.0);
+                if rng.uniform() >= survive {
+                    break;
+                }
+                throughput /= survive;
+            }
+            surface = self.world.surface(&next, l);
+            v = -l;
+        }
+        Sample {
+            radiance,
+            hit: true,
+            rays,
+        }
+    }
+
+    /// Light arriving straight from the point lights and, by light sampling weighted
+    /// against the material's sampling, from the environment.
+    fn direct_light(&self, s: &Shading, rng: &mut Rng, rays: &mut u64) -> DVec3 {
+        let mut radiance = DVec3::ZERO;
+        let p = s.surface.position;
+        for &(position, intensity) in &self.lights {
+            let to_light = position - p;
+            let distance2 = to_light.length_squared().max(MIN_LIGHT_DISTANCE2);
+            let l = to_light / distance2.sqrt();
+            let f = self.brdf_cos(s, l);
+            if f != DVec3::ZERO && self.visible(s.surface, to_light, 1.0, rays) {
+                radiance += intensity / distance2 * f;
+            }
+        }
+        if let Some(e) = self.environment.filter(|_| self.light_sampling) {
+            let (l, pdf) = e.sample([rng.uniform(), rng.uniform()]);
+            if pdf > 0.0 {
+                let f = self.brdf_cos(s, l);
+                if f != DVec3::ZERO && self.visible(s.surface, l, f64::INFINITY, rays) {
+                    radiance += f * e.radiance(l) * (self.light_weight(s, pdf, l) / pdf);
+                }
+            }
+        }
+        radiance
+    }
+}

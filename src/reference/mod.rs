@@ -1,0 +1,285 @@
+//! `argil reference`: the ground truth of a scene, by Monte Carlo integration on the CPU in
+//! f64, from the same scene file, camera, meshes, materials (the f64 twins in
+//! [`crate::brdf`]), maps, lights and environment as the real-time renderer.
+//!
+//! - [`bvh`]: SAH bounding volume hierarchy over every triangle.
+//! - [`world`]: the scene in world space; the surface at a hit, as the shaders see it.
+//! - [`texture`], [`environment`]: maps and the environment, read at full resolution.
+//! - [`sampling`]: the material's lobes sampled, and their pdfs.
+//! - [`integrator`]: the light along one camera ray, for each [`Transport`].
+//!
+//! Images are estimated as two independent halves (even and odd samples), whose
+//! difference measures the noise of their mean: [`Reference::noise`].
+
+pub mod bvh;
+pub mod environment;
+pub mod integrator;
+pub mod sampling;
+pub mod texture;
+pub mod world;
+
+use std::fmt;
+use std::str::FromStr;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::rng::Rng;
+use crate::scene::{Camera, Scene};
+use environment::EnvironmentLight;
+use integrator::{CameraRays, Integrator};
+use world::World;
+
+/// Which light paths are integrated.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Transport {
+    /// Each light through the material at the first surface, without visibility: what
+    /// the real-time renderer computes, so that comparing with it isolates its
+    /// approximations (split sum, SH irradiance, texture filtering).
+    Direct,
+    /// Direct light with visibility: shadows from the point lights and occlusion of the
+    /// environment.
+    Shadows,
+    /// Paths of any length: inter-reflection, with Russian roulette.
+    #[default]
+    Full,
+}
+
+/// Where in a pixel camera rays go.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Filter {
+    /// Uniformly over the pixel's area: the image a renderer should converge to.
+    #[default]
+    Box,
+    /// The pixel's centre only, as the rasteriser samples without anti-aliasing, so that
+    /// aliasing can be told apart from shading.
+    Center,
+}
+
+macro_rules! names {
+    ($type:ty, $what:literal, $($variant:path => $name:literal),+) => {
+        impl $type {
+            pub const NAMES: &'static [&'static str] = &[$($name),+];
+        }
+        impl fmt::Display for $type {
+            fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(match self { $($variant => $name),+ })
+            }
+        }
+        impl FromStr for $type {
+            type Err = String;
+            fn from_str(s: &str) -> Result<Self, String> {
+                match s {
+                    $($name => Ok($variant),)+
+                    _ => Err(format!(concat!("unknown ", $what, " {:?}; expected one of {}"), s, Self::NAMES.join(", "))),
+                }
+            }
+        }
+    };
+}
+
+names!(Transport, "transport", Transport::Direct => "direct", Transport::Shadows => "shadows", Transport::Full => "full");
+names!(Filter, "filter", Filter::Box => "box", Filter::Center => "center");
+
+/// How the environment's light at a surface is sampled.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sampling {
+    /// Both by the environment's luminance and by the material's lobes, weighted by the
+    /// power heuristic (a uniform environment by the lobes alone).
+    #[default]
+    Mis,
+    /// By the material's lobes only.
+    Material,
+    /// By the environment's luminance only.
+    Light,
+}
+
+names!(Sampling, "sampling", Sampling::Mis => "mis", Sampling::Material => "material", Sampling::Light => "light");
+
+/// When to stop sampling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stop {
+    /// This many samples per pixel.
+    Samples(u32),
+    /// When [`Reference::noise`] falls below this, or at `max_samples` per pixel.
+    Noise { target: f64, max_samples: u32 },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub width: u32,
+    pub height: u32,
+    pub transport: Transport,
+    pub filter: Filter,
+    pub sampling: Sampling,
+    pub stop: Stop,
+    pub seed: u64,
+    /// Longest path, in surfaces, for `Full`.
+    pub max_depth: u32,
+}
+
+impl Settings {
+    pub const DEFAULT_MAX_DEPTH: u32 = 64;
+}
+
+/// A finished reference image.
+pub struct Reference {
+    pub width: u32,
+    pub height: u32,
+    /// Linear radiance, RGBA32F rows from the top; alpha is the fraction of the pixel's
+    /// samples that hit an object.
+    pub rgba: Vec<f32>,
+    pub samples: u32,
+    /// The estimated relative RMS error of the image over covered pixels:
+    /// √(Σ ((A − B)/2)²) / √(Σ ((A + B)/2)²) for the half images A and B, each channel of
+    /// each covered pixel counted. ((A − B)/2)² is an unbiased estimate of the variance of
+    /// their mean (A + B)/2, the image; 0 where sampling is deterministic.
+    pub noise: f64,
+    pub rays: u64,
+    pub elapsed: Duration,
+}
+
+impl Reference {
+    pub fn rays_per_second(&self) -> f64 {
+        self.rays as f64 / self.elapsed.as_secs_f64().max(1e-9)
+    }
+}
+
+/// Progress: samples per pixel done so far of the total expected now (which changes as a
+/// noise target's estimate does).
+pub trait Progress: Sync {
+    fn update(&self, done: u64, total: u64);
+}
+
+impl Progress for () {
+    fn update(&self, _: u64, _: u64) {}
+}
+
+/// Samples per pixel of the first pass; passes end where the noise is measured, and
+/// each is at most as long as all before it.
+const PASS_SAMPLES: u32 = 16;
+
+/// One pixel's sums over its samples, kept apart for the two half images: sample k goes
+/// to half k mod 2.
+#[derive(Clone, Copy, Default)]
+struct PixelSums {
+    radiance: [DVec3; 2],
+    hits: [u32; 2],
+}
+
+/// Samples of half 0 (the even ones) among samples 0..n.
+fn even_samples(n: u32) -> u32 {
+    n.div_ceil(2)
+}
+
+/// Renders the reference of `scene`.
+pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Result<Reference> {
+    let start = Instant::now();
+    let world = World::new(scene);
+    let environment =
+        EnvironmentLight::new(&scene.environment).context("cannot prepare the environment for the reference")?;
+    let integrator = Integrator::new(scene, &world, environment.as_ref(), settings);
+    let camera = CameraRays::new(&scene.camera, settings.width, settings.height);
+    let (width, height) = (settings.width as usize, settings.height as usize);
+    let mut sums = vec![PixelSums::default(); width * height];
+    let ray_count = AtomicU64::new(0);
+    let max_samples = match settings.stop {
+        Stop::Samples(n) => n.max(1),
+        Stop::Noise { max_samples, .. } => max_samples.max(1),
+    };
+    let mut expected = match settings.stop {
+        Stop::Samples(_) => max_samples,
+        Stop::Noise { .. } => PASS_SAMPLES.min(max_samples),
+    };
+    let (mut done, mut pass, mut noise) = (0u32, 0u64, f64::INFINITY);
+    while done < expected {
+        let first = done;
+        let count = (expected - done).min(PASS_SAMPLES.max(done));
+        let rows_done = AtomicU64::new(0);
+        sums.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
+            let mut traced = 0;
+            for (x, pixel) in row.iter_mut().enumerate() {
+                let index = (y * width + x) as u64;
+                let mut rng = Rng::new(settings.seed ^ (pass << 40) ^ index);
+                for k in first..first + count {
+                    let (sx, sy) = match settings.filter {
+                        Filter::Box => (rng.uniform(), rng.uniform()),
+                        Filter::Center => (0.5, 0.5),
+                    };
+                    let (origin, dir) = camera.ray(x as f64 + sx, y as f64 + sy, settings.width, settings.height);
+                    let near = f64::from(Camera::NEAR);
+                    let sample = integrator.trace(origin, dir, near, f64::from(Camera::FAR), &mut rng);
+                    traced += sample.rays;
+                    let half = (k % 2) as usize;
+                    // A non-finite sample would poison the pixel for good: it counts as
+                    // black (none is expected; the tests check every model for them).
+                    if sample.radiance.is_finite() {
+                        pixel.radiance[half] += sample.radiance;
+                    }
+                    pixel.hits[half] += u32::from(sample.hit);
+                }
+            }
+            ray_count.fetch_add(traced, Ordering::Relaxed);
+            let rows = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress.update(
+                u64::from(first) * height as u64 + rows * u64::from(count),
+                u64::from(expected) * height as u64,
+            );
+        });
+        done += count;
+        pass += 1;
+        noise = estimate_noise(&sums, done);
+        if let Stop::Noise { target, .. } = settings.stop {
+            expected = if noise > target && done < max_samples {
+                // Noise falls as 1/√N: aim at the target, at most doubling per pass.
+                let needed = (f64::from(done) * (noise / target).powi(2)).ceil();
+                (needed.min(f64::from(max_samples)) as u32).clamp(done + 1, (2 * done).min(max_samples))
+            } else {
+                done
+            };
+        }
+    }
+    let total = u64::from(done) * height as u64;
+    progress.update(total, total);
+    let n = f64::from(done);
+    let rgba = sums
+        .iter()
+        .flat_map(|p| {
+            let radiance = (p.radiance[0] + p.radiance[1]) / n;
+            let coverage = f64::from(p.hits[0] + p.hits[1]) / n;
+            [radiance.x as f32, radiance.y as f32, radiance.z as f32, coverage as f32]
+        })
+        .collect();
+    Ok(Reference {
+        width: settings.width,
+        height: settings.height,
+        rgba,
+        samples: done,
+        noise,
+        rays: ray_count.into_inner(),
+        elapsed: start.elapsed(),
+    })
+}
+
+/// [`Reference::noise`] of the half images after `samples` samples per pixel.
+fn estimate_noise(sums: &[PixelSums], samples: u32) -> f64 {
+    let counts = [even_samples(samples), samples - even_samples(samples)];
+    if counts[1] == 0 {
+        return f64::INFINITY;
+    }
+    let (mut variance, mut signal) = (0.0, 0.0);
+    for p in sums.iter().filter(|p| p.hits[0] + p.hits[1] > 0) {
+        let a = p.radiance[0] / f64::from(counts[0]);
+        let b = p.radiance[1] / f64::from(counts[1]);
+        variance += ((a - b) * 0.5).length_squared();
+        signal += ((a + b) * 0.5).length_squared();
+    }
+    if signal > 0.0 {
+        (variance / signal).sqrt()
+    } else {
+        0.0
+    }
+}

@@ -1,0 +1,247 @@
+//! The scene as rays see it: every object's triangles in world space (f64) in one BVH, and
+//! at a hit the surface as the forward pass's vertex and fragment shaders see it there:
+//! interpolated normal, tangent, uvs and curvature, the material's maps applied.
+
+use glam::{DVec2, DVec3, DVec4};
+
+use super::bvh::{Bvh, Hit, Triangle};
+use super::texture::Texture;
+use crate::brdf::normal_mapping::{blend_rnm, blend_seed, blend_udn, blend_whiteout, decode_normal, tangent_to_world};
+use crate::brdf::shading::{ShadingModels, ShadingParams};
+use crate::scene::{DetailBlend, MapRef, Material, Scene};
+
+/// Below this squared length an interpolated normal has no direction (`MIN_NORMAL_LENGTH2`
+/// of shading.glsl).
+const MIN_NORMAL_LENGTH2: f64 = 1e-12;
+
+#[derive(Clone, Copy)]
+struct WorldVertex {
+    position: DVec3,
+    normal: DVec3,
+    uv: DVec2,
+    tangent: DVec4,
+    /// Divided by the object's scale, as forward.vert does.
+    curvature: f64,
+}
+
+/// A map of a material with the texture it samples.
+struct Map {
+    texture: usize,
+    strength: f64,
+    uv_scale: DVec2,
+    uv_offset: DVec2,
+    green_down: bool,
+}
+
+impl Map {
+    fn new(map: &MapRef) -> Self {
+        Self {
+            texture: map.texture,
+            strength: f64::from(map.strength),
+            uv_scale: map.uv_scale.as_dvec2(),
+            uv_offset: map.uv_offset.as_dvec2(),
+            green_down: map.green_down,
+        }
+    }
+
+    /// `map_uv` of material.glsl.
+    fn uv(&self, uv: DVec2) -> DVec2 {
+        uv * self.uv_scale + self.uv_offset
+    }
+}
+
+pub struct WorldMaterial {
+    pub models: ShadingModels,
+    pub params: ShadingParams,
+    pub seed_horizon: bool,
+    base_color_map: Option<Map>,
+    normal_map: Option<Map>,
+    detail_map: Option<Map>,
+    detail_blend: DetailBlend,
+}
+
+impl WorldMaterial {
+    fn new(material: &Material) -> Self {
+        Self {
+            models: material.shading_models(),
+            params: material.shading_params(),
+            seed_horizon: material.horizon == crate::scene::Horizon::Seed,
+            base_color_map: material.maps.base_color.as_ref().map(Map::new),
+            normal_map: material.maps.normal.as_ref().map(Map::new),
+            detail_map: material.maps.detail.as_ref().map(Map::new),
+            detail_blend: material.maps.detail_blend,
+        }
+    }
+}
+
+/// A surface point seen along a ray.
+pub struct Surface {
+    pub position: DVec3,
+    /// The triangle's plane normal, on the side the ray came from.
+    pub face_normal: DVec3,
+    /// The interpolated vertex normal on the ray's side: the shaders' n_geometric.
+    pub normal: DVec3,
+    /// The normal after the normal and detail maps (not yet turned towards the viewer).
+    pub mapped_normal: DVec3,
+    pub curvature: f64,
+    /// The material's parameters with its base colour map applied.
+    pub params: ShadingParams,
+    pub material: usize,
+    pub object: usize,
+    /// The position moved onto the vertices' tangent planes, where rays leave from on the
+    /// lit side (Hanika 2021, "Hacking the Shadow Terminator"): a smooth-shaded coarse mesh
+    /// does not shadow itself at its terminator.
+    pub ray_origin: DVec3,
+}
+
+pub struct World {
+    bvh: Bvh,
+    vertices: Vec<WorldVertex>,
+    /// Per triangle: its three vertices and the object it belongs to.
+    triangles: Vec<([u32; 3], u32)>,
+    objects: Vec<usize>,
+    materials: Vec<WorldMaterial>,
+    textures: Vec<Texture>,
+    /// The largest coordinate of any vertex (at least 1): ray offsets scale with it, as
+    /// the rounding of positions does.
+    pub extent: f64,
+}
+
+impl World {
+    pub fn new(scene: &Scene) -> Self {
+        let mut vertices = Vec::new();
+        let mut triangles = Vec::new();
+        let mut geometry = Vec::new();
+        for (index, object) in scene.objects.iter().enumerate() {
+            let mesh = &scene.meshes[object.mesh];
+            let base = vertices.len() as u32;
+            let scale = f64::from(object.scale);
+            let position = object.position.as_dvec3();
+            vertices.extend(mesh.vertices.iter().map(|v| WorldVertex {
+                position: position + scale * DVec3::from(v.position.map(f64::from)),
+                normal: DVec3::from(v.normal.map(f64::from)),
+                uv: DVec2::from(v.uv.map(f64::from)),
+                tangent: DVec4::from(v.tangent.map(f64::from)),
+                curvature: f64::from(v.curvature) / scale,
+            }));
+            for t in mesh.indices.chunks_exact(3) {
+                let ids = [base + t[0], base + t[1], base + t[2]];
+                let p = ids.map(|i| vertices[i as usize].position);
+                geometry.push(Triangle::new(p[0], p[1], p[2]));
+                triangles.push((ids, index as u32));
+            }
+        }
+        let extent = vertices
+            .iter()
+            .map(|v| v.position.abs().max_element())
+            .fold(1.0, f64::max);
+        Self {
+            bvh: Bvh::new(geometry),
+            vertices,
+            triangles,
+            objects: scene.objects.iter().map(|o| o.material).collect(),
+            materials: scene.materials.iter().map(WorldMaterial::new).collect(),
+            textures: scene.textures.iter().map(Texture::new).collect(),
+            extent,
+        }
+    }
+
+    pub fn material(&self, index: usize) -> &WorldMaterial {
+        &self.materials[index]
+    }
+
+    /// The object of a triangle.
+    fn object_of(&self, triangle: usize) -> usize {
+        self.triangles[triangle].1 as usize
+    }
+
+    /// The closest hit along the ray within (t_min, t_max), ignoring object `skip`.
+    pub fn intersect(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64, skip: Option<usize>) -> Option<Hit> {
+        self.bvh
+            .intersect(origin, dir, t_min, t_max, |t| Some(self.object_of(t)) == skip)
+    }
+
+    /// Whether anything but object `skip` lies on the segment from `origin` along `dir`
+    /// (not necessarily unit) within (t_min, t_max).
+    pub fn occluded(&self, origin: DVec3, dir: DVec3, t_min: f64, t_max: f64, skip: Option<usize>) -> bool {
+        self.bvh
+            .occluded(origin, dir, t_min, t_max, |t| Some(self.object_of(t)) == skip)
+    }
+
+    /// The surface at a hit of a ray with direction `dir`, as the fragment shader sees it.
+    pub fn surface(&self, hit: &Hit, dir: DVec3) -> Surface {
+        let (ids, object) = self.triangles[hit.triangle];
+        let v = ids.map(|i| self.vertices[i as usize]);
+        let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+        let interpolate = |f: &dyn Fn(&WorldVertex) -> DVec4| b[0] * f(&v[0]) + b[1] * f(&v[1]) + b[2] * f(&v[2]);
+        let tri = self.bvh.triangle(hit.triangle);
+        let position = tri.p0 + hit.b1 * tri.e1 + hit.b2 * tri.e2;
+        // Front faces wind counter-clockwise seen from outside, where the normals point.
+        let winding = tri.e1.cross(tri.e2);
+        let front_facing = winding.dot(dir) < 0.0;
+        let side = if front_facing { 1.0 } else { -1.0 };
+        let face_normal = winding.normalize_or(DVec3::Z) * side;
+        let interpolated = interpolate(&|w| w.normal.extend(0.0)).truncate();
+        let normal = if interpolated.length_squared() > MIN_NORMAL_LENGTH2 {
+            interpolated.normalize() * side
+        } else {
+            face_normal
+        };
+        let uv = interpolate(&|w| w.uv.extend(0.0).extend(0.0)).truncate().truncate();
+        // The tangent frame follows the normal to the viewer's side, as in forward.frag.
+        let mut tangent = interpolate(&|w| w.tangent);
+        tangent.w *= side;
+        let curvature = interpolate(&|w| DVec4::splat(w.curvature)).x;
+
+        let material_index = self.objects[object as usize];
+        let material = &self.materials[material_index];
+        let mut params = material.params;
+        if let Some(map) = &material.base_color_map {
+            let texel = self.textures[map.texture].sample(map.uv(uv));
+            for c in 0..3 {
+                params.base_color[c] *= 1.0 + (texel[c] - 1.0) * map.strength;
+            }
+        }
+        let mapped_normal = self.mapped_normal(material, normal, tangent, uv);
+
+        // Hanika's shift: onto each vertex's tangent plane where the point lies below it.
+        let vertex_normals = v.map(|w| w.normal * side);
+        let mut ray_origin = position;
+        for i in 0..3 {
+            let below = (position - v[i].position).dot(vertex_normals[i]).min(0.0);
+            ray_origin -= b[i] * below * vertex_normals[i];
+        }
+        Surface {
+            position,
+            face_normal,
+            normal,
+            mapped_normal,
+            curvature,
+            params,
+            material: material_index,
+            object: object as usize,
+            ray_origin,
+        }
+    }
+
+    /// `mapped_normal` of material_maps.glsl, with level-0 bilinear texels.
+    fn mapped_normal(&self, m: &WorldMaterial, normal: DVec3, tangent: DVec4, uv: DVec2) -> DVec3 {
+        let decode = |map: &Map| {
+            let t = self.textures[map.texture].sample(map.uv(uv));
+            decode_normal([t[0], t[1], t[2]], map.green_down, map.strength)
+        };
+        let base = m.normal_map.as_ref().map(decode);
+        let detail = m.detail_map.as_ref().map(decode);
+        let n = match (base, detail) {
+            (Some(base), Some(detail)) => match m.detail_blend {
+                DetailBlend::Rnm => blend_rnm(base, detail),
+                DetailBlend::Udn => blend_udn(base, detail),
+                DetailBlend::Whiteout => blend_whiteout(base, detail),
+                DetailBlend::Seed => blend_seed(base, detail),
+            },
+            (Some(n), None) | (None, Some(n)) => n,
+            (None, None) => return normal,
+        };
+        DVec3::from(tangent_to_world(n, normal.to_array(), tangent.to_array()))
+    }
+}
