@@ -9,7 +9,7 @@ use ash::vk;
 use clap::{Parser, Subcommand};
 
 use argil::brdf::subsurface::PreintegratedTable;
-use argil::reference::{Filter, Sampling, Settings, Stop, Transport};
+use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
 use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
 use argil::scene::Scene;
@@ -111,6 +111,11 @@ enum Command {
         /// lobes, power heuristic), material (lobes only) or light (luminance only).
         #[arg(long, default_value_t = Sampling::Mis)]
         sampling: Sampling,
+        /// Subsurface: model (each material's own model, as part of its BRDF, as the shader
+        /// evaluates it) or volume (each material with a subsurface model and a
+        /// scatter_radius is a scattering medium inside its mesh; needs --transport full).
+        #[arg(long, default_value_t = SubsurfaceTransport::Model)]
+        subsurface: SubsurfaceTransport,
         /// Seed of the samples: the same seed gives the same image on any number of threads.
         #[arg(long, default_value_t = 1)]
         seed: u64,
@@ -258,6 +263,7 @@ fn reference(
         ("argil.transport", settings.transport.to_string()),
         ("argil.filter", settings.filter.to_string()),
         ("argil.sampling", settings.sampling.to_string()),
+        ("argil.subsurface", settings.subsurface.to_string()),
         ("argil.spp", image.samples.to_string()),
         ("argil.noise", format!("{:e}", image.noise)),
         ("argil.seed", settings.seed.to_string()),
@@ -354,6 +360,7 @@ fn run(cli: Cli) -> Result<()> {
             transport,
             filter,
             sampling,
+            subsurface,
             seed,
             max_depth,
             threads,
@@ -372,6 +379,7 @@ fn run(cli: Cli) -> Result<()> {
                 transport,
                 filter,
                 sampling,
+                subsurface,
                 stop,
                 seed,
                 max_depth,

@@ -6,7 +6,7 @@
 
 mod common;
 
-use argil::reference::{render, Filter, Reference, Sampling, Settings, Stop, Transport};
+use argil::reference::{render, Filter, Reference, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::scene::{Mesh, Scene};
 use common::{argil, scene};
 use glam::DVec3;
@@ -18,6 +18,7 @@ fn settings(width: u32, height: u32, transport: Transport, filter: Filter, sampl
         transport,
         filter,
         sampling: Sampling::Mis,
+        subsurface: SubsurfaceTransport::Model,
         stop: Stop::Samples(samples),
         seed: 1,
         max_depth: Settings::DEFAULT_MAX_DEPTH,
@@ -567,4 +568,39 @@ f0 = 0.04
         "the reference and the renderer differ:\n{}",
         failures.join("\n")
     );
+}
+
+/// A white (non-absorbing) clay as a medium loses no light, whatever its mean free path
+/// per channel: under uniform radiance L every path brings back L on average. Each
+/// channel's mean over the ball is L within the estimate's own noise.
+#[test]
+fn a_white_scattering_medium_is_a_furnace() {
+    let scene = scene(&FURNACE.replace(
+        "specular = \"none\"",
+        "specular = \"none\"\nsubsurface = \"pre-integrated\"\nscatter_radius = 0.2\nscatter_color = [1.0, 0.5, 0.3]",
+    ));
+    let s = Settings {
+        subsurface: SubsurfaceTransport::Volume,
+        ..settings(48, 32, Transport::Full, Filter::Center, 64)
+    };
+    let image = render(&scene, &s, &()).expect("reference");
+    let covered: Vec<DVec3> = (0..48 * 32)
+        .map(|i| pixel(&image, i))
+        .filter(|p| p.1 == 1.0)
+        .map(|p| p.0)
+        .collect();
+    let n = covered.len() as f64;
+    let mean = covered.iter().sum::<DVec3>() / n;
+    // The standard error of a mean of n pixels, each with the estimate's relative noise.
+    let error = image.noise * 0.5 / n.sqrt();
+    eprintln!(
+        "volume furnace: mean {mean} over {n} px, noise {:.3}, standard error {error:.2e}",
+        image.noise
+    );
+    for c in mean.to_array() {
+        assert!(
+            (c - 0.5).abs() < 4.0 * error + 1e-3,
+            "mean {mean}, standard error {error:.2e}"
+        );
+    }
 }

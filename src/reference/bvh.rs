@@ -117,9 +117,10 @@ pub struct Hit {
 }
 
 pub struct Bvh {
+    /// The triangles in leaf order, so that a leaf's are contiguous in memory.
     triangles: Vec<Triangle>,
     nodes: Vec<Node>,
-    /// Triangle indices in leaf order.
+    /// The index each of `triangles` had in the list the BVH was built from.
     order: Vec<u32>,
 }
 
@@ -141,12 +142,9 @@ impl Bvh {
             let bounds: Vec<Aabb> = bvh.triangles.iter().map(Triangle::bounds).collect();
             let centroids: Vec<DVec3> = bounds.iter().map(|b| (b.min + b.max) * 0.5).collect();
             bvh.build(&bounds, &centroids, 0, bvh.triangles.len(), 0);
+            bvh.triangles = bvh.order.iter().map(|&i| bvh.triangles[i as usize]).collect();
         }
         bvh
-    }
-
-    pub fn triangle(&self, index: usize) -> &Triangle {
-        &self.triangles[index]
     }
 
     /// Builds the subtree over `order[start..end]`; returns its node index.
@@ -319,10 +317,9 @@ impl Bvh {
                 }
             } else {
                 let first = node.first as usize;
-                for &triangle in &self.order[first..first + node.count as usize] {
-                    let triangle = triangle as usize;
-                    if let Some((t, b1, b2)) = self.triangles[triangle].intersect(origin, dir, t_min, t_max) {
-                        if accept(triangle, t, b1, b2) {
+                for k in first..first + node.count as usize {
+                    if let Some((t, b1, b2)) = self.triangles[k].intersect(origin, dir, t_min, t_max) {
+                        if accept(self.order[k] as usize, t, b1, b2) {
                             if first_ends {
                                 return;
                             }

@@ -9,10 +9,16 @@ use glam::DVec3;
 
 use super::environment::EnvironmentLight;
 use super::sampling::{power_heuristic, Lobes};
+use super::world::Medium;
 use super::world::{Surface, World};
-use super::{Sampling, Settings, Transport};
-use crate::brdf::environment::tangent_frame;
-use crate::brdf::shading::{brdf_cos, brdf_cos_seed, subsurface_lights, view_facing_normal};
+use super::{Sampling, Settings, SubsurfaceTransport, Transport};
+use crate::brdf::environment::{sample_cosine, sample_uniform_sphere, tangent_frame};
+use crate::brdf::fresnel::f_schlick_scalar;
+use crate::brdf::shading::{
+    brdf_cos, brdf_cos_seed, subsurface_lights, view_facing_normal, DiffuseModel, ShadingModels, ShadingParams,
+    SpecularModel,
+};
+use crate::brdf::subsurface::Subsurface;
 use crate::rng::Rng;
 use crate::scene::{Camera, Scene};
 
@@ -24,6 +30,10 @@ const MIN_LIGHT_DISTANCE2: f64 = 1e-8;
 const RAY_OFFSET: f64 = 1e-9;
 /// Bounces before Russian roulette may end a path.
 const ROULETTE_DEPTH: u32 = 3;
+/// Scattering events after which a random walk is taken as absorbed: at an albedo of
+/// 0.999 less than e⁻¹⁰ of the light is left, and a walk in white clay that has not found
+/// the surface by then has crossed ~300 mean free paths.
+const MAX_WALK_STEPS: u32 = 100_000;
 
 /// Primary rays of a pinhole camera, as `Camera::view` and `Camera::projection` place them.
 pub struct CameraRays {
@@ -74,6 +84,8 @@ pub struct Integrator<'a> {
     /// Whether the environment is sampled by its luminance, and by the material's lobes.
     light_sampling: bool,
     material_sampling: bool,
+    /// Whether scattering materials are media (`--subsurface volume`).
+    volume: bool,
 }
 
 /// What one camera ray brought back.
@@ -88,12 +100,18 @@ pub struct Sample {
 /// unless the material keeps the report's horizon), its frame and the lobes to sample.
 struct Shading<'s> {
     surface: &'s Surface,
+    models: ShadingModels,
+    params: ShadingParams,
     n: DVec3,
     v: DVec3,
     seed_horizon: bool,
     /// (t, b, n) of the shading normal.
     frame: [DVec3; 3],
     lobes: Lobes,
+    /// The clay's medium, where `--subsurface volume` puts one under this surface.
+    medium: Option<Medium>,
+    /// The probability of sampling the transmission into the medium rather than `lobes`.
+    enter: f64,
 }
 
 impl Shading<'_> {
@@ -105,9 +123,9 @@ impl Shading<'_> {
         self.frame[0] * d.x + self.frame[1] * d.y + self.frame[2] * d.z
     }
 
-    /// The pdf of the material's sampling choosing unit world direction l.
+    /// The pdf of the material's sampling choosing unit world direction l outside.
     fn lobes_pdf(&self, l: DVec3) -> f64 {
-        self.lobes.pdf(self.local(self.v), self.local(l))
+        (1.0 - self.enter) * self.lobes.pdf(self.local(self.v), self.local(l))
     }
 }
 
@@ -135,6 +153,7 @@ impl<'a> Integrator<'a> {
                 Sampling::Light => true,
             },
             material_sampling: settings.sampling != Sampling::Light,
+            volume: settings.subsurface == SubsurfaceTransport::Volume,
         }
     }
 
@@ -156,41 +175,67 @@ impl<'a> Integrator<'a> {
         }
     }
 
-    fn shading<'s>(&self, surface: &'s Surface, v: DVec3) -> Shading<'s> {
+    /// The surface as a path meets it: its material; or, with `--subsurface volume`, over
+    /// a scattering medium, only the material's specular lobe above transmission into the
+    /// clay; or, where a random walk leaves the clay (`exit`), a white Lambertian
+    /// transmission outwards.
+    fn shading<'s>(&self, surface: &'s Surface, v: DVec3, exit: bool) -> Shading<'s> {
         let m = self.world.material(surface.material);
-        let n = if m.seed_horizon {
+        let (mut models, mut params) = (m.models, surface.params);
+        let seed_horizon = m.seed_horizon && !exit;
+        let n = if exit || seed_horizon {
             surface.mapped_normal
         } else {
             DVec3::from(view_facing_normal(surface.mapped_normal.to_array(), v.to_array()))
         };
+        let medium = if self.volume && !exit {
+            Medium::of(m, &params)
+        } else {
+            None
+        };
+        let mut enter = 0.0;
+        if exit {
+            models = ShadingModels {
+                diffuse: DiffuseModel::Lambert,
+                specular: SpecularModel::None,
+                subsurface: Subsurface::None,
+                ..models
+            };
+            params.base_color = [1.0; 3];
+        } else if medium.is_some() {
+            models.diffuse = DiffuseModel::None;
+            models.subsurface = Subsurface::None;
+            enter = if models.specular == SpecularModel::None {
+                1.0
+            } else {
+                0.5
+            };
+        }
         let frame = tangent_frame(n.to_array()).map(DVec3::from);
-        let lobes = Lobes::new(
-            m.models,
-            &surface.params,
-            v.dot(n),
-            subsurface_lights(m.models, &surface.params),
-        );
+        let lobes = Lobes::new(models, &params, v.dot(n), subsurface_lights(models, &params));
         Shading {
             surface,
+            models,
+            params,
             n,
             v,
-            seed_horizon: m.seed_horizon,
+            seed_horizon,
             frame,
             lobes,
+            medium,
+            enter,
         }
     }
 
     /// f(l) (n·l) of the material at the shading point, as the forward pass evaluates it.
     fn brdf_cos(&self, s: &Shading, l: DVec3) -> DVec3 {
-        let m = self.world.material(s.surface.material);
         let (n, v, l) = (s.n.to_array(), s.v.to_array(), l.to_array());
-        let params = &s.surface.params;
         DVec3::from(if s.seed_horizon {
-            brdf_cos_seed(m.models, params, n, v, l, s.surface.curvature)
+            brdf_cos_seed(s.models, &s.params, n, v, l, s.surface.curvature)
         } else {
             brdf_cos(
-                m.models,
-                params,
+                s.models,
+                &s.params,
                 n,
                 s.surface.normal.to_array(),
                 v,
@@ -198,6 +243,61 @@ impl<'a> Integrator<'a> {
                 s.surface.curvature,
             )
         })
+    }
+
+    /// A random walk through the clay from `entry` along `dir`, scattering isotropically
+    /// until it reaches a surface: the point where it leaves, seen from outside; None if
+    /// it is absorbed. Free flights in a homogeneous medium (Pharr, Jakob & Humphreys,
+    /// PBR 4th ed., §14.1), chromatic: the distance is drawn from one colour channel chosen
+    /// in proportion to the path's throughput in it, and weighted by the mixture of the
+    /// channels' pdfs (Chiang, Kutz & Burley 2016, "Practical and Controllable Subsurface
+    /// Scattering for Production Path Tracing"), which keeps the channels' throughputs from
+    /// drifting apart over a long walk.
+    fn random_walk(
+        &self,
+        entry: &Surface,
+        mut dir: DVec3,
+        medium: &Medium,
+        rng: &mut Rng,
+        throughput: &mut DVec3,
+        rays: &mut u64,
+    ) -> Option<Surface> {
+        let mut origin = entry.position - entry.face_normal * (RAY_OFFSET * self.world.extent);
+        let transmittance = |t: f64| DVec3::from((-medium.sigma_t * t).to_array().map(f64::exp));
+        for _ in 0..MAX_WALK_STEPS {
+            let total = throughput.element_sum();
+            let p = if total > 0.0 {
+                *throughput / total
+            } else {
+                DVec3::splat(1.0 / 3.0)
+            };
+            let u = rng.uniform();
+            let channel = if u < p.x {
+                0
+            } else if u < p.x + p.y {
+                1
+            } else {
+                2
+            };
+            let distance = -(1.0 - rng.uniform()).ln() / medium.sigma_t[channel];
+            *rays += 1;
+            if let Some(hit) = self.world.intersect(origin, dir, 0.0, distance, None) {
+                // The probability of flying past hit.t is the channels' mixed transmittance.
+                let t = transmittance(hit.t);
+                *throughput *= t / p.dot(t);
+                return Some(self.world.surface(&hit, -dir));
+            }
+            let t = transmittance(distance);
+            *throughput *= medium.albedo * medium.sigma_t * t / p.dot(medium.sigma_t * t);
+            let survive = throughput.max_element().clamp(0.05, 1.0);
+            if rng.uniform() >= survive {
+                return None;
+            }
+            *throughput /= survive;
+            origin += dir * distance;
+            dir = DVec3::from(sample_uniform_sphere([rng.uniform(), rng.uniform()]));
+        }
+        None
     }
 
     /// Where a ray towards l leaves the surface, and the object it must ignore: above the
@@ -237,9 +337,33 @@ impl<'a> Integrator<'a> {
         let mut v = -dir.normalize();
         let mut throughput = DVec3::ONE;
         let mut radiance = DVec3::ZERO;
+        let mut exit = false;
         for depth in 0..self.max_depth {
-            let s = self.shading(&surface, v);
+            let s = self.shading(&surface, v, exit);
             radiance += throughput * self.direct_light(&s, rng, &mut rays);
+
+            if let Some(medium) = s.medium.filter(|_| rng.uniform() < s.enter) {
+                // Into the clay, cosine-weighted about −n: what the specular lobe leaves,
+                // 1 − F(n·v), goes in.
+                let c = sample_cosine([rng.uniform(), rng.uniform()]);
+                let l = s.world(DVec3::new(c[0], c[1], -c[2])).normalize();
+                if l.dot(surface.face_normal) >= 0.0 {
+                    break;
+                }
+                let reflected = if s.models.specular == SpecularModel::None {
+                    0.0
+                } else {
+                    f_schlick_scalar(s.params.f0, v.dot(s.n).clamp(0.0, 1.0))
+                };
+                throughput *= (1.0 - reflected) / s.enter;
+                let Some(out) = self.random_walk(&surface, l, &medium, rng, &mut throughput, &mut rays) else {
+                    break;
+                };
+                v = out.normal;
+                surface = out;
+                exit = true;
+                continue;
+            }
 
             // The material's own sample: the environment's light along it (MIS) and, for
             // the full transport, the next surface.
@@ -248,7 +372,7 @@ impl<'a> Integrator<'a> {
                 break;
             };
             let l = s.world(l_local).normalize();
-            let pdf = s.lobes.pdf(v_local, l_local);
+            let pdf = (1.0 - s.enter) * s.lobes.pdf(v_local, l_local);
             let f = self.brdf_cos(&s, l);
             if pdf <= 0.0 || f == DVec3::ZERO || !f.is_finite() {
                 break;
@@ -283,6 +407,7 @@ impl<'a> Integrator<'a> {
             }
             surface = self.world.surface(&next, l);
             v = -l;
+            exit = false;
         }
         Sample {
             radiance,

@@ -23,7 +23,7 @@ use std::str::FromStr;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -99,6 +99,19 @@ pub enum Sampling {
 
 names!(Sampling, "sampling", Sampling::Mis => "mis", Sampling::Material => "material", Sampling::Light => "light");
 
+/// What the materials' subsurface models are to the reference.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SubsurfaceTransport {
+    /// The material's own model, evaluated as part of its BRDF as the shader does.
+    #[default]
+    Model,
+    /// Each scattering material (a subsurface model with a `scatter_radius`) is a
+    /// homogeneous medium inside its mesh, walked through at random (`full` transport).
+    Volume,
+}
+
+names!(SubsurfaceTransport, "subsurface", SubsurfaceTransport::Model => "model", SubsurfaceTransport::Volume => "volume");
+
 /// When to stop sampling.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Stop {
@@ -115,6 +128,7 @@ pub struct Settings {
     pub transport: Transport,
     pub filter: Filter,
     pub sampling: Sampling,
+    pub subsurface: SubsurfaceTransport,
     pub stop: Stop,
     pub seed: u64,
     /// Longest path, in surfaces, for `Full`.
@@ -177,6 +191,9 @@ fn even_samples(n: u32) -> u32 {
 
 /// Renders the reference of `scene`.
 pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Result<Reference> {
+    if settings.subsurface == SubsurfaceTransport::Volume && settings.transport != Transport::Full {
+        bail!("--subsurface volume needs --transport full: light walks through the clay");
+    }
     let start = Instant::now();
     let world = World::new(scene);
     let environment =
