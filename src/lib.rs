@@ -6,8 +6,10 @@
 //! - [`brdf`]: f64 reference models, twins of the GLSL in `shaders/lib`.
 //! - [`viewer`]: the interactive window.
 //! - [`verify`]: `argil verify`, the GPU and f64 checks of every BRDF.
+//! - [`error`]: error types the command line maps to exit codes.
 
 pub mod brdf;
+pub mod error;
 pub mod render;
 pub mod scene;
 pub mod verify;

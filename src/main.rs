@@ -9,6 +9,7 @@ use ash::vk;
 use clap::{Parser, Subcommand};
 
 use argil::brdf::subsurface::PreintegratedTable;
+use argil::error::is_input_error;
 use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
 use argil::scene::Scene;
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
@@ -247,7 +248,12 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("argil: error: {e:#}");
-            ExitCode::FAILURE
+            // 2 for bad input, as clap exits for bad arguments.
+            if is_input_error(&e) {
+                ExitCode::from(2)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }
