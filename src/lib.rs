@@ -6,9 +6,11 @@
 //! - [`brdf`]: f64 reference models, twins of the GLSL in `shaders/lib`.
 //! - [`viewer`]: the interactive window.
 //! - [`verify`]: `argil verify`, the GPU and f64 checks of every BRDF.
+//! - [`compare`]: `argil compare`, error figures and ꟻLIP of one EXR against a reference.
 //! - [`error`]: error types the command line maps to exit codes.
 
 pub mod brdf;
+pub mod compare;
 pub mod error;
 pub mod render;
 pub mod scene;
