@@ -89,6 +89,21 @@ enum Command {
         #[arg(long, default_value_t = argil::verify::DEFAULT_SEED)]
         seed: u64,
     },
+    /// Compare a linear-radiance EXR with a reference: relative MSE, PSNR, relative error,
+    /// ꟻLIP over the pixels the reference covers. Exit code 2 on bad input.
+    #[command(long_about = argil::compare::HELP)]
+    Compare {
+        /// The image measured: a real-time render (`argil render --out a.exr`) or a reference.
+        a: PathBuf,
+        /// The reference: its alpha > 0 marks the covered pixels, the only ones measured.
+        b: PathBuf,
+        /// Write the ꟻLIP heat map to this PNG (atomically).
+        #[arg(long, value_name = "FILE.png")]
+        out: Option<PathBuf>,
+        /// Write every figure, and the `argil.*` attributes of both EXRs, as JSON (atomically).
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
 }
 
 fn load_scene(path: Option<&Path>) -> Result<Scene> {
@@ -190,6 +205,11 @@ fn verify(
     Ok(())
 }
 
+fn compare(options: argil::compare::Options) -> Result<()> {
+    println!("{}", argil::compare::run(&options)?.line());
+    Ok(())
+}
+
 fn run(cli: Cli) -> Result<()> {
     let validation = cli.validation || argil::vk::instance::validation_requested();
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
@@ -230,6 +250,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Verify { json, samples, seed } => {
             verify(choice, validation, json, argil::verify::Options { samples, seed })
         }
+        Command::Compare { a, b, out, json } => compare(argil::compare::Options { a, b, out, json }),
         Command::Devices => {
             let devices = device::list_devices().context("cannot list Vulkan devices")?;
             if devices.is_empty() {
