@@ -7,8 +7,14 @@
 //! - [`viewer`]: the interactive window.
 //! - [`verify`]: `argil verify`, the GPU and f64 checks of every BRDF.
 //! - [`reference`]: `argil reference`, the Monte Carlo ground truth of a scene, in f64.
+//! - [`compare`]: `argil compare`, error figures and ꟻLIP of one EXR against a reference.
+//! - [`error`]: error types the command line maps to exit codes; [`atomic`]: output files
+//!   written whole or not at all.
 
+pub mod atomic;
 pub mod brdf;
+pub mod compare;
+pub mod error;
 pub mod reference;
 pub mod render;
 pub mod rng;

@@ -9,6 +9,7 @@ use ash::vk;
 use clap::{Parser, Subcommand};
 
 use argil::brdf::subsurface::PreintegratedTable;
+use argil::error::{is_input_error, InputError};
 use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
 use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
@@ -144,6 +145,21 @@ enum Command {
         #[arg(long, default_value_t = argil::verify::DEFAULT_SEED)]
         seed: u64,
     },
+    /// Compare a linear-radiance EXR with a reference: relative MSE, PSNR, relative error,
+    /// ꟻLIP over the pixels the reference covers. Exit code 2 on bad input.
+    #[command(long_about = argil::compare::HELP)]
+    Compare {
+        /// The image measured: a real-time render (`argil render --out a.exr`) or a reference.
+        a: PathBuf,
+        /// The reference: its alpha > 0 marks the covered pixels, the only ones measured.
+        b: PathBuf,
+        /// Write the ꟻLIP heat map to this PNG (atomically).
+        #[arg(long, value_name = "FILE.png")]
+        out: Option<PathBuf>,
+        /// Write every figure, and the `argil.*` attributes of both EXRs, as JSON (atomically).
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+    },
 }
 
 fn load_scene(path: Option<&Path>) -> Result<Scene> {
@@ -155,7 +171,7 @@ fn load_scene(path: Option<&Path>) -> Result<Scene> {
 
 fn check_exposure(exposure: f32) -> Result<()> {
     if !(exposure.is_finite() && exposure > 0.0) {
-        bail!("--exposure {exposure}: must be a finite number > 0");
+        return Err(InputError(format!("--exposure {exposure}: must be a finite number > 0")).into());
     }
     Ok(())
 }
@@ -243,7 +259,7 @@ fn reference(
     check_exposure(exposure)?;
     if let Stop::Noise { target, .. } = settings.stop {
         if !(target.is_finite() && target > 0.0) {
-            bail!("--noise {target}: must be a finite number > 0");
+            return Err(InputError(format!("--noise {target}: must be a finite number > 0")).into());
         }
     }
     OutputKind::of(&out)?;
@@ -306,6 +322,11 @@ fn verify(
     if report.failures() > 0 {
         bail!("{} verification check(s) failed", report.failures());
     }
+    Ok(())
+}
+
+fn compare(options: argil::compare::Options) -> Result<()> {
+    println!("{}", argil::compare::run(&options)?.line());
     Ok(())
 }
 
@@ -386,6 +407,7 @@ fn run(cli: Cli) -> Result<()> {
             };
             reference(scene, out, settings, threads, exposure)
         }
+        Command::Compare { a, b, out, json } => compare(argil::compare::Options { a, b, out, json }),
         Command::Devices => {
             let devices = device::list_devices().context("cannot list Vulkan devices")?;
             if devices.is_empty() {
@@ -404,7 +426,12 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("argil: error: {e:#}");
-            ExitCode::FAILURE
+            // 2 for bad input, as clap exits for bad arguments.
+            if is_input_error(&e) {
+                ExitCode::from(2)
+            } else {
+                ExitCode::FAILURE
+            }
         }
     }
 }

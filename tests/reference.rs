@@ -436,7 +436,7 @@ fn the_command_refuses_bad_input_before_rendering() {
     ] {
         let o = argil(&args);
         let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(!o.status.success(), "{args:?} succeeded");
+        assert_eq!(o.status.code(), Some(2), "{args:?}: bad input exits with 2");
         assert!(stderr.contains(mention), "{args:?}: {stderr}");
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }

@@ -6,6 +6,8 @@ use std::path::Path;
 use anyhow::{bail, ensure, Context, Result};
 use image::{ImageFormat, ImageReader};
 
+use crate::error::InputError;
+
 /// The largest map accepted: 8K, whose RGB f32 decode (384 MiB) stays within `image`'s
 /// default allocation limit.
 pub const MAX_WIDTH: u32 = 8192;
@@ -26,7 +28,7 @@ pub struct Equirect {
 /// whatever the extension says), 2:1, at most `MAX_WIDTH` wide, with finite non-negative
 /// radiance. Errors name the file.
 pub fn load(path: &Path) -> Result<Equirect> {
-    read(path).with_context(|| format!("environment map {}", path.display()))
+    read(path).map_err(|e| InputError(format!("environment map {}: {e:#}", path.display())).into())
 }
 
 fn read(path: &Path) -> Result<Equirect> {
