@@ -202,7 +202,7 @@ impl Bvh {
         centre_bounds: &Aabb,
     ) -> Option<(usize, usize)> {
         let mut best: Option<(f64, usize, usize)> = None;
-        for axis in 0..3 {
+        for axis in [0, 1, 2] {
             let lo = centre_bounds.min[axis];
             let extent = centre_bounds.max[axis] - lo;
             if extent <= 0.0 {

@@ -242,9 +242,8 @@ impl World {
         let mut params = material.params;
         if let Some(map) = &material.base_color_map {
             let texel = self.textures[map.texture].sample(map.uv(uv));
-            for c in 0..3 {
-                params.base_color[c] *= 1.0 + (texel[c] - 1.0) * map.strength;
-            }
+            // base_color · mix(1, map, strength), as mapped_base_color does.
+            params.base_color = std::array::from_fn(|c| params.base_color[c] * (1.0 + (texel[c] - 1.0) * map.strength));
         }
         let mapped_normal = self.mapped_normal(material, normal, tangent, uv);
 
