@@ -6,7 +6,7 @@ mod common;
 
 use argil::brdf::shading::{brdf_cos, view_facing_normal};
 use argil::scene::{Mesh, Scene};
-use common::{render, scene};
+use common::{percentiles, render, scene, LAMBERT_SPHERE};
 use glam::DVec3;
 
 const EYE: DVec3 = DVec3::new(0.0, 0.0, 5.0);
@@ -151,33 +151,6 @@ fn sphere_errors(
     (on_mesh, on_sphere)
 }
 
-/// (p50, p99, max) of the errors.
-fn percentiles(mut errors: Vec<f64>) -> (f64, f64, f64) {
-    errors.sort_by(f64::total_cmp);
-    let at = |q: f64| errors[((errors.len() - 1) as f64 * q) as usize];
-    (at(0.5), at(0.99), errors[errors.len() - 1])
-}
-
-const LAMBERT_SPHERE: &str = r#"
-[camera]
-position = [0.0, 0.0, 5.0]
-target = [0.0, 0.0, 0.0]
-fov_y_degrees = 30.0
-
-[[lights]]
-kind = "point"
-position = [2.0, 2.0, 3.0]
-intensity = [10.0, 7.0, 4.0]
-
-[[objects]]
-mesh = "builtin:sphere"
-material = "white"
-
-[materials.white]
-base_color = [0.8, 0.6, 0.4]
-diffuse = "lambert"
-specular = "none"
-"#;
 
 /// A Lambert sphere under a point light against the closed form (ρ/π)·I·cosθ/d² (seed
 /// eq. 4 with E = I cosθ/d²), twice: on the mesh the GPU drew (which isolates the shading

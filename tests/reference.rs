@@ -8,7 +8,7 @@ mod common;
 
 use argil::reference::{render, Filter, Reference, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::scene::{Mesh, Scene};
-use common::{argil, scene};
+use common::{argil, percentiles, scene, LAMBERT_SPHERE};
 use glam::DVec3;
 
 fn settings(width: u32, height: u32, transport: Transport, filter: Filter, samples: u32) -> Settings {
@@ -28,14 +28,6 @@ fn settings(width: u32, height: u32, transport: Transport, filter: Filter, sampl
 fn pixel(image: &Reference, i: usize) -> (DVec3, f32) {
     let p = &image.rgba[4 * i..4 * i + 4];
     (DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2])), p[3])
-}
-
-/// (p50, p99, max) of the errors.
-fn percentiles(mut errors: Vec<f64>) -> (f64, f64, f64) {
-    assert!(!errors.is_empty());
-    errors.sort_by(f64::total_cmp);
-    let at = |q: f64| errors[((errors.len() - 1) as f64 * q) as usize];
-    (at(0.5), at(0.99), errors[errors.len() - 1])
 }
 
 const FURNACE: &str = r#"
@@ -87,33 +79,13 @@ fn white_furnace_is_exact_in_every_transport() {
     }
 }
 
-const POINT_LIT_SPHERE: &str = r#"
-[camera]
-position = [0.0, 0.0, 5.0]
-target = [0.0, 0.0, 0.0]
-fov_y_degrees = 30.0
-
-[[lights]]
-kind = "point"
-position = [2.0, 2.0, 3.0]
-intensity = [10.0, 7.0, 4.0]
-
-[[objects]]
-mesh = "builtin:sphere"
-material = "white"
-
-[materials.white]
-base_color = [0.8, 0.6, 0.4]
-diffuse = "lambert"
-specular = "none"
-"#;
 
 /// A Lambert sphere under a point light against the closed form (ρ/π)·I·cosθ/d² on the
 /// exact sphere, through the reference's camera, mesh and shading: at the pixel centre
 /// one sample is the whole estimate.
 #[test]
 fn lambert_sphere_matches_the_closed_form() {
-    let mut scene = scene(POINT_LIT_SPHERE);
+    let mut scene = scene(LAMBERT_SPHERE);
     scene.meshes[0] = Mesh::sphere(512, 256);
     let (width, height) = (128, 128);
     let image = render(
@@ -164,7 +136,7 @@ fn lambert_sphere_matches_the_closed_form() {
 /// smooth normals near the terminator: rays leave from the vertices' tangent planes.
 #[test]
 fn a_lone_convex_sphere_does_not_shadow_itself() {
-    let scene = scene(POINT_LIT_SPHERE);
+    let scene = scene(LAMBERT_SPHERE);
     let direct = render(&scene, &settings(96, 96, Transport::Direct, Filter::Center, 1), &()).expect("direct");
     for transport in [Transport::Shadows, Transport::Full] {
         let image = render(&scene, &settings(96, 96, transport, Filter::Center, 1), &()).expect("reference");

@@ -171,3 +171,33 @@ pub fn argil(args: &[&str]) -> Output {
         .output()
         .expect("run argil")
 }
+
+/// (p50, p99, max) of the errors.
+pub fn percentiles(mut errors: Vec<f64>) -> (f64, f64, f64) {
+    assert!(!errors.is_empty());
+    errors.sort_by(f64::total_cmp);
+    let at = |q: f64| errors[((errors.len() - 1) as f64 * q) as usize];
+    (at(0.5), at(0.99), errors[errors.len() - 1])
+}
+
+/// A Lambert sphere at the origin under one point light, seen head-on from z = 5.
+pub const LAMBERT_SPHERE: &str = r#"
+[camera]
+position = [0.0, 0.0, 5.0]
+target = [0.0, 0.0, 0.0]
+fov_y_degrees = 30.0
+
+[[lights]]
+kind = "point"
+position = [2.0, 2.0, 3.0]
+intensity = [10.0, 7.0, 4.0]
+
+[[objects]]
+mesh = "builtin:sphere"
+material = "white"
+
+[materials.white]
+base_color = [0.8, 0.6, 0.4]
+diffuse = "lambert"
+specular = "none"
+"#;
