@@ -343,13 +343,12 @@ impl<'a> Integrator<'a> {
             radiance += throughput * self.direct_light(&s, rng, &mut rays);
 
             if let Some(medium) = s.medium.filter(|_| rng.uniform() < s.enter) {
-                // Into the clay, cosine-weighted about −n: what the specular lobe leaves,
-                // 1 − F(n·v), goes in.
+                // Into the clay, cosine-weighted about the triangle's inward normal (always
+                // below its plane, unlike a bent shading normal's): what the specular lobe
+                // leaves, 1 − F(n·v), goes in.
+                let inward = tangent_frame((-surface.face_normal).to_array()).map(DVec3::from);
                 let c = sample_cosine([rng.uniform(), rng.uniform()]);
-                let l = s.world(DVec3::new(c[0], c[1], -c[2])).normalize();
-                if l.dot(surface.face_normal) >= 0.0 {
-                    break;
-                }
+                let l = (inward[0] * c[0] + inward[1] * c[1] + inward[2] * c[2]).normalize();
                 let reflected = if s.models.specular == SpecularModel::None {
                     0.0
                 } else {
