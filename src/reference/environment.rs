@@ -71,6 +71,14 @@ impl EnvironmentLight {
                 ..
             } => (load_map(path)?, *intensity, *rotation_degrees),
         };
+        Ok(Some(Self::from_source(
+            source,
+            f64::from(intensity),
+            f64::from(rotation),
+        )))
+    }
+
+    fn from_source(source: Source, intensity: f64, rotation_degrees: f64) -> Self {
         let distribution = match &source {
             Source::Uniform(_) => None,
             Source::Studio => {
@@ -90,12 +98,12 @@ impl EnvironmentLight {
                 *height,
             )),
         };
-        Ok(Some(Self {
+        Self {
             source,
-            intensity: f64::from(intensity),
-            to_map: map_rotation(f64::from(rotation)),
+            intensity,
+            to_map: map_rotation(rotation_degrees),
             distribution,
-        }))
+        }
     }
 
     /// Radiance arriving from unit world direction d.
@@ -269,7 +277,40 @@ impl Distribution2d {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::chi2::chi2;
     use crate::rng::Rng;
+
+    /// A dim map with a bright patch, rotated: sampling by luminance against its pdf.
+    #[test]
+    fn map_sampling_matches_its_pdf() {
+        let (width, height) = (64, 32);
+        let texels = (0..width * height)
+            .map(|i| {
+                let (x, y) = (i % width, i / width);
+                if (40..44).contains(&x) && (9..12).contains(&y) {
+                    DVec3::new(40.0, 30.0, 20.0)
+                } else {
+                    DVec3::splat(0.2 + 0.1 * (x as f64 / width as f64))
+                }
+            })
+            .collect();
+        let light = EnvironmentLight::from_source(Source::Map { width, height, texels }, 1.5, 70.0);
+        chi2(
+            "map",
+            |rng| Some(light.sample([rng.uniform(), rng.uniform()]).0),
+            |d| light.pdf(d),
+        );
+    }
+
+    #[test]
+    fn studio_sampling_matches_its_pdf() {
+        let light = EnvironmentLight::from_source(Source::Studio, 1.0, -20.0);
+        chi2(
+            "studio",
+            |rng| Some(light.sample([rng.uniform(), rng.uniform()]).0),
+            |d| light.pdf(d),
+        );
+    }
 
     #[test]
     fn equirect_directions_invert_equirect_uv() {

@@ -12,6 +12,8 @@
 //! difference measures the noise of their mean: [`Reference::noise`].
 
 pub mod bvh;
+#[cfg(test)]
+mod chi2;
 pub mod environment;
 pub mod integrator;
 pub mod sampling;
