@@ -30,7 +30,7 @@ layout(set = ENV_SET, binding = 0, std140) uniform EnvironmentData {
     vec4 texel;     // x: solid angle of a level-0 texel of radiance_map
     vec4 sh[9];     // the map's radiance in SH (rgb), before rotation and intensity
 } env;
-// The environment with a box-filtered mip chain.
+// The environment with a mip chain of solid-angle-weighted means.
 layout(set = ENV_SET, binding = 1) uniform samplerCube radiance_map;
 // Radiance prefiltered by GGX lobes, roughness = lod / params.w (Karis 2013).
 layout(set = ENV_SET, binding = 2) uniform samplerCube prefiltered_map;

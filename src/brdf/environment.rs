@@ -46,14 +46,21 @@ pub fn cube_texel_ab(x: u32, y: u32, size: u32) -> (f64, f64) {
     (at(x), at(y))
 }
 
-/// The exact solid angle of texel (x, y) on a face of `size`² texels: the face is the
-/// square [−1, 1]² at unit distance, and a rectangle [x0, x1]×[y0, y1] on it subtends
-/// F(x1, y1) − F(x0, y1) − F(x1, y0) + F(x0, y0), F(x, y) = atan2(xy, √(x² + y² + 1)).
+/// The solid angle of triangle (a, b, c) seen from the origin, given its triple product
+/// a·(b×c) (Van Oosterom & Strackee 1983).
+fn triangle_solid_angle(a: Vec3, b: Vec3, c: Vec3, triple: f64) -> f64 {
+    let (la, lb, lc) = (dot(a, a).sqrt(), dot(b, b).sqrt(), dot(c, c).sqrt());
+    2.0 * triple.atan2(la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la)
+}
+
+/// The exact solid angle of texel (x, y) on a face of `size`² texels, the face being
+/// [−1, 1]² at unit distance: its two triangles, whose triple product is the texel's area.
 pub fn cube_texel_solid_angle(x: u32, y: u32, size: u32) -> f64 {
     let edge = |i: u32| f64::from(i) / f64::from(size) * 2.0 - 1.0;
-    let f = |a: f64, b: f64| (a * b).atan2((a * a + b * b + 1.0).sqrt());
     let (x0, x1, y0, y1) = (edge(x), edge(x + 1), edge(y), edge(y + 1));
-    f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0)
+    let (a, b, c, d) = ([x0, y0, 1.0], [x1, y0, 1.0], [x1, y1, 1.0], [x0, y1, 1.0]);
+    let area = (x1 - x0) * (y1 - y0);
+    triangle_solid_angle(a, b, c, area) + triangle_solid_angle(a, c, d, area)
 }
 
 /// Equirectangular (u, v) of unit d: u = 0.5 looks along −z and grows towards +x, v = 0

@@ -60,9 +60,25 @@ fn cube_texel_solid_angles_cover_the_sphere() {
             .sum();
         assert!((6.0 * total - 4.0 * PI).abs() < 1e-12, "size {size}: {}", 6.0 * total);
     }
-    // The centre texel of a large face approaches its planar area at unit distance.
+    // The centre texel of a large face approaches its planar area at unit distance, a
+    // corner texel 1/(3√3) of it.
     let w = 1024;
-    assert!((cube_texel_solid_angle(w / 2, w / 2, w) / (4.0 / f64::from(w * w)) - 1.0).abs() < 1e-5);
+    let centre = cube_texel_solid_angle(w / 2, w / 2, w);
+    assert!((centre / (4.0 / f64::from(w * w)) - 1.0).abs() < 1e-5);
+    assert!((cube_texel_solid_angle(0, w - 1, w) / centre * 27f64.sqrt() - 1.0).abs() < 1e-2);
+    // The rectangle formula F(x1, y1) − F(x0, y1) − F(x1, y0) + F(x0, y0),
+    // F(x, y) = atan2(xy, √(x² + y² + 1)), in f64 where its cancellation is harmless.
+    let f = |a: f64, b: f64| (a * b).atan2((a * a + b * b + 1.0).sqrt());
+    for (x, y, size) in [(0, 0, 1), (1, 0, 2), (3, 5, 7), (0, 31, 32), (200, 17, 512)] {
+        let edge = |i: u32| f64::from(i) / f64::from(size) * 2.0 - 1.0;
+        let (x0, x1, y0, y1) = (edge(x), edge(x + 1), edge(y), edge(y + 1));
+        let rectangle = f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0);
+        let triangles = cube_texel_solid_angle(x, y, size);
+        assert!(
+            (triangles / rectangle - 1.0).abs() < 1e-9,
+            "({x}, {y}) of {size}²: {triangles} vs {rectangle}"
+        );
+    }
 }
 
 #[test]

@@ -123,7 +123,7 @@ pub struct Precompute {
     kernels: HashMap<KernelKind, Kernel>,
 }
 
-/// A cube map with its box-filtered mip chain.
+/// A cube map with its mip chain of solid-angle-weighted means.
 pub struct SourceCube {
     pub image: Image,
 }
