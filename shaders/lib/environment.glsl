@@ -61,7 +61,9 @@ vec3 env_convolve(vec3 d, vec3 kernel) {
 }
 
 vec2 brdf_table(uint layer, float n_dot_v, float y) {
-    return textureLod(brdf_lut, vec3(lut_x(n_dot_v), y, float(layer)), 0.0).rg;
+    uvec2 size = uvec2(textureSize(brdf_lut, 0).xy);
+    vec2 xy = vec2(lut_coordinate(lut_x(n_dot_v), size.x), lut_coordinate(y, size.y));
+    return textureLod(brdf_lut, vec3(xy, float(layer)), 0.0).rg;
 }
 
 // The directional albedo of the diffuse lobe: what it reflects of a unit uniform light.

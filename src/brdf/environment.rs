@@ -284,8 +284,20 @@ pub fn lut_x(n_dot_v: f64) -> f64 {
     (1.0 - n_dot_v).max(0.0).sqrt()
 }
 
+/// The n·v of table x, down to `MIN_N_DOT_V` at x = 1 (the least n·v the shading uses).
 pub fn lut_n_dot_v(x: f64) -> f64 {
-    1.0 - x * x
+    (1.0 - x * x).max(MIN_N_DOT_V)
+}
+
+/// The parameter of texel `texel` of a table of `size`: i/(size − 1), both ends included.
+pub fn lut_parameter(texel: u32, size: u32) -> f64 {
+    f64::from(texel) / f64::from(size - 1)
+}
+
+/// The texel-centre coordinate at which parameter x in [0, 1] is read:
+/// (x (size − 1) + ½)/size.
+pub fn lut_coordinate(x: f64, size: u32) -> f64 {
+    (x * f64::from(size - 1) + 0.5) / f64::from(size)
 }
 
 /// The table layer of a material's specular lobe.
@@ -353,7 +365,9 @@ pub fn lut_view(n_dot_v: f64) -> Vec3 {
 
 /// One texel of `layer` at n·v = `n_dot_v`, roughness (σ) = y, as env_brdf_lut.comp
 /// estimates it with `samples` Hammersley points: (A, B) for specular layers, (albedo, 0)
-/// for Oren-Nayar.
+/// for Oren-Nayar. Torrance-Sparrow draws normals by D(h)(n·h) rather than as visible from
+/// v: its V-cavity masking G ≤ 2(n·h)(n·v)/(v·h) keeps those weights bounded at grazing
+/// n·v, where Smith's visible normals leave them heavy-tailed (2× off at n·v = 1e-4).
 pub fn brdf_lut_estimate(layer: u32, n_dot_v: f64, y: f64, samples: u32) -> [f64; 2] {
     const N: Vec3 = [0.0, 0.0, 1.0];
     let v = lut_view(n_dot_v);
@@ -368,13 +382,19 @@ pub fn brdf_lut_estimate(layer: u32, n_dot_v: f64, y: f64, samples: u32) -> [f64
         let models = lut_layer_models(layer);
         let alpha = clamp_alpha(y * y);
         let (m0, m1) = (lut_material(y, 0.0), lut_material(y, 1.0));
+        let by_d = layer == LUT_LAYER_TORRANCE_SPARROW;
         for i in 0..samples {
-            let h = sample_ggx_vndf(v, alpha, hammersley(i, samples));
+            let h = sample_ggx_vndf(if by_d { N } else { v }, alpha, hammersley(i, samples));
             let l = reflect_about(v, h);
             if l[2] <= 0.0 {
                 continue;
             }
-            let pdf = pdf_ggx_vndf(alpha, n_dot_v, h[2], h[0] * h[0] + h[1] * h[1]);
+            let n_cross_h_len2 = h[0] * h[0] + h[1] * h[1];
+            let pdf = if by_d {
+                pdf_ggx_vndf(alpha, 1.0, h[2], n_cross_h_len2) * h[2] / dot(v, h)
+            } else {
+                pdf_ggx_vndf(alpha, n_dot_v, h[2], n_cross_h_len2)
+            };
             let b = specular_lobe(models, &m0, N, v, l, n_dot_v, l[2])[0];
             let a_plus_b = specular_lobe(models, &m1, N, v, l, n_dot_v, l[2])[0];
             sum[0] += (a_plus_b - b) * l[2] / pdf;

@@ -269,8 +269,22 @@ fn filtered_lod_matches_texel_and_sample_solid_angles() {
 
 #[test]
 fn lut_x_inverts() {
-    for mu in [0.0, 0.3, 0.999, 1.0] {
+    for mu in [MIN_N_DOT_V, 0.3, 0.999, 1.0] {
         assert!((lut_n_dot_v(lut_x(mu)) - mu).abs() < 1e-15);
+    }
+    assert_eq!(lut_n_dot_v(1.0), MIN_N_DOT_V);
+}
+
+/// Texel i holds parameter i/(N − 1) and is read at its centre (i + ½)/N: the ends of
+/// [0, 1] are the first and last texels' centres.
+#[test]
+fn lut_coordinates_are_texel_centres() {
+    for size in [2, 32] {
+        for i in 0..size {
+            let centre = (f64::from(i) + 0.5) / f64::from(size);
+            assert!((lut_coordinate(lut_parameter(i, size), size) - centre).abs() < 1e-15);
+        }
+        assert_eq!(lut_parameter(size - 1, size), 1.0);
     }
 }
 
@@ -296,7 +310,17 @@ fn brdf_table_estimates_match_quadrature() {
     const N: Vec3 = [0.0, 0.0, 1.0];
     let mut worst: f64 = 0.0;
     for layer in 0..LUT_LAYERS {
-        for (x, y) in [(0.9, 0.3), (0.5, 0.6), (0.2, 0.9), (0.05, 0.5)] {
+        // The tables' corners (n·v = 1 and its least, roughness or σ = 0 and 1) among them.
+        for (x, y) in [
+            (0.9, 0.3),
+            (0.5, 0.6),
+            (0.2, 0.9),
+            (0.05, 0.5),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (MIN_N_DOT_V, 0.0),
+            (MIN_N_DOT_V, 1.0),
+        ] {
             let estimate = brdf_lut_estimate(layer, x, y, 1024);
             let reference = if layer == LUT_LAYER_OREN_NAYAR {
                 let m = lut_material(y, 0.0);
