@@ -71,6 +71,14 @@ vec3 seed_reflection(vec3 n, vec3 v) {
     return normalize(n * (2.0 * dot(n, v)) - v);
 }
 
+// The direction to read a specular lobe's prefiltered radiance from: the mirror direction
+// r drawn towards n as the lobe widens, where a rough lobe's mass lies off-specular
+// (Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", listing 22; α = roughness²).
+vec3 specular_dominant_direction(vec3 n, vec3 r, float alpha) {
+    float smoothness = clamp(1.0 - alpha, 0.0, 1.0);
+    return normalize(mix(n, r, smoothness * (sqrt(smoothness) + alpha)));
+}
+
 // An orthonormal frame (t, b, n) around unit n (Duff et al. 2017, "Building an
 // Orthonormal Basis, Revisited"): frame * local takes n-space (n = +z) to world.
 mat3 tangent_frame(vec3 n) {

@@ -92,6 +92,14 @@ pub fn seed_reflection(n: Vec3, v: Vec3) -> Vec3 {
     normalize(add(scale(n, 2.0 * dot(n, v)), scale(v, -1.0)))
 }
 
+/// The direction a specular lobe's prefiltered radiance is read from: r drawn towards n as
+/// the lobe widens (Lagarde & de Rousiers 2014, listing 22; α = roughness²).
+pub fn specular_dominant_direction(n: Vec3, r: Vec3, alpha: f64) -> Vec3 {
+    let smoothness = (1.0 - alpha).clamp(0.0, 1.0);
+    let t = smoothness * (smoothness.sqrt() + alpha);
+    normalize(add(scale(n, 1.0 - t), scale(r, t)))
+}
+
 /// An orthonormal frame (t, b, n) around unit n (Duff et al. 2017).
 pub fn tangent_frame(n: Vec3) -> [Vec3; 3] {
     let s = if n[2] >= 0.0 { 1.0 } else { -1.0 };

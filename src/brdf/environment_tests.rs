@@ -115,6 +115,20 @@ fn seed_reflection_is_the_unit_mirror_direction() {
     assert!(close(r, reflect_about(v, n), 1e-15));
 }
 
+/// A smooth lobe is read along the mirror direction, the roughest along the normal.
+#[test]
+fn specular_dominant_direction_moves_from_r_to_n() {
+    let n = [0.0, 0.0, 1.0];
+    let r = normalize([0.8, 0.0, 0.6]);
+    assert!(close(specular_dominant_direction(n, r, 0.0), r, 1e-15));
+    assert!(close(specular_dominant_direction(n, r, 1.0), n, 1e-15));
+    let cosines: Vec<f64> = [0.1, 0.3, 0.5, 0.7]
+        .iter()
+        .map(|&alpha| dot(specular_dominant_direction(n, r, alpha), n))
+        .collect();
+    assert!(cosines.windows(2).all(|w| w[0] < w[1]), "{cosines:?}");
+}
+
 #[test]
 fn tangent_frames_are_orthonormal() {
     for n in [
