@@ -1114,3 +1114,76 @@ fn split_sum_specular_is_its_f64_product() {
         );
     }
 }
+
+/// The equirectangular orientation (docs/scene-format.md): a map painted with a red patch
+/// at +x, a green one at −z and a blue one at +y, written by `equirect_direction`'s
+/// convention (u = 0.5 along −z, u = 0.75 at +x, row 0 at +y), shows each patch where the
+/// camera projects its direction: looking along (1, 1, −1) with +y up, blue above, red to
+/// the right of green.
+#[test]
+fn equirect_orientation_matches_the_documentation() {
+    let dir = TempDir::new("orientation");
+    let path = dir.0.join("axes.exr");
+    let patches = [
+        (DVec3::X, [4.0f32, 0.0, 0.0]),
+        (DVec3::NEG_Z, [0.0, 4.0, 0.0]),
+        (DVec3::Y, [0.0, 0.0, 4.0]),
+    ];
+    let width = 256;
+    let map = image::Rgb32FImage::from_fn(width, width / 2, |x, y| {
+        let (d, _) = equirect_texel(x, y, width);
+        let patch = patches.iter().find(|(axis, _)| d.dot(*axis) > 8f64.to_radians().cos());
+        image::Rgb(patch.map_or([0.05; 3], |&(_, colour)| colour))
+    });
+    map.save(&path).expect("write the .exr map");
+    let forward = DVec3::new(1.0, 1.0, -1.0).normalize();
+    let text = format!(
+        r#"
+[camera]
+position = [0.0, 0.0, 0.0]
+target = [{}, {}, {}]
+fov_y_degrees = 130.0
+
+[environment]
+kind = "map"
+path = "{}"
+
+[[objects]]
+mesh = "builtin:sphere"
+position = [-6.0, -6.0, 6.0]
+scale = 0.5
+"#,
+        forward.x,
+        forward.y,
+        forward.z,
+        path.display()
+    );
+    let scene = scene(&text);
+    let size = 96;
+    let frame = render(&scene, size, size);
+    let view_proj = scene.camera.projection(1.0) * scene.camera.view();
+    let mut pixels = Vec::new();
+    for (axis, colour) in patches {
+        let clip = view_proj * (axis * 100.0).as_vec3().extend(1.0);
+        let ndc = clip.truncate() / clip.w;
+        let (x, y) = (
+            ((ndc.x + 1.0) * 0.5 * size as f32) as usize,
+            ((ndc.y + 1.0) * 0.5 * size as f32) as usize,
+        );
+        let i = (y * size as usize + x) * 4;
+        let got = &frame.hdr[i..i + 3];
+        eprintln!("patch at {axis}: pixel ({x}, {y}) shows {got:?}");
+        for c in 0..3 {
+            assert!(
+                (got[c] - colour[c]).abs() < 0.05,
+                "patch at {axis}: pixel ({x}, {y}) shows {got:?}, not {colour:?}"
+            );
+        }
+        pixels.push((x, y));
+    }
+    let [red, green, blue] = [pixels[0], pixels[1], pixels[2]];
+    assert!(
+        red.0 > green.0 && blue.1 < red.1 && blue.1 < green.1,
+        "red {red:?}, green {green:?}, blue {blue:?}"
+    );
+}
