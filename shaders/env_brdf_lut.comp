@@ -2,7 +2,8 @@
 // The BRDF tables (see env_tables.glsl): for n·v = lut_n_dot_v(x) and roughness = y, x
 // and y being each texel's lut_parameter, ∫ f_s cos split as F0 A + B by evaluating the
 // specular lobe at F0 = 1 and F0 = 0 (Schlick's F is linear in F0), by GGX normal
-// sampling; and the Oren-Nayar directional albedo by cosine sampling. The very lobes the forward pass shades with.
+// sampling; and the Oren-Nayar directional albedo by cosine sampling. The very lobes the
+// forward pass shades with.
 // shading.glsl's surface_normal falls back on derivatives, which compute shaders only
 // have with this extension; it is not called here, so no derivative reaches the SPIR-V.
 #extension GL_NV_compute_shader_derivatives : enable
@@ -19,7 +20,8 @@ void main() {
     ivec3 texel = ivec3(gl_GlobalInvocationID);
     ivec2 size = imageSize(table).xy;
     if (any(greaterThanEqual(texel.xy, size))) return;
-    vec2 xy = vec2(lut_parameter(uint(texel.x), uint(size.x)), lut_parameter(uint(texel.y), uint(size.y)));
+    uvec2 t = uvec2(texel.xy);
+    vec2 xy = vec2(lut_parameter(t.x, uint(size.x)), lut_parameter(t.y, uint(size.y)));
     float n_dot_v = lut_n_dot_v(xy.x);
     const vec3 n = vec3(0.0, 0.0, 1.0);
     vec3 v = vec3(sqrt(1.0 - n_dot_v * n_dot_v), 0.0, n_dot_v);

@@ -45,7 +45,7 @@ const GROUP: u32 = 8;
 fn prefilter_min_lod(roughness: f32, side: u32, source_size: u32) -> f32 {
     let alpha = crate::brdf::clamp_alpha(f64::from(roughness * roughness));
     let lobe_texels = 6.0 * alpha * alpha * f64::from(side * side);
-    let levels = f64::from(source_size / side).log2() - 0.5 * lobe_texels.max(1.0).log2();
+    let levels = (f64::from(source_size) / f64::from(side)).log2() - 0.5 * lobe_texels.max(1.0).log2();
     levels.max(0.0) as f32
 }
 
