@@ -1,9 +1,9 @@
 #version 460
-// The BRDF tables (see env_tables.glsl): for n·v = lut_n_dot_v(x) and roughness = y at
-// texel centres,
-// ∫ f_s cos split as F0 A + B by evaluating the specular lobe at F0 = 1 and F0 = 0
-// (Schlick's F is linear in F0), by GGX visible-normal sampling; and the Oren-Nayar
-// directional albedo by cosine sampling. The very lobes the forward pass shades with.
+// The BRDF tables (see env_tables.glsl): for n·v = lut_n_dot_v(x) and roughness = y, x
+// and y being each texel's lut_parameter, ∫ f_s cos split as F0 A + B by evaluating the
+// specular lobe at F0 = 1 and F0 = 0 (Schlick's F is linear in F0), by GGX normal
+// sampling; and the Oren-Nayar directional albedo by cosine sampling. The very lobes the
+// forward pass shades with.
 // shading.glsl's surface_normal falls back on derivatives, which compute shaders only
 // have with this extension; it is not called here, so no derivative reaches the SPIR-V.
 #extension GL_NV_compute_shader_derivatives : enable
@@ -20,7 +20,8 @@ void main() {
     ivec3 texel = ivec3(gl_GlobalInvocationID);
     ivec2 size = imageSize(table).xy;
     if (any(greaterThanEqual(texel.xy, size))) return;
-    vec2 xy = (vec2(texel.xy) + 0.5) / vec2(size);
+    uvec2 t = uvec2(texel.xy);
+    vec2 xy = vec2(lut_parameter(t.x, uint(size.x)), lut_parameter(t.y, uint(size.y)));
     float n_dot_v = lut_n_dot_v(xy.x);
     const vec3 n = vec3(0.0, 0.0, 1.0);
     vec3 v = vec3(sqrt(1.0 - n_dot_v * n_dot_v), 0.0, n_dot_v);
@@ -42,11 +43,15 @@ void main() {
     } else {
         ShadingModels models = lut_layer_models(layer);
         float alpha = clamp_alpha(xy.y * xy.y);
+        // Torrance-Sparrow's V-cavity masking bounds the weights of normals drawn by
+        // D(h)(n·h) (those visible from n), not of those visible from a grazing v.
+        bool by_d = layer == LUT_LAYER_TORRANCE_SPARROW;
         for (uint i = 0u; i < lut.samples; ++i) {
-            vec3 h = sample_ggx_vndf(v, alpha, hammersley(i, lut.samples));
+            vec3 h = sample_ggx_vndf(by_d ? n : v, alpha, hammersley(i, lut.samples));
             vec3 l = reflect(-v, h);
             if (l.z <= 0.0) continue;
-            float pdf = pdf_ggx_vndf(alpha, n_dot_v, h.z, dot(h.xy, h.xy));
+            float pdf = by_d ? pdf_ggx_vndf(alpha, 1.0, h.z, dot(h.xy, h.xy)) * h.z / dot(v, h)
+                             : pdf_ggx_vndf(alpha, n_dot_v, h.z, dot(h.xy, h.xy));
             m.f0 = 0.0;
             float b = specular_lobe(models, m, n, v, l, n_dot_v, l.z).r;
             m.f0 = 1.0;

@@ -2,7 +2,7 @@
 // One level of the specular prefiltered cube (Karis 2013): radiance around each texel's
 // direction R weighted by the GGX lobe of the level's roughness with n = v = R, by GGX
 // importance sampling with n·l weights, each sample read from the source mip matching
-// its pdf (filtered importance sampling) but never finer than this level's texels.
+// its pdf (filtered importance sampling) but never finer than min_lod.
 #include "env_math.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;

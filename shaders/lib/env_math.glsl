@@ -28,6 +28,31 @@ vec3 cube_direction(uint face, vec2 ab) {
     return normalize(d);
 }
 
+// The solid angle of triangle (a, b, c) seen from the origin, given its triple product
+// a·(b×c) (Van Oosterom & Strackee 1983): 2 atan2(a·(b×c), |a||b||c| + (a·b)|c| + (a·c)|b|
+// + (b·c)|a|).
+float triangle_solid_angle(vec3 a, vec3 b, vec3 c, float triple) {
+    float la = length(a);
+    float lb = length(b);
+    float lc = length(c);
+    return 2.0 * atan(triple, la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la);
+}
+
+// The exact solid angle of texel (x, y) of a cube face of size² texels, the face being
+// [−1, 1]² at unit distance: its two triangles. Their triple product is the texel's area,
+// exact in fp32 like its corners, so nothing cancels (unlike the difference of atan terms
+// of the rectangle formula, which loses a 512² texel to rounding).
+float cube_texel_solid_angle(uvec2 texel, uint size) {
+    vec2 lo = vec2(texel) / float(size) * 2.0 - 1.0;
+    vec2 hi = vec2(texel + 1u) / float(size) * 2.0 - 1.0;
+    vec3 a = vec3(lo, 1.0);
+    vec3 b = vec3(hi.x, lo.y, 1.0);
+    vec3 c = vec3(hi, 1.0);
+    vec3 d = vec3(lo.x, hi.y, 1.0);
+    float area = (hi.x - lo.x) * (hi.y - lo.y);
+    return triangle_solid_angle(a, b, c, area) + triangle_solid_angle(a, c, d, area);
+}
+
 // Equirectangular (u, v) of unit d: u = 0.5 looks along −z and grows towards +x, v = 0
 // is +y (the top row). Straight up or down, where atan2 is undefined, u = 0.5.
 vec2 equirect_uv(vec3 d) {
@@ -44,6 +69,14 @@ vec3 rotate_y(vec3 d, vec2 cs) {
 // The report's eq. 17: uv = n(2(n·v)) − v, normalised; the mirror direction of v.
 vec3 seed_reflection(vec3 n, vec3 v) {
     return normalize(n * (2.0 * dot(n, v)) - v);
+}
+
+// The direction to read a specular lobe's prefiltered radiance from: the mirror direction
+// r drawn towards n as the lobe widens, where a rough lobe's mass lies off-specular
+// (Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", listing 22; α = roughness²).
+vec3 specular_dominant_direction(vec3 n, vec3 r, float alpha) {
+    float smoothness = clamp(1.0 - alpha, 0.0, 1.0);
+    return normalize(mix(n, r, smoothness * (sqrt(smoothness) + alpha)));
 }
 
 // An orthonormal frame (t, b, n) around unit n (Duff et al. 2017, "Building an
@@ -163,7 +196,9 @@ float pdf_ggx_vndf(float alpha, float n_dot_v, float n_dot_h, float n_cross_h_le
 // Filtered importance sampling (Colbert & Křivánek 2007, GPU Gems 3 ch. 20, eq. 13
 // without its +1 bias): the mip whose texel solid angle matches a sample's share
 // 1/(N p) of the sphere. `n_pdf` is N times the sample's pdf; `texel_solid_angle` is
-// that of a level-0 texel, 4π/(6 w²).
+// that of an average level-0 texel, 4π/(6 w²). (Measuring the texel at the sample's
+// direction instead, smaller towards a face's corners, made sampled reflection depend
+// more on where a map's features fall on the cube, not less.)
 float filtered_lod(float n_pdf, float texel_solid_angle) {
     return max(0.5 * log2(1.0 / (max(n_pdf, 1e-30) * texel_solid_angle)), 0.0);
 }

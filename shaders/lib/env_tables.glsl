@@ -18,8 +18,21 @@ float lut_x(float n_dot_v) {
     return sqrt(max(1.0 - n_dot_v, 0.0));
 }
 
+// The n·v of table x, down to MIN_N_DOT_V at x = 1: the least n·v the shading uses (at 0
+// itself the lobes are a degenerate limit).
 float lut_n_dot_v(float x) {
-    return 1.0 - x * x;
+    return max(1.0 - x * x, MIN_N_DOT_V);
+}
+
+// Texel i of a table of `size` holds parameter i/(size − 1), so both ends of [0, 1] are
+// texels; parameter x is read at the texel-centre coordinate (x (size − 1) + ½)/size,
+// where linear filtering reproduces the texels exactly at the ends.
+float lut_parameter(uint texel, uint size) {
+    return float(texel) / float(size - 1u);
+}
+
+float lut_coordinate(float x, uint size) {
+    return (x * float(size - 1u) + 0.5) / float(size);
 }
 
 uint lut_layer(ShadingModels models) {

@@ -30,7 +30,7 @@ layout(set = ENV_SET, binding = 0, std140) uniform EnvironmentData {
     vec4 texel;     // x: solid angle of a level-0 texel of radiance_map
     vec4 sh[9];     // the map's radiance in SH (rgb), before rotation and intensity
 } env;
-// The environment with a box-filtered mip chain.
+// The environment with a mip chain of solid-angle-weighted means.
 layout(set = ENV_SET, binding = 1) uniform samplerCube radiance_map;
 // Radiance prefiltered by GGX lobes, roughness = lod / params.w (Karis 2013).
 layout(set = ENV_SET, binding = 2) uniform samplerCube prefiltered_map;
@@ -61,7 +61,9 @@ vec3 env_convolve(vec3 d, vec3 kernel) {
 }
 
 vec2 brdf_table(uint layer, float n_dot_v, float y) {
-    return textureLod(brdf_lut, vec3(lut_x(n_dot_v), y, float(layer)), 0.0).rg;
+    uvec2 size = uvec2(textureSize(brdf_lut, 0).xy);
+    vec2 xy = vec2(lut_coordinate(lut_x(n_dot_v), size.x), lut_coordinate(y, size.y));
+    return textureLod(brdf_lut, vec3(xy, float(layer)), 0.0).rg;
 }
 
 // The directional albedo of the diffuse lobe: what it reflects of a unit uniform light.
@@ -75,8 +77,8 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 
 // Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
 // times irradiance/π from SH (exact for Lambert under band-limited light), the subsurface
-// term through its own SH kernels, and the specular lobe as prefiltered radiance along the
-// mirror direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
+// term through its own SH kernels, and the specular lobe as prefiltered radiance along its
+// dominant direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
 // by the report's eq. 17: one lookup along the mirror direction × seed_strength × noise.
 // `noise` modulates the seed mode's lookup: the material's noise map, or 1.
 vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float curvature, float noise) {
@@ -102,7 +104,9 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
         return radiance + env.params.z * noise * env_radiance(r, 0.0);
     }
     vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
-    return radiance + env_prefiltered(r, m.roughness) * m.specular_color.rgb * (clamp(m.f0, 0.0, 1.0) * ab.x + ab.y);
+    vec3 dominant = specular_dominant_direction(n, r, clamp_alpha(m.roughness * m.roughness));
+    return radiance
+         + env_prefiltered(dominant, m.roughness) * m.specular_color.rgb * (clamp(m.f0, 0.0, 1.0) * ab.x + ab.y);
 }
 
 // PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").

@@ -46,14 +46,21 @@ pub fn cube_texel_ab(x: u32, y: u32, size: u32) -> (f64, f64) {
     (at(x), at(y))
 }
 
-/// The exact solid angle of texel (x, y) on a face of `size`² texels: the face is the
-/// square [−1, 1]² at unit distance, and a rectangle [x0, x1]×[y0, y1] on it subtends
-/// F(x1, y1) − F(x0, y1) − F(x1, y0) + F(x0, y0), F(x, y) = atan2(xy, √(x² + y² + 1)).
+/// The solid angle of triangle (a, b, c) seen from the origin, given its triple product
+/// a·(b×c) (Van Oosterom & Strackee 1983).
+fn triangle_solid_angle(a: Vec3, b: Vec3, c: Vec3, triple: f64) -> f64 {
+    let (la, lb, lc) = (dot(a, a).sqrt(), dot(b, b).sqrt(), dot(c, c).sqrt());
+    2.0 * triple.atan2(la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la)
+}
+
+/// The exact solid angle of texel (x, y) on a face of `size`² texels, the face being
+/// [−1, 1]² at unit distance: its two triangles, whose triple product is the texel's area.
 pub fn cube_texel_solid_angle(x: u32, y: u32, size: u32) -> f64 {
     let edge = |i: u32| f64::from(i) / f64::from(size) * 2.0 - 1.0;
-    let f = |a: f64, b: f64| (a * b).atan2((a * a + b * b + 1.0).sqrt());
     let (x0, x1, y0, y1) = (edge(x), edge(x + 1), edge(y), edge(y + 1));
-    f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0)
+    let (a, b, c, d) = ([x0, y0, 1.0], [x1, y0, 1.0], [x1, y1, 1.0], [x0, y1, 1.0]);
+    let area = (x1 - x0) * (y1 - y0);
+    triangle_solid_angle(a, b, c, area) + triangle_solid_angle(a, c, d, area)
 }
 
 /// Equirectangular (u, v) of unit d: u = 0.5 looks along −z and grows towards +x, v = 0
@@ -83,6 +90,14 @@ pub fn map_rotation(degrees: f64) -> [f64; 2] {
 /// The report's eq. 17: uv = n(2(n·v)) − v, normalised; the mirror direction of v.
 pub fn seed_reflection(n: Vec3, v: Vec3) -> Vec3 {
     normalize(add(scale(n, 2.0 * dot(n, v)), scale(v, -1.0)))
+}
+
+/// The direction a specular lobe's prefiltered radiance is read from: r drawn towards n as
+/// the lobe widens (Lagarde & de Rousiers 2014, listing 22; α = roughness²).
+pub fn specular_dominant_direction(n: Vec3, r: Vec3, alpha: f64) -> Vec3 {
+    let smoothness = (1.0 - alpha).clamp(0.0, 1.0);
+    let t = smoothness * (smoothness.sqrt() + alpha);
+    normalize(add(scale(n, 1.0 - t), scale(r, t)))
 }
 
 /// An orthonormal frame (t, b, n) around unit n (Duff et al. 2017).
@@ -277,8 +292,20 @@ pub fn lut_x(n_dot_v: f64) -> f64 {
     (1.0 - n_dot_v).max(0.0).sqrt()
 }
 
+/// The n·v of table x, down to `MIN_N_DOT_V` at x = 1 (the least n·v the shading uses).
 pub fn lut_n_dot_v(x: f64) -> f64 {
-    1.0 - x * x
+    (1.0 - x * x).max(MIN_N_DOT_V)
+}
+
+/// The parameter of texel `texel` of a table of `size`: i/(size − 1), both ends included.
+pub fn lut_parameter(texel: u32, size: u32) -> f64 {
+    f64::from(texel) / f64::from(size - 1)
+}
+
+/// The texel-centre coordinate at which parameter x in [0, 1] is read:
+/// (x (size − 1) + ½)/size.
+pub fn lut_coordinate(x: f64, size: u32) -> f64 {
+    (x * f64::from(size - 1) + 0.5) / f64::from(size)
 }
 
 /// The table layer of a material's specular lobe.
@@ -346,7 +373,9 @@ pub fn lut_view(n_dot_v: f64) -> Vec3 {
 
 /// One texel of `layer` at n·v = `n_dot_v`, roughness (σ) = y, as env_brdf_lut.comp
 /// estimates it with `samples` Hammersley points: (A, B) for specular layers, (albedo, 0)
-/// for Oren-Nayar.
+/// for Oren-Nayar. Torrance-Sparrow draws normals by D(h)(n·h) rather than as visible from
+/// v: its V-cavity masking G ≤ 2(n·h)(n·v)/(v·h) keeps those weights bounded at grazing
+/// n·v, where Smith's visible normals leave them heavy-tailed (2× off at n·v = 1e-4).
 pub fn brdf_lut_estimate(layer: u32, n_dot_v: f64, y: f64, samples: u32) -> [f64; 2] {
     const N: Vec3 = [0.0, 0.0, 1.0];
     let v = lut_view(n_dot_v);
@@ -361,13 +390,19 @@ pub fn brdf_lut_estimate(layer: u32, n_dot_v: f64, y: f64, samples: u32) -> [f64
         let models = lut_layer_models(layer);
         let alpha = clamp_alpha(y * y);
         let (m0, m1) = (lut_material(y, 0.0), lut_material(y, 1.0));
+        let by_d = layer == LUT_LAYER_TORRANCE_SPARROW;
         for i in 0..samples {
-            let h = sample_ggx_vndf(v, alpha, hammersley(i, samples));
+            let h = sample_ggx_vndf(if by_d { N } else { v }, alpha, hammersley(i, samples));
             let l = reflect_about(v, h);
             if l[2] <= 0.0 {
                 continue;
             }
-            let pdf = pdf_ggx_vndf(alpha, n_dot_v, h[2], h[0] * h[0] + h[1] * h[1]);
+            let n_cross_h_len2 = h[0] * h[0] + h[1] * h[1];
+            let pdf = if by_d {
+                pdf_ggx_vndf(alpha, 1.0, h[2], n_cross_h_len2) * h[2] / dot(v, h)
+            } else {
+                pdf_ggx_vndf(alpha, n_dot_v, h[2], n_cross_h_len2)
+            };
             let b = specular_lobe(models, &m0, N, v, l, n_dot_v, l[2])[0];
             let a_plus_b = specular_lobe(models, &m1, N, v, l, n_dot_v, l[2])[0];
             sum[0] += (a_plus_b - b) * l[2] / pdf;

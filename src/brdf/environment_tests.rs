@@ -60,9 +60,25 @@ fn cube_texel_solid_angles_cover_the_sphere() {
             .sum();
         assert!((6.0 * total - 4.0 * PI).abs() < 1e-12, "size {size}: {}", 6.0 * total);
     }
-    // The centre texel of a large face approaches its planar area at unit distance.
+    // The centre texel of a large face approaches its planar area at unit distance, a
+    // corner texel 1/(3√3) of it.
     let w = 1024;
-    assert!((cube_texel_solid_angle(w / 2, w / 2, w) / (4.0 / f64::from(w * w)) - 1.0).abs() < 1e-5);
+    let centre = cube_texel_solid_angle(w / 2, w / 2, w);
+    assert!((centre / (4.0 / f64::from(w * w)) - 1.0).abs() < 1e-5);
+    assert!((cube_texel_solid_angle(0, w - 1, w) / centre * 27f64.sqrt() - 1.0).abs() < 1e-2);
+    // The rectangle formula F(x1, y1) − F(x0, y1) − F(x1, y0) + F(x0, y0),
+    // F(x, y) = atan2(xy, √(x² + y² + 1)), in f64 where its cancellation is harmless.
+    let f = |a: f64, b: f64| (a * b).atan2((a * a + b * b + 1.0).sqrt());
+    for (x, y, size) in [(0, 0, 1), (1, 0, 2), (3, 5, 7), (0, 31, 32), (200, 17, 512)] {
+        let edge = |i: u32| f64::from(i) / f64::from(size) * 2.0 - 1.0;
+        let (x0, x1, y0, y1) = (edge(x), edge(x + 1), edge(y), edge(y + 1));
+        let rectangle = f(x1, y1) - f(x0, y1) - f(x1, y0) + f(x0, y0);
+        let triangles = cube_texel_solid_angle(x, y, size);
+        assert!(
+            (triangles / rectangle - 1.0).abs() < 1e-9,
+            "({x}, {y}) of {size}²: {triangles} vs {rectangle}"
+        );
+    }
 }
 
 #[test]
@@ -97,6 +113,20 @@ fn seed_reflection_is_the_unit_mirror_direction() {
     assert!((dot(r, n) - dot(v, n)).abs() < 1e-15, "equal angles with n");
     assert!(dot(cross(n, v), r).abs() < 1e-15, "r in the plane of n and v");
     assert!(close(r, reflect_about(v, n), 1e-15));
+}
+
+/// A smooth lobe is read along the mirror direction, the roughest along the normal.
+#[test]
+fn specular_dominant_direction_moves_from_r_to_n() {
+    let n = [0.0, 0.0, 1.0];
+    let r = normalize([0.8, 0.0, 0.6]);
+    assert!(close(specular_dominant_direction(n, r, 0.0), r, 1e-15));
+    assert!(close(specular_dominant_direction(n, r, 1.0), n, 1e-15));
+    let cosines: Vec<f64> = [0.1, 0.3, 0.5, 0.7]
+        .iter()
+        .map(|&alpha| dot(specular_dominant_direction(n, r, alpha), n))
+        .collect();
+    assert!(cosines.windows(2).all(|w| w[0] < w[1]), "{cosines:?}");
 }
 
 #[test]
@@ -253,8 +283,22 @@ fn filtered_lod_matches_texel_and_sample_solid_angles() {
 
 #[test]
 fn lut_x_inverts() {
-    for mu in [0.0, 0.3, 0.999, 1.0] {
+    for mu in [MIN_N_DOT_V, 0.3, 0.999, 1.0] {
         assert!((lut_n_dot_v(lut_x(mu)) - mu).abs() < 1e-15);
+    }
+    assert_eq!(lut_n_dot_v(1.0), MIN_N_DOT_V);
+}
+
+/// Texel i holds parameter i/(N − 1) and is read at its centre (i + ½)/N: the ends of
+/// [0, 1] are the first and last texels' centres.
+#[test]
+fn lut_coordinates_are_texel_centres() {
+    for size in [2, 32] {
+        for i in 0..size {
+            let centre = (f64::from(i) + 0.5) / f64::from(size);
+            assert!((lut_coordinate(lut_parameter(i, size), size) - centre).abs() < 1e-15);
+        }
+        assert_eq!(lut_parameter(size - 1, size), 1.0);
     }
 }
 
@@ -280,7 +324,17 @@ fn brdf_table_estimates_match_quadrature() {
     const N: Vec3 = [0.0, 0.0, 1.0];
     let mut worst: f64 = 0.0;
     for layer in 0..LUT_LAYERS {
-        for (x, y) in [(0.9, 0.3), (0.5, 0.6), (0.2, 0.9), (0.05, 0.5)] {
+        // The tables' corners (n·v = 1 and its least, roughness or σ = 0 and 1) among them.
+        for (x, y) in [
+            (0.9, 0.3),
+            (0.5, 0.6),
+            (0.2, 0.9),
+            (0.05, 0.5),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (MIN_N_DOT_V, 0.0),
+            (MIN_N_DOT_V, 1.0),
+        ] {
             let estimate = brdf_lut_estimate(layer, x, y, 1024);
             let reference = if layer == LUT_LAYER_OREN_NAYAR {
                 let m = lut_material(y, 0.0);

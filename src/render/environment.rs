@@ -330,6 +330,16 @@ impl EnvironmentPass {
             .transpose()
     }
 
+    /// Mip `level` of the GGX-prefiltered cube map (roughness level/(PREFILTERED_LEVELS − 1),
+    /// laid out as `read_radiance_level`), for checks; `None` before split sum needed it.
+    pub fn read_prefiltered_level(&self, level: u32) -> Result<Option<Vec<[f32; 4]>>> {
+        self.cubes
+            .as_ref()
+            .and_then(|c| c.prefiltered.as_ref())
+            .map(|i| self.precompute.read_level(i, level))
+            .transpose()
+    }
+
     /// The BRDF tables (layer-major, rows of increasing roughness), for checks; `None`
     /// when no environment has needed them.
     pub fn read_brdf_lut(&self) -> Result<Option<Vec<[f32; 4]>>> {
