@@ -151,7 +151,6 @@ fn sphere_errors(
     (on_mesh, on_sphere)
 }
 
-
 /// A Lambert sphere under a point light against the closed form (ρ/π)·I·cosθ/d² (seed
 /// eq. 4 with E = I cosθ/d²), twice: on the mesh the GPU drew (which isolates the shading
 /// arithmetic) and on the exact sphere (which adds tessellation).

@@ -79,7 +79,6 @@ fn white_furnace_is_exact_in_every_transport() {
     }
 }
 
-
 /// A Lambert sphere under a point light against the closed form (ρ/π)·I·cosθ/d² on the
 /// exact sphere, through the reference's camera, mesh and shading: at the pixel centre
 /// one sample is the whole estimate.
