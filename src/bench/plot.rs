@@ -13,31 +13,34 @@ use crate::atomic::write_atomically;
 const SIZE: (u32, u32) = (960, 640);
 const FONT: &str = "sans-serif";
 
-/// Draws `rows` (one scene at one size; the floor left out, as it is the unit of the x
-/// axis) into the PNG `path`, their ꟻLIP against the `direct` reference: the error of the
-/// renderer's approximations alone.
+/// Draws `rows` (one scene; the floor left out, as it is the unit of the x axis) into the
+/// PNG `path`, their ꟻLIP against the `direct` reference: the error of the renderer's
+/// approximations alone. A row at another size than the first is labelled with its size.
 pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
     // Registering twice keeps the first; the font is one egui embeds already.
     register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
         .map_err(|_| anyhow!("the plot's font cannot be read"))?;
-    let points: Vec<(f64, f64, &str, bool)> = rows
+    let Some(first) = rows.first() else {
+        return Ok(());
+    };
+    let points: Vec<(f64, f64, String, bool)> = rows
         .iter()
         .map(|r| {
-            (
-                r.forward_ratio_to_floor,
-                r.error_direct.flip_mean,
-                r.configuration.as_str(),
-                r.report,
-            )
+            let name = if (r.width, r.height) == (first.width, first.height) {
+                r.configuration.clone()
+            } else {
+                format!("{} at {}×{}", r.configuration, r.width, r.height)
+            };
+            (r.forward_ratio_to_floor, r.error_direct.flip_mean, name, r.report)
         })
         .filter(|(x, y, ..)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
         .collect();
-    anyhow::ensure!(!points.is_empty(), "nothing to plot for {title}");
+    anyhow::ensure!(!points.is_empty(), "no finite point to plot for {title}");
     let range = |values: Vec<f64>| {
         let (lo, hi) = values
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(lo, hi), &v| (lo.min(v), hi.max(v)));
-        // Half a decade of margin each side, so labels fit.
+        // A quarter of a decade of margin each side, so marks and labels fit.
         lo / 10f64.powf(0.25)..hi * 10f64.powf(0.25)
     };
     let x_range = range(points.iter().map(|p| p.0).collect());
@@ -64,7 +67,8 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
             let colour = if report { RED } else { BLACK };
             Circle::new((x, y), 5, colour.filled())
         }))?;
-        chart.draw_series(points.iter().map(|&(x, y, name, report)| {
+        chart.draw_series(points.iter().map(|(x, y, name, report)| {
+            let (x, y, report) = (*x, *y, *report);
             let label = if report {
                 format!("{name} (the report's composition)")
             } else {
@@ -82,7 +86,7 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
 }
 
 /// The points no other point beats in both time and error, by increasing time.
-fn pareto_front(points: &[(f64, f64, &str, bool)]) -> Vec<(f64, f64)> {
+fn pareto_front<L>(points: &[(f64, f64, L, bool)]) -> Vec<(f64, f64)> {
     let mut sorted: Vec<(f64, f64)> = points.iter().map(|p| (p.0, p.1)).collect();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut front: Vec<(f64, f64)> = Vec::new();

@@ -149,8 +149,8 @@ impl Row {
     }
 }
 
-/// Writes `results.csv`, `results.json`, `results.md` and a `plot-SCENE.png` per scene (its
-/// configurations at its first size) into `dir`.
+/// Writes `results.csv`, `results.json`, `results.md` and a `plot-SCENE.png` per scene
+/// (each configuration at its first size) into `dir`.
 pub fn write(dir: &Path, rows: &[Row]) -> Result<()> {
     write_bytes(&dir.join("results.csv"), csv(rows).as_bytes())?;
     write_bytes(
@@ -161,14 +161,16 @@ pub fn write(dir: &Path, rows: &[Row]) -> Result<()> {
     let mut scenes: Vec<&str> = rows.iter().map(|r| r.scene.as_str()).collect();
     scenes.dedup();
     for scene in scenes {
-        let of_scene: Vec<&Row> = rows.iter().filter(|r| r.scene == scene).collect();
-        let size = (of_scene[0].width, of_scene[0].height);
-        let shown: Vec<&Row> = of_scene
-            .into_iter()
-            .filter(|r| (r.width, r.height) == size && r.configuration != FLOOR)
-            .collect();
-        let title = format!("{scene} scene, {}×{}, {}", size.0, size.1, shown[0].device);
-        plot(&dir.join(format!("plot-{scene}.png")), &title, &shown)?;
+        let mut shown: Vec<&Row> = Vec::new();
+        for r in rows.iter().filter(|r| r.scene == scene && r.configuration != FLOOR) {
+            if !shown.iter().any(|s| s.configuration == r.configuration) {
+                shown.push(r);
+            }
+        }
+        if let Some(first) = shown.first() {
+            let title = format!("{scene} scene, {}×{}, {}", first.width, first.height, first.device);
+            plot(&dir.join(format!("plot-{scene}.png")), &title, &shown)?;
+        }
     }
     Ok(())
 }
