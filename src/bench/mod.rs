@@ -1,7 +1,7 @@
 //! `argil bench`: run time against error. For each scene × configuration × resolution, the
 //! GPU time per pass of steady frames (after a warm-up that absorbs the driver's first-draw
-//! shader compile), the CPU time per frame, both also as a ratio to the trivial-shader
-//! floor measured in the same run, and the frame's error against the scene's `full` and
+//! shader compile), the CPU time per frame, the GPU time as a ratio to the trivial-shader
+//! floor drawn in alternation with it, and the frame's error against the scene's `full` and
 //! `direct` references (cached, see [`references`]).
 //!
 //! - [`plan`]: the scenes and configurations.
@@ -146,8 +146,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     Ok(out)
 }
 
-/// Times and measures every configuration of `scene`, the floor first, as each row's
-/// ratio needs the floor's time at its resolution.
+/// Times and measures every configuration of `scene`.
 fn bench_scene(
     renderer: &mut Renderer,
     scene: &BenchScene,
@@ -157,7 +156,6 @@ fn bench_scene(
     provenance: &Provenance,
     rows: &mut Vec<Row>,
 ) -> Result<()> {
-    let mut floors: Vec<(vk::Extent2D, Timing)> = Vec::new();
     for configuration in &scene.configurations {
         let parsed = Scene::from_toml(&configuration.text, &configuration.name, Path::new(""))?;
         let gpu = renderer.upload(&parsed)?;
@@ -166,21 +164,12 @@ fn bench_scene(
         let [full, direct] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
         let (full, direct) = (full?, direct?);
         for &extent in &configuration.resolutions {
-            let timing = time(renderer, &parsed, &gpu, extent, options)?;
-            if configuration.floor {
-                floors.push((extent, timing.clone()));
-            }
-            let floor = floors
-                .iter()
-                .find(|(e, _)| *e == extent)
-                .map(|(_, t)| t)
-                .context("the floor is timed before the configurations, at each of their sizes")?;
+            let timing = time(renderer, &parsed, &gpu, extent, configuration.floor, options)?;
             let row = Row::new(
                 scene.name,
                 configuration,
                 extent,
                 &timing,
-                floor,
                 (&full, refs[0]),
                 (&direct, refs[1]),
                 provenance,
@@ -188,8 +177,8 @@ fn bench_scene(
             eprintln!("{}", row.line());
             rows.push(row);
         }
-        renderer.floor = false;
     }
+    renderer.floor = false;
     Ok(())
 }
 
@@ -209,26 +198,42 @@ fn frame(
 }
 
 /// The times of one row.
-#[derive(Clone)]
 pub struct Timing {
     pub frames: u32,
     /// Per pass of [`PASS_NAMES`].
     pub passes: Vec<Summary>,
     pub gpu_total: Summary,
     pub cpu: Summary,
+    /// The forward pass of the floor frames.
+    pub floor_forward: Summary,
+    /// Per pair of frames, the configuration's forward pass over the floor's, and its
+    /// whole frame over the floor's.
+    pub forward_ratio: Summary,
+    pub gpu_ratio: Summary,
 }
 
-/// Renders warm-up frames, then timed frames into the same target without reading them
-/// back: GPU milliseconds per pass from the timestamps, CPU milliseconds of recording,
-/// submitting and waiting for each frame.
+/// Renders warm-up frames, then pairs of timed frames into the same target without
+/// reading them back: a floor frame, then a frame of the configuration (itself the floor
+/// when `floor`). GPU milliseconds per pass from the timestamps, CPU milliseconds of
+/// writing the uniforms, recording, submitting and waiting for each frame. Pairing makes
+/// the ratios hold when other work on the machine comes and goes during a run.
 fn time(
     renderer: &mut Renderer,
     scene: &Scene,
     gpu: &crate::render::GpuScene,
     extent: vk::Extent2D,
+    floor: bool,
     options: &Options,
 ) -> Result<Timing> {
     let offscreen = OffscreenTarget::new(&renderer.device, extent)?;
+    let draw = |renderer: &mut Renderer, as_floor: bool| -> Result<(Vec<f64>, f64)> {
+        renderer.floor = as_floor;
+        let begin = Instant::now();
+        let ms = renderer
+            .draw_offscreen(scene, gpu, &offscreen, 1.0)?
+            .context("the device stopped reporting timestamps")?;
+        Ok((ms, begin.elapsed().as_secs_f64() * 1e3))
+    };
     // The error frame drawn before has compiled the pipeline already; what is left to warm
     // up (caches, the new target) takes a frame, so slow rows stop after one.
     let warming = Instant::now();
@@ -236,21 +241,25 @@ fn time(
         if i >= 1 && warming.elapsed().as_secs_f64() > WARMUP_SECONDS {
             break;
         }
-        renderer.draw_offscreen(scene, gpu, &offscreen, 1.0)?;
+        draw(renderer, true)?;
+        draw(renderer, floor)?;
     }
     let mut passes = vec![Vec::new(); PASS_NAMES.len()];
-    let (mut totals, mut cpu) = (Vec::new(), Vec::new());
+    let (mut totals, mut cpu, mut floor_forward, mut forward_ratio, mut gpu_ratio) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let start = Instant::now();
     for i in 0..options.frames {
         if i >= MIN_FRAMES && start.elapsed().as_secs_f64() > options.max_seconds {
             break;
         }
-        let begin = Instant::now();
-        let ms = renderer
-            .draw_offscreen(scene, gpu, &offscreen, 1.0)?
-            .context("the device stopped reporting timestamps")?;
-        cpu.push(begin.elapsed().as_secs_f64() * 1e3);
-        totals.push(ms.iter().sum());
+        let (floor_ms, _) = draw(renderer, true)?;
+        let (ms, cpu_ms) = draw(renderer, floor)?;
+        let total: f64 = ms.iter().sum();
+        cpu.push(cpu_ms);
+        forward_ratio.push(ms[0] / floor_ms[0]);
+        gpu_ratio.push(total / floor_ms.iter().sum::<f64>());
+        floor_forward.push(floor_ms[0]);
+        totals.push(total);
         for (pass, t) in passes.iter_mut().zip(ms) {
             pass.push(t);
         }
@@ -260,6 +269,9 @@ fn time(
         passes: passes.iter().map(|p| Summary::of(p)).collect(),
         gpu_total: Summary::of(&totals),
         cpu: Summary::of(&cpu),
+        floor_forward: Summary::of(&floor_forward),
+        forward_ratio: Summary::of(&forward_ratio),
+        gpu_ratio: Summary::of(&gpu_ratio),
     })
 }
 

@@ -44,8 +44,8 @@ impl Error {
     }
 }
 
-/// One scene × configuration × resolution. Milliseconds; ratios are to the floor's
-/// median at the same resolution in the same run.
+/// One scene × configuration × resolution. Milliseconds; ratios are medians over pairs of
+/// frames, each of the configuration against a floor frame drawn just before it.
 #[derive(Clone, Debug, Serialize)]
 pub struct Row {
     pub scene: String,
@@ -61,8 +61,11 @@ pub struct Row {
     pub pass_ms_median: Vec<f64>,
     pub cpu_ms_median: f64,
     pub cpu_ms_p95: f64,
+    /// Median GPU milliseconds of the floor frames' forward pass.
+    pub floor_forward_ms_median: f64,
     /// Forward pass against the floor's forward pass: what shading costs.
     pub forward_ratio_to_floor: f64,
+    pub forward_ratio_to_floor_p95: f64,
     /// The whole frame (every pass) against the floor's whole frame.
     pub gpu_ratio_to_floor: f64,
     /// Against the `full` and `direct` references, at their size.
@@ -83,7 +86,6 @@ impl Row {
         configuration: &Configuration,
         extent: vk::Extent2D,
         timing: &Timing,
-        floor: &Timing,
         full: (&Metrics, &CachedReference),
         direct: (&Metrics, &CachedReference),
         provenance: &Provenance,
@@ -100,8 +102,10 @@ impl Row {
             pass_ms_median: timing.passes.iter().map(|p| p.median).collect(),
             cpu_ms_median: timing.cpu.median,
             cpu_ms_p95: timing.cpu.p95,
-            forward_ratio_to_floor: timing.passes[0].median / floor.passes[0].median,
-            gpu_ratio_to_floor: timing.gpu_total.median / floor.gpu_total.median,
+            floor_forward_ms_median: timing.floor_forward.median,
+            forward_ratio_to_floor: timing.forward_ratio.median,
+            forward_ratio_to_floor_p95: timing.forward_ratio.p95,
+            gpu_ratio_to_floor: timing.gpu_ratio.median,
             error_full: Error::new(full.0, full.1),
             error_direct: Error::new(direct.0, direct.1),
             error_width: full.0.width,
@@ -111,24 +115,6 @@ impl Row {
             date: provenance.date.clone(),
             commit: provenance.commit.clone(),
         }
-    }
-
-    /// Every number of the row that must be finite for it to mean anything.
-    pub fn figures(&self) -> Vec<f64> {
-        let mut figures = vec![
-            self.gpu_ms_median,
-            self.gpu_ms_p95,
-            self.cpu_ms_median,
-            self.cpu_ms_p95,
-            self.forward_ratio_to_floor,
-            self.gpu_ratio_to_floor,
-            self.error_full.flip_mean,
-            self.error_full.rel_mse,
-            self.error_direct.flip_mean,
-            self.error_direct.rel_mse,
-        ];
-        figures.extend(&self.pass_ms_median);
-        figures
     }
 
     /// The row as one line of progress.
@@ -190,7 +176,9 @@ fn csv(rows: &[Row]) -> String {
     header.extend([
         "cpu_ms_median",
         "cpu_ms_p95",
+        "floor_forward_ms_median",
         "forward_ratio_to_floor",
+        "forward_ratio_to_floor_p95",
         "gpu_ratio_to_floor",
         "flip_full",
         "rel_mse_full",
@@ -220,7 +208,9 @@ fn csv(rows: &[Row]) -> String {
         fields.extend([
             r.cpu_ms_median.to_string(),
             r.cpu_ms_p95.to_string(),
+            r.floor_forward_ms_median.to_string(),
             r.forward_ratio_to_floor.to_string(),
+            r.forward_ratio_to_floor_p95.to_string(),
             r.gpu_ratio_to_floor.to_string(),
             r.error_full.flip_mean.to_string(),
             r.error_full.rel_mse.to_string(),
@@ -255,15 +245,14 @@ pub fn markdown(rows: &[Row]) -> String {
     if let Some(first) = rows.first() {
         let _ = writeln!(
             text,
-            "Measured on {} ({}), commit {}, {}. GPU and CPU milliseconds per frame: median (p95) of \
-             {} steady frames; × floor: the forward pass against the trivial-shader floor's. Error at \
-             {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `direct` one ({} spp, \
+            "Measured on {} ({}), commit {}, {}. GPU and CPU milliseconds per frame: median (p95) \
+             of the row's steady frames; × floor: the forward pass against the trivial-shader floor's \
+             in the frame drawn just before, median of the pairs. Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `direct` one ({} spp, \
              noise {:.2}%).\n",
             first.device,
             first.driver,
             first.commit,
             first.date,
-            first.frames,
             first.error_width,
             first.error_height,
             first.error_full.reference_spp,
@@ -272,8 +261,8 @@ pub fn markdown(rows: &[Row]) -> String {
             first.error_direct.reference_noise * 100.0,
         );
     }
-    text += "| scene | configuration | size | GPU ms | forward ms | CPU ms | × floor | ꟻLIP full | rel. MSE full | ꟻLIP direct | rel. MSE direct |\n";
-    text += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    text += "| scene | configuration | size | frames | GPU ms | forward ms | CPU ms | × floor | ꟻLIP full | rel. MSE full | ꟻLIP direct | rel. MSE direct |\n";
+    text += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
     for r in rows {
         let name = if r.report {
             format!("**{}**", r.configuration)
@@ -282,10 +271,11 @@ pub fn markdown(rows: &[Row]) -> String {
         };
         let _ = writeln!(
             text,
-            "| {} | {name} | {}×{} | {:.2} ({:.2}) | {:.2} | {:.2} ({:.2}) | {:.1} | {:.4} | {:.2e} | {:.4} | {:.2e} |",
+            "| {} | {name} | {}×{} | {} | {:.2} ({:.2}) | {:.2} | {:.2} ({:.2}) | {:.1} | {:.4} | {:.2e} | {:.4} | {:.2e} |",
             r.scene,
             r.width,
             r.height,
+            r.frames,
             r.gpu_ms_median,
             r.gpu_ms_p95,
             r.pass_ms_median[0],
