@@ -38,7 +38,11 @@ fn the_floor_writes_the_interpolated_normal_and_turns_off() {
     let centre = 4 * (16 * 33 + 16);
     let expected = [0.5, 0.5, 1.0, 1.0];
     for (c, e) in floor.hdr[centre..centre + 4].iter().zip(expected) {
-        assert!((c - e).abs() < 0.02, "floor centre {:?}", &floor.hdr[centre..centre + 4]);
+        assert!(
+            (c - e).abs() < 0.02,
+            "floor centre {:?}",
+            &floor.hdr[centre..centre + 4]
+        );
     }
     assert_eq!(&floor.hdr[0..4], &[0.0; 4], "the background stays uncovered");
     assert_ne!(floor.hdr, shaded.hdr);
