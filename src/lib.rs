@@ -8,10 +8,12 @@
 //! - [`verify`]: `argil verify`, the GPU and f64 checks of every BRDF.
 //! - [`reference`]: `argil reference`, the Monte Carlo ground truth of a scene, in f64.
 //! - [`compare`]: `argil compare`, error figures and ꟻLIP of one EXR against a reference.
+//! - [`bench`]: `argil bench`, run time against error, and the trivial-shader floor.
 //! - [`error`]: error types the command line maps to exit codes; [`atomic`]: output files
 //!   written whole or not at all.
 
 pub mod atomic;
+pub mod bench;
 pub mod brdf;
 pub mod compare;
 pub mod error;

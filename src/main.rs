@@ -130,6 +130,30 @@ enum Command {
         #[arg(long, default_value_t = 1.0)]
         exposure: f32,
     },
+    /// Time scenes × configurations × resolutions in steady frames (GPU per pass, CPU per
+    /// frame, as a ratio to a trivial-shader floor) and measure each configuration's error
+    /// against cached references. Writes results.csv, results.json and results.md.
+    Bench {
+        /// A small subset (one scene, three configurations, 160×90, tiny references) for tests.
+        #[arg(long)]
+        quick: bool,
+        /// Timed frames per row [default: 100, --quick 10].
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        frames: Option<u32>,
+        /// Untimed frames first, for the driver's first-draw shader compile; stops after 2 s once
+        /// there has been one [default: 5, --quick 2].
+        #[arg(long)]
+        warmup: Option<u32>,
+        /// Stop timing a row after this many seconds, once it has 5 frames.
+        #[arg(long, default_value_t = 60.0)]
+        max_seconds: f64,
+        /// Results folder [default: bench/results/DEVICE; --quick: in the temporary folder].
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Reference cache [default: bench/references; --quick: in the temporary folder].
+        #[arg(long, value_name = "DIR")]
+        references: Option<PathBuf>,
+    },
     /// List the Vulkan devices on this machine.
     Devices,
     /// Check every BRDF model and term: GPU against f64, positivity, reciprocity, energy,
@@ -275,16 +299,7 @@ fn reference(
     );
     let image = pool.install(|| argil::reference::render(&scene, &settings, &ProgressBar(bar.clone())))?;
     bar.finish_and_clear();
-    let attributes = [
-        ("argil.transport", settings.transport.to_string()),
-        ("argil.filter", settings.filter.to_string()),
-        ("argil.sampling", settings.sampling.to_string()),
-        ("argil.subsurface", settings.subsurface.to_string()),
-        ("argil.spp", image.samples.to_string()),
-        ("argil.noise", format!("{:e}", image.noise)),
-        ("argil.seed", settings.seed.to_string()),
-        ("argil.max_depth", settings.max_depth.to_string()),
-    ];
+    let attributes = image.exr_attributes(&settings);
     write_linear(&out, image.width, image.height, &image.rgba, exposure, &attributes)?;
     println!("{}", out.display());
     eprintln!(
@@ -321,6 +336,25 @@ fn verify(
     }
     if report.failures() > 0 {
         bail!("{} verification check(s) failed", report.failures());
+    }
+    Ok(())
+}
+
+fn bench(choice: DeviceChoice, validation: bool, options: argil::bench::Options) -> Result<()> {
+    if !(options.max_seconds.is_finite() && options.max_seconds > 0.0) {
+        return Err(InputError(format!(
+            "--max-seconds {}: must be a finite number > 0",
+            options.max_seconds
+        ))
+        .into());
+    }
+    let device = Arc::new(Device::new(DeviceOptions { choice, validation }, None)?);
+    let out = argil::bench::run(&device, &options)?;
+    println!("{}", out.display());
+    if let Some(report) = device.validation() {
+        if report.error_count() > 0 {
+            bail!("the validation layer reported {} error(s)", report.error_count());
+        }
     }
     Ok(())
 }
@@ -406,6 +440,24 @@ fn run(cli: Cli) -> Result<()> {
                 max_depth,
             };
             reference(scene, out, settings, threads, exposure)
+        }
+        Command::Bench {
+            quick,
+            frames,
+            warmup,
+            max_seconds,
+            out,
+            references,
+        } => {
+            let options = argil::bench::Options {
+                quick,
+                frames: frames.unwrap_or(if quick { 10 } else { 100 }),
+                warmup: warmup.unwrap_or(if quick { 2 } else { 5 }),
+                max_seconds,
+                out,
+                references,
+            };
+            bench(choice, validation, options)
         }
         Command::Compare { a, b, out, json } => compare(argil::compare::Options { a, b, out, json }),
         Command::Devices => {

@@ -21,6 +21,34 @@ fn background_is_transparent_and_black_without_environment() {
     assert_eq!(&frame.hdr[0..4], &[0.0, 0.0, 0.0, 0.0], "top-left pixel is background");
 }
 
+/// The bench's floor shows the interpolated normal ·0.5 + 0.5 with coverage in alpha, and
+/// turning it off gives the shaded frame back.
+#[test]
+fn the_floor_writes_the_interpolated_normal_and_turns_off() {
+    let sphere = scene(SPHERE_NO_ENVIRONMENT);
+    let (floor, shaded, again) = common::gpu().exclusive(|renderer| {
+        let shaded = common::try_render(renderer, &sphere, 33, 33).expect("render");
+        renderer.floor = true;
+        let floor = common::try_render(renderer, &sphere, 33, 33);
+        renderer.floor = false;
+        let again = common::try_render(renderer, &sphere, 33, 33).expect("render");
+        (floor.expect("render the floor"), shaded, again)
+    });
+    // The centre pixel sees the sphere's pole facing the camera on +z.
+    let centre = 4 * (16 * 33 + 16);
+    let expected = [0.5, 0.5, 1.0, 1.0];
+    for (c, e) in floor.hdr[centre..centre + 4].iter().zip(expected) {
+        assert!(
+            (c - e).abs() < 0.02,
+            "floor centre {:?}",
+            &floor.hdr[centre..centre + 4]
+        );
+    }
+    assert_eq!(&floor.hdr[0..4], &[0.0; 4], "the background stays uncovered");
+    assert_ne!(floor.hdr, shaded.hdr);
+    assert_eq!(again.hdr, shaded.hdr, "the floor leaves no trace once off");
+}
+
 #[test]
 fn default_scene_matches_golden() {
     let frame = render(&argil::scene::Scene::default_scene(), 320, 180);

@@ -162,6 +162,21 @@ impl Reference {
     pub fn rays_per_second(&self) -> f64 {
         self.rays as f64 / self.elapsed.as_secs_f64().max(1e-9)
     }
+
+    /// The `argil.*` EXR header attributes that say how this image was made (read back by
+    /// `argil compare`).
+    pub fn exr_attributes(&self, settings: &Settings) -> [(&'static str, String); 8] {
+        [
+            ("argil.transport", settings.transport.to_string()),
+            ("argil.filter", settings.filter.to_string()),
+            ("argil.sampling", settings.sampling.to_string()),
+            ("argil.subsurface", settings.subsurface.to_string()),
+            ("argil.spp", self.samples.to_string()),
+            ("argil.noise", format!("{:e}", self.noise)),
+            ("argil.seed", settings.seed.to_string()),
+            ("argil.max_depth", settings.max_depth.to_string()),
+        ]
+    }
 }
 
 /// Progress: samples per pixel done so far of the total expected now (which changes as a

@@ -3,7 +3,8 @@
 //! Set 0: binding 0 the `FrameData` uniform buffer, binding 1 the `Materials` storage
 //! buffer, binding 2 the pre-integrated subsurface table; set 2: the environment (see environment.rs); push constants: `ObjectPush` (see
 //! shaders/lib/scene_data.glsl). One pipeline per combination of BRDF models in use,
-//! chosen by specialization constants.
+//! chosen by specialization constants; for `argil bench`, one more that draws every object
+//! with the trivial `floor.frag`.
 
 use std::collections::HashMap;
 use std::mem::offset_of;
@@ -61,6 +62,8 @@ pub struct ForwardPass {
     vertex: ShaderModule,
     fragment: ShaderModule,
     pipelines: HashMap<Specialization, Pipeline>,
+    /// `floor.frag`'s pipeline, created the first time a frame asks for the floor.
+    floor: Option<Pipeline>,
     /// The pipeline of each material of the scene last prepared, in `Scene::materials` order.
     material_pipelines: Vec<vk::Pipeline>,
     /// Owns the slots' sets.
@@ -135,6 +138,7 @@ impl ForwardPass {
             vertex,
             fragment,
             pipelines: HashMap::new(),
+            floor: None,
             material_pipelines: Vec::new(),
             _pool: pool,
             slots,
@@ -174,9 +178,30 @@ impl ForwardPass {
         if let Some(p) = self.pipelines.get(specialization) {
             return Ok(p.handle);
         }
+        let pipeline = self.build_pipeline(
+            &self.fragment,
+            specialization,
+            &format!("forward {:?}", specialization.0),
+        )?;
+        let handle = pipeline.handle;
+        self.pipelines.insert(specialization.clone(), pipeline);
+        Ok(handle)
+    }
+
+    fn floor_pipeline(&mut self) -> Result<vk::Pipeline> {
+        if let Some(p) = &self.floor {
+            return Ok(p.handle);
+        }
+        // The module may go once the pipeline exists.
+        let fragment = ShaderModule::new(&self.device, shaders::FLOOR_FRAG, "floor.frag")?;
+        let pipeline = self.build_pipeline(&fragment, &Specialization::default(), "forward floor")?;
+        Ok(self.floor.insert(pipeline).handle)
+    }
+
+    fn build_pipeline(&self, fragment: &ShaderModule, specialization: &Specialization, name: &str) -> Result<Pipeline> {
         let stride = std::mem::size_of::<Vertex>() as u32;
         // Locations 0..=4, as forward.vert declares them.
-        let pipeline = GraphicsPipelineBuilder::new(&self.vertex, &self.fragment, HDR_FORMAT)
+        GraphicsPipelineBuilder::new(&self.vertex, fragment, HDR_FORMAT)
             .vertex_layout(
                 stride,
                 &[
@@ -189,22 +214,33 @@ impl ForwardPass {
             )
             .depth(DEPTH_FORMAT)
             .specialization(specialization.clone())
-            .build(&self.device, &self.layout, &format!("forward {:?}", specialization.0))?;
-        let handle = pipeline.handle;
-        self.pipelines.insert(specialization.clone(), pipeline);
-        Ok(handle)
+            .build(&self.device, &self.layout, name)
     }
 
     /// Writes this frame's uniforms and materials into `slot` (whose previous use the
-    /// caller has waited for) and creates any pipeline the scene's materials need.
-    pub fn prepare(&mut self, slot: usize, scene: &Scene, aspect: f32, debug_view: DebugView) -> Result<()> {
+    /// caller has waited for) and creates any pipeline the scene's materials need, or with
+    /// `floor` the floor's pipeline for every material.
+    pub fn prepare(
+        &mut self,
+        slot: usize,
+        scene: &Scene,
+        aspect: f32,
+        debug_view: DebugView,
+        floor: bool,
+    ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, aspect)?;
         frame_data.counts[1] = debug_view as u32;
         let materials: Vec<MaterialData> = scene.materials.iter().map(MaterialData::from).collect();
         self.material_pipelines = scene
             .materials
             .iter()
-            .map(|m| self.pipeline(&material_specialization(m)))
+            .map(|m| {
+                if floor {
+                    self.floor_pipeline()
+                } else {
+                    self.pipeline(&material_specialization(m))
+                }
+            })
             .collect::<Result<_>>()?;
         let s = &mut self.slots[slot];
         s.frame_data.write(bytemuck::bytes_of(&frame_data))?;

@@ -15,5 +15,5 @@ pub mod tonemap;
 pub use debug_view::DebugView;
 pub use gpu_scene::GpuScene;
 pub use output::{count_non_finite, write_frame};
-pub use renderer::{DisplayOutput, OffscreenFrame, Renderer, PASS_NAMES};
+pub use renderer::{DisplayOutput, OffscreenFrame, OffscreenTarget, Renderer, PASS_NAMES};
 pub use target::RenderTarget;

@@ -54,6 +54,38 @@ pub struct Renderer {
     timestamps: Vec<Timestamps>,
     /// What the forward pass shows; `Shaded` except in the viewer's debug views.
     pub debug_view: DebugView,
+    /// Draws every object with `floor.frag` instead of its material: `argil bench`'s
+    /// measure of what the geometry and targets cost without shading.
+    pub floor: bool,
+}
+
+/// The images an offscreen frame renders into and the buffers it is read back through,
+/// kept across frames so that repeated frames time only the rendering.
+pub struct OffscreenTarget {
+    pub target: RenderTarget,
+    display: Image,
+    hdr_readback: Readback,
+    display_readback: Readback,
+}
+
+impl OffscreenTarget {
+    pub fn new(device: &Arc<Device>, extent: vk::Extent2D) -> Result<Self> {
+        let target = RenderTarget::new(device, extent)?;
+        let display = Image::new_2d(
+            device,
+            extent,
+            DISPLAY_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageAspectFlags::COLOR,
+            "display frame",
+        )?;
+        Ok(Self {
+            hdr_readback: Readback::new(device, &target.color, 16)?,
+            display_readback: Readback::new(device, &display, 4)?,
+            target,
+            display,
+        })
+    }
 }
 
 impl Renderer {
@@ -70,6 +102,7 @@ impl Renderer {
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
             timestamps,
             debug_view: DebugView::Shaded,
+            floor: false,
             device,
         })
     }
@@ -89,7 +122,8 @@ impl Renderer {
         output_format: vk::Format,
     ) -> Result<()> {
         self.environment.prepare(scene)?;
-        self.forward.prepare(slot, scene, target.aspect(), self.debug_view)?;
+        self.forward
+            .prepare(slot, scene, target.aspect(), self.debug_view, self.floor)?;
         self.tonemap.prepare(slot, target, output_format)
     }
 
@@ -187,38 +221,52 @@ impl Renderer {
         extent: vk::Extent2D,
         exposure: f32,
     ) -> Result<OffscreenFrame> {
-        let target = RenderTarget::new(&self.device, extent)?;
-        let display = Image::new_2d(
-            &self.device,
-            extent,
-            DISPLAY_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-            vk::ImageAspectFlags::COLOR,
-            "display frame",
-        )?;
-        let hdr_readback = Readback::new(&self.device, &target.color, 16)?;
-        let display_readback = Readback::new(&self.device, &display, 4)?;
-        self.prepare(0, scene, &target, DISPLAY_FORMAT)?;
+        let offscreen = OffscreenTarget::new(&self.device, extent)?;
+        let gpu_ms = self.draw_offscreen(scene, gpu, &offscreen, exposure)?;
+        self.read_offscreen(&offscreen, gpu_ms)
+    }
+
+    /// Renders one frame of `scene` into `offscreen`, waits for it, and returns its GPU
+    /// milliseconds per pass of [`PASS_NAMES`] (when the device has timestamps).
+    pub fn draw_offscreen(
+        &mut self,
+        scene: &Scene,
+        gpu: &GpuScene,
+        offscreen: &OffscreenTarget,
+        exposure: f32,
+    ) -> Result<Option<Vec<f64>>> {
+        self.prepare(0, scene, &offscreen.target, DISPLAY_FORMAT)?;
         let output = DisplayOutput {
-            image: display.handle,
-            view: display.view,
+            image: offscreen.display.handle,
+            view: offscreen.display.view,
             format: DISPLAY_FORMAT,
-            extent,
+            extent: offscreen.target.extent,
             from: ImageUse::UNDEFINED,
             exposure,
         };
-        self.one_shot.run(|cmd| -> Result<()> {
-            self.record(cmd, 0, scene, gpu, &target, &output)?;
-            hdr_readback.record(&self.device, cmd, &target.color, ImageUse::FRAGMENT_READ);
-            display_readback.record(&self.device, cmd, &display, ImageUse::COLOR_ATTACHMENT);
-            Ok(())
-        })??;
+        self.one_shot
+            .run(|cmd| self.record(cmd, 0, scene, gpu, &offscreen.target, &output))??;
+        self.gpu_times(0)
+    }
+
+    /// Reads back the frame [`Self::draw_offscreen`] last drew into `offscreen`.
+    pub fn read_offscreen(&self, offscreen: &OffscreenTarget, gpu_ms: Option<Vec<f64>>) -> Result<OffscreenFrame> {
+        self.one_shot.run(|cmd| {
+            let (target, display) = (&offscreen.target, &offscreen.display);
+            offscreen
+                .hdr_readback
+                .record(&self.device, cmd, &target.color, ImageUse::FRAGMENT_READ);
+            offscreen
+                .display_readback
+                .record(&self.device, cmd, display, ImageUse::COLOR_ATTACHMENT);
+        })?;
+        let extent = offscreen.target.extent;
         Ok(OffscreenFrame {
             width: extent.width,
             height: extent.height,
-            hdr: bytemuck::pod_collect_to_vec(hdr_readback.bytes()?),
-            display: display_readback.bytes()?.to_vec(),
-            gpu_ms: self.gpu_times(0)?,
+            hdr: bytemuck::pod_collect_to_vec(offscreen.hdr_readback.bytes()?),
+            display: offscreen.display_readback.bytes()?.to_vec(),
+            gpu_ms,
         })
     }
 }

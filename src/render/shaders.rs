@@ -8,6 +8,7 @@ macro_rules! spirv {
 
 pub const FORWARD_VERT: &[u8] = spirv!("forward.vert");
 pub const FORWARD_FRAG: &[u8] = spirv!("forward.frag");
+pub const FLOOR_FRAG: &[u8] = spirv!("floor.frag");
 pub const FULLSCREEN_VERT: &[u8] = spirv!("fullscreen.vert");
 pub const TONEMAP_FRAG: &[u8] = spirv!("tonemap.frag");
 pub const SKYBOX_VERT: &[u8] = spirv!("skybox.vert");

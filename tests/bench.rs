@@ -1,0 +1,97 @@
+//! `argil bench --quick` as `make test` runs it: every row has finite times and errors, the
+//! references are cached, and bad input exits with code 2. No timing thresholds: times
+//! depend on the machine.
+
+mod common;
+
+use std::path::Path;
+
+use common::argil;
+use serde_json::Value;
+
+fn run(out: &Path, references: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
+        "bench",
+        "--quick",
+        "--out",
+        out.to_str().expect("utf-8 temp path"),
+        "--references",
+        references.to_str().expect("utf-8 temp path"),
+    ];
+    args.extend(extra);
+    let output = argil(&args);
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert!(output.status.success(), "argil bench failed: {stderr}");
+    assert!(!stderr.contains("vulkan validation"), "validation messages: {stderr}");
+    stderr
+}
+
+fn finite(row: &Value, key: &str) -> f64 {
+    let x = row[key].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        x.is_finite(),
+        "{key} of {} {} is {}",
+        row["scene"],
+        row["configuration"],
+        row[key]
+    );
+    x
+}
+
+#[test]
+fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
+    let dir = std::env::temp_dir().join(format!("argil-bench-test-{}", std::process::id()));
+    let (out, references) = (dir.join("results"), dir.join("references"));
+    let first = run(&out, &references, &[]);
+    assert_eq!(
+        first.matches("rendering the").count(),
+        2,
+        "a full and a direct reference: {first}"
+    );
+
+    let rows: Vec<Value> =
+        serde_json::from_slice(&std::fs::read(out.join("results.json")).expect("results.json")).expect("JSON rows");
+    assert_eq!(rows.len(), 3, "floor, split-sum and report");
+    for row in &rows {
+        for key in [
+            "gpu_ms_median",
+            "gpu_ms_p95",
+            "cpu_ms_median",
+            "cpu_ms_p95",
+            "forward_ratio_to_floor",
+        ] {
+            assert!(finite(row, key) > 0.0, "{key} is not positive");
+        }
+        for error in ["error_full", "error_direct"] {
+            for key in ["flip_mean", "rel_mse", "reference_noise"] {
+                finite(&row[error], key);
+            }
+        }
+        for pass in row["pass_ms_median"].as_array().expect("pass times") {
+            assert!(pass.as_f64().is_some_and(f64::is_finite), "pass time {pass}");
+        }
+        assert!(row["commit"].as_str().is_some_and(|c| !c.is_empty()));
+    }
+    // The floor against itself: 1 within the noise of one frame to the next.
+    assert!(rows.iter().any(|r| r["configuration"] == "floor"), "a floor row");
+    let csv = std::fs::read_to_string(out.join("results.csv")).expect("results.csv");
+    assert_eq!(csv.lines().count(), rows.len() + 1, "a header and a line per row");
+    let table = std::fs::read_to_string(out.join("results.md")).expect("results.md");
+    assert!(table.contains("| default | **report** |"), "{table}");
+
+    // The second run finds both references in the cache.
+    let second = run(&out, &references, &["--frames", "1", "--warmup", "0"]);
+    assert!(!second.contains("rendering the"), "references rendered again: {second}");
+    std::fs::remove_dir_all(dir).expect("remove the test folder");
+}
+
+#[test]
+fn bench_rejects_a_time_budget_that_is_not_positive() {
+    let output = argil(&["bench", "--quick", "--max-seconds", "0"]);
+    assert_eq!(
+        output.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+}
