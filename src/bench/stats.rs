@@ -3,6 +3,8 @@
 
 use serde::Serialize;
 
+use crate::compare::metrics::nearest_rank;
+
 /// Median and 95th percentile of a set of times.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Summary {
@@ -29,10 +31,9 @@ impl Summary {
         } else {
             0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
         };
-        let rank = ((0.95 * n as f64).ceil() as usize).clamp(1, n);
         Self {
             median,
-            p95: sorted[rank - 1],
+            p95: nearest_rank(&sorted, 0.95),
         }
     }
 }

@@ -40,3 +40,14 @@ pub fn srgb_oetf(linear: f64) -> f64 {
 pub fn srgb_oetf_rgb(linear: Vec3) -> Vec3 {
     linear.map(srgb_oetf)
 }
+
+/// Linear Rec. 709 luminance Y = 0.2126 R + 0.7152 G + 0.0722 B.
+pub fn luminance(c: Vec3) -> f64 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+/// The display transform of `tonemap.frag` for an 8-bit sRGB image: PBR Neutral (negative
+/// input clamped), the sRGB OETF, rounded. Exposure is the caller's to apply first.
+pub fn display_srgb8(linear: Vec3) -> [u8; 3] {
+    srgb_oetf_rgb(tonemap_pbr_neutral(linear)).map(|c| (c * 255.0).round() as u8)
+}

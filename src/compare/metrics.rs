@@ -3,7 +3,7 @@
 use anyhow::{ensure, Context, Result};
 use serde::Serialize;
 
-use crate::brdf::tonemap::{srgb_oetf_rgb, tonemap_pbr_neutral};
+use crate::brdf::tonemap::{display_srgb8, luminance};
 
 /// PSNR's peak: linear radiance 1, display white at exposure 1 (HDR images have no maximum).
 pub const PSNR_PEAK: f64 = 1.0;
@@ -42,14 +42,18 @@ impl Distribution {
             };
         }
         values.sort_unstable_by(f64::total_cmp);
-        // Nearest rank: the smallest value with at least p·n values at or below it.
-        let rank = |p: f64| values[((p * values.len() as f64).ceil() as usize).clamp(1, values.len()) - 1];
         Self {
             mean: values.iter().sum::<f64>() / values.len() as f64,
-            p95: rank(0.95),
-            p99: rank(0.99),
+            p95: nearest_rank(&values, 0.95),
+            p99: nearest_rank(&values, 0.99),
         }
     }
+}
+
+/// The nearest-rank percentile p of sorted, non-empty values: the smallest value with at
+/// least p·n values at or below it.
+pub fn nearest_rank(sorted: &[f64], p: f64) -> f64 {
+    sorted[((p * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len()) - 1]
 }
 
 /// Every figure of a comparison; the JSON report holds them under these names.
@@ -129,10 +133,7 @@ pub fn compare(a: &Rgba32, b: &Rgba32) -> Result<Comparison> {
     }
     let mse = sum_d2 / (3 * covered.len()) as f64;
 
-    let luminance = |p: &[f32; 4]| {
-        let [r, g, b] = rgb(p);
-        0.2126 * r + 0.7152 * g + 0.0722 * b
-    };
+    let luminance = |p: &[f32; 4]| luminance(rgb(p));
     let mean_b_luminance = covered.iter().map(|&i| luminance(&b.pixels[i])).sum::<f64>() / covered.len() as f64;
     let (floor, rel_err) = if mean_b_luminance > 0.0 {
         let floor = REL_ERR_FLOOR * mean_b_luminance;
@@ -189,7 +190,7 @@ fn flip_error_map(a: &Rgba32, b: &Rgba32, both_finite: &[bool], width: u32, heig
                 } else {
                     [0.0; 3]
                 };
-                srgb_oetf_rgb(tonemap_pbr_neutral(linear)).map(|v| (v * 255.0).round() as u8)
+                display_srgb8(linear)
             })
             .collect()
     };

@@ -11,6 +11,7 @@ use anyhow::Result;
 use glam::DVec3;
 
 use crate::brdf::environment::{equirect_uv, map_rotation, rotate_y, studio_radiance};
+use crate::brdf::tonemap;
 use crate::render::environment::equirect;
 use crate::scene::Environment;
 
@@ -42,7 +43,7 @@ pub struct EnvironmentLight {
 }
 
 fn luminance(c: DVec3) -> f64 {
-    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+    tonemap::luminance(c.to_array())
 }
 
 /// The direction of equirectangular (u, v): the inverse of `equirect_uv`.

@@ -14,6 +14,7 @@ use crate::brdf::environment::{pdf_ggx_vndf, sample_cosine, sample_ggx_vndf, sam
 use crate::brdf::geometry::{erf, lambda_beckmann_exact};
 use crate::brdf::shading::{DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
 use crate::brdf::specular::{log_n_dot_h, Distribution};
+use crate::brdf::tonemap::luminance;
 use crate::brdf::{clamp_alpha, MIN_N_DOT_V};
 
 /// How the specular lobe's half vectors are drawn.
@@ -32,10 +33,6 @@ pub struct Lobes {
     pub specular: Option<SpecularSampling>,
     /// Probabilities of cosine, specular and uniform-sphere sampling; they sum to 1.
     pub weights: [f64; 3],
-}
-
-fn luminance(c: [f64; 3]) -> f64 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
 impl Lobes {

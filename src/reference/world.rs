@@ -137,8 +137,6 @@ pub struct Surface {
 
 pub struct World {
     bvh: Bvh,
-    /// Every triangle, in the scene's order.
-    geometry: Vec<Triangle>,
     vertices: Vec<WorldVertex>,
     /// Per triangle: its three vertices and the object it belongs to.
     triangles: Vec<([u32; 3], u32)>,
@@ -179,8 +177,7 @@ impl World {
             .map(|v| v.position.abs().max_element())
             .fold(1.0, f64::max);
         Self {
-            bvh: Bvh::new(geometry.clone()),
-            geometry,
+            bvh: Bvh::new(geometry),
             vertices,
             triangles,
             objects: scene.objects.iter().map(|o| o.material).collect(),
@@ -218,7 +215,8 @@ impl World {
         let v = ids.map(|i| self.vertices[i as usize]);
         let b = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
         let interpolate = |f: &dyn Fn(&WorldVertex) -> DVec4| b[0] * f(&v[0]) + b[1] * f(&v[1]) + b[2] * f(&v[2]);
-        let tri = &self.geometry[hit.triangle];
+        // The same f64 arithmetic as the BVH's `Triangle`, from the vertices.
+        let tri = Triangle::new(v[0].position, v[1].position, v[2].position);
         let position = tri.p0 + hit.b1 * tri.e1 + hit.b2 * tri.e2;
         // Front faces wind counter-clockwise seen from outside, where the normals point.
         let winding = tri.e1.cross(tri.e2);

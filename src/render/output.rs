@@ -8,7 +8,7 @@ use exr::prelude::{AttributeValue, Encoding, Image, Layer, LayerAttributes, Spec
 
 use super::renderer::OffscreenFrame;
 use crate::atomic::write_atomically;
-use crate::brdf::tonemap::{srgb_oetf_rgb, tonemap_pbr_neutral};
+use crate::brdf::tonemap::display_srgb8;
 use crate::error::InputError;
 
 /// What a path's extension asks for.
@@ -61,7 +61,7 @@ pub fn write_linear(
                 .chunks_exact(4)
                 .flat_map(|p| {
                     let hdr = [0, 1, 2].map(|c| f64::from(p[c]) * f64::from(exposure));
-                    let [r, g, b] = srgb_oetf_rgb(tonemap_pbr_neutral(hdr)).map(|c| (c * 255.0).round() as u8);
+                    let [r, g, b] = display_srgb8(hdr);
                     [r, g, b, 255]
                 })
                 .collect();
