@@ -1,7 +1,8 @@
 #version 460
 // Forward shading of one object: every point light through the material's BRDF, plus the
-// environment's light when the scene has one. The models are specialization constants,
-// so each pipeline holds only the code its materials need.
+// environment's light when the scene has one. The models, maps, debug view, environment
+// kind and reflection mode are specialization constants (src/render/forward.rs), so each
+// pipeline holds only the code its frame needs.
 #include "scene_data.glsl"
 #include "shading.glsl"
 #include "material_maps.glsl"
@@ -17,6 +18,8 @@ layout(constant_id = 3) const uint GEOMETRY = 0;
 layout(constant_id = 9) const uint HORIZON = 0;
 const uint HORIZON_SEED = 1u;
 layout(constant_id = 10) const uint SUBSURFACE = 0;
+// The debug view (debug_views.glsl), or FROM_UNIFORM for FrameData.counts.y.
+layout(constant_id = 11) const uint DEBUG_VIEW = FROM_UNIFORM;
 
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
@@ -61,8 +64,9 @@ void main() {
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;
     out_radiance = vec4(radiance, 1.0);
-    if (frame.counts.y != DEBUG_VIEW_SHADED) {
-        out_radiance.rgb = debug_view_radiance(frame.counts.y, models, m, n, n_geometric, v, in_world_position,
+    uint debug_view = DEBUG_VIEW == FROM_UNIFORM ? frame.counts.y : DEBUG_VIEW;
+    if (debug_view != DEBUG_VIEW_SHADED) {
+        out_radiance.rgb = debug_view_radiance(debug_view, models, m, n, n_geometric, v, in_world_position,
                                                in_normal, in_uv, in_tangent, environment, radiance, in_curvature);
     }
 }

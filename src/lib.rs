@@ -9,12 +9,14 @@
 //! - [`reference`]: `argil reference`, the Monte Carlo ground truth of a scene, in f64.
 //! - [`compare`]: `argil compare`, error figures and ꟻLIP of one EXR against a reference.
 //! - [`bench`]: `argil bench`, run time against error, and the trivial-shader floor.
+//! - [`cache`]: what every start computes alike, kept on disk for the next.
 //! - [`error`]: error types the command line maps to exit codes; [`atomic`]: output files
 //!   written whole or not at all.
 
 pub mod atomic;
 pub mod bench;
 pub mod brdf;
+pub mod cache;
 pub mod compare;
 pub mod error;
 pub mod reference;

@@ -3,11 +3,13 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use ash::vk;
 use clap::{Parser, Subcommand};
 
+use argil::bench::startup::Recorder;
 use argil::brdf::subsurface::PreintegratedTable;
 use argil::error::{is_input_error, InputError};
 use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
@@ -52,6 +54,10 @@ enum Command {
         /// Exposure multiplier applied before tone mapping (PNG only).
         #[arg(long, default_value_t = 1.0)]
         exposure: f32,
+        /// Also write the start's steps (wall milliseconds, and the whole from process
+        /// start to the frame written) to this JSON file.
+        #[arg(long, value_name = "FILE")]
+        timings: Option<PathBuf>,
     },
     /// Open a window on a scene.
     View {
@@ -153,6 +159,11 @@ enum Command {
         /// Reference cache [default: bench/references; --quick: in the temporary folder].
         #[arg(long, value_name = "DIR")]
         references: Option<PathBuf>,
+        /// Only these rows: a scene or configuration name, or SCENE/CONFIGURATION (`*` for
+        /// any); repeatable. Their rows replace the same rows of the results already in the
+        /// folder, and the other rows are kept.
+        #[arg(long, value_name = "PATTERN")]
+        only: Vec<String>,
     },
     /// List the Vulkan devices on this machine.
     Devices,
@@ -200,32 +211,64 @@ fn check_exposure(exposure: f32) -> Result<()> {
     Ok(())
 }
 
-fn render(
-    cli_device: DeviceChoice,
+struct RenderOptions {
+    choice: DeviceChoice,
     validation: bool,
     scene: Option<PathBuf>,
     out: PathBuf,
     width: u32,
     height: u32,
     exposure: f32,
-) -> Result<()> {
+    timings: Option<PathBuf>,
+}
+
+fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
+    let RenderOptions {
+        choice,
+        validation,
+        scene,
+        out,
+        width,
+        height,
+        exposure,
+        timings,
+    } = options;
     check_exposure(exposure)?;
-    let scene = load_scene(scene.as_deref())?;
-    let device = Arc::new(Device::new(
-        DeviceOptions {
-            choice: cli_device,
-            validation,
-        },
-        None,
-    )?);
-    let mut renderer = Renderer::new(device.clone(), 1)?;
-    let gpu = renderer.upload(&scene)?;
+    let mut startup = Recorder::new(process_start);
+    let scene = startup.step("scene and its maps", || load_scene(scene.as_deref()))?;
+    let device = startup.step("instance and device", || {
+        Device::new(DeviceOptions { choice, validation }, None).map(Arc::new)
+    })?;
+    let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
+    let gpu = startup.step("upload", || renderer.upload(&scene))?;
+    let begin = Instant::now();
     let frame = renderer.render_offscreen(&scene, &gpu, vk::Extent2D { width, height }, exposure)?;
+    // The frame's wall time holds what its preparation built the first time.
+    let table = if scene.needs_preintegrated_table() {
+        PreintegratedTable::get().compute_time()
+    } else {
+        Duration::ZERO
+    };
+    let built = [
+        ("environment precompute", renderer.environment_time),
+        ("subsurface table", table),
+        ("pipelines", renderer.pipeline_time()),
+    ];
+    for (name, time) in built {
+        startup.record(name, time);
+    }
+    startup.record(
+        "first frame (with the driver's first-draw compile) and readback",
+        begin.elapsed().saturating_sub(built.iter().map(|(_, t)| *t).sum()),
+    );
     let bad = count_non_finite(&frame.hdr);
     if bad > 0 {
         eprintln!("argil: warning: {bad} NaN/Inf values in the frame");
     }
-    write_frame(&frame, &out)?;
+    startup.step("write", || write_frame(&frame, &out))?;
+    if let Some(path) = &timings {
+        startup.write(path)?;
+    }
     let times = frame.gpu_ms.as_ref().map(|ms| {
         PASS_NAMES
             .iter()
@@ -248,10 +291,12 @@ fn render(
             .collect();
         eprintln!("argil: environment precomputed once: {}", steps.join(", "));
     }
-    eprintln!(
-        "argil: pre-integrated subsurface table computed once: {:.2} ms (CPU)",
-        PreintegratedTable::get().compute_time().as_secs_f64() * 1e3
-    );
+    if scene.needs_preintegrated_table() {
+        eprintln!(
+            "argil: pre-integrated subsurface table read or computed once: {:.2} ms (CPU)",
+            PreintegratedTable::get().compute_time().as_secs_f64() * 1e3
+        );
+    }
     drop(gpu);
     drop(renderer);
     if let Some(report) = device.validation() {
@@ -364,7 +409,7 @@ fn compare(options: argil::compare::Options) -> Result<()> {
     Ok(())
 }
 
-fn run(cli: Cli) -> Result<()> {
+fn run(cli: Cli, process_start: Instant) -> Result<()> {
     let validation = cli.validation || argil::vk::instance::validation_requested();
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
     match cli.command {
@@ -374,7 +419,20 @@ fn run(cli: Cli) -> Result<()> {
             width,
             height,
             exposure,
-        } => render(choice, validation, scene, out, width, height, exposure),
+            timings,
+        } => render(
+            RenderOptions {
+                choice,
+                validation,
+                scene,
+                out,
+                width,
+                height,
+                exposure,
+                timings,
+            },
+            process_start,
+        ),
         Command::View {
             scene,
             frames,
@@ -448,6 +506,7 @@ fn run(cli: Cli) -> Result<()> {
             max_seconds,
             out,
             references,
+            only,
         } => {
             let options = argil::bench::Options {
                 quick,
@@ -456,6 +515,7 @@ fn run(cli: Cli) -> Result<()> {
                 max_seconds,
                 out,
                 references,
+                only,
             };
             bench(choice, validation, options)
         }
@@ -474,7 +534,8 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    let process_start = Instant::now();
+    match run(Cli::parse(), process_start) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("argil: error: {e:#}");

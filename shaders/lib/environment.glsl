@@ -5,6 +5,7 @@
 #ifndef ARGIL_ENVIRONMENT_GLSL
 #define ARGIL_ENVIRONMENT_GLSL
 #include "env_math.glsl"
+#include "specialization.glsl"
 #include "env_tables.glsl"
 
 // The forward pass binds the environment as set 2; the skybox, which has no other set, as 0.
@@ -12,11 +13,11 @@
 #define ENV_SET 2
 #endif
 
-// EnvironmentData.mode.x
+// EnvironmentData.mode.x, and ENVIRONMENT_KIND
 const uint ENV_NONE = 0u;
 const uint ENV_UNIFORM = 1u;
 const uint ENV_CUBE = 2u;
-// EnvironmentData.mode.y
+// EnvironmentData.mode.y, and REFLECTION_MODE
 const uint REFLECTION_SPLIT_SUM = 0u;
 const uint REFLECTION_SEED = 1u;
 const uint REFLECTION_SAMPLED = 2u;
@@ -30,6 +31,19 @@ layout(set = ENV_SET, binding = 0, std140) uniform EnvironmentData {
     vec4 texel;     // x: solid angle of a level-0 texel of radiance_map
     vec4 sh[9];     // the map's radiance in SH (rgb), before rotation and intensity
 } env;
+// The forward pass specialises the kind and reflection mode; FROM_UNIFORM (the skybox, the
+// generic pipeline) reads them from env.mode.
+layout(constant_id = 12) const uint ENVIRONMENT_KIND = FROM_UNIFORM;
+layout(constant_id = 13) const uint REFLECTION_MODE = FROM_UNIFORM;
+
+uint env_kind() {
+    return ENVIRONMENT_KIND == FROM_UNIFORM ? env.mode.x : ENVIRONMENT_KIND;
+}
+
+uint reflection_mode() {
+    return REFLECTION_MODE == FROM_UNIFORM ? env.mode.y : REFLECTION_MODE;
+}
+
 // The environment with a mip chain of solid-angle-weighted means.
 layout(set = ENV_SET, binding = 1) uniform samplerCube radiance_map;
 // Radiance prefiltered by GGX lobes, roughness = lod / params.w (Karis 2013).
@@ -43,20 +57,20 @@ vec3 env_map_direction(vec3 d) {
 
 // Radiance arriving from direction d, read from mip `lod` of the cube map.
 vec3 env_radiance(vec3 d, float lod) {
-    if (env.mode.x == ENV_UNIFORM) return env.radiance.rgb;
+    if (env_kind() == ENV_UNIFORM) return env.radiance.rgb;
     return env.radiance.rgb * textureLod(radiance_map, env_map_direction(d), lod).rgb;
 }
 
 // Radiance around d prefiltered by the GGX lobe of a perceptual roughness.
 vec3 env_prefiltered(vec3 d, float roughness) {
-    if (env.mode.x == ENV_UNIFORM) return env.radiance.rgb;
+    if (env_kind() == ENV_UNIFORM) return env.radiance.rgb;
     return env.radiance.rgb * textureLod(prefiltered_map, env_map_direction(d), roughness * env.params.w).rgb;
 }
 
 // ∫ L(l) k(d·l) dl for a zonal kernel k given by its Funk–Hecke coefficients: from the
 // SH of the map (bands 0–2), exactly kernel.x L for a uniform L.
 vec3 env_convolve(vec3 d, vec3 kernel) {
-    if (env.mode.x == ENV_UNIFORM) return kernel.x * env.radiance.rgb;
+    if (env_kind() == ENV_UNIFORM) return kernel.x * env.radiance.rgb;
     return env.radiance.rgb * max(sh_convolve(env.sh, env_map_direction(d), kernel), vec3(0.0));
 }
 
@@ -100,7 +114,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
     }
     if (models.specular == SPECULAR_NONE) return radiance;
     vec3 r = seed_reflection(n, v);
-    if (env.mode.y == REFLECTION_SEED) {
+    if (reflection_mode() == REFLECTION_SEED) {
         return radiance + env.params.z * noise * env_radiance(r, 0.0);
     }
     vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
@@ -165,8 +179,8 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
 // The light the environment reflects towards v: replaces the report's constant ambient.
 vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float curvature,
                        float noise, vec2 pixel) {
-    if (env.mode.x == ENV_NONE) return vec3(0.0);
-    if (env.mode.y == REFLECTION_SAMPLED) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel);
+    if (env_kind() == ENV_NONE) return vec3(0.0);
+    if (reflection_mode() == REFLECTION_SAMPLED) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel);
     return environment_split_sum(models, m, n, v, curvature, noise);
 }
 

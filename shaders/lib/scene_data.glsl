@@ -3,6 +3,7 @@
 #ifndef ARGIL_SCENE_DATA_GLSL
 #define ARGIL_SCENE_DATA_GLSL
 #include "material.glsl"
+#include "specialization.glsl"
 
 #define MAX_POINT_LIGHTS 16
 

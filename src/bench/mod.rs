@@ -8,12 +8,14 @@
 //! - [`references`]: the reference cache.
 //! - [`report`]: the rows and the CSV, JSON and markdown written from them; [`plot`]: the
 //!   plot of time against error.
-//! - [`stats`]: median and p95, the stable hash, the date.
+//! - [`startup`]: the time from process start to the first frame, cold and warm.
+//! - [`stats`]: median and p95, the date.
 
 pub mod plan;
 pub mod plot;
 pub mod references;
 pub mod report;
+pub mod startup;
 pub mod stats;
 
 use std::path::{Path, PathBuf};
@@ -23,6 +25,7 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 use anyhow::{bail, Context, Result};
 use ash::vk;
 
+use crate::atomic::write_bytes;
 use crate::compare::metrics::{compare, Rgba32};
 use crate::reference::{Stop, Transport};
 use crate::render::{OffscreenTarget, Renderer, PASS_NAMES};
@@ -47,7 +50,13 @@ pub struct Options {
     /// Where the references are cached; by default `bench/references` (`--quick`: the
     /// system's temporary folder, as its references are too small to keep).
     pub references: Option<PathBuf>,
+    /// Patterns of the rows to run (see [`plan::selected`]); empty for all. The rows run
+    /// replace their namesakes among the results already in `out`.
+    pub only: Vec<String>,
 }
+
+/// The `--only` pattern of the startup measurement.
+pub const STARTUP: &str = "startup";
 
 /// Fewest timed frames a row has, whatever `max_seconds` says.
 pub const MIN_FRAMES: u32 = 5;
@@ -124,6 +133,10 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     let mut renderer = Renderer::new(device.clone(), 1)?;
     let mut rows = Vec::new();
     for scene in plan::scenes(options.quick)? {
+        let scene = scene.selected(&options.only);
+        if scene.configurations.is_empty() {
+            continue;
+        }
         let refs = [(Transport::Full, spec.full), (Transport::Direct, spec.direct)].map(|(transport, stop)| {
             let settings = references::settings(spec.extent.width, spec.extent.height, transport, stop);
             references::get(&reference_dir, scene.name, &scene.text, &settings)
@@ -141,7 +154,26 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         )?;
     }
     drop(renderer);
+    let startup = options.only.is_empty() || options.only.iter().any(|p| p == STARTUP);
+    if rows.is_empty() && !startup {
+        bail!("no bench row matches {}", options.only.join(", "));
+    }
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
+    if startup {
+        let extent = if options.quick { plan::QUICK } else { plan::HEADLINE };
+        let starts = startup::measure(device.info.index, extent)?;
+        for (run, start) in ["cold", "warm"].iter().zip(&starts) {
+            eprintln!("startup ({run}): {:.1} ms from process start to frame written", start.total_ms);
+        }
+        write_bytes(&out.join("startup.json"), serde_json::to_string_pretty(&starts)?.as_bytes())?;
+        write_bytes(&out.join("startup.md"), startup::markdown(extent, &starts).as_bytes())?;
+    }
+    if rows.is_empty() {
+        return Ok(out);
+    }
+    if !options.only.is_empty() {
+        rows = report::merged(report::read(&out)?, rows);
+    }
     report::write(&out, &rows)?;
     Ok(out)
 }
@@ -160,6 +192,7 @@ fn bench_scene(
         let parsed = Scene::from_toml(&configuration.text, &configuration.name, Path::new(""))?;
         let gpu = renderer.upload(&parsed)?;
         renderer.floor = configuration.floor;
+        renderer.generic = configuration.generic;
         let error_frame = frame(renderer, &parsed, &gpu, spec.extent)?;
         let [full, direct] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
         let (full, direct) = (full?, direct?);
@@ -179,6 +212,7 @@ fn bench_scene(
         }
     }
     renderer.floor = false;
+    renderer.generic = false;
     Ok(())
 }
 
@@ -204,19 +238,33 @@ pub struct Timing {
     pub passes: Vec<Summary>,
     pub gpu_total: Summary,
     pub cpu: Summary,
+    /// CPU time the whole process spent on the frame (every thread): on a software device
+    /// the rendering itself.
+    pub work: Summary,
     /// The forward pass of the floor frames.
     pub floor_forward: Summary,
-    /// Per pair of frames, the configuration's forward pass over the floor's, and its
-    /// whole frame over the floor's.
+    /// Per pair of frames, the configuration's forward pass over the floor's, its whole
+    /// frame over the floor's, and its process CPU time over the floor's.
     pub forward_ratio: Summary,
     pub gpu_ratio: Summary,
+    pub work_ratio: Summary,
+}
+
+/// What one frame took: GPU milliseconds per pass, wall milliseconds of the CPU, and CPU
+/// milliseconds of the process.
+struct FrameTimes {
+    gpu: Vec<f64>,
+    wall: f64,
+    work: f64,
 }
 
 /// Renders warm-up frames, then pairs of timed frames into the same target without
 /// reading them back: a floor frame, then a frame of the configuration (itself the floor
 /// when `floor`). GPU milliseconds per pass from the timestamps, CPU milliseconds of
-/// writing the uniforms, recording, submitting and waiting for each frame. Pairing makes
-/// the ratios hold when other work on the machine comes and goes during a run.
+/// writing the uniforms, recording, submitting and waiting for each frame, and the CPU
+/// time of the process meanwhile. Pairing makes the ratios hold when other work on the
+/// machine comes and goes during a run; on a software device, the ratio of CPU time holds
+/// even while other work competes for the cores, which stretches wall and GPU time.
 fn time(
     renderer: &mut Renderer,
     scene: &Scene,
@@ -226,13 +274,17 @@ fn time(
     options: &Options,
 ) -> Result<Timing> {
     let offscreen = OffscreenTarget::new(&renderer.device, extent)?;
-    let draw = |renderer: &mut Renderer, as_floor: bool| -> Result<(Vec<f64>, f64)> {
+    let draw = |renderer: &mut Renderer, as_floor: bool| -> Result<FrameTimes> {
         renderer.floor = as_floor;
-        let begin = Instant::now();
-        let ms = renderer
+        let (wall, work) = (Instant::now(), cpu_time::ProcessTime::now());
+        let gpu = renderer
             .draw_offscreen(scene, gpu, &offscreen, 1.0)?
             .context("the device stopped reporting timestamps")?;
-        Ok((ms, begin.elapsed().as_secs_f64() * 1e3))
+        Ok(FrameTimes {
+            gpu,
+            wall: wall.elapsed().as_secs_f64() * 1e3,
+            work: work.elapsed().as_secs_f64() * 1e3,
+        })
     };
     // The error frame drawn before has compiled the pipeline already; what is left to warm
     // up (caches, the new target) takes a frame, so slow rows stop after one.
@@ -245,33 +297,39 @@ fn time(
         draw(renderer, floor)?;
     }
     let mut passes = vec![Vec::new(); PASS_NAMES.len()];
-    let (mut totals, mut cpu, mut floor_forward, mut forward_ratio, mut gpu_ratio) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut series: [Vec<f64>; 7] = Default::default();
+    let [totals, cpu, work, floor_forward, forward_ratio, gpu_ratio, work_ratio] = &mut series;
     let start = Instant::now();
     for i in 0..options.frames {
         if i >= MIN_FRAMES && start.elapsed().as_secs_f64() > options.max_seconds {
             break;
         }
-        let (floor_ms, _) = draw(renderer, true)?;
-        let (ms, cpu_ms) = draw(renderer, floor)?;
-        let total: f64 = ms.iter().sum();
-        cpu.push(cpu_ms);
-        forward_ratio.push(ms[0] / floor_ms[0]);
-        gpu_ratio.push(total / floor_ms.iter().sum::<f64>());
-        floor_forward.push(floor_ms[0]);
+        let base = draw(renderer, true)?;
+        let frame = draw(renderer, floor)?;
+        let total: f64 = frame.gpu.iter().sum();
+        cpu.push(frame.wall);
+        work.push(frame.work);
+        forward_ratio.push(frame.gpu[0] / base.gpu[0]);
+        gpu_ratio.push(total / base.gpu.iter().sum::<f64>());
+        work_ratio.push(frame.work / base.work);
+        floor_forward.push(base.gpu[0]);
         totals.push(total);
-        for (pass, t) in passes.iter_mut().zip(ms) {
+        for (pass, t) in passes.iter_mut().zip(frame.gpu) {
             pass.push(t);
         }
     }
+    let frames = series[0].len() as u32;
+    let [totals, cpu, work, floor_forward, forward_ratio, gpu_ratio, work_ratio] = series.map(|s| Summary::of(&s));
     Ok(Timing {
-        frames: cpu.len() as u32,
+        frames,
         passes: passes.iter().map(|p| Summary::of(p)).collect(),
-        gpu_total: Summary::of(&totals),
-        cpu: Summary::of(&cpu),
-        floor_forward: Summary::of(&floor_forward),
-        forward_ratio: Summary::of(&forward_ratio),
-        gpu_ratio: Summary::of(&gpu_ratio),
+        gpu_total: totals,
+        cpu,
+        work,
+        floor_forward,
+        forward_ratio,
+        gpu_ratio,
+        work_ratio,
     })
 }
 

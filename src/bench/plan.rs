@@ -4,13 +4,15 @@
 use anyhow::{Context, Result};
 use ash::vk;
 
-use crate::scene::file::{EnvironmentDef, SceneFile};
-use crate::scene::{Horizon, ReflectionMode, Subsurface, DEFAULT_SCENE_TOML};
+use crate::scene::file::{EnvironmentDef, LightDef, SceneFile};
+use crate::scene::{DiffuseModel, Distribution, Geometry, Horizon, ReflectionMode, SpecularModel, Subsurface, DEFAULT_SCENE_TOML};
 
 /// The configuration whose name marks the report's composition in the table and plot.
 pub const REPORT: &str = "report";
 /// The trivial-shader floor every time is divided by.
 pub const FLOOR: &str = "floor";
+/// argil's defaults through the generic pipeline: what specialising to the frame saves.
+pub const GENERIC: &str = "generic";
 
 /// One way of rendering a scene.
 pub struct Configuration {
@@ -19,6 +21,8 @@ pub struct Configuration {
     pub text: String,
     /// Drawn with `floor.frag` instead of the materials.
     pub floor: bool,
+    /// Drawn with the generic pipelines (see `Renderer::generic`).
+    pub generic: bool,
     /// Frame sizes it is timed at; the first is the headline.
     pub resolutions: Vec<vk::Extent2D>,
 }
@@ -28,6 +32,24 @@ pub struct BenchScene {
     pub name: &'static str,
     pub text: String,
     pub configurations: Vec<Configuration>,
+}
+
+impl BenchScene {
+    /// The scene with only the configurations one of `patterns` names (all without
+    /// patterns): a scene or configuration name, or `SCENE/CONFIGURATION` with `*` for
+    /// either part.
+    pub fn selected(mut self, patterns: &[String]) -> Self {
+        let matches = |configuration: &str| {
+            patterns.iter().any(|p| match p.split_once('/') {
+                Some((s, c)) => (s == "*" || s == self.name) && (c == "*" || c == configuration),
+                None => p == self.name || p == configuration,
+            })
+        };
+        if !patterns.is_empty() {
+            self.configurations.retain(|c| matches(&c.name));
+        }
+        self
+    }
 }
 
 pub const HEADLINE: vk::Extent2D = vk::Extent2D {
@@ -42,7 +64,7 @@ const LARGE: vk::Extent2D = vk::Extent2D {
     width: 1920,
     height: 1080,
 };
-const QUICK: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
+pub const QUICK: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
 /// Environment lookups per pixel of the `sampled` configurations.
 const SAMPLED: [u32; 6] = [1, 4, 16, 64, 256, 1024];
 
@@ -66,12 +88,89 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
         seed_strength: None,
     };
     let sampled: Vec<String> = SAMPLED.iter().map(|n| format!("sampled-{n}")).collect();
-    let mut names = vec![FLOOR, "split-sum", "seed", REPORT];
+    let mut names = vec![
+        FLOOR,
+        "split-sum",
+        GENERIC,
+        "seed",
+        REPORT,
+        "no-subsurface",
+        "no-maps",
+        "maps-off",
+        "generic-maps-off",
+        "no-environment",
+        "generic-no-environment",
+    ];
     names.extend(sampled.iter().map(String::as_str));
-    Ok(vec![
+    let mut scenes = vec![
         bench_scene("default", &default, &names, |c| resolutions(c, true))?,
         bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
-    ])
+    ];
+    let headline = |_: &str| vec![HEADLINE];
+    let sphere = parse(SPHERE_TOML, "bench/scenes/sphere.toml")?;
+    for (name, diffuse, specular, distribution) in SPHERES {
+        let mut file = sphere.clone();
+        let m = file.materials.get_mut("m").context("bench/scenes/sphere.toml has no material m")?;
+        (m.diffuse, m.specular, m.distribution) = (diffuse, specular, distribution);
+        m.diffuse_roughness = 0.5;
+        let mut configurations = vec![FLOOR, "split-sum", "seed", REPORT, "sampled-64"];
+        if specular == SpecularModel::CookTorrance {
+            configurations.push(SEPARABLE_G);
+        }
+        scenes.push(bench_scene(name, &file, &configurations, headline)?);
+    }
+    let close_up = parse(CLOSE_UP_TOML, "bench/scenes/close-up.toml")?;
+    let maps = [FLOOR, "split-sum", GENERIC, "no-maps", "maps-off", "generic-maps-off", "seed", REPORT];
+    scenes.push(bench_scene("close-up", &close_up, &maps, headline)?);
+    let ground = parse(BALL_ON_GROUND_TOML, "bench/scenes/ball-on-ground.toml")?;
+    scenes.push(bench_scene("ball-on-ground", &ground, &[FLOOR, "split-sum", REPORT], headline)?);
+    let ball = parse(SUBSURFACE_BALL_TOML, "bench/scenes/subsurface-ball.toml")?;
+    let subsurface = [FLOOR, "split-sum", "no-subsurface", REPORT];
+    scenes.push(bench_scene("subsurface-ball", &ball, &subsurface, headline)?);
+    scenes.push(bench_scene("subsurface-ball-small", &scaled(&ball, 0.25), &subsurface, headline)?);
+    Ok(scenes)
+}
+
+const SPHERE_TOML: &str = include_str!("../../bench/scenes/sphere.toml");
+const CLOSE_UP_TOML: &str = include_str!("../../bench/scenes/close-up.toml");
+const BALL_ON_GROUND_TOML: &str = include_str!("../../bench/scenes/ball-on-ground.toml");
+const SUBSURFACE_BALL_TOML: &str = include_str!("../../bench/scenes/subsurface-ball.toml");
+
+/// The sphere of each BRDF model, Oren-Nayar and EON at σ = 0.5, the lobes at roughness 0.3.
+const SPHERES: [(&str, DiffuseModel, SpecularModel, Distribution); 7] = [
+    ("sphere-lambert", DiffuseModel::Lambert, SpecularModel::None, Distribution::Ggx),
+    ("sphere-oren-nayar", DiffuseModel::OrenNayar, SpecularModel::None, Distribution::Ggx),
+    ("sphere-eon", DiffuseModel::Eon, SpecularModel::None, Distribution::Ggx),
+    ("sphere-cook-torrance-ggx", DiffuseModel::Lambert, SpecularModel::CookTorrance, Distribution::Ggx),
+    ("sphere-cook-torrance-beckmann", DiffuseModel::Lambert, SpecularModel::CookTorrance, Distribution::Beckmann),
+    ("sphere-torrance-sparrow", DiffuseModel::Lambert, SpecularModel::TorranceSparrow, Distribution::Ggx),
+    ("sphere-blinn-phong", DiffuseModel::Lambert, SpecularModel::BlinnPhong, Distribution::Ggx),
+];
+
+/// Cook-Torrance with the separable Smith G, the approximation of the correlated one.
+const SEPARABLE_G: &str = "smith-separable";
+
+fn parse(text: &str, origin: &str) -> Result<SceneFile> {
+    toml::from_str(text).with_context(|| format!("{origin}: not a scene"))
+}
+
+/// `file` with objects, camera and lights scaled by `s` about the origin, and the lights'
+/// intensities by s² so that every point receives the light it did.
+fn scaled(file: &SceneFile, s: f64) -> SceneFile {
+    let mut file = file.clone();
+    let scale = |p: &mut [f64; 3]| p.iter_mut().for_each(|x| *x *= s);
+    scale(&mut file.camera.position);
+    scale(&mut file.camera.target);
+    for object in &mut file.objects {
+        scale(&mut object.position);
+        object.scale *= s;
+    }
+    for light in &mut file.lights {
+        let LightDef::Point { position, intensity, .. } = light;
+        scale(position);
+        intensity.iter_mut().for_each(|i| *i *= s * s);
+    }
+    file
 }
 
 /// The sizes configuration `name` is timed at in a full run; the first is its headline.
@@ -98,6 +197,7 @@ fn bench_scene(
                 name: c.to_owned(),
                 text: configured(file, c)?.to_toml()?,
                 floor: c == FLOOR,
+                generic: c == GENERIC || c.starts_with("generic-"),
                 resolutions: sizes(c),
             })
         })
@@ -121,11 +221,14 @@ fn bench_scene(
 
 /// `file` edited for configuration `name`: `split-sum` and `floor` are argil's defaults,
 /// `seed` the report's reflection alone, `report` its reflection, horizon and subsurface
-/// on every material, `sampled-N` N importance-sampled lookups.
+/// on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
+/// without subsurface scattering, material maps or environment, `maps-off` every map at
+/// strength 0, `smith-separable` the separable G; `generic-NAME` is NAME drawn with the
+/// generic pipelines.
 fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     let mut file = file.clone();
-    match name {
-        FLOOR | "split-sum" => {}
+    match name.strip_prefix("generic-").unwrap_or(name) {
+        FLOOR | GENERIC | "split-sum" => {}
         "seed" => set_reflection(&mut file.environment, ReflectionMode::Seed, None),
         REPORT => {
             set_reflection(&mut file.environment, ReflectionMode::Seed, None);
@@ -134,6 +237,23 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
                 material.subsurface = Subsurface::Seed;
             }
         }
+        // A feature absent: what it costs is this row's time against argil's defaults.
+        "no-subsurface" => file.materials.values_mut().for_each(|m| m.subsurface = Subsurface::None),
+        "no-maps" => file.materials.values_mut().for_each(|m| {
+            // Without the preset, parsing the text back cannot restore the maps.
+            m.preset = None;
+            (m.base_color_map, m.normal_map, m.detail_map, m.noise_map) = (None, None, None, None);
+        }),
+        "no-environment" => file.environment = EnvironmentDef::None,
+        // Present but doing nothing: the documented way to switch off a preset's map.
+        "maps-off" => file.materials.values_mut().for_each(|m| {
+            for map in [&mut m.base_color_map, &mut m.normal_map, &mut m.detail_map, &mut m.noise_map] {
+                if let Some(map) = map {
+                    map.strength = 0.0;
+                }
+            }
+        }),
+        SEPARABLE_G => file.materials.values_mut().for_each(|m| m.geometry = Geometry::SmithSeparable),
         _ => {
             let samples = name
                 .strip_prefix("sampled-")
@@ -160,5 +280,25 @@ fn set_reflection(environment: &mut EnvironmentDef, mode: ReflectionMode, lookup
             *reflection = Some(mode);
             *samples = lookups;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(scene: BenchScene) -> Vec<String> {
+        scene.configurations.into_iter().map(|c| c.name).collect()
+    }
+
+    #[test]
+    fn patterns_select_scenes_configurations_or_both() {
+        let default = || scenes(false).unwrap().remove(0);
+        let all = names(default()).len();
+        assert_eq!(names(default().selected(&[])).len(), all);
+        assert_eq!(names(default().selected(&["default".into()])).len(), all);
+        assert_eq!(names(default().selected(&["studio".into()])), Vec::<String>::new());
+        assert_eq!(names(default().selected(&["seed".into(), "*/floor".into()])), ["floor", "seed"]);
+        assert_eq!(names(default().selected(&["default/report".into(), "studio/seed".into()])), ["report"]);
     }
 }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
-use super::stats::fnv1a;
+use crate::cache::fnv1a;
 use crate::compare::input::read_exr;
 use crate::compare::metrics::Rgba32;
 use crate::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};

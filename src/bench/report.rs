@@ -4,9 +4,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use ash::vk;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::plan::{Configuration, FLOOR, REPORT};
 use super::plot::plot;
@@ -25,7 +25,7 @@ pub struct Provenance {
 }
 
 /// The error of a frame against one reference, and that reference's own noise.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Error {
     pub flip_mean: f64,
     pub rel_mse: f64,
@@ -46,7 +46,7 @@ impl Error {
 
 /// One scene × configuration × resolution. Milliseconds; ratios are medians over pairs of
 /// frames, each of the configuration against a floor frame drawn just before it.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Row {
     pub scene: String,
     pub configuration: String,
@@ -68,6 +68,12 @@ pub struct Row {
     pub forward_ratio_to_floor_p95: f64,
     /// The whole frame (every pass) against the floor's whole frame.
     pub gpu_ratio_to_floor: f64,
+    /// Median CPU milliseconds the process spent on a frame (every thread): on a software
+    /// device, the rendering's work.
+    pub work_ms_median: f64,
+    /// That work against the floor frame's: on a software device, the ratio that other
+    /// load on the machine leaves alone.
+    pub work_ratio_to_floor: f64,
     /// Against the `full` and `direct` references, at their size.
     pub error_full: Error,
     pub error_direct: Error,
@@ -106,6 +112,8 @@ impl Row {
             forward_ratio_to_floor: timing.forward_ratio.median,
             forward_ratio_to_floor_p95: timing.forward_ratio.p95,
             gpu_ratio_to_floor: timing.gpu_ratio.median,
+            work_ms_median: timing.work.median,
+            work_ratio_to_floor: timing.work_ratio.median,
             error_full: Error::new(full.0, full.1),
             error_direct: Error::new(direct.0, direct.1),
             error_width: full.0.width,
@@ -120,7 +128,7 @@ impl Row {
     /// The row as one line of progress.
     pub fn line(&self) -> String {
         format!(
-            "{} {} {}x{}: GPU {:.2} ms (p95 {:.2}), forward {:.1}× the floor, CPU {:.2} ms, ꟻLIP full {:.4} direct {:.4}",
+            "{} {} {}x{}: GPU {:.2} ms (p95 {:.2}), forward {:.1}× the floor (work {:.1}×), CPU {:.2} ms, ꟻLIP full {:.4} direct {:.4}",
             self.scene,
             self.configuration,
             self.width,
@@ -128,11 +136,40 @@ impl Row {
             self.gpu_ms_median,
             self.gpu_ms_p95,
             self.forward_ratio_to_floor,
+            self.work_ratio_to_floor,
             self.cpu_ms_median,
             self.error_full.flip_mean,
             self.error_direct.flip_mean
         )
     }
+}
+
+/// The rows of `dir/results.json`; none if there is no such file.
+pub fn read(dir: &Path) -> Result<Vec<Row>> {
+    let path = dir.join("results.json");
+    match std::fs::read(&path) {
+        Ok(bytes) => serde_json::from_slice(&bytes)
+            .with_context(|| format!("{}: not the bench's results (rerun without --only)", path.display())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Vec::new()),
+        Err(e) => Err(e).with_context(|| format!("cannot read {}", path.display())),
+    }
+}
+
+/// `old` with each row of `new` in place of the row of the same scene, configuration and
+/// size, or after the last row of its scene (at the end for a new scene).
+pub fn merged(mut old: Vec<Row>, new: Vec<Row>) -> Vec<Row> {
+    for row in new {
+        let same = |r: &Row| {
+            r.scene == row.scene && r.configuration == row.configuration && (r.width, r.height) == (row.width, row.height)
+        };
+        if let Some(i) = old.iter().position(same) {
+            old[i] = row;
+        } else {
+            let at = old.iter().rposition(|r| r.scene == row.scene).map_or(old.len(), |i| i + 1);
+            old.insert(at, row);
+        }
+    }
+    old
 }
 
 /// Writes `results.csv`, `results.json`, `results.md` and a `plot-SCENE.png` per scene
@@ -180,6 +217,8 @@ fn csv(rows: &[Row]) -> String {
         "forward_ratio_to_floor",
         "forward_ratio_to_floor_p95",
         "gpu_ratio_to_floor",
+        "work_ms_median",
+        "work_ratio_to_floor",
         "flip_full",
         "rel_mse_full",
         "flip_direct",
@@ -212,6 +251,8 @@ fn csv(rows: &[Row]) -> String {
             r.forward_ratio_to_floor.to_string(),
             r.forward_ratio_to_floor_p95.to_string(),
             r.gpu_ratio_to_floor.to_string(),
+            r.work_ms_median.to_string(),
+            r.work_ratio_to_floor.to_string(),
             r.error_full.flip_mean.to_string(),
             r.error_full.rel_mse.to_string(),
             r.error_direct.flip_mean.to_string(),
@@ -247,7 +288,9 @@ pub fn markdown(rows: &[Row]) -> String {
             text,
             "Measured on {} ({}), commit {}, {}. GPU and CPU milliseconds per frame: median (p95) \
              of the row's steady frames; × floor: the forward pass against the trivial-shader floor's \
-             in the frame drawn just before, median of the pairs. Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `direct` one ({} spp, \
+             in the frame drawn just before, median of the pairs; × floor (work): the same ratio of the CPU time \
+             the process spent (on a software device the rendering's work, which other load on the machine \
+             does not stretch). Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `direct` one ({} spp, \
              noise {:.2}%).\n",
             first.device,
             first.driver,
@@ -261,8 +304,8 @@ pub fn markdown(rows: &[Row]) -> String {
             first.error_direct.reference_noise * 100.0,
         );
     }
-    text += "| scene | configuration | size | frames | GPU ms | forward ms | CPU ms | × floor | ꟻLIP full | rel. MSE full | ꟻLIP direct | rel. MSE direct |\n";
-    text += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+    text += "| scene | configuration | size | frames | GPU ms | forward ms | CPU ms | × floor | × floor (work) | ꟻLIP full | rel. MSE full | ꟻLIP direct | rel. MSE direct |\n";
+    text += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
     for r in rows {
         let name = if r.report {
             format!("**{}**", r.configuration)
@@ -271,7 +314,7 @@ pub fn markdown(rows: &[Row]) -> String {
         };
         let _ = writeln!(
             text,
-            "| {} | {name} | {}×{} | {} | {:.2} ({:.2}) | {:.2} | {:.2} ({:.2}) | {:.1} | {:.4} | {:.2e} | {:.4} | {:.2e} |",
+            "| {} | {name} | {}×{} | {} | {:.2} ({:.2}) | {:.2} | {:.2} ({:.2}) | {:.1} | {:.1} | {:.4} | {:.2e} | {:.4} | {:.2e} |",
             r.scene,
             r.width,
             r.height,
@@ -282,6 +325,7 @@ pub fn markdown(rows: &[Row]) -> String {
             r.cpu_ms_median,
             r.cpu_ms_p95,
             r.forward_ratio_to_floor,
+            r.work_ratio_to_floor,
             r.error_full.flip_mean,
             r.error_full.rel_mse,
             r.error_direct.flip_mean,
@@ -293,7 +337,70 @@ pub fn markdown(rows: &[Row]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::csv_field;
+    use super::*;
+
+    fn row(scene: &str, configuration: &str, width: u32, gpu_ms: f64) -> Row {
+        let error = Error {
+            flip_mean: 0.1,
+            rel_mse: 0.01,
+            reference_noise: 0.01,
+            reference_spp: 16,
+        };
+        Row {
+            scene: scene.to_owned(),
+            configuration: configuration.to_owned(),
+            report: false,
+            width,
+            height: width / 2,
+            frames: 10,
+            gpu_ms_median: gpu_ms,
+            gpu_ms_p95: gpu_ms,
+            pass_ms_median: vec![gpu_ms; PASS_NAMES.len()],
+            cpu_ms_median: gpu_ms,
+            cpu_ms_p95: gpu_ms,
+            floor_forward_ms_median: 1.0,
+            forward_ratio_to_floor: gpu_ms,
+            forward_ratio_to_floor_p95: gpu_ms,
+            gpu_ratio_to_floor: gpu_ms,
+            work_ms_median: gpu_ms,
+            work_ratio_to_floor: gpu_ms,
+            error_full: error.clone(),
+            error_direct: error,
+            error_width: 32,
+            error_height: 16,
+            device: "d".to_owned(),
+            driver: "v".to_owned(),
+            date: "2026-12-01".to_owned(),
+            commit: "c".to_owned(),
+        }
+    }
+
+    #[test]
+    fn merged_rows_replace_their_namesakes_and_join_their_scene() {
+        let old = vec![row("a", "x", 64, 1.0), row("a", "y", 64, 2.0), row("b", "x", 64, 3.0)];
+        let new = vec![row("a", "y", 64, 20.0), row("a", "y", 128, 21.0), row("c", "x", 64, 30.0)];
+        let merged: Vec<(String, String, u32, f64)> = merged(old, new)
+            .into_iter()
+            .map(|r| (r.scene, r.configuration, r.width, r.gpu_ms_median))
+            .collect();
+        let expected = [("a", "x", 64, 1.0), ("a", "y", 64, 20.0), ("a", "y", 128, 21.0), ("b", "x", 64, 3.0), ("c", "x", 64, 30.0)];
+        let expected: Vec<(String, String, u32, f64)> = expected
+            .iter()
+            .map(|&(s, c, w, t)| (s.to_owned(), c.to_owned(), w, t))
+            .collect();
+        assert_eq!(merged, expected);
+    }
+
+    #[test]
+    fn rows_read_back_as_written() {
+        let dir = std::env::temp_dir().join(format!("argil-bench-report-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        assert!(read(&dir).unwrap().is_empty(), "no results yet");
+        write(&dir, &[row("a", "x", 64, 1.5)]).unwrap();
+        let back = read(&dir).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!((back.len(), back[0].gpu_ms_median), (1, 1.5));
+    }
 
     #[test]
     fn csv_fields_are_quoted_only_when_needed() {

@@ -1,5 +1,5 @@
-//! The bench's small pieces of arithmetic: order statistics of frame times, a hash that
-//! names cached references the same on every Rust version, and the date of a run.
+//! The bench's small pieces of arithmetic: order statistics of frame times and the date
+//! of a run.
 
 use serde::Serialize;
 
@@ -36,16 +36,6 @@ impl Summary {
             p95: nearest_rank(&sorted, 0.95),
         }
     }
-}
-
-/// 64-bit FNV-1a: stable across Rust versions and platforms, unlike std's `DefaultHasher`,
-/// so a reference cached by one build is found by the next.
-pub fn fnv1a(bytes: &[u8]) -> u64 {
-    const OFFSET_BASIS: u64 = 0xcbf2_9ce4_8422_2325;
-    const PRIME: u64 = 0x0000_0100_0000_01b3;
-    bytes
-        .iter()
-        .fold(OFFSET_BASIS, |hash, &b| (hash ^ u64::from(b)).wrapping_mul(PRIME))
 }
 
 /// `seconds` since the Unix epoch as an ISO 8601 UTC time, `2026-12-01T21:17:18Z`
@@ -95,13 +85,6 @@ mod tests {
         assert_eq!(Summary::of(&twenty).p95, 19.0);
         assert_eq!(Summary::of(&[7.0]), Summary { median: 7.0, p95: 7.0 });
         assert!(Summary::of(&[]).median.is_nan());
-    }
-
-    #[test]
-    fn fnv1a_matches_the_published_test_vectors() {
-        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
-        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
-        assert_eq!(fnv1a(b"foobar"), 0x8594_4171_f739_67e8);
     }
 
     #[test]

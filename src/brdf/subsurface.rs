@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 
 use super::quadrature::gauss_legendre;
+use crate::cache::{self, DiskCache};
 use super::wrap::wrap_energy_conserving;
 use super::{Vec3, PI};
 
@@ -157,10 +158,29 @@ pub struct PreintegratedTable {
 }
 
 impl PreintegratedTable {
-    /// The table, computed once per process (tens of milliseconds).
+    /// The table, read from the disk cache or computed (tens of milliseconds) once per
+    /// process.
     pub fn get() -> &'static PreintegratedTable {
         static TABLE: OnceLock<PreintegratedTable> = OnceLock::new();
-        TABLE.get_or_init(Self::compute)
+        TABLE.get_or_init(|| Self::cached(&DiskCache::from_env()))
+    }
+
+    /// The table from `cache`, keyed by the code that computes it.
+    fn cached(cache: &DiskCache) -> PreintegratedTable {
+        let start = Instant::now();
+        let key = cache::key(&[
+            include_str!("subsurface.rs").as_bytes(),
+            include_str!("quadrature.rs").as_bytes(),
+            include_str!("wrap.rs").as_bytes(),
+        ]);
+        let size = PREINTEGRATED_WIDTH * PREINTEGRATED_HEIGHT * std::mem::size_of::<[f32; 4]>();
+        let bytes = cache.get_or_compute("preintegrated-subsurface", key, |b| b.len() == size, || {
+            bytemuck::cast_slice(&Self::compute().texels).to_vec()
+        });
+        PreintegratedTable {
+            texels: bytemuck::pod_collect_to_vec(&bytes),
+            compute_time: start.elapsed(),
+        }
     }
 
     /// Rows are independent: each thread computes an interleaved share of them.
@@ -207,7 +227,7 @@ impl PreintegratedTable {
             .collect()
     }
 
-    /// How long computing the table took (once per process).
+    /// How long reading or computing the table took (once per process).
     pub fn compute_time(&self) -> Duration {
         self.compute_time
     }
@@ -262,6 +282,18 @@ pub fn subsurface_transfer(model: Subsurface, n_dot_l: f64, reach: Vec3) -> Vec3
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_cached_table_is_the_computed_one() {
+        let dir = std::env::temp_dir().join(format!("argil-subsurface-cache-{}", std::process::id()));
+        let cache = DiskCache::at(Some(&dir));
+        let computed = PreintegratedTable::compute().texels;
+        let (stored, read) = (PreintegratedTable::cached(&cache).texels, PreintegratedTable::cached(&cache).texels);
+        let entries = std::fs::read_dir(&dir).unwrap().count();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(entries, 1);
+        assert!(computed == stored && stored == read);
+    }
 
     /// Plain midpoint rule on 200 000 panels: slow, simple, and accurate to ~1e-9 here.
     fn brute_force(mu: f64, t: f64) -> f64 {

@@ -7,8 +7,10 @@
 //! built when a frame first uses it and kept for the next frames (until another source
 //! replaces it): a studio or map builds its cube maps and spherical harmonics, split-sum
 //! reflection adds the prefiltered cube, and the BRDF tables (the same for every
-//! environment) are built once when a material needs them. Intensity, rotation and the
-//! reflection mode are uniforms, so changing them rebuilds nothing. Unused bindings hold
+//! environment) are built once when a material needs them. Intensity and rotation are
+//! uniforms; the kind and reflection mode are uniforms too, and also specialization
+//! constants of the forward pass (see forward.rs), so that a frame runs only its own
+//! mode's code. Unused bindings hold
 //! 1² placeholders: Vulkan needs every binding the shader uses statically to be valid.
 
 pub mod equirect;
@@ -251,9 +253,10 @@ impl EnvironmentPass {
     /// Writes the uniforms and the set for `environment` from what is built.
     fn write(&mut self, environment: &Environment) -> Result<()> {
         let reflection = environment.reflection().copied().unwrap_or_default();
-        let (kind, radiance, rotation_degrees) = match environment {
-            Environment::None => (KIND_NONE, [0.0; 3], 0.0),
-            Environment::Uniform { radiance, .. } => (KIND_UNIFORM, radiance.to_array(), 0.0),
+        let kind = environment_kind(environment);
+        let (radiance, rotation_degrees) = match environment {
+            Environment::None => ([0.0; 3], 0.0),
+            Environment::Uniform { radiance, .. } => (radiance.to_array(), 0.0),
             Environment::Studio {
                 intensity,
                 rotation_degrees,
@@ -263,7 +266,7 @@ impl EnvironmentPass {
                 intensity,
                 rotation_degrees,
                 ..
-            } => (KIND_CUBE, [*intensity; 3], *rotation_degrees),
+            } => ([*intensity; 3], *rotation_degrees),
         };
         let rotation = map_rotation(f64::from(rotation_degrees));
         let cubes = self.cubes.as_ref().filter(|_| kind == KIND_CUBE);
@@ -350,11 +353,21 @@ impl EnvironmentPass {
     }
 }
 
-fn reflection_code(mode: ReflectionMode) -> u32 {
+/// `EnvironmentData.mode.y`, and the forward pass's `REFLECTION_MODE` constant.
+pub(super) fn reflection_code(mode: ReflectionMode) -> u32 {
     match mode {
         ReflectionMode::SplitSum => 0,
         ReflectionMode::Seed => 1,
         ReflectionMode::Sampled => 2,
+    }
+}
+
+/// `EnvironmentData.mode.x`, and the forward pass's `ENVIRONMENT_KIND` constant.
+pub(super) fn environment_kind(environment: &Environment) -> u32 {
+    match environment {
+        Environment::None => KIND_NONE,
+        Environment::Uniform { .. } => KIND_UNIFORM,
+        Environment::Studio { .. } | Environment::Map { .. } => KIND_CUBE,
     }
 }
 

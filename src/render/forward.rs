@@ -1,7 +1,8 @@
 //! The forward pass: every object, shaded by every point light, into the HDR target.
 //!
 //! Set 0: binding 0 the `FrameData` uniform buffer, binding 1 the `Materials` storage
-//! buffer, binding 2 the pre-integrated subsurface table; set 2: the environment (see environment.rs); push constants: `ObjectPush` (see
+//! buffer, binding 2 the pre-integrated subsurface table (uploaded when a scene first
+//! needs it, a placeholder until then); set 2: the environment (see environment.rs); push constants: `ObjectPush` (see
 //! shaders/lib/scene_data.glsl). One pipeline per combination of BRDF models in use,
 //! chosen by specialization constants; for `argil bench`, one more that draws every object
 //! with the trivial `floor.frag`.
@@ -9,40 +10,104 @@
 use std::collections::HashMap;
 use std::mem::offset_of;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::debug_view::DebugView;
+use super::environment::{environment_kind, reflection_code};
 use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
 use super::shaders;
 use super::subsurface::SubsurfaceTable;
 use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
-use crate::scene::{Material, Scene, Vertex};
+use crate::scene::{Environment, MapRef, Material, ReflectionMode, Scene, Vertex};
 use crate::vk::{
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
     Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
-/// The specialization constants of `forward.frag` for a material: its models (shading.glsl),
-/// which maps it has (material_maps.glsl), its horizon treatment and subsurface model.
-pub fn material_specialization(m: &Material) -> Specialization {
-    let models = m.shading_models();
-    let maps = &m.maps;
-    Specialization(vec![
-        models.diffuse as u32,
-        models.specular as u32,
-        models.distribution as u32,
-        models.geometry as u32,
-        u32::from(maps.base_color.is_some()),
-        u32::from(maps.normal.is_some()),
-        u32::from(maps.detail.is_some()),
-        u32::from(maps.noise.is_some()),
-        maps.detail_blend as u32,
-        m.horizon as u32,
-        models.subsurface as u32,
-    ])
+/// A specialization constant's value that leaves the choice to the uniform the shader
+/// also has (`FROM_UNIFORM` in shaders/lib/scene_data.glsl): the generic pipeline.
+pub const FROM_UNIFORM: u32 = u32::MAX;
+
+/// The specialization constants of `forward.frag`, in `constant_id` order: a material's
+/// models (shading.glsl), which maps it samples (material_maps.glsl), its horizon and
+/// subsurface model, the debug view (debug_views.glsl), the environment's kind and
+/// reflection mode (environment.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ForwardConstants {
+    pub diffuse_model: u32,
+    pub specular_model: u32,
+    pub distribution: u32,
+    pub geometry: u32,
+    pub has_base_color_map: u32,
+    pub has_normal_map: u32,
+    pub has_detail_map: u32,
+    pub has_noise_map: u32,
+    pub detail_blend: u32,
+    pub horizon: u32,
+    pub subsurface: u32,
+    pub debug_view: u32,
+    pub environment_kind: u32,
+    pub reflection_mode: u32,
+}
+
+impl ForwardConstants {
+    /// The GLSL names, in field order, checked against the shaders by a test.
+    pub const NAMES: [&'static str; 14] = [
+        "DIFFUSE_MODEL",
+        "SPECULAR_MODEL",
+        "DISTRIBUTION",
+        "GEOMETRY",
+        "HAS_BASE_COLOR_MAP",
+        "HAS_NORMAL_MAP",
+        "HAS_DETAIL_MAP",
+        "HAS_NOISE_MAP",
+        "DETAIL_BLEND",
+        "HORIZON",
+        "SUBSURFACE",
+        "DEBUG_VIEW",
+        "ENVIRONMENT_KIND",
+        "REFLECTION_MODE",
+    ];
+
+    /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
+    /// holds only what the frame uses: a map at strength 0 changes nothing and is not
+    /// sampled, the noise map only modulates the report's reflection, and the debug view,
+    /// environment kind and reflection mode are constants. Generic (`specialize` false),
+    /// those three come from the uniforms and every map is sampled, as the bench compares.
+    pub fn new(m: &Material, environment: &Environment, debug_view: DebugView, specialize: bool) -> Self {
+        let models = m.shading_models();
+        let maps = &m.maps;
+        let reflection = environment.reflection().map(|r| r.mode);
+        let sampled = |map: &Option<MapRef>, used: bool| {
+            u32::from(map.is_some_and(|map| !specialize || (used && map.strength != 0.0)))
+        };
+        let specialized = |value: u32| if specialize { value } else { FROM_UNIFORM };
+        Self {
+            diffuse_model: models.diffuse as u32,
+            specular_model: models.specular as u32,
+            distribution: models.distribution as u32,
+            geometry: models.geometry as u32,
+            has_base_color_map: sampled(&maps.base_color, true),
+            has_normal_map: sampled(&maps.normal, true),
+            has_detail_map: sampled(&maps.detail, true),
+            has_noise_map: sampled(&maps.noise, reflection == Some(ReflectionMode::Seed)),
+            detail_blend: maps.detail_blend as u32,
+            horizon: m.horizon as u32,
+            subsurface: models.subsurface as u32,
+            debug_view: specialized(debug_view as u32),
+            environment_kind: specialized(environment_kind(environment)),
+            reflection_mode: specialized(reflection.map_or(0, reflection_code)),
+        }
+    }
+
+    pub fn specialization(&self) -> Specialization {
+        Specialization(bytemuck::cast_slice(std::slice::from_ref(self)).to_vec())
+    }
 }
 
 /// What one frame in flight owns: its uniforms, materials and the set pointing at them.
@@ -50,6 +115,8 @@ struct FrameSlot {
     frame_data: Buffer,
     materials: Buffer,
     set: vk::DescriptorSet,
+    /// The set binds the pre-integrated table rather than its placeholder.
+    binds_table: bool,
 }
 
 pub struct ForwardPass {
@@ -69,7 +136,12 @@ pub struct ForwardPass {
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
-    subsurface: SubsurfaceTable,
+    /// The pre-integrated subsurface table, once a scene's material has needed it; until
+    /// then `placeholder` fills its binding.
+    subsurface: Option<SubsurfaceTable>,
+    placeholder: SubsurfaceTable,
+    /// Wall time spent creating pipelines, for the startup's account.
+    pub pipeline_time: Duration,
 }
 
 impl ForwardPass {
@@ -93,7 +165,7 @@ impl ForwardPass {
                 vk::ShaderStageFlags::FRAGMENT,
             )
             .build(device, "forward set")?;
-        let subsurface = SubsurfaceTable::upload(device, one_shot)?;
+        let placeholder = SubsurfaceTable::placeholder(device, one_shot)?;
         let material_layout = (0..4)
             .fold(DescriptorSetLayoutBuilder::default(), |b, _| {
                 b.binding(
@@ -122,11 +194,12 @@ impl ForwardPass {
                 )?;
                 let materials = Self::material_buffer(device, 1)?;
                 let set = pool.allocate(&set_layout)?;
-                Self::write_set(device, set, &frame_data, &materials, &subsurface);
+                Self::write_set(device, set, &frame_data, &materials, &placeholder);
                 Ok(FrameSlot {
                     frame_data,
                     materials,
                     set,
+                    binds_table: false,
                 })
             })
             .collect::<Result<_>>()?;
@@ -142,7 +215,9 @@ impl ForwardPass {
             material_pipelines: Vec::new(),
             _pool: pool,
             slots,
-            subsurface,
+            subsurface: None,
+            placeholder,
+            pipeline_time: Duration::ZERO,
         })
     }
 
@@ -178,11 +253,13 @@ impl ForwardPass {
         if let Some(p) = self.pipelines.get(specialization) {
             return Ok(p.handle);
         }
+        let start = Instant::now();
         let pipeline = self.build_pipeline(
             &self.fragment,
             specialization,
             &format!("forward {:?}", specialization.0),
         )?;
+        self.pipeline_time += start.elapsed();
         let handle = pipeline.handle;
         self.pipelines.insert(specialization.clone(), pipeline);
         Ok(handle)
@@ -218,8 +295,10 @@ impl ForwardPass {
     }
 
     /// Writes this frame's uniforms and materials into `slot` (whose previous use the
-    /// caller has waited for) and creates any pipeline the scene's materials need, or with
+    /// caller has waited for) and creates any pipeline the scene's materials need
+    /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
     /// `floor` the floor's pipeline for every material.
+    #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
         slot: usize,
@@ -227,6 +306,8 @@ impl ForwardPass {
         aspect: f32,
         debug_view: DebugView,
         floor: bool,
+        specialize: bool,
+        one_shot: &OneShot,
     ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, aspect)?;
         frame_data.counts[1] = debug_view as u32;
@@ -238,16 +319,25 @@ impl ForwardPass {
                 if floor {
                     self.floor_pipeline()
                 } else {
-                    self.pipeline(&material_specialization(m))
+                    self.pipeline(&ForwardConstants::new(m, &scene.environment, debug_view, specialize).specialization())
                 }
             })
             .collect::<Result<_>>()?;
+        if scene.needs_preintegrated_table() && self.subsurface.is_none() {
+            self.subsurface = Some(SubsurfaceTable::upload(&self.device, one_shot)?);
+        }
         let s = &mut self.slots[slot];
         s.frame_data.write(bytemuck::bytes_of(&frame_data))?;
         let bytes: &[u8] = bytemuck::cast_slice(&materials);
-        if bytes.len() as u64 > s.materials.size {
+        let grow = bytes.len() as u64 > s.materials.size;
+        if grow {
             s.materials = Self::material_buffer(&self.device, materials.len())?;
-            Self::write_set(&self.device, s.set, &s.frame_data, &s.materials, &self.subsurface);
+        }
+        // Only this slot's set is rewritten: the other slots' frames may still be running.
+        if grow || s.binds_table != self.subsurface.is_some() {
+            let table = self.subsurface.as_ref().unwrap_or(&self.placeholder);
+            Self::write_set(&self.device, s.set, &s.frame_data, &s.materials, table);
+            s.binds_table = self.subsurface.is_some();
         }
         s.materials.write(bytes)
     }
@@ -336,5 +426,93 @@ impl ForwardPass {
         }
         unsafe { d.cmd_end_rendering(cmd) };
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every `layout(constant_id = N) const TYPE NAME` of the forward pass's shaders.
+    fn shader_constants() -> Vec<(u32, String)> {
+        let sources = [
+            include_str!("../../shaders/forward.frag"),
+            include_str!("../../shaders/lib/material_maps.glsl"),
+            include_str!("../../shaders/lib/environment.glsl"),
+        ];
+        sources
+            .iter()
+            .flat_map(|s| s.lines())
+            .filter_map(|line| {
+                let rest = line.trim().strip_prefix("layout(constant_id = ")?;
+                let (id, declaration) = rest.split_once(')')?;
+                let name = declaration.split_whitespace().nth(2)?;
+                Some((id.parse().ok()?, name.to_owned()))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn constants_match_the_shaders_ids_and_names() {
+        let mut found = shader_constants();
+        found.sort();
+        let expected: Vec<(u32, String)> = ForwardConstants::NAMES
+            .iter()
+            .enumerate()
+            .map(|(i, name)| (i as u32, (*name).to_owned()))
+            .collect();
+        assert_eq!(found, expected);
+        assert_eq!(
+            std::mem::size_of::<ForwardConstants>(),
+            4 * ForwardConstants::NAMES.len()
+        );
+        let glsl = include_str!("../../shaders/lib/specialization.glsl");
+        assert!(glsl.contains(&format!("FROM_UNIFORM = 0x{FROM_UNIFORM:X}u;")));
+    }
+
+    /// The default scene's plasticine (normal, detail and noise maps) with a base colour
+    /// map too, every map at `strength`.
+    fn mapped_material(strength: f32) -> Material {
+        let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
+            .expect("the default scene");
+        let mut m = scene.materials.into_iter().find(|m| m.maps.noise.is_some()).expect("plasticine");
+        m.maps.base_color = m.maps.normal;
+        let maps = &mut m.maps;
+        for map in [&mut maps.base_color, &mut maps.normal, &mut maps.detail, &mut maps.noise] {
+            map.as_mut().expect("a map").strength = strength;
+        }
+        m
+    }
+
+    fn uniform(mode: ReflectionMode) -> Environment {
+        Environment::Uniform {
+            radiance: glam::Vec3::ONE,
+            reflection: crate::scene::Reflection {
+                mode,
+                ..Default::default()
+            },
+        }
+    }
+
+    #[test]
+    fn specialised_pipelines_sample_only_maps_that_change_the_image() {
+        let shown = ForwardConstants::new(&mapped_material(0.5), &uniform(ReflectionMode::SplitSum), DebugView::Shaded, true);
+        assert_eq!((shown.has_base_color_map, shown.has_normal_map), (1, 1));
+        assert_eq!(shown.has_noise_map, 0, "the noise map modulates only the seed reflection");
+        let seed = ForwardConstants::new(&mapped_material(0.5), &uniform(ReflectionMode::Seed), DebugView::Shaded, true);
+        assert_eq!(seed.has_noise_map, 1);
+        let off = ForwardConstants::new(&mapped_material(0.0), &uniform(ReflectionMode::Seed), DebugView::Shaded, true);
+        assert_eq!((off.has_base_color_map, off.has_normal_map, off.has_noise_map), (0, 0, 0));
+        assert_eq!((off.debug_view, off.environment_kind, off.reflection_mode), (0, 1, 1));
+    }
+
+    #[test]
+    fn generic_pipelines_read_the_uniforms_and_sample_every_map() {
+        let generic = ForwardConstants::new(&mapped_material(0.0), &Environment::None, DebugView::Normals, false);
+        assert_eq!((generic.has_base_color_map, generic.has_normal_map, generic.has_noise_map), (1, 1, 1));
+        assert_eq!(
+            (generic.debug_view, generic.environment_kind, generic.reflection_mode),
+            (FROM_UNIFORM, FROM_UNIFORM, FROM_UNIFORM)
+        );
     }
 }

@@ -57,6 +57,12 @@ pub struct Renderer {
     /// Draws every object with `floor.frag` instead of its material: `argil bench`'s
     /// measure of what the geometry and targets cost without shading.
     pub floor: bool,
+    /// Wall time spent preparing environments (their precompute), for the startup's account.
+    pub environment_time: std::time::Duration,
+    /// Pipelines with the debug view, environment and reflection mode read from uniforms
+    /// and every map sampled, instead of specialised to the frame: what the bench compares
+    /// the specialised pipelines against.
+    pub generic: bool,
 }
 
 /// The images an offscreen frame renders into and the buffers it is read back through,
@@ -103,8 +109,15 @@ impl Renderer {
             timestamps,
             debug_view: DebugView::Shaded,
             floor: false,
+            generic: false,
+            environment_time: std::time::Duration::ZERO,
             device,
         })
+    }
+
+    /// Wall time spent creating the forward pass's pipelines so far.
+    pub fn pipeline_time(&self) -> std::time::Duration {
+        self.forward.pipeline_time
     }
 
     /// Uploads the scene's meshes.
@@ -121,9 +134,11 @@ impl Renderer {
         target: &RenderTarget,
         output_format: vk::Format,
     ) -> Result<()> {
+        let start = std::time::Instant::now();
         self.environment.prepare(scene)?;
+        self.environment_time += start.elapsed();
         self.forward
-            .prepare(slot, scene, target.aspect(), self.debug_view, self.floor)?;
+            .prepare(slot, scene, target.aspect(), self.debug_view, self.floor, !self.generic, &self.one_shot)?;
         self.tonemap.prepare(slot, target, output_format)
     }
 

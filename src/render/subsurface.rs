@@ -37,6 +37,21 @@ impl SubsurfaceTable {
         })
     }
 
+    /// A 1² table of zeros for the binding while no material needs the real one.
+    pub fn placeholder(device: &Arc<Device>, one_shot: &OneShot) -> Result<Self> {
+        let data = TextureData {
+            name: "pre-integrated subsurface placeholder".to_owned(),
+            width: 1,
+            height: 1,
+            format: TexelFormat::Rgba32Float,
+            pixels: vec![0; 16],
+        };
+        Ok(Self {
+            texture: GpuTexture::upload(device, one_shot, &data)?,
+            sampler: Sampler::clamped(device)?,
+        })
+    }
+
     /// Adds the table at `SUBSURFACE_TABLE_BINDING` to a set's writes.
     pub fn bind(&self, writer: DescriptorWriter) -> DescriptorWriter {
         writer.image(

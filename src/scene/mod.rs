@@ -78,6 +78,11 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// Whether a material reads the pre-integrated subsurface table.
+    pub fn needs_preintegrated_table(&self) -> bool {
+        self.materials.iter().any(|m| m.subsurface == Subsurface::PreIntegrated)
+    }
+
     /// Reads, parses and validates a scene file; relative paths in it are
     /// resolved against the file's folder.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {

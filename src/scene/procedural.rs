@@ -13,6 +13,7 @@ use std::sync::{Mutex, OnceLock, PoisonError};
 use glam::{Vec2, Vec3};
 
 use super::texture::{TexelFormat, TextureData};
+use crate::cache::{self, DiskCache};
 
 /// The builtin texture names, usable wherever a texture path is.
 pub const BUILTIN_TEXTURES: [&str; 3] = ["builtin:clay-lumps", "builtin:fingerprints", "builtin:noise"];
@@ -23,11 +24,33 @@ const NORMAL_MAP_SIZE: usize = 1024;
 const NOISE_SIZE: usize = 512;
 
 /// The builtin texture called `name` (one of [`BUILTIN_TEXTURES`]), or `None`.
-/// Each is generated once per process and cloned afterwards.
+/// Each is read from the disk cache (generated and stored there the first time) once per
+/// process and cloned afterwards.
 pub fn builtin_texture(name: &str) -> Option<TextureData> {
     static CACHE: [OnceLock<TextureData>; 3] = [const { OnceLock::new() }; 3];
     let index = BUILTIN_TEXTURES.iter().position(|&n| n == name)?;
-    Some(CACHE[index].get_or_init(|| generate(index)).clone())
+    Some(CACHE[index].get_or_init(|| cached(index, &DiskCache::from_env())).clone())
+}
+
+/// Builtin texture `index` from `cache`: its texels depend only on this file's code and
+/// the texture's size, which key the entry.
+fn cached(index: usize, cache: &DiskCache) -> TextureData {
+    let size = if index == 2 { NOISE_SIZE } else { NORMAL_MAP_SIZE };
+    let name = BUILTIN_TEXTURES[index];
+    let key = cache::key(&[
+        include_str!("procedural.rs").as_bytes(),
+        name.as_bytes(),
+        &(size as u64).to_le_bytes(),
+    ]);
+    let entry = format!("map-{}", name.trim_start_matches(super::BUILTIN_PREFIX));
+    let pixels = cache.get_or_compute(&entry, key, |b| b.len() == size * size * 4, || generate(index).pixels);
+    TextureData {
+        name: name.to_owned(),
+        width: size as u32,
+        height: size as u32,
+        format: TexelFormat::Rgba8Unorm,
+        pixels,
+    }
 }
 
 fn generate(index: usize) -> TextureData {
@@ -649,6 +672,26 @@ fn smoothstep(edge0: f32, edge1: f32, x: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cached_maps_are_the_generated_ones_and_a_corrupt_entry_is_regenerated() {
+        let dir = std::env::temp_dir().join(format!("argil-procedural-cache-{}", std::process::id()));
+        let cache = DiskCache::at(Some(&dir));
+        let generated = generate(2);
+        let first = cached(2, &cache);
+        let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+        assert_eq!(entries.len(), 1, "one entry: {entries:?}");
+        let second = cached(2, &cache);
+        let mut bytes = std::fs::read(&entries[0]).unwrap();
+        let last = bytes.len() - 1;
+        bytes[last] ^= 0xff;
+        std::fs::write(&entries[0], &bytes).unwrap();
+        let third = cached(2, &cache);
+        std::fs::remove_dir_all(&dir).unwrap();
+        for map in [first, second, third] {
+            assert_eq!(map, generated);
+        }
+    }
 
     fn decode(texel: &[u8]) -> Vec3 {
         Vec3::new(texel[0] as f32, texel[1] as f32, texel[2] as f32) / 127.5 - Vec3::ONE

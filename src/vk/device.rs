@@ -10,7 +10,9 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
 use super::instance::{Instance, ValidationReport};
+use super::pipeline_cache::PipelineCache;
 use super::surface::Surface;
+use crate::cache::DiskCache;
 
 /// Which device to use, from `--device N|NAME`.
 #[derive(Clone, Debug)]
@@ -171,6 +173,8 @@ pub struct Device {
     /// Nanoseconds per timestamp tick; `None` when the queue has no timestamps.
     pub timestamp_period_ns: Option<f64>,
     pub max_anisotropy: Option<f32>,
+    /// Every pipeline is created through it; written to the disk cache when the device goes.
+    pub pipeline_cache: PipelineCache,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     /// Submissions to one queue must be externally synchronised.
     queue_lock: Mutex<()>,
@@ -286,6 +290,14 @@ impl Device {
                 return Err(e).context("cannot create the GPU memory allocator");
             }
         };
+        let pipeline_cache = match PipelineCache::new(&handle, &props, DiskCache::from_env()) {
+            Ok(cache) => cache,
+            Err(e) => {
+                drop(allocator);
+                unsafe { handle.destroy_device(None) };
+                return Err(e);
+            }
+        };
 
         Ok(Self {
             handle,
@@ -296,6 +308,7 @@ impl Device {
             limits: props.limits,
             timestamp_period_ns,
             max_anisotropy,
+            pipeline_cache,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             queue_lock: Mutex::new(()),
             surface,
@@ -359,6 +372,7 @@ impl Drop for Device {
     fn drop(&mut self) {
         unsafe {
             let _ = self.handle.device_wait_idle();
+            self.pipeline_cache.save_and_destroy(&self.handle);
             // The allocator frees its memory blocks through the device, so it goes first.
             ManuallyDrop::drop(&mut self.allocator);
             self.handle.destroy_device(None);

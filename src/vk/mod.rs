@@ -8,6 +8,7 @@ pub mod device;
 pub mod image;
 pub mod instance;
 pub mod pipeline;
+pub mod pipeline_cache;
 pub mod readback;
 pub mod sampler;
 pub mod shader;
@@ -22,6 +23,7 @@ pub use descriptors::{DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBu
 pub use device::{Device, DeviceChoice, DeviceInfo, DeviceOptions, WindowHandles};
 pub use image::{copy_region, full_range, mip_count, Image, ImageView};
 pub use pipeline::{begin_full_rendering, GraphicsPipelineBuilder, Pipeline, PipelineLayout, Specialization};
+pub use pipeline_cache::PipelineCache;
 pub use readback::{ImageRegion, Readback};
 pub use sampler::Sampler;
 pub use shader::ShaderModule;

@@ -97,7 +97,7 @@ impl Pipeline {
         let handle = unsafe {
             device
                 .handle
-                .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+                .create_compute_pipelines(device.pipeline_cache.handle, &[info], None)
         }
         .map_err(|(_, e)| e)
         .with_context(|| format!("cannot create compute pipeline '{name}'"))?[0];
@@ -250,7 +250,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
         let handle = unsafe {
             device
                 .handle
-                .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+                .create_graphics_pipelines(device.pipeline_cache.handle, &[info], None)
         }
         .map_err(|(_, e)| e)
         .with_context(|| format!("cannot create graphics pipeline '{name}'"))?[0];

@@ -1,0 +1,129 @@
+//! Startup: wall time from process start to the first finished frame, in its parts. A
+//! child `argil render --timings` records its steps; the bench runs it twice on the
+//! default scene, with empty caches (cold: argil's disk cache and Mesa's shader cache) and
+//! again with the caches the first run filled (warm).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context, Result};
+use ash::vk;
+use serde::{Deserialize, Serialize};
+
+use crate::atomic::write_bytes;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Step {
+    pub name: String,
+    pub ms: f64,
+}
+
+/// One start: its steps in order, and the whole from process start.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Startup {
+    pub steps: Vec<Step>,
+    pub total_ms: f64,
+}
+
+/// Records the steps of a start as they happen.
+pub struct Recorder {
+    process_start: Instant,
+    steps: Vec<Step>,
+}
+
+impl Recorder {
+    pub fn new(process_start: Instant) -> Self {
+        Self {
+            process_start,
+            steps: Vec::new(),
+        }
+    }
+
+    /// Runs `work` as step `name`.
+    pub fn step<T>(&mut self, name: &str, work: impl FnOnce() -> T) -> T {
+        let start = Instant::now();
+        let result = work();
+        self.record(name, start.elapsed());
+        result
+    }
+
+    pub fn record(&mut self, name: &str, time: Duration) {
+        self.steps.push(Step {
+            name: name.to_owned(),
+            ms: time.as_secs_f64() * 1e3,
+        });
+    }
+
+    /// The start so far, as JSON written atomically to `path`.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let startup = Startup {
+            steps: self.steps.clone(),
+            total_ms: self.process_start.elapsed().as_secs_f64() * 1e3,
+        };
+        write_bytes(path, serde_json::to_string_pretty(&startup)?.as_bytes())
+    }
+}
+
+/// A cold and a warm start of the default scene at `extent` on device `device_index`.
+pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]> {
+    let dir = TempDir::new()?;
+    let exe = std::env::current_exe().context("cannot find the argil executable")?;
+    let start = |run: &str| -> Result<Startup> {
+        let timings = dir.0.join(format!("{run}.json"));
+        let output = Command::new(&exe)
+            .args(["--device", &device_index.to_string(), "render", "--out"])
+            .arg(dir.0.join("frame.exr"))
+            .args(["--width", &extent.width.to_string(), "--height", &extent.height.to_string()])
+            .arg("--timings")
+            .arg(&timings)
+            .env("ARGIL_CACHE_DIR", dir.0.join("argil-cache"))
+            .env("MESA_SHADER_CACHE_DIR", dir.0.join("mesa-cache"))
+            .output()
+            .context("cannot start argil render")?;
+        if !output.status.success() {
+            bail!("argil render failed: {}", String::from_utf8_lossy(&output.stderr).trim());
+        }
+        let bytes = std::fs::read(&timings).with_context(|| format!("cannot read {}", timings.display()))?;
+        serde_json::from_slice(&bytes).with_context(|| format!("{}: not a startup record", timings.display()))
+    };
+    Ok([start("cold")?, start("warm")?])
+}
+
+/// The table of a cold and a warm start, a row per step.
+pub fn markdown(extent: vk::Extent2D, [cold, warm]: &[Startup; 2]) -> String {
+    let mut text = format!(
+        "Start of `argil render` of the default scene at {}×{} to an EXR: wall milliseconds per step, \
+         cold (empty argil and Mesa caches) and warm (the caches the cold start filled).\n\n\
+         | step | cold ms | warm ms |\n| --- | --- | --- |\n",
+        extent.width, extent.height
+    );
+    for (c, w) in cold.steps.iter().zip(&warm.steps) {
+        text += &format!("| {} | {:.1} | {:.1} |\n", c.name, c.ms, w.ms);
+    }
+    text += &format!(
+        "| **process start to frame written** | **{:.1}** | **{:.1}** |\n",
+        cold.total_ms, warm.total_ms
+    );
+    text
+}
+
+/// A folder removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new() -> Result<Self> {
+        let dir = std::env::temp_dir().join(format!("argil-startup-{}", std::process::id()));
+        if dir.exists() {
+            std::fs::remove_dir_all(&dir).with_context(|| format!("cannot empty {}", dir.display()))?;
+        }
+        std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        Ok(Self(dir))
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
