@@ -30,15 +30,17 @@ run: build
 # Release build, shared with `make run`; the tests turn the validation layer on themselves.
 # Then every BRDF and shading function checked on the GPU against its f64 twin, with 2^20
 # tuples each.
+# The tests keep argil's disk cache (builtin maps, tables, pipelines) inside target/, away
+# from the user's.
 test: setup
-	$(CARGO) test --release --locked
-	target/release/argil --validation verify
+	ARGIL_CACHE_DIR=$(CURDIR)/target/argil-cache $(CARGO) test --release --locked
+	ARGIL_CACHE_DIR=$(CURDIR)/target/argil-cache target/release/argil --validation verify
 
 # Every BRDF model and term, normal-mapping and shading function on the GPU against its f64
 # twin: accuracy, positivity or unit length, reciprocity, energy, stress inputs (also the
 # last step of `make test`).
 verify: build
-	target/release/argil --validation verify
+	ARGIL_CACHE_DIR=$(CURDIR)/target/argil-cache target/release/argil --validation verify
 
 clean:
 	$(CARGO) clean
