@@ -59,6 +59,8 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
             "cpu_ms_median",
             "cpu_ms_p95",
             "forward_ratio_to_floor",
+            "work_ms_median",
+            "work_ratio_to_floor",
         ] {
             assert!(finite(row, key) > 0.0, "{key} is not positive");
         }
@@ -79,10 +81,38 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
     let table = std::fs::read_to_string(out.join("results.md")).expect("results.md");
     assert!(table.contains("| default | **report** |"), "{table}");
 
-    // The second run finds both references in the cache.
-    let second = run(&out, &references, &["--frames", "1", "--warmup", "0"]);
+    let starts: Vec<Value> =
+        serde_json::from_slice(&std::fs::read(out.join("startup.json")).expect("startup.json")).expect("JSON starts");
+    assert_eq!(starts.len(), 2, "a cold and a warm start");
+    for start in &starts {
+        let total = finite(start, "total_ms");
+        let steps = start["steps"].as_array().expect("steps");
+        assert!(steps.len() >= 8, "{steps:?}");
+        let sum: f64 = steps.iter().map(|s| finite(s, "ms")).sum();
+        assert!(sum <= total, "the steps ({sum} ms) fit in the whole ({total} ms)");
+    }
+
+    // The second run finds both references in the cache; its one row replaces its
+    // namesake and the others stay.
+    let second = run(&out, &references, &["--frames", "1", "--warmup", "0", "--only", "default/report"]);
     assert!(!second.contains("rendering the"), "references rendered again: {second}");
+    let merged: Vec<Value> =
+        serde_json::from_slice(&std::fs::read(out.join("results.json")).expect("results.json")).expect("JSON rows");
+    assert_eq!(merged.len(), rows.len());
+    let frames = |rows: &[Value], configuration: &str| {
+        rows.iter().find(|r| r["configuration"] == configuration).map(|r| r["frames"].clone())
+    };
+    assert_eq!(frames(&merged, "report"), Some(Value::from(1)));
+    assert_eq!(frames(&merged, "floor"), frames(&rows, "floor"));
     std::fs::remove_dir_all(dir).expect("remove the test folder");
+}
+
+#[test]
+fn bench_rejects_a_pattern_that_names_no_row() {
+    let output = argil(&["bench", "--quick", "--only", "no-such-scene"]);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("no-such-scene"), "{stderr}");
 }
 
 #[test]

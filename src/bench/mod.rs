@@ -27,6 +27,7 @@ use ash::vk;
 
 use crate::atomic::write_bytes;
 use crate::compare::metrics::{compare, Rgba32};
+use crate::error::InputError;
 use crate::reference::{Stop, Transport};
 use crate::render::{OffscreenTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
@@ -156,7 +157,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     drop(renderer);
     let startup = options.only.is_empty() || options.only.iter().any(|p| p == STARTUP);
     if rows.is_empty() && !startup {
-        bail!("no bench row matches {}", options.only.join(", "));
+        return Err(InputError(format!("--only {}: no bench row matches", options.only.join(" --only "))).into());
     }
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     if startup {
