@@ -279,6 +279,17 @@ impl App {
                 .map(|(n, ms)| format!("{n} {ms:.2} ms"))
                 .collect();
             let area = state.frames.frame_area();
+            let idle = self.last_frame.map_or(0.0, |t| t.elapsed().as_secs_f64());
+            eprintln!(
+                "argil: {} frames, {} swapchain recreations; view {}x{} at x {}; idle {idle:.1} s at the end; last \
+                 second: CPU work {cpu_ms:.2} ms a frame, GPU {}",
+                state.frames.frame_count(),
+                state.frames.recreations(),
+                area.extent.width,
+                area.extent.height,
+                area.offset.x,
+                gpu.join(", ")
+            );
             eprintln!(
                 "argil: {} frames, {} swapchain recreations; view {}x{} at x {}; last second: CPU work \
                  {cpu_ms:.2} ms a frame, GPU {}",

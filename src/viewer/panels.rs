@@ -910,16 +910,22 @@ fn timings_section(ui: &mut Ui, view: &ViewState) {
     grid(ui, "timings", |ui| {
         ui.label("CPU work")
             .on_hover_text("Camera, UI and recording of a frame, up to its submission; mean over the last second");
-        ui.label(format!("{cpu_ms:.2} ms"));
+        ui.label(milliseconds(cpu_ms));
         ui.end_row();
         for (name, ms) in view.timings.pass_names.iter().zip(&gpu_ms) {
             ui.label(format!("GPU {name}"))
                 .on_hover_text("Timestamp queries around the pass; mean over the last second");
-            ui.label(format!("{ms:.2} ms"));
+            ui.label(milliseconds(*ms));
             ui.end_row();
         }
     });
     history_graph(ui, &view.timings);
+}
+
+/// A time in a fixed width, so that the grid's columns do not change with the numbers: egui
+/// draws a frame again whenever they do, which would keep an idle viewer drawing.
+fn milliseconds(ms: f64) -> RichText {
+    RichText::new(format!("{ms:>9.2} ms")).monospace()
 }
 
 const CPU_COLOR: Color32 = Color32::from_rgb(120, 200, 255);
