@@ -8,6 +8,7 @@ mod frames;
 mod history;
 mod overlay;
 mod panels;
+mod rebuild;
 pub mod save;
 mod storm;
 mod timings;
@@ -31,8 +32,7 @@ use winit::window::{Window, WindowId};
 
 use crate::render::environment::equirect;
 use crate::render::gpu_scene::FrameData;
-use crate::scene::file::MaterialDef;
-use crate::scene::{Camera, Environment, Preset, Scene};
+use crate::scene::{Camera, Environment, Scene};
 use crate::vk::{Device, DeviceChoice, DeviceOptions, WindowHandles};
 use camera_control::{
     floor_height, frame_sphere, movement_from_keys, object_bounds, objects_bounds, CameraControl, Input,
@@ -40,6 +40,7 @@ use camera_control::{
 use frames::{gpu_pass_names, Capture, CaptureStage, FrameLoop, UiFrame};
 use history::History;
 use panels::{Actions, Question, ViewState};
+use rebuild::Rebuild;
 use save::{Document, Refused};
 use storm::StormStep;
 use timings::{FrameTimes, Timings};
@@ -87,11 +88,18 @@ pub fn load_document(path: &Path) -> Result<(Scene, Document)> {
     let base_dir = path.parent().unwrap_or(Path::new(""));
     let mut scene = Scene::from_toml(&document.text, &path.display().to_string(), base_dir)?;
     scene.source = Some(path.to_path_buf());
-    FrameData::new(&scene, 1.0)?;
+    check_viewable(&scene)?;
+    Ok((scene, document))
+}
+
+/// What the viewer checks beyond the scene file's own validation: the renderer's limits,
+/// and an environment map that decodes.
+fn check_viewable(scene: &Scene) -> Result<()> {
+    FrameData::new(scene, 1.0)?;
     if let Environment::Map { path, .. } = &scene.environment {
         equirect::load(path)?;
     }
-    Ok((scene, document))
+    Ok(())
 }
 
 /// What the panel says the scene file is.
@@ -394,40 +402,22 @@ impl App {
         }
     }
 
-    /// Gives the selected material `preset`'s values (maps included, so the scene is
-    /// rebuilt and uploaded again).
-    fn apply_preset(&mut self, preset: Option<Preset>) -> Result<()> {
-        let Some(name) = self
-            .scene
-            .materials
-            .get(self.view.selected_material)
-            .map(|m| m.name.clone())
-        else {
-            return Ok(());
-        };
-        let mut file = self.scene.to_file();
-        let mut def = preset.map_or_else(MaterialDef::default, Preset::material);
-        def.preset = preset;
-        file.materials.insert(name.clone(), def);
-        let base_dir = self
-            .scene
-            .source
-            .as_deref()
-            .and_then(Path::parent)
-            .unwrap_or(Path::new(""));
-        let mut scene = match Scene::from_file(&file, &format!("material {name}"), base_dir) {
+    /// Makes an edit that changes what the scene loads, and uploads the new scene; a file
+    /// that does not load is reported and the scene stays.
+    fn rebuild(&mut self, edit: &Rebuild) -> Result<()> {
+        let scene = match rebuild::rebuild(&self.scene, edit) {
             Ok(scene) => scene,
             Err(e) => {
+                eprintln!("argil: {e:#}");
                 self.view.error = Some(format!("{e:#}"));
                 return Ok(());
             }
         };
-        scene.source = self.scene.source.clone();
-        scene.camera = self.scene.camera;
         if let Some(state) = &mut self.state {
             state.frames.set_scene(&scene)?;
         }
         self.scene = scene;
+        self.view.error = None;
         self.history.rebase(&self.scene);
         Ok(())
     }
@@ -455,8 +445,8 @@ impl App {
         if actions.redo {
             self.history.redo(&mut self.scene);
         }
-        if let Some(preset) = actions.apply_preset {
-            self.apply_preset(preset)?;
+        if let Some(edit) = &actions.rebuild {
+            self.rebuild(edit)?;
         }
         if actions.save {
             let to = self

@@ -10,6 +10,7 @@ use glam::Vec3;
 use serde::Serialize;
 
 use super::camera_control::{CameraControl, Mode};
+use super::rebuild::Rebuild;
 use super::timings::Timings;
 use crate::render::gpu_scene::MAX_POINT_LIGHTS;
 use crate::render::DebugView;
@@ -103,6 +104,8 @@ pub struct ViewState {
     pub view_rect: egui::Rect,
     /// The frame's size in pixels, for the timings.
     pub frame_size: (u32, u32),
+    /// The Files section's path field.
+    pub path: String,
 }
 
 impl ViewState {
@@ -127,6 +130,7 @@ impl ViewState {
             hide_ui: false,
             view_rect: egui::Rect::NOTHING,
             frame_size: (0, 0),
+            path: String::new(),
         }
     }
 
@@ -156,8 +160,8 @@ pub struct Actions {
     pub reset_view: bool,
     pub undo: bool,
     pub redo: bool,
-    /// Give the selected material this preset's values (`None`: the built-in defaults).
-    pub apply_preset: Option<Option<Preset>>,
+    /// An edit of what the scene loads: a preset, a texture, an environment map, a mesh.
+    pub rebuild: Option<Rebuild>,
 }
 
 impl Actions {
@@ -175,7 +179,7 @@ impl Actions {
         self.reset_view |= other.reset_view;
         self.undo |= other.undo;
         self.redo |= other.redo;
-        self.apply_preset = self.apply_preset.or(other.apply_preset);
+        self.rebuild = self.rebuild.take().or(other.rebuild);
     }
 }
 
@@ -215,6 +219,7 @@ const SECTIONS: &[Section] = &[
     ("Materials", true, materials_section),
     ("Lights", false, |ui, p| lights_section(ui, p.scene)),
     ("Environment", false, |ui, p| environment_section(ui, p.scene)),
+    ("Files", false, files_section),
     ("Debug view", true, |ui, p| debug_section(ui, p.view)),
     ("Timings", true, |ui, p| timings_section(ui, p.view)),
 ];
@@ -459,7 +464,10 @@ fn materials_section(ui: &mut Ui, p: &mut Panel) {
             .show_ui(ui, |ui| {
                 for preset in std::iter::once(None).chain(Preset::ALL.map(Some)) {
                     if ui.selectable_label(m.preset == preset, name(preset)).clicked() {
-                        actions.apply_preset = Some(preset);
+                        actions.rebuild = Some(Rebuild::Preset {
+                            material: m.name.clone(),
+                            preset,
+                        });
                     }
                 }
             });
@@ -468,7 +476,10 @@ fn materials_section(ui: &mut Ui, p: &mut Panel) {
             .on_hover_text("Back to the preset's values (or the built-in defaults without one)")
             .clicked()
         {
-            actions.apply_preset = Some(m.preset);
+            actions.rebuild = Some(Rebuild::Preset {
+                material: m.name.clone(),
+                preset: m.preset,
+            });
         }
     });
     grid(ui, "material", |ui| material_fields(ui, m));
@@ -627,12 +638,13 @@ fn material_fields(ui: &mut Ui, m: &mut Material) {
         );
     }
     // A map's texture is fixed by the scene file; its parameters are live.
-    for (name, words, map) in [
-        ("base_color_map", "colour map", &mut maps.base_color),
-        ("normal_map", "normal map", &mut maps.normal),
-        ("detail_map", "detail map", &mut maps.detail),
-        ("noise_map", "noise map", &mut maps.noise),
-    ] {
+    let slots = [
+        &mut maps.base_color,
+        &mut maps.normal,
+        &mut maps.detail,
+        &mut maps.noise,
+    ];
+    for ((name, words), map) in MAPS.into_iter().zip(slots) {
         if let Some(map) = map {
             map_fields(ui, name, words, map);
         }
@@ -881,6 +893,63 @@ fn environment_section(ui: &mut Ui, scene: &mut Scene) {
             ),
             ReflectionMode::SplitSum => {}
         }
+    });
+}
+
+/// The maps a material can take an image for: the file's key and the label.
+const MAPS: [(&str, &str); 4] = [
+    ("base_color_map", "colour map"),
+    ("normal_map", "normal map"),
+    ("detail_map", "detail map"),
+    ("noise_map", "noise map"),
+];
+
+/// A file for the selected material's maps, the environment, or a new object. A path field:
+/// no native file dialog works under Xvfb without a desktop portal.
+fn files_section(ui: &mut Ui, p: &mut Panel) {
+    let (scene, view, actions) = (&*p.scene, &mut *p.view, &mut *p.actions);
+    ui.add(
+        egui::TextEdit::singleline(&mut view.path)
+            .hint_text("textures/clay.png")
+            .desired_width(ui.available_width()),
+    )
+    .on_hover_text("An image (.png, .exr, .hdr …) or an .obj mesh, relative to the working directory");
+    let path = view.path.trim().to_owned();
+    let Some(material) = scene.materials.get(view.selected_material).map(|m| m.name.clone()) else {
+        return;
+    };
+    ui.add_enabled_ui(!path.is_empty(), |ui| {
+        ui.label(format!("use it for {material}'s"));
+        ui.horizontal_wrapped(|ui| {
+            for (map, words) in MAPS {
+                if ui.button(words).clicked() {
+                    actions.rebuild = Some(Rebuild::Texture {
+                        material: material.clone(),
+                        map,
+                        path: path.clone(),
+                    });
+                }
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .button("as the environment map")
+                .on_hover_text("An equirectangular .hdr or .exr")
+                .clicked()
+            {
+                actions.rebuild = Some(Rebuild::EnvironmentMap { path: path.clone() });
+            }
+            if ui
+                .button(format!("add the mesh, in {material}"))
+                .on_hover_text("An .obj mesh, placed at the origin")
+                .clicked()
+            {
+                actions.rebuild = Some(Rebuild::Mesh {
+                    material: material.clone(),
+                    path: path.clone(),
+                });
+            }
+        });
     });
 }
 
