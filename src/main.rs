@@ -75,7 +75,8 @@ enum Command {
         /// Resize, minimise and restore the window while rendering (for tests).
         #[arg(long, hide = true)]
         resize_storm: bool,
-        /// Close after this many seconds, drawing frames only when something changes.
+        /// Close this many seconds after the first frame, drawing frames only when something
+        /// changes.
         #[arg(long, conflicts_with = "frames", value_parser = parse_seconds)]
         seconds: Option<f64>,
     },

@@ -18,7 +18,7 @@ mod tangents;
 mod texture;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use std::path::{Path, PathBuf};
 

@@ -70,8 +70,8 @@ pub struct ViewOptions {
     pub screenshot: Option<PathBuf>,
     /// Resize, minimise and restore the window while rendering (for tests).
     pub resize_storm: bool,
-    /// Close after this many seconds, drawing only when something changes (for tests of
-    /// the idle viewer); `frames` draws continuously instead.
+    /// Close this many seconds after the first frame, drawing only when something changes
+    /// (for tests of the idle viewer); `frames` draws continuously instead.
     pub seconds: Option<f64>,
 }
 
@@ -136,7 +136,7 @@ pub fn run(scene: Scene, document: Document, options: ViewOptions) -> Result<()>
         error: None,
         last_frame: None,
         next_idle_tick: now,
-        started: now,
+        first_frame: None,
         needs_redraw: true,
         repaint_at: None,
         ticks: 0,
@@ -208,7 +208,8 @@ struct App {
     error: Option<anyhow::Error>,
     last_frame: Option<Instant>,
     next_idle_tick: Instant,
-    started: Instant,
+    /// When the first frame was drawn: `seconds` counts from there.
+    first_frame: Option<Instant>,
     /// Something changed since the last frame: input, an edit, a reload, egui asking.
     needs_redraw: bool,
     /// egui asked to draw again at this time (an animation, a tooltip's delay).
@@ -524,6 +525,7 @@ impl App {
             return Ok(());
         }
         self.last_frame = Some(now);
+        self.first_frame.get_or_insert(now);
         self.needs_redraw = false;
         self.repaint_at = None;
 
@@ -725,11 +727,8 @@ impl ApplicationHandler for App {
                 return;
             }
         }
-        if self
-            .options
-            .seconds
-            .is_some_and(|s| now.duration_since(self.started).as_secs_f64() >= s)
-        {
+        let seconds = self.first_frame.map(|t| now.duration_since(t).as_secs_f64());
+        if self.options.seconds.zip(seconds).is_some_and(|(limit, s)| s >= limit) {
             self.close(event_loop);
             return;
         }

@@ -111,29 +111,7 @@ mod tests {
     use crate::scene::{Environment, PointLight, Reflection};
     use glam::{Vec2, Vec3};
 
-    /// A folder of its own per test, removed at the end.
-    struct Folder(PathBuf);
-
-    impl Folder {
-        fn new(name: &str) -> Folder {
-            let path = std::env::temp_dir().join(format!("argil-save-{name}-{}", std::process::id()));
-            let _ = std::fs::remove_dir_all(&path);
-            std::fs::create_dir_all(&path).unwrap();
-            Folder(path)
-        }
-
-        fn write(&self, name: &str, text: &str) -> PathBuf {
-            let path = self.0.join(name);
-            std::fs::write(&path, text).unwrap();
-            path
-        }
-    }
-
-    impl Drop for Folder {
-        fn drop(&mut self) {
-            let _ = std::fs::remove_dir_all(&self.0);
-        }
-    }
+    use crate::scene::tests::TempDir as Folder;
 
     fn load(path: &Path) -> (Scene, Document) {
         super::super::load_document(path).unwrap()
@@ -160,7 +138,7 @@ mod tests {
 
     #[test]
     fn an_edit_rewrites_only_its_own_key_and_keeps_comments_and_presets() {
-        let folder = Folder::new("edit");
+        let folder = Folder::new();
         let path = folder.write("scene.toml", DEFAULT_SCENE_TOML);
         let (mut scene, document) = load(&path);
         material(&mut scene, "plasticine").roughness = 0.33;
@@ -186,7 +164,7 @@ mod tests {
 
     #[test]
     fn values_back_at_the_preset_are_left_to_the_preset() {
-        let folder = Folder::new("preset");
+        let folder = Folder::new();
         let path = folder.write("scene.toml", DEFAULT_SCENE_TOML);
         let (mut scene, document) = load(&path);
         let preset = crate::scene::Preset::Plasticine.material();
@@ -208,7 +186,7 @@ mod tests {
 
     #[test]
     fn lights_environment_and_camera_are_written_in_place() {
-        let folder = Folder::new("lights");
+        let folder = Folder::new();
         let path = folder.write("scene.toml", DEFAULT_SCENE_TOML);
         let (mut scene, document) = load(&path);
         scene.lights.push(PointLight {
@@ -242,7 +220,7 @@ mod tests {
 
     #[test]
     fn a_file_that_no_longer_loads_is_not_saved_over() {
-        let folder = Folder::new("broken");
+        let folder = Folder::new();
         let path = folder.write("scene.toml", DEFAULT_SCENE_TOML);
         let (mut scene, document) = load(&path);
         scene.materials[0].roughness = 0.1;
@@ -275,7 +253,7 @@ mod tests {
 
     #[test]
     fn save_as_asks_before_replacing_a_file_and_keeps_paths_working() {
-        let folder = Folder::new("save-as");
+        let folder = Folder::new();
         std::fs::create_dir(folder.0.join("textures")).unwrap();
         image::RgbaImage::from_pixel(4, 4, image::Rgba([200, 100, 50, 255]))
             .save(folder.0.join("textures/skin.png"))
@@ -314,7 +292,7 @@ mod tests {
 
     #[test]
     fn the_default_scene_saves_with_its_comments_and_a_failed_write_leaves_nothing() {
-        let folder = Folder::new("default");
+        let folder = Folder::new();
         let mut scene = Scene::default_scene();
         scene.materials[0].wrap = 0.45;
         let to = folder.0.join("argil-scene.toml");
