@@ -8,13 +8,15 @@ layout(constant_id = 0) const bool ENCODE_SRGB = false;
 
 layout(set = 0, binding = 0) uniform texture2D hdr_frame;
 layout(push_constant) uniform Push {
+    // Where the frame starts in the output (the viewer draws it beside its panel).
+    ivec2 offset;
     float exposure;
 } push;
 
 layout(location = 0) out vec4 out_color;
 
 void main() {
-    vec3 hdr = texelFetch(hdr_frame, ivec2(gl_FragCoord.xy), 0).rgb * push.exposure;
+    vec3 hdr = texelFetch(hdr_frame, ivec2(gl_FragCoord.xy) - push.offset, 0).rgb * push.exposure;
     vec3 display = tonemap_pbr_neutral(max(hdr, vec3(0.0)));
     out_color = vec4(ENCODE_SRGB ? srgb_oetf(display) : display, 1.0);
 }

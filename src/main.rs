@@ -81,6 +81,10 @@ enum Command {
         /// Resize, minimise and restore the window while rendering (for tests).
         #[arg(long, hide = true)]
         resize_storm: bool,
+        /// Close this many seconds after the first frame, drawing frames only when something
+        /// changes.
+        #[arg(long, conflicts_with = "frames", value_parser = parse_seconds)]
+        seconds: Option<f64>,
     },
     /// Render the ground truth of a scene on the CPU: Monte Carlo integration in f64 of the
     /// same scene, camera, meshes, materials, maps, lights and environment, on every core.
@@ -201,6 +205,14 @@ fn load_scene(path: Option<&Path>) -> Result<Scene> {
     match path {
         Some(p) => Ok(Scene::load(p)?),
         None => Ok(Scene::default_scene()),
+    }
+}
+
+/// A number of seconds: finite and positive.
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(s) if s.is_finite() && s > 0.0 => Ok(s),
+        _ => Err(format!("{text:?} is not a number of seconds > 0")),
     }
 }
 
@@ -441,23 +453,24 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             height,
             screenshot,
             resize_storm,
+            seconds,
         } => {
             check_exposure(exposure)?;
-            let loaded = match scene.as_deref() {
-                Some(path) => argil::viewer::load_scene(path)?,
-                None => Scene::default_scene(),
+            let (loaded, document) = match scene.as_deref() {
+                Some(path) => argil::viewer::load_document(path)?,
+                None => (Scene::default_scene(), argil::viewer::save::Document::default_scene()),
             };
             let options = argil::viewer::ViewOptions {
                 device: choice,
                 validation,
                 frames,
                 exposure,
-                scene_path: scene,
                 size: (width, height),
                 screenshot,
                 resize_storm,
+                seconds,
             };
-            argil::viewer::run(loaded, options)
+            argil::viewer::run(loaded, document, options)
         }
         Command::Verify { json, samples, seed } => {
             verify(choice, validation, json, argil::verify::Options { samples, seed })

@@ -228,66 +228,123 @@ fn view_under_xvfb(args: &[&str]) -> Output {
         .expect("run xvfb-run")
 }
 
-/// The window shows the frame `argil render` writes: its screenshot, UI included, matches
-/// the headless render of the same scene at the same size outside the UI panel.
+/// Where the viewer drew the 3D view, from its closing line "view WxH at x X": the window
+/// beside the panel.
+fn view_area(err: &str) -> (u32, u32, u32) {
+    let numbers = err
+        .split("; view ")
+        .nth(1)
+        .and_then(|rest| rest.split(';').next())
+        .and_then(|area| {
+            let (size, x) = area.split_once(" at x ")?;
+            let (w, h) = size.split_once('x')?;
+            Some((w.parse().ok()?, h.parse().ok()?, x.parse().ok()?))
+        });
+    numbers.unwrap_or_else(|| panic!("no view area in: {err}"))
+}
+
+/// The window shows the frame `argil render` writes, beside the panel: the screenshot's
+/// view area, UI included, matches the headless render of the same scene at the view's
+/// size (so the camera's aspect follows the view), and the panel is left of it.
 ///
 /// Threshold: RMSE ≤ 0.5 code values. Both frames come from the same device, shaders and
 /// camera, and both targets are 8-bit sRGB encoded by the hardware (B8G8R8A8 vs R8G8B8A8
 /// differ only in channel order), so they agree exactly when the window shows the right
-/// frame; a moved camera, a stale scene or UI drawn outside its panel gives RMSE > 2.
+/// frame; a moved camera, a stale scene, another aspect or UI drawn over the view gives
+/// RMSE > 2.
 #[test]
-fn view_screenshot_matches_the_headless_render_outside_the_ui() {
+fn view_screenshot_matches_the_headless_render_beside_the_ui() {
     let dir = temp_dir("screenshot");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
     let shot = dir.join("window.png");
     let (w, h) = (640u32, 400u32);
     let (width, height) = (w.to_string(), h.to_string());
-    let size = ["--width", width.as_str(), "--height", height.as_str()];
-    let o = view_under_xvfb(
-        &[
-            &["--frames", "3", "--screenshot", path_str(&shot), path_str(&scene)],
-            &size[..],
-        ]
-        .concat(),
-    );
+    let o = view_under_xvfb(&[
+        "--frames",
+        "3",
+        "--screenshot",
+        path_str(&shot),
+        path_str(&scene),
+        "--width",
+        width.as_str(),
+        "--height",
+        height.as_str(),
+    ]);
     assert_clean_success(&o);
+    let (view_w, view_h, left) = view_area(&stderr(&o));
+    // The panel is PANEL_WIDTH points wide, at one pixel a point under Xvfb.
+    let panel = argil::viewer::PANEL_WIDTH as u32;
+    assert!(
+        left.abs_diff(panel) <= 2 && view_w == w - left && view_h == h,
+        "view {view_w}x{view_h} at x {left}"
+    );
     let headless = dir.join("headless.png");
-    assert_clean_success(&argil(
-        &[&["render", path_str(&scene), "--out", path_str(&headless)], &size[..]].concat(),
-    ));
+    let (view_width, view_height) = (view_w.to_string(), view_h.to_string());
+    assert_clean_success(&argil(&[
+        "render",
+        path_str(&scene),
+        "--out",
+        path_str(&headless),
+        "--width",
+        &view_width,
+        "--height",
+        &view_height,
+    ]));
 
     let window = image::open(&shot).expect("read screenshot").to_rgb8();
     let reference = image::open(&headless).expect("read render").to_rgb8();
     assert_eq!(window.dimensions(), (w, h));
-    assert_eq!(reference.dimensions(), (w, h));
-    // The panel's border line straddles its edge.
-    let panel = argil::viewer::PANEL_WIDTH as u32 + 1;
-    let rmse = |xs: std::ops::Range<u32>| {
-        let mut sum = 0.0;
-        let mut n = 0.0;
-        for y in 0..h {
-            for x in xs.clone() {
-                for c in 0..3 {
-                    let d = f64::from(window.get_pixel(x, y)[c]) - f64::from(reference.get_pixel(x, y)[c]);
-                    sum += d * d;
-                    n += 1.0;
-                }
+    assert_eq!(reference.dimensions(), (view_w, view_h));
+    let mut sum = 0.0;
+    for y in 0..view_h {
+        for x in 0..view_w {
+            for c in 0..3 {
+                let d = f64::from(window.get_pixel(left + x, y)[c]) - f64::from(reference.get_pixel(x, y)[c]);
+                sum += d * d;
             }
         }
-        (sum / n).sqrt()
-    };
-    let scene_rmse = rmse(panel..w);
-    let ui_rmse = rmse(0..panel);
-    eprintln!("window vs headless: RMSE {scene_rmse:.3} right of the UI, {ui_rmse:.1} under it");
+    }
+    let rmse = (sum / f64::from(view_w * view_h * 3)).sqrt();
+    eprintln!("window vs headless: RMSE {rmse:.3} in the view");
+    assert!(rmse <= 0.5, "the window shows another frame: RMSE {rmse:.3}");
+    // The panel is drawn: its fill is not the frame's background, nor uniform.
+    let panel_pixels: Vec<_> = (0..left).flat_map(|x| (0..h).map(move |y| (x, y))).collect();
+    let distinct = panel_pixels
+        .iter()
+        .map(|&(x, y)| window.get_pixel(x, y).0)
+        .collect::<std::collections::HashSet<_>>()
+        .len();
     assert!(
-        scene_rmse <= 0.5,
-        "the window shows another frame: RMSE {scene_rmse:.3}"
+        distinct > 20,
+        "the screenshot has no UI: {distinct} colours under the panel"
     );
-    assert!(
-        ui_rmse > 5.0,
-        "the screenshot has no UI: RMSE {ui_rmse:.3} under the panel"
-    );
+}
+
+/// Nothing changes, nothing is drawn: an idle viewer draws its first frames (egui lays
+/// out its grids over a few frames until their columns settle), then waits. Drawing
+/// continuously, it draws a frame every 0.1–1 s here (1 s with the whole suite running),
+/// so it would draw 10 or more in 10 s and never be idle for 5.
+#[test]
+fn an_idle_viewer_draws_no_frames() {
+    let o = view_under_xvfb(&["--seconds", "10", "--width", "480", "--height", "270"]);
+    assert_clean_success(&o);
+    let err = stderr(&o);
+    let frames: u64 = err
+        .split(" frames, ")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no frame count in: {err}"));
+    let idle: f64 = err
+        .split("; idle ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no idle time in: {err}"));
+    eprintln!("{frames} frames in 10 s, idle for the last {idle} s");
+    assert!(frames <= 8, "{frames} frames in 10 s: {err}");
+    assert!(idle >= 5.0, "a frame {idle} s before the end: {err}");
 }
 
 /// Resizes to sizes from 1×1 to 1024×640, minimise and restore, while rendering with the
@@ -401,36 +458,36 @@ fn view_reloads_the_scene_when_its_file_changes() {
     let good = RELOADED_SCENE.replace("base_color = [0.6, 0.22, 0.1]", "base_color = [0.1, 0.5, 0.2]");
     std::fs::write(&scene, good.replace("roughness = 0.7", "roughness = 7.0")).expect("write a broken scene");
     wait_for("materials.terracotta.roughness = 7.0");
-    // The file's camera moves too, but the viewer keeps its own.
-    std::fs::write(
-        &scene,
-        good.replace("position = [0.0, 1.6, 7.5]", "position = [3.0, 3.0, 3.0]"),
-    )
-    .expect("write");
+    // The file's camera moves too: the edit is applied.
+    let good = good.replace("position = [0.0, 1.6, 7.5]", "position = [3.0, 3.0, 3.0]");
+    std::fs::write(&scene, &good).expect("write");
     wait_for("argil: reloaded");
     wait_for("argil: wrote");
     // Leaks are reported after the last line of the run, when the device is destroyed.
     log.extend(lines.map(|l| l + "\n"));
     let status = child.wait().expect("wait for argil");
     assert!(status.success() && !log.contains("vulkan validation"), "{log}");
+    let (w, h, left) = view_area(&log);
 
     let expected = dir.join("expected.toml");
     std::fs::write(&expected, &good).expect("write");
     let headless = dir.join("headless.png");
-    let size = ["--width", "480", "--height", "270"];
-    assert_clean_success(&argil(
-        &[
-            &["render", path_str(&expected), "--out", path_str(&headless)],
-            &size[..],
-        ]
-        .concat(),
-    ));
+    let (width, height) = (w.to_string(), h.to_string());
+    assert_clean_success(&argil(&[
+        "render",
+        path_str(&expected),
+        "--out",
+        path_str(&headless),
+        "--width",
+        &width,
+        "--height",
+        &height,
+    ]));
     let window = image::open(&shot).expect("read screenshot").to_rgb8();
     let reference = image::open(&headless).expect("read render").to_rgb8();
-    let panel = argil::viewer::PANEL_WIDTH as u32 + 1;
-    let differing = (panel..480)
-        .flat_map(|x| (0..270).map(move |y| (x, y)))
-        .filter(|&(x, y)| window.get_pixel(x, y) != reference.get_pixel(x, y))
+    let differing = (0..w)
+        .flat_map(|x| (0..h).map(move |y| (x, y)))
+        .filter(|&(x, y)| window.get_pixel(left + x, y) != reference.get_pixel(x, y))
         .count();
     assert_eq!(differing, 0, "the window does not show the reloaded scene");
 }

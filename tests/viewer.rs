@@ -205,7 +205,7 @@ fn saved_scene_renders_the_same_image_with_argil_render() {
     scene.lights[0].position.x -= 0.777;
 
     let path = dir.join("edited.toml");
-    argil::viewer::save_scene(&scene, &path).expect("save");
+    argil::viewer::save::save(&scene, &argil::viewer::save::Document::default_scene(), &path, false).expect("save");
     let (w, h) = (192, 108);
     let shown = render(&scene, w, h);
     let out = dir.join("edited.png");

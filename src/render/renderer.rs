@@ -22,12 +22,13 @@ const PASS_SKYBOX: u32 = 1;
 const PASS_TONEMAP: u32 = 2;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
-/// the exposure it applies before tone mapping.
+/// the exposure it applies before tone mapping. The frame covers `area` of the image,
+/// which has the render target's size.
 pub struct DisplayOutput {
     pub image: vk::Image,
     pub view: vk::ImageView,
     pub format: vk::Format,
-    pub extent: vk::Extent2D,
+    pub area: vk::Rect2D,
     pub from: ImageUse,
     pub exposure: f32,
 }
@@ -200,7 +201,7 @@ impl Renderer {
         );
         self.timed(cmd, slot, PASS_TONEMAP, || {
             self.tonemap
-                .record(cmd, slot, output.view, output.format, output.extent, output.exposure)
+                .record(cmd, slot, output.view, output.format, output.area, output.exposure)
         })
     }
 
@@ -255,7 +256,10 @@ impl Renderer {
             image: offscreen.display.handle,
             view: offscreen.display.view,
             format: DISPLAY_FORMAT,
-            extent: offscreen.target.extent,
+            area: vk::Rect2D {
+                offset: vk::Offset2D::default(),
+                extent: offscreen.target.extent,
+            },
             from: ImageUse::UNDEFINED,
             exposure,
         };

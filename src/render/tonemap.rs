@@ -1,6 +1,7 @@
 //! The display transform: reads the HDR target, writes display colours into an 8-bit
 //! image (a file's or a swapchain's). Set 0, binding 0: the HDR frame as a sampled image;
-//! push constants: exposure. One pipeline per output format.
+//! push constants: exposure and where the frame starts in the output. One pipeline per
+//! output format.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -11,7 +12,7 @@ use ash::vk;
 use super::shaders;
 use super::target::RenderTarget;
 use crate::vk::{
-    begin_full_rendering, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
+    begin_rendering, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device,
     GraphicsPipelineBuilder, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
@@ -25,6 +26,10 @@ pub fn is_srgb(format: vk::Format) -> bool {
         vk::Format::R8G8B8A8_SRGB | vk::Format::B8G8R8A8_SRGB | vk::Format::A8B8G8R8_SRGB_PACK32
     )
 }
+
+/// `tonemap.frag`'s push constants: the frame's offset in the output (ivec2), then the
+/// exposure (f32).
+const PUSH_BYTES: u32 = 12;
 
 pub struct TonemapPass {
     device: Arc<Device>,
@@ -44,7 +49,7 @@ impl TonemapPass {
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(vk::DescriptorType::SAMPLED_IMAGE, vk::ShaderStageFlags::FRAGMENT)
             .build(device, "tonemap set")?;
-        let layout = PipelineLayout::new(device, &[&set_layout], 4, vk::ShaderStageFlags::FRAGMENT)?;
+        let layout = PipelineLayout::new(device, &[&set_layout], PUSH_BYTES, vk::ShaderStageFlags::FRAGMENT)?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
         let sets = (0..frames_in_flight)
             .map(|_| pool.allocate(&set_layout))
@@ -83,15 +88,15 @@ impl TonemapPass {
         Ok(())
     }
 
-    /// Records the pass into `output` (in colour-attachment layout); the HDR target must be
-    /// readable by fragment shaders.
+    /// Records the pass into `area` of `output` (in colour-attachment layout), which is the
+    /// HDR target's size; the target must be readable by fragment shaders.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
         slot: usize,
         output: vk::ImageView,
         format: vk::Format,
-        extent: vk::Extent2D,
+        area: vk::Rect2D,
         exposure: f32,
     ) -> Result<()> {
         let pipeline = self
@@ -104,7 +109,10 @@ impl TonemapPass {
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::DONT_CARE)
             .store_op(vk::AttachmentStoreOp::STORE)];
-        begin_full_rendering(&self.device, cmd, extent, &color, None);
+        begin_rendering(&self.device, cmd, area, &color, None);
+        let mut push = area.offset.x.to_ne_bytes().to_vec();
+        push.extend(area.offset.y.to_ne_bytes());
+        push.extend(exposure.to_ne_bytes());
         unsafe {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.handle);
             d.cmd_bind_descriptor_sets(
@@ -115,13 +123,7 @@ impl TonemapPass {
                 &[self.sets[slot]],
                 &[],
             );
-            d.cmd_push_constants(
-                cmd,
-                self.layout.handle,
-                vk::ShaderStageFlags::FRAGMENT,
-                0,
-                &exposure.to_ne_bytes(),
-            );
+            d.cmd_push_constants(cmd, self.layout.handle, vk::ShaderStageFlags::FRAGMENT, 0, &push);
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_end_rendering(cmd);
         }

@@ -1,6 +1,8 @@
 use glam::{Vec2, Vec3};
 use serde::{Deserialize, Serialize};
 
+use super::Preset;
+
 pub use crate::brdf::shading::{DiffuseModel, Horizon, ShadingModels, ShadingParams, SpecularModel};
 pub use crate::brdf::specular::{Distribution, Geometry};
 pub use crate::brdf::subsurface::Subsurface;
@@ -10,6 +12,8 @@ pub use crate::brdf::subsurface::Subsurface;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub name: String,
+    /// The preset the file's table starts from; its other fields are already merged in.
+    pub preset: Option<Preset>,
     /// Linear RGB albedo.
     pub base_color: Vec3,
     pub diffuse: DiffuseModel,

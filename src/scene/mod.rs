@@ -4,6 +4,7 @@
 
 mod camera;
 mod curvature;
+mod edit;
 mod error;
 pub mod file;
 mod light;
@@ -17,7 +18,7 @@ mod tangents;
 mod texture;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use std::path::{Path, PathBuf};
 
@@ -122,13 +123,24 @@ impl Scene {
     /// inside the folder of [`Scene::source`] are written relative to it,
     /// others as they are; every object names its material explicitly.
     ///
-    /// Materials are written with every field resolved and without
-    /// `preset`, so a saved scene keeps its look when presets are retuned.
+    /// Materials are written with every field resolved (and their `preset`,
+    /// for the record), so a saved scene keeps its look when presets are retuned.
     ///
     /// # Panics
     /// If an object's `mesh` or `material` index, or a map's `texture`
     /// index, is out of range.
     pub fn to_file(&self) -> SceneFile {
-        resolve::to_file(self)
+        resolve::to_file(self, self.source.as_deref())
+    }
+
+    /// [`Scene::to_file`] for a file saved at `path`: paths relative to its folder.
+    pub fn to_file_at(&self, path: &Path) -> SceneFile {
+        resolve::to_file(self, Some(path))
+    }
+
+    /// `document`, the text of a scene file, with this scene written into it for saving at
+    /// `path`: comments, order and `preset` lines kept, only changed keys rewritten.
+    pub fn edit_document(&self, document: &str, path: &Path) -> anyhow::Result<String> {
+        edit::edit_document(self, document, path)
     }
 }

@@ -387,6 +387,7 @@ fn material(
     };
     Ok(Material {
         name: name.to_owned(),
+        preset: def.preset,
         base_color: check.color(&field("base_color"), def.base_color)?,
         diffuse: def.diffuse,
         specular: def.specular,
@@ -528,13 +529,16 @@ fn load_mesh(check: &Checker, field: &str, name: &str, base_dir: &Path) -> Resul
     })
 }
 
-pub(super) fn to_file(scene: &Scene) -> SceneFile {
-    let folder = scene.source.as_deref().and_then(Path::parent);
+pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
+    let folder = file.and_then(Path::parent);
+    // A relative path outside the file's folder is relative to the working directory,
+    // which the saved file does not know: it is written absolute.
     let relative = |path: &Path| -> PathBuf {
-        folder
-            .and_then(|folder| path.strip_prefix(folder).ok())
-            .unwrap_or(path)
-            .to_path_buf()
+        match folder.map(|folder| path.strip_prefix(folder)) {
+            Some(Ok(inside)) => inside.to_path_buf(),
+            Some(Err(_)) if path.is_relative() => std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()),
+            _ => path.to_path_buf(),
+        }
     };
     // A mesh's or texture's name as the file writes it.
     let written = |name: &str| -> String {
@@ -584,7 +588,7 @@ pub(super) fn to_file(scene: &Scene) -> SceneFile {
             .iter()
             .map(|m| {
                 let def = MaterialDef {
-                    preset: None,
+                    preset: m.preset,
                     base_color: widen3(m.base_color),
                     diffuse: m.diffuse,
                     specular: m.specular,

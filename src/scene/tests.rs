@@ -10,10 +10,10 @@ use super::file::{EnvironmentDef, LightDef, MaterialDef, ObjectDef};
 use super::*;
 
 /// A fresh folder under the system temp dir, removed on drop.
-pub(super) struct TempDir(pub(super) PathBuf);
+pub(crate) struct TempDir(pub(crate) PathBuf);
 
 impl TempDir {
-    pub(super) fn new() -> TempDir {
+    pub(crate) fn new() -> TempDir {
         static COUNTER: AtomicUsize = AtomicUsize::new(0);
         let path = std::env::temp_dir().join(format!(
             "argil-scene-test-{}-{}",
@@ -24,7 +24,7 @@ impl TempDir {
         TempDir(path)
     }
 
-    fn write(&self, name: &str, contents: &str) -> PathBuf {
+    pub(crate) fn write(&self, name: &str, contents: &str) -> PathBuf {
         let path = self.0.join(name);
         std::fs::write(&path, contents).unwrap();
         path
@@ -77,6 +77,7 @@ fn minimal_scene_gets_the_documented_defaults() {
         scene.materials,
         [Material {
             name: "default".into(),
+            preset: None,
             base_color: Vec3::splat(0.8),
             diffuse: DiffuseModel::Lambert,
             specular: SpecularModel::CookTorrance,
@@ -881,9 +882,9 @@ fn maps_and_presets_round_trip_through_to_file() {
     let scene = Scene::load(&path).unwrap();
     let file = scene.to_file();
     let clay = &file.materials["clay"];
-    // Saved resolved, without the preset, so retuning presets later does
-    // not change saved scenes.
-    assert_eq!(clay.preset, None);
+    // Saved resolved, every key written beside the preset, so retuning
+    // presets later does not change saved scenes.
+    assert_eq!(clay.preset, Some(Preset::WetClay));
     assert_eq!(clay.roughness, 0.35);
     assert_eq!(clay.f0, Preset::WetClay.material().f0);
     let detail = clay.detail_map.as_ref().unwrap();
@@ -895,7 +896,10 @@ fn maps_and_presets_round_trip_through_to_file() {
     assert_eq!((base.texture.as_str(), base.strength), ("textures/skin.png", 0.75));
 
     let text = file.to_toml().unwrap();
-    assert!(!text.contains("preset"), "{text}");
+    assert!(
+        text.contains("preset = \"wet-clay\"") && text.contains("f0 = ") && text.contains("wrap_color = "),
+        "{text}"
+    );
     assert!(
         text.contains("[materials.pot.base_color_map]\ntexture = \"textures/skin.png\"\n"),
         "{text}"

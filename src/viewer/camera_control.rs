@@ -48,6 +48,10 @@ const MAX_PITCH: f32 = 89.0 * std::f32::consts::PI / 180.0;
 const ORBIT_KEY_RADIANS_PER_SECOND: f32 = 1.5;
 /// The orbit camera stays this far from its pivot (a few near-plane distances).
 const MIN_ORBIT_DISTANCE: f32 = 4.0 * Camera::NEAR;
+/// The orbit camera stays this far above the ground, so the near plane does not cut it.
+const FLOOR_CLEARANCE: f32 = 2.0 * Camera::NEAR;
+/// An object this flat (height over its largest extent) is ground, not a thing to frame.
+const GROUND_FLATNESS: f32 = 1e-3;
 
 /// Unit direction for yaw (about +y, 0 = looking down -z, positive turns right) and pitch.
 fn direction(yaw: f32, pitch: f32) -> Vec3 {
@@ -63,6 +67,8 @@ pub struct CameraControl {
     pub mode: Mode,
     /// Fly speed, scene units per second.
     pub speed: f32,
+    /// The top of the ground, which the orbit camera stays above.
+    pub floor: Option<f32>,
 }
 
 impl Default for CameraControl {
@@ -70,6 +76,7 @@ impl Default for CameraControl {
         Self {
             mode: Mode::Fly,
             speed: 2.0,
+            floor: None,
         }
     }
 }
@@ -131,6 +138,11 @@ impl CameraControl {
         pitch = (pitch + input.look.y * LOOK_RADIANS_PER_PIXEL + input.movement.y * turn).clamp(-MAX_PITCH, MAX_PITCH);
         let zoom = WHEEL_FACTOR.powf(-input.wheel) * (1.0 - input.movement.z * turn).max(0.1);
         let distance = (distance.max(MIN_ORBIT_DISTANCE) * zoom).max(MIN_ORBIT_DISTANCE);
+        if let Some(floor) = self.floor {
+            // Lowest pitch that keeps the camera a near-plane distance above the ground.
+            let lowest = ((floor + FLOOR_CLEARANCE - pivot.y) / distance).clamp(-1.0, 1.0).asin();
+            pitch = pitch.max(lowest).min(MAX_PITCH);
+        }
         camera.position = pivot + direction(yaw, pitch) * distance;
         camera.target = pivot;
     }
@@ -146,8 +158,8 @@ pub fn movement_from_keys(held: impl Fn(KeyCode) -> bool) -> Vec3 {
     )
 }
 
-/// A sphere around everything that `object` draws, in world space.
-pub fn object_bounds(scene: &Scene, object: usize) -> (Vec3, f32) {
+/// The world-space bounding box of `object`.
+fn object_box(scene: &Scene, object: usize) -> (Vec3, Vec3) {
     let o = &scene.objects[object];
     let (min, max) = scene.meshes[o.mesh]
         .vertices
@@ -156,13 +168,38 @@ pub fn object_bounds(scene: &Scene, object: usize) -> (Vec3, f32) {
         .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| {
             (lo.min(p), hi.max(p))
         });
-    let centre = (min + max) * 0.5;
-    (o.position + centre * o.scale, (max - min).length() * 0.5 * o.scale)
+    (o.position + min * o.scale, o.position + max * o.scale)
 }
 
-/// A sphere around every object of the scene.
-pub fn scene_bounds(scene: &Scene) -> (Vec3, f32) {
-    let spheres: Vec<(Vec3, f32)> = (0..scene.objects.len()).map(|i| object_bounds(scene, i)).collect();
+/// A sphere around everything that `object` draws, in world space.
+pub fn object_bounds(scene: &Scene, object: usize) -> (Vec3, f32) {
+    let (min, max) = object_box(scene, object);
+    ((min + max) * 0.5, (max - min).length() * 0.5)
+}
+
+/// Whether `object` is ground: flat and level, like the builtin plane.
+fn is_ground(scene: &Scene, object: usize) -> bool {
+    let size = {
+        let (min, max) = object_box(scene, object);
+        max - min
+    };
+    size.y <= GROUND_FLATNESS * size.max_element()
+}
+
+/// The top of the highest ground object, if the scene has one.
+pub fn floor_height(scene: &Scene) -> Option<f32> {
+    (0..scene.objects.len())
+        .filter(|&i| is_ground(scene, i))
+        .map(|i| object_box(scene, i).1.y)
+        .reduce(f32::max)
+}
+
+/// A sphere around the objects that are not ground (all of them if every one is).
+pub fn objects_bounds(scene: &Scene) -> (Vec3, f32) {
+    let all: Vec<usize> = (0..scene.objects.len()).collect();
+    let things: Vec<usize> = all.iter().copied().filter(|&i| !is_ground(scene, i)).collect();
+    let chosen = if things.is_empty() { &all } else { &things };
+    let spheres: Vec<(Vec3, f32)> = chosen.iter().map(|&i| object_bounds(scene, i)).collect();
     let (min, max) = spheres
         .iter()
         .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), (c, r)| {
@@ -387,18 +424,51 @@ mod tests {
     }
 
     #[test]
-    fn default_scene_bounds_cover_its_objects() {
+    fn framing_covers_the_clay_and_leaves_out_the_ground() {
         let scene = Scene::default_scene();
-        let (centre, radius) = scene_bounds(&scene);
-        for i in 0..scene.objects.len() {
+        let (centre, radius) = objects_bounds(&scene);
+        let ground = scene.objects.len() - 1;
+        assert!(is_ground(&scene, ground) && !is_ground(&scene, 0) && !is_ground(&scene, 1));
+        for i in 0..ground {
             let (c, r) = object_bounds(&scene, i);
             assert!(c.distance(centre) + r <= radius + 1e-4);
         }
+        // The 16-unit plane would need a radius over 11; the ball and the ring need < 4.
+        assert!(radius < 4.0, "radius {radius}");
+        assert_eq!(floor_height(&scene), Some(-1.0));
         // The sphere is the unit sphere at its object's position.
         let (c, r) = object_bounds(&scene, 0);
         assert!(
             close(c, scene.objects[0].position) && (r - 3f32.sqrt()).abs() < 1e-4,
             "{c} {r}"
         );
+    }
+
+    #[test]
+    fn the_orbit_camera_stays_above_the_floor() {
+        let mut control = CameraControl {
+            mode: Mode::Orbit,
+            floor: Some(-1.0),
+            ..Default::default()
+        };
+        let mut cam = camera();
+        let pivot = Vec3::new(0.0, -0.5, 0.0);
+        for _ in 0..20 {
+            control.update(
+                &mut cam,
+                pivot,
+                &Input {
+                    look: Vec2::new(0.0, -400.0),
+                    ..Default::default()
+                },
+                0.016,
+            );
+            assert!(cam.position.y >= -1.0 + FLOOR_CLEARANCE - 1e-4, "{cam:?}");
+        }
+        assert!(
+            cam.position.y <= -1.0 + FLOOR_CLEARANCE + 1e-3,
+            "it went as low as it could: {cam:?}"
+        );
+        assert!((cam.position.distance(pivot) - camera().position.distance(pivot)).abs() < 1e-3);
     }
 }

@@ -52,6 +52,8 @@ struct PendingCapture {
     readback: Readback,
     path: PathBuf,
     format: vk::Format,
+    /// The part of the image written (the frame alone leaves out the panel's place).
+    crop: vk::Rect2D,
 }
 
 struct Slot {
@@ -73,6 +75,8 @@ pub struct FrameLoop {
     _pool: CommandPool,
     swapchain: Option<Swapchain>,
     wanted: vk::Extent2D,
+    /// Pixels left of the frame, where the UI panel is.
+    frame_left: u32,
     stale: bool,
     /// Frames submitted so far; frame `n` uses slot `n % FRAMES_IN_FLIGHT`.
     frame: u64,
@@ -113,6 +117,7 @@ impl FrameLoop {
             _pool: pool,
             swapchain: Some(swapchain),
             wanted: size,
+            frame_left: 0,
             stale: false,
             frame: 0,
             recreations: 0,
@@ -147,6 +152,26 @@ impl FrameLoop {
         self.stale = true;
     }
 
+    /// Draws the frame right of `left` pixels (the UI panel's place); its camera aspect
+    /// follows. Applied with the next frame.
+    pub fn set_frame_left(&mut self, left: u32) {
+        self.frame_left = left;
+    }
+
+    /// Where the frame of the next draw goes in the window, in pixels.
+    pub fn frame_area(&self) -> vk::Rect2D {
+        let extent = self.swapchain.as_ref().map_or(self.wanted, |s| s.extent);
+        // At least one pixel wide, so that a panel as wide as the window leaves a target.
+        let left = self.frame_left.min(extent.width.saturating_sub(1));
+        vk::Rect2D {
+            offset: vk::Offset2D { x: left as i32, y: 0 },
+            extent: vk::Extent2D {
+                width: extent.width - left,
+                height: extent.height,
+            },
+        }
+    }
+
     /// Whether the window has an area to draw into (not while minimised).
     pub fn has_area(&self) -> bool {
         self.wanted.width > 0 && self.wanted.height > 0
@@ -164,13 +189,24 @@ impl FrameLoop {
         let old = self.swapchain.take();
         let swapchain = Swapchain::new(&self.device, self.wanted, old.as_ref())?;
         drop(old);
-        for slot in &mut self.slots {
-            slot.target = RenderTarget::new(&self.device, swapchain.extent)?;
-        }
         self.overlay.set_format(swapchain.format)?;
         self.swapchain = Some(swapchain);
+        self.resize_targets()?;
         self.stale = false;
         self.recreations += 1;
+        Ok(())
+    }
+
+    /// Makes every slot's HDR target the size of the frame area.
+    fn resize_targets(&mut self) -> Result<()> {
+        let extent = self.frame_area().extent;
+        if self.slots.iter().all(|s| s.target.extent == extent) {
+            return Ok(());
+        }
+        self.device.wait_idle()?;
+        for slot in &mut self.slots {
+            slot.target = RenderTarget::new(&self.device, extent)?;
+        }
         Ok(())
     }
 
@@ -199,6 +235,8 @@ impl FrameLoop {
         if self.stale {
             self.recreate()?;
         }
+        self.resize_targets()?;
+        let area = self.frame_area();
         let index = (self.frame % FRAMES_IN_FLIGHT as u64) as usize;
         self.slots[index].done.wait()?;
         self.collect(index)?;
@@ -224,7 +262,7 @@ impl FrameLoop {
             image: swapchain.images[image],
             view: swapchain.views[image],
             format,
-            extent,
+            area,
             from: ImageUse::ACQUIRED,
             exposure,
         };
@@ -241,6 +279,13 @@ impl FrameLoop {
                         readback: Readback::new(&self.device, region, 4)?,
                         path: c.path,
                         format,
+                        crop: match c.stage {
+                            CaptureStage::BeforeUi => area,
+                            CaptureStage::AfterUi => vk::Rect2D {
+                                offset: vk::Offset2D::default(),
+                                extent,
+                            },
+                        },
                     },
                 ))
             })
@@ -364,6 +409,15 @@ fn write_screenshot(capture: &PendingCapture) -> Result<()> {
     let rgba = display_rgba(capture.readback.bytes()?, capture.format);
     let image =
         image::RgbaImage::from_raw(extent.width, extent.height, rgba).context("screenshot has the wrong size")?;
+    let crop = capture.crop;
+    let image = image::imageops::crop_imm(
+        &image,
+        crop.offset.x as u32,
+        crop.offset.y as u32,
+        crop.extent.width,
+        crop.extent.height,
+    )
+    .to_image();
     image
         .save(&capture.path)
         .with_context(|| format!("cannot write {}", capture.path.display()))

@@ -5,8 +5,11 @@
 
 mod camera_control;
 mod frames;
+mod history;
 mod overlay;
 mod panels;
+mod rebuild;
+pub mod save;
 mod storm;
 mod timings;
 mod watch;
@@ -29,11 +32,16 @@ use winit::window::{Window, WindowId};
 
 use crate::render::environment::equirect;
 use crate::render::gpu_scene::FrameData;
-use crate::scene::{Environment, Scene};
+use crate::scene::{Camera, Environment, Scene};
 use crate::vk::{Device, DeviceChoice, DeviceOptions, WindowHandles};
-use camera_control::{frame_sphere, movement_from_keys, object_bounds, scene_bounds, CameraControl, Input};
+use camera_control::{
+    floor_height, frame_sphere, movement_from_keys, object_bounds, objects_bounds, CameraControl, Input,
+};
 use frames::{gpu_pass_names, Capture, CaptureStage, FrameLoop, UiFrame};
-use panels::{Actions, ViewState};
+use history::History;
+use panels::{Actions, Question, ViewState};
+use rebuild::Rebuild;
+use save::{Document, Refused};
 use storm::StormStep;
 use timings::{FrameTimes, Timings};
 use watch::FileWatch;
@@ -56,56 +64,68 @@ pub struct ViewOptions {
     /// Close after this many frames (for tests and scripted runs).
     pub frames: Option<u64>,
     pub exposure: f32,
-    pub scene_path: Option<PathBuf>,
     /// Initial inner size of the window in pixels.
     pub size: (u32, u32),
     /// Write what the window shows, UI included, after the last frame.
     pub screenshot: Option<PathBuf>,
     /// Resize, minimise and restore the window while rendering (for tests).
     pub resize_storm: bool,
-}
-
-/// Writes `scene` to `path` as a scene file.
-pub fn save_scene(scene: &Scene, path: &Path) -> Result<()> {
-    let text = scene.to_file().to_toml().context("cannot write the scene as TOML")?;
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    /// Close this many seconds after the first frame, drawing only when something changes
+    /// (for tests of the idle viewer); `frames` draws continuously instead.
+    pub seconds: Option<f64>,
 }
 
 /// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
 /// with an environment map that decodes, so that a bad edit is reported while the last good
 /// scene stays on screen.
 pub fn load_scene(path: &Path) -> Result<Scene> {
-    let scene = Scene::load(path)?;
-    FrameData::new(&scene, 1.0)?;
+    load_document(path).map(|(scene, _)| scene)
+}
+
+/// [`load_scene`], with the text it was read from, which Save edits.
+pub fn load_document(path: &Path) -> Result<(Scene, Document)> {
+    let document = Document::read(path)?;
+    let base_dir = path.parent().unwrap_or(Path::new(""));
+    let mut scene = Scene::from_toml(&document.text, &path.display().to_string(), base_dir)?;
+    scene.source = Some(path.to_path_buf());
+    check_viewable(&scene)?;
+    Ok((scene, document))
+}
+
+/// What the viewer checks beyond the scene file's own validation: the renderer's limits,
+/// and an environment map that decodes.
+fn check_viewable(scene: &Scene) -> Result<()> {
+    FrameData::new(scene, 1.0)?;
     if let Environment::Map { path, .. } = &scene.environment {
         equirect::load(path)?;
     }
-    Ok(scene)
+    Ok(())
 }
 
-/// Opens a window on the scene and runs until it is closed.
-pub fn run(scene: Scene, options: ViewOptions) -> Result<()> {
+/// What the panel says the scene file is.
+fn file_label(document: &Document) -> String {
+    match &document.path {
+        Some(path) => std::path::absolute(path)
+            .unwrap_or_else(|_| path.clone())
+            .display()
+            .to_string(),
+        None => format!("none (the default scene; Save writes {DEFAULT_SAVE_PATH})"),
+    }
+}
+
+/// Opens a window on the scene, read from `document`, and runs until it is closed.
+pub fn run(scene: Scene, document: Document, options: ViewOptions) -> Result<()> {
     let event_loop = EventLoop::new().context("cannot open a window: no display?")?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let now = Instant::now();
-    let save_path = options
-        .scene_path
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(DEFAULT_SAVE_PATH));
+    let mut view = ViewState::new(options.exposure, Timings::new(gpu_pass_names()), file_label(&document));
+    view.selected_material = scene.objects[0].material;
     let mut app = App {
-        view: ViewState {
-            debug_view: Default::default(),
-            exposure: options.exposure,
-            selected_object: 0,
-            selected_material: scene.objects[0].material,
-            show_help: false,
-            error: None,
-            notice: None,
-            timings: Timings::new(gpu_pass_names()),
-            device_name: String::new(),
-            save_path: save_path.display().to_string(),
-        },
-        watch: options.scene_path.clone().map(|p| FileWatch::new(p, now)),
+        view,
+        watch: document.path.clone().map(|p| FileWatch::new(p, now)),
+        history: History::new(&scene),
+        file_camera: scene.camera,
+        document,
         scene,
         options,
         camera: CameraControl::default(),
@@ -116,6 +136,9 @@ pub fn run(scene: Scene, options: ViewOptions) -> Result<()> {
         error: None,
         last_frame: None,
         next_idle_tick: now,
+        first_frame: None,
+        needs_redraw: true,
+        repaint_at: None,
         ticks: 0,
         final_screenshot_written: false,
     };
@@ -140,6 +163,11 @@ struct InputState {
 }
 
 impl InputState {
+    /// Whether the camera moves while nothing else happens: a movement key held.
+    fn moving(&self) -> bool {
+        movement_from_keys(|k| self.held.contains(&k)) != glam::Vec3::ZERO
+    }
+
     /// This frame's camera input; mouse motion and wheel are consumed.
     fn take(&mut self) -> Input {
         let input = Input {
@@ -171,10 +199,21 @@ struct App {
     pending: Actions,
     egui: egui::Context,
     watch: Option<FileWatch>,
+    /// The text the scene was read from, which Save edits.
+    document: Document,
+    history: History,
+    /// The camera of the file, for Reset view and to notice a camera edit on reload.
+    file_camera: Camera,
     state: Option<Running>,
     error: Option<anyhow::Error>,
     last_frame: Option<Instant>,
     next_idle_tick: Instant,
+    /// When the first frame was drawn: `seconds` counts from there.
+    first_frame: Option<Instant>,
+    /// Something changed since the last frame: input, an edit, a reload, egui asking.
+    needs_redraw: bool,
+    /// egui asked to draw again at this time (an animation, a tooltip's delay).
+    repaint_at: Option<Instant>,
     /// Redraw requests so far, drawn or not: the resize storm's clock.
     ticks: u64,
     final_screenshot_written: bool,
@@ -182,7 +221,7 @@ struct App {
 
 impl App {
     fn start(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
-        let title = match &self.options.scene_path {
+        let title = match &self.document.path {
             Some(p) => format!("argil — {}", p.display()),
             None => "argil — default clay scene".to_owned(),
         };
@@ -239,20 +278,35 @@ impl App {
         if let Some(mut state) = self.state.take() {
             let finished = state.frames.finish();
             self.report_screenshots(state.frames.take_screenshots());
-            let mean = self.view.timings.mean();
+            let (cpu_ms, gpu_ms) = self.view.timings.mean().unwrap_or_default();
             let gpu: Vec<String> = self
                 .view
                 .timings
                 .pass_names
                 .iter()
-                .zip(&mean.gpu_ms)
+                .zip(&gpu_ms)
                 .map(|(n, ms)| format!("{n} {ms:.2} ms"))
                 .collect();
+            let area = state.frames.frame_area();
+            let idle = self.last_frame.map_or(0.0, |t| t.elapsed().as_secs_f64());
             eprintln!(
-                "argil: {} frames, {} swapchain recreations; mean CPU frame {:.2} ms, GPU {}",
+                "argil: {} frames, {} swapchain recreations; view {}x{} at x {}; idle {idle:.1} s at the end; last \
+                 second: CPU work {cpu_ms:.2} ms a frame, GPU {}",
                 state.frames.frame_count(),
                 state.frames.recreations(),
-                mean.cpu_ms,
+                area.extent.width,
+                area.extent.height,
+                area.offset.x,
+                gpu.join(", ")
+            );
+            eprintln!(
+                "argil: {} frames, {} swapchain recreations; view {}x{} at x {}; last second: CPU work \
+                 {cpu_ms:.2} ms a frame, GPU {}",
+                state.frames.frame_count(),
+                state.frames.recreations(),
+                area.extent.width,
+                area.extent.height,
+                area.offset.x,
                 gpu.join(", ")
             );
             if let Err(e) = finished {
@@ -268,12 +322,20 @@ impl App {
 
     fn key_pressed(&mut self, key: KeyCode) {
         let ctrl = self.input.modifiers.control_key();
+        let shift = self.input.modifiers.shift_key();
         match key {
             KeyCode::Tab | KeyCode::KeyO => self.camera.toggle_mode(),
             KeyCode::KeyF => self.pending.frame_scene = true,
             KeyCode::KeyH | KeyCode::F1 => self.view.show_help = !self.view.show_help,
             KeyCode::F12 => self.pending.screenshot = true,
             KeyCode::KeyS if ctrl => self.pending.save = true,
+            KeyCode::KeyZ if ctrl && shift => self.pending.redo = true,
+            KeyCode::KeyZ if ctrl => self.pending.undo = true,
+            KeyCode::KeyY if ctrl => self.pending.redo = true,
+            KeyCode::KeyR if !ctrl => self.pending.reset_view = true,
+            KeyCode::KeyU if !ctrl => self.view.hide_ui = !self.view.hide_ui,
+            KeyCode::Escape if self.view.question.is_some() => self.view.question = None,
+            KeyCode::Escape => self.pending.quit = Some(false),
             _ => {}
         }
     }
@@ -282,42 +344,132 @@ impl App {
         let Some(path) = self.watch.as_ref().map(|w| w.path.clone()) else {
             return Ok(());
         };
-        match load_scene(&path) {
-            Ok(mut scene) => {
-                scene.camera = self.scene.camera;
+        match load_document(&path) {
+            Ok((mut scene, document)) => {
+                // The viewer's camera stays unless the file's camera itself was edited.
+                let camera_edited = scene.camera != self.file_camera;
+                self.file_camera = scene.camera;
+                if !camera_edited {
+                    scene.camera = self.scene.camera;
+                }
                 if let Some(state) = &mut self.state {
                     state.frames.set_scene(&scene)?;
                 }
                 self.scene = scene;
+                self.document = document;
+                self.history = History::new(&self.scene);
                 self.view.clamp_selection(&self.scene);
                 self.view.error = None;
                 eprintln!("argil: reloaded {}", path.display());
-                self.view.notice = Some(format!("reloaded {}", path.display()));
+                self.view.notice = Some(if camera_edited {
+                    format!("reloaded {}, with the file's new camera", path.display())
+                } else {
+                    format!("reloaded {}", path.display())
+                });
             }
             Err(e) => {
                 eprintln!("argil: {e:#}");
-                self.view.error = Some(format!("{e:#}"));
+                self.view.error = Some(format!("{e:#} (the last good scene stays on screen)"));
             }
         }
+        self.needs_redraw = true;
         Ok(())
     }
 
-    fn save(&mut self) {
-        let path = PathBuf::from(&self.view.save_path);
-        match save_scene(&self.scene, &path) {
-            Ok(()) => {
+    /// Saves to `to`; `overwrite` replaces a file other than the scene's own (asked first).
+    fn save_to(&mut self, to: PathBuf, overwrite: bool) {
+        match save::save(&self.scene, &self.document, &to, overwrite) {
+            Ok(saved) => {
+                eprintln!("argil: saved {}", saved.path.display());
                 self.view.error = None;
-                self.view.notice = Some(format!("saved {}", path.display()));
+                self.view.notice = Some(format!("saved {}", saved.path.display()));
+                let moved = saved.document.path != self.document.path;
+                self.document = saved.document;
+                self.view.file = file_label(&self.document);
+                self.scene.source = Some(to.clone());
+                self.history.mark_saved(&self.scene);
                 match &mut self.watch {
-                    Some(watch) => watch.mark_seen(),
-                    None => {
-                        self.scene.source = Some(path.clone());
-                        self.watch = Some(FileWatch::new(path, Instant::now()));
-                    }
+                    Some(watch) if !moved => watch.mark_seen(),
+                    _ => self.watch = Some(FileWatch::new(to, Instant::now())),
                 }
             }
-            Err(e) => self.view.error = Some(format!("{e:#}")),
+            Err(e) => {
+                eprintln!("argil: {e:#}");
+                match e.downcast_ref::<Refused>() {
+                    Some(Refused::Exists { path }) => self.view.question = Some(Question::Overwrite(path.clone())),
+                    _ => self.view.error = Some(format!("{e:#}")),
+                }
+            }
         }
+    }
+
+    /// Makes an edit that changes what the scene loads, and uploads the new scene; a file
+    /// that does not load is reported and the scene stays.
+    fn rebuild(&mut self, edit: &Rebuild) -> Result<()> {
+        let scene = match rebuild::rebuild(&self.scene, edit) {
+            Ok(scene) => scene,
+            Err(e) => {
+                eprintln!("argil: {e:#}");
+                self.view.error = Some(format!("{e:#}"));
+                return Ok(());
+            }
+        };
+        if let Some(state) = &mut self.state {
+            state.frames.set_scene(&scene)?;
+        }
+        self.scene = scene;
+        self.view.error = None;
+        self.history.rebase(&self.scene);
+        Ok(())
+    }
+
+    /// The camera framing what F frames, in the 3D view's aspect.
+    fn frame_camera(&self, aspect: f32) -> Camera {
+        let (centre, radius) = match self.camera.mode {
+            camera_control::Mode::Orbit => object_bounds(&self.scene, self.view.selected_object),
+            camera_control::Mode::Fly => objects_bounds(&self.scene),
+        };
+        frame_sphere(&self.scene.camera, centre, radius, aspect)
+    }
+
+    /// Does what the keys and the UI asked for that is not drawing.
+    fn act(&mut self, event_loop: &ActiveEventLoop, actions: Actions, aspect: f32) -> Result<()> {
+        if actions.frame_scene {
+            self.scene.camera = self.frame_camera(aspect);
+        }
+        if actions.reset_view {
+            self.scene.camera = self.file_camera;
+        }
+        if actions.undo {
+            self.history.undo(&mut self.scene);
+        }
+        if actions.redo {
+            self.history.redo(&mut self.scene);
+        }
+        if let Some(edit) = &actions.rebuild {
+            self.rebuild(edit)?;
+        }
+        if actions.save {
+            let to = self
+                .document
+                .path
+                .clone()
+                .unwrap_or_else(|| PathBuf::from(DEFAULT_SAVE_PATH));
+            self.save_to(to, false);
+        }
+        if actions.save_as {
+            let to = PathBuf::from(self.view.save_as.trim());
+            self.save_to(to, false);
+        }
+        if let Some(to) = actions.overwrite {
+            self.save_to(to, true);
+        }
+        match actions.quit {
+            Some(discard) if discard || !self.history.modified(&self.scene) => self.close(event_loop),
+            Some(_) => self.view.question = Some(Question::Quit),
+            None => {}
+        }
+        Ok(())
     }
 
     fn report_screenshots(&mut self, screenshots: Vec<(PathBuf, Result<()>)>) {
@@ -366,9 +518,6 @@ impl App {
         if self.options.resize_storm {
             self.storm_step();
         }
-        if self.watch.as_mut().is_some_and(|w| w.poll(now)) {
-            self.reload()?;
-        }
         let Some(state) = self.state.as_mut() else {
             return Ok(());
         };
@@ -376,8 +525,12 @@ impl App {
             return Ok(());
         }
         self.last_frame = Some(now);
+        self.first_frame.get_or_insert(now);
+        self.needs_redraw = false;
+        self.repaint_at = None;
 
         let pivot = object_bounds(&self.scene, self.view.selected_object).0;
+        self.camera.floor = floor_height(&self.scene);
         self.camera.update(
             &mut self.scene.camera,
             pivot,
@@ -387,25 +540,31 @@ impl App {
 
         let raw = state.egui.take_egui_input(&state.window);
         let mut actions = std::mem::take(&mut self.pending);
+        self.view.modified = self.history.modified(&self.scene);
+        self.view.can_undo = self.history.can_undo();
+        self.view.can_redo = self.history.can_redo();
         let output = self.egui.run_ui(raw, |ui| {
-            let clicked = panels::show(ui, &mut self.scene, &mut self.view, &mut self.camera);
-            actions.save |= clicked.save;
-            actions.screenshot |= clicked.screenshot;
-            actions.frame_scene |= clicked.frame_scene;
+            actions.merge(panels::show(ui, &mut self.scene, &mut self.view, &mut self.camera));
         });
+        let settled = !self.egui.input(|i| i.pointer.any_down());
+        self.history.observe(&self.scene, settled);
+        if let Some(viewport) = output.viewport_output.get(&egui::ViewportId::ROOT) {
+            if viewport.repaint_delay.is_zero() {
+                self.needs_redraw = true;
+            } else if let Some(at) = now.checked_add(viewport.repaint_delay) {
+                self.repaint_at = Some(at);
+            }
+        }
         state.egui.handle_platform_output(&state.window, output.platform_output);
         let primitives = self.egui.tessellate(output.shapes, output.pixels_per_point);
 
-        if actions.frame_scene {
-            let size = state.window.inner_size();
-            let (centre, radius) = scene_bounds(&self.scene);
-            self.scene.camera = frame_sphere(
-                &self.scene.camera,
-                centre,
-                radius,
-                size.width as f32 / size.height as f32,
-            );
-        }
+        // The 3D view is what the panel leaves of the window.
+        let left = (self.view.view_rect.min.x * output.pixels_per_point).round().max(0.0) as u32;
+        state.frames.set_frame_left(left);
+        let area = state.frames.frame_area();
+        self.view.frame_size = (area.extent.width, area.extent.height);
+        let aspect = area.extent.width as f32 / area.extent.height.max(1) as f32;
+
         let last_frame = self.options.frames.is_some_and(|n| state.frames.frame_count() + 1 >= n);
         let capture = match (&self.options.screenshot, last_frame) {
             (Some(path), true) => Some(Capture {
@@ -424,21 +583,26 @@ impl App {
             textures: output.textures_delta,
             pixels_per_point: output.pixels_per_point,
         };
+        let work = now.elapsed();
         let drawn = state.frames.draw(&self.scene, self.view.exposure, ui, capture)?;
         if !drawn {
             // Asked again with the next frame that is drawn.
             self.pending.screenshot |= actions.screenshot;
+            self.needs_redraw = true;
         }
         self.view.timings.push(FrameTimes {
-            cpu_ms: f64::from(dt) * 1e3,
+            at: now,
+            cpu_ms: work.as_secs_f64() * 1e3,
             gpu_ms: state.frames.gpu_ms().map(<[f64]>::to_vec).unwrap_or_default(),
         });
         let screenshots = state.frames.take_screenshots();
         let done = self.options.frames.is_some_and(|n| state.frames.frame_count() >= n);
         self.report_screenshots(screenshots);
-        if actions.save {
-            self.save();
+        actions.screenshot = false;
+        if actions != Actions::default() {
+            self.needs_redraw = true;
         }
+        self.act(event_loop, actions, aspect)?;
         if done {
             self.close(event_loop);
         }
@@ -482,8 +646,11 @@ impl ApplicationHandler for App {
         } else {
             state.egui.on_window_event(&state.window, &event)
         };
+        if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
+            self.needs_redraw = true;
+        }
         match event {
-            WindowEvent::CloseRequested => self.close(event_loop),
+            WindowEvent::CloseRequested => self.pending.quit = Some(false),
             WindowEvent::Resized(size) => state.frames.resize(vk::Extent2D {
                 width: size.width,
                 height: size.height,
@@ -503,6 +670,7 @@ impl ApplicationHandler for App {
                     },
                 ..
             } => {
+                self.needs_redraw = true;
                 if key_state == ElementState::Released {
                     self.input.held.remove(&key);
                 } else if !response.consumed {
@@ -521,6 +689,7 @@ impl ApplicationHandler for App {
                 let position = Vec2::new(position.x as f32, position.y as f32);
                 if let (true, Some(last)) = (self.input.looking, self.input.cursor) {
                     self.input.look += position - last;
+                    self.needs_redraw = true;
                 }
                 self.input.cursor = Some(position);
             }
@@ -529,9 +698,12 @@ impl ApplicationHandler for App {
                 state: button,
                 ..
             } => {
-                self.input.looking = button == ElementState::Pressed && !self.egui.egui_wants_pointer_input();
+                self.input.looking = button == ElementState::Pressed && self.over_view();
             }
-            WindowEvent::MouseWheel { delta, .. } if !response.consumed && !self.egui.egui_wants_pointer_input() => {
+            // Over the 3D view only: egui's own idea of where the pointer is lags a frame,
+            // which at slow frame rates is a second or more.
+            WindowEvent::MouseWheel { delta, .. } if self.over_view() => {
+                self.needs_redraw = true;
                 self.input.wheel += match delta {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     // A wheel notch is about 40 pixels of touchpad scrolling.
@@ -548,18 +720,54 @@ impl ApplicationHandler for App {
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let now = Instant::now();
+        if self.watch.as_mut().is_some_and(|w| w.poll(now)) {
+            if let Err(e) = self.reload() {
+                self.fail(event_loop, e);
+                return;
+            }
+        }
+        let seconds = self.first_frame.map(|t| now.duration_since(t).as_secs_f64());
+        if self.options.seconds.zip(seconds).is_some_and(|(limit, s)| s >= limit) {
+            self.close(event_loop);
+            return;
+        }
         let Some(state) = &self.state else { return };
-        if Self::drawable(state) {
+        // Scripted runs of N frames draw continuously; otherwise a frame is drawn when
+        // something changed, while the camera moves, and when egui asks.
+        let continuous = self.options.frames.is_some() || self.options.resize_storm;
+        let wanted = continuous
+            || self.needs_redraw
+            || self.input.looking && self.input.look != Vec2::ZERO
+            || self.input.moving()
+            || self.repaint_at.is_some_and(|t| t <= now);
+        if Self::drawable(state) && wanted {
             event_loop.set_control_flow(ControlFlow::Poll);
             state.window.request_redraw();
             return;
         }
-        // Minimised: no frames, but a tick now and then for the file watch and the storm.
-        let now = Instant::now();
+        // Idle, or minimised: no frames, but a tick now and then for the file watch, the
+        // storm, egui's next repaint and the time limit.
         if now >= self.next_idle_tick {
             self.next_idle_tick = now + IDLE_TICK;
-            state.window.request_redraw();
+            if !Self::drawable(state) {
+                state.window.request_redraw();
+            }
         }
-        event_loop.set_control_flow(ControlFlow::WaitUntil(self.next_idle_tick));
+        let wake = self
+            .repaint_at
+            .map_or(self.next_idle_tick, |t| t.min(self.next_idle_tick));
+        event_loop.set_control_flow(ControlFlow::WaitUntil(wake));
+    }
+}
+
+impl App {
+    /// Whether the cursor is over the 3D view rather than the UI.
+    fn over_view(&self) -> bool {
+        let Some(cursor) = self.input.cursor else { return false };
+        let ppp = self.egui.pixels_per_point();
+        self.view.view_rect.contains(egui::pos2(cursor.x / ppp, cursor.y / ppp))
+            && !self.egui.is_pointer_over_egui()
+            && self.view.question.is_none()
     }
 }

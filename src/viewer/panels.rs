@@ -3,23 +3,26 @@
 //! scene in place; the renderer uploads materials and lights every frame, so edits are live.
 
 use std::ops::RangeInclusive;
+use std::path::PathBuf;
 
 use egui::{Color32, RichText, Ui};
 use glam::Vec3;
 use serde::Serialize;
 
 use super::camera_control::{CameraControl, Mode};
+use super::rebuild::Rebuild;
 use super::timings::Timings;
 use crate::render::gpu_scene::MAX_POINT_LIGHTS;
 use crate::render::DebugView;
 use crate::scene::{
-    DetailBlend, DiffuseModel, Distribution, Environment, Geometry, Horizon, MapRef, Material, PointLight, Reflection,
-    ReflectionMode, Scene, SpecularModel, Subsurface,
+    DetailBlend, DiffuseModel, Distribution, Environment, Geometry, Horizon, MapRef, Material, PointLight, Preset,
+    Reflection, ReflectionMode, Scene, SpecularModel, Subsurface,
 };
 
-/// Width of the left panel in points; nothing of the UI is drawn right of it, but for its
-/// border line straddling the edge, unless the help window is open.
+/// Width of the left panel in points when the viewer opens; it can be dragged wider or
+/// narrower, or collapsed.
 pub const PANEL_WIDTH: f32 = 320.0;
+const PANEL_WIDTHS: RangeInclusive<f32> = 200.0..=600.0;
 
 const DIFFUSE_MODELS: [DiffuseModel; 4] = [
     DiffuseModel::Lambert,
@@ -41,6 +44,7 @@ const SUBSURFACE_MODELS: [Subsurface; 4] = [
     Subsurface::EnergyConservingWrap,
     Subsurface::PreIntegrated,
 ];
+const REFLECTION_MODES: [ReflectionMode; 3] = [ReflectionMode::SplitSum, ReflectionMode::Seed, ReflectionMode::Sampled];
 
 /// The keys of the viewer, for the help window.
 pub const KEYS: &[(&str, &str)] = &[
@@ -50,11 +54,24 @@ pub const KEYS: &[(&str, &str)] = &[
     ("wheel", "fly speed (orbit: zoom)"),
     ("Shift", "faster"),
     ("Tab or O", "fly / orbit around the selected object"),
-    ("F", "frame the scene"),
+    ("F", "frame the objects (the selected one in orbit mode)"),
+    ("R", "back to the camera of the scene file"),
+    ("U", "hide / show all UI"),
     ("F12", "screenshot of the frame without UI"),
     ("Ctrl+S", "save the scene to its file"),
+    ("Ctrl+Z, Ctrl+Y", "undo, redo an edit"),
     ("H or F1", "this help"),
+    ("Esc", "quit (asks when there are unsaved changes)"),
 ];
+
+/// A question the viewer waits for the user to answer.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Question {
+    /// Save would replace this file, which is not the scene's own.
+    Overwrite(PathBuf),
+    /// Quitting would lose unsaved changes.
+    Quit,
+}
 
 /// What the UI shows and remembers besides the scene.
 pub struct ViewState {
@@ -71,11 +88,52 @@ pub struct ViewState {
     pub notice: Option<String>,
     pub timings: Timings,
     pub device_name: String,
-    /// Where Save writes.
-    pub save_path: String,
+    /// The scene file, absolute, or what Save does without one.
+    pub file: String,
+    /// The Save As field.
+    pub save_as: String,
+    pub question: Option<Question>,
+    /// The scene differs from the file (camera aside).
+    pub modified: bool,
+    pub can_undo: bool,
+    pub can_redo: bool,
+    pub panel_open: bool,
+    /// All UI hidden (the U key).
+    pub hide_ui: bool,
+    /// Where the 3D view is, in points: the window beside the panel. Set by [`show`].
+    pub view_rect: egui::Rect,
+    /// The frame's size in pixels, for the timings.
+    pub frame_size: (u32, u32),
+    /// The Files section's path field.
+    pub path: String,
 }
 
 impl ViewState {
+    pub fn new(exposure: f32, timings: Timings, file: String) -> ViewState {
+        ViewState {
+            debug_view: DebugView::Shaded,
+            exposure,
+            selected_object: 0,
+            selected_material: 0,
+            show_help: false,
+            error: None,
+            notice: None,
+            timings,
+            device_name: String::new(),
+            save_as: String::new(),
+            file,
+            question: None,
+            modified: false,
+            can_undo: false,
+            can_redo: false,
+            panel_open: true,
+            hide_ui: false,
+            view_rect: egui::Rect::NOTHING,
+            frame_size: (0, 0),
+            path: String::new(),
+        }
+    }
+
     /// Keeps the selections valid for a scene (after a reload).
     pub fn clamp_selection(&mut self, scene: &Scene) {
         if self.selected_object >= scene.objects.len() {
@@ -88,11 +146,41 @@ impl ViewState {
 }
 
 /// What the user asked for through the UI this frame.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Actions {
     pub save: bool,
+    /// Save to the Save As field's path.
+    pub save_as: bool,
+    /// Save to this path, replacing the file there (the user said so).
+    pub overwrite: Option<PathBuf>,
+    /// Quit: `Some(false)` asks first when there are changes, `Some(true)` discards them.
+    pub quit: Option<bool>,
     pub screenshot: bool,
     pub frame_scene: bool,
+    pub reset_view: bool,
+    pub undo: bool,
+    pub redo: bool,
+    /// An edit of what the scene loads: a preset, a texture, an environment map, a mesh.
+    pub rebuild: Option<Rebuild>,
+}
+
+impl Actions {
+    /// Adds what `other` asks for.
+    pub fn merge(&mut self, other: Actions) {
+        self.save |= other.save;
+        self.save_as |= other.save_as;
+        self.overwrite = self.overwrite.take().or(other.overwrite);
+        self.quit = match (self.quit, other.quit) {
+            (Some(a), Some(b)) => Some(a || b),
+            (a, b) => a.or(b),
+        };
+        self.screenshot |= other.screenshot;
+        self.frame_scene |= other.frame_scene;
+        self.reset_view |= other.reset_view;
+        self.undo |= other.undo;
+        self.redo |= other.redo;
+        self.rebuild = self.rebuild.take().or(other.rebuild);
+    }
 }
 
 /// Splits an RGB quantity into a colour whose largest component is 1 (white for black) and
@@ -114,25 +202,75 @@ pub fn file_name<T: Serialize>(value: &T) -> String {
     }
 }
 
-/// Shows the whole UI for one frame.
+/// What a section of the panel edits.
+pub struct Panel<'a> {
+    pub scene: &'a mut Scene,
+    pub view: &'a mut ViewState,
+    pub camera: &'a mut CameraControl,
+    pub actions: &'a mut Actions,
+}
+
+/// A section of the panel: its title, whether it starts open, and what draws it. A new
+/// section is one function and one line in [`SECTIONS`].
+type Section = (&'static str, bool, fn(&mut Ui, &mut Panel));
+
+const SECTIONS: &[Section] = &[
+    ("Camera", true, camera_section),
+    ("Materials", true, materials_section),
+    ("Lights", false, |ui, p| lights_section(ui, p.scene)),
+    ("Environment", false, |ui, p| environment_section(ui, p.scene)),
+    ("Files", false, files_section),
+    ("Debug view", true, |ui, p| debug_section(ui, p.view)),
+    ("Timings", true, |ui, p| timings_section(ui, p.view)),
+];
+
+/// Shows the whole UI for one frame; returns what was asked for, and sets
+/// `view.view_rect` to the part of the window the panel leaves to the 3D view.
 pub fn show(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState, camera: &mut CameraControl) -> Actions {
     let mut actions = Actions::default();
+    if view.hide_ui {
+        view.view_rect = ui.available_rect_before_wrap();
+        return actions;
+    }
+    let mut open = view.panel_open;
     egui::Panel::left("argil-panel")
-        .exact_size(PANEL_WIDTH)
-        .resizable(false)
-        .show(ui, |ui| {
+        .resizable(true)
+        .default_size(PANEL_WIDTH)
+        .size_range(PANEL_WIDTHS)
+        .show_collapsible(ui, &mut open, |ui| {
+            let mut panel = Panel {
+                scene,
+                view,
+                camera,
+                actions: &mut actions,
+            };
+            // Above the scrolled sections, so that it is seen wherever the panel is scrolled.
+            file_header(ui, &mut panel);
             egui::ScrollArea::vertical().show(ui, |ui| {
-                scene_section(ui, view, &mut actions);
-                section(ui, "Camera", true, |ui| {
-                    camera_section(ui, scene, view, camera, &mut actions)
-                });
-                section(ui, "Materials", true, |ui| materials_section(ui, scene, view));
-                section(ui, "Lights", false, |ui| lights_section(ui, scene));
-                section(ui, "Environment", false, |ui| environment_section(ui, scene));
-                section(ui, "Debug view", true, |ui| debug_section(ui, view));
-                section(ui, "Timings", true, |ui| timings_section(ui, view));
+                for (title, open, body) in SECTIONS {
+                    egui::CollapsingHeader::new(*title)
+                        .default_open(*open)
+                        .show(ui, |ui| body(ui, &mut panel));
+                }
             });
         });
+    view.panel_open = open;
+    if !view.panel_open {
+        egui::Area::new(egui::Id::new("argil-panel-open"))
+            .anchor(egui::Align2::LEFT_TOP, [4.0, 4.0])
+            .show(ui.ctx(), |ui| {
+                if ui.button("▶ panel").on_hover_text("Show the panel again").clicked() {
+                    view.panel_open = true;
+                }
+            });
+    }
+    view.view_rect = ui.available_rect_before_wrap();
+    help_window(ui, view);
+    question_window(ui, view, &mut actions);
+    actions
+}
+
+fn help_window(ui: &mut Ui, view: &mut ViewState) {
     let mut open = view.show_help;
     egui::Window::new("Keyboard")
         .open(&mut open)
@@ -149,44 +287,115 @@ pub fn show(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState, camera: &mut C
             });
         });
     view.show_help = open;
-    actions
 }
 
-fn section(ui: &mut Ui, title: &str, open: bool, body: impl FnOnce(&mut Ui)) {
-    egui::CollapsingHeader::new(title).default_open(open).show(ui, body);
+/// The question the viewer waits on, in the middle of the window, until answered.
+fn question_window(ui: &mut Ui, view: &mut ViewState, actions: &mut Actions) {
+    let Some(question) = view.question.clone() else { return };
+    egui::Window::new("argil")
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0])
+        .show(ui.ctx(), |ui| match question {
+            Question::Overwrite(path) => {
+                ui.label(format!("{} already exists. Replace it?", path.display()));
+                ui.horizontal(|ui| {
+                    if ui.button("Replace").clicked() {
+                        actions.overwrite = Some(path);
+                        view.question = None;
+                    }
+                    if ui.button("Cancel").clicked() {
+                        view.question = None;
+                    }
+                });
+            }
+            Question::Quit => {
+                ui.label("The scene has unsaved changes.");
+                ui.horizontal(|ui| {
+                    if ui.button("Save and quit").clicked() {
+                        actions.save = true;
+                        actions.quit = Some(false);
+                        view.question = None;
+                    }
+                    if ui.button("Quit without saving").clicked() {
+                        actions.quit = Some(true);
+                        view.question = None;
+                    }
+                    if ui.button("Cancel").clicked() {
+                        view.question = None;
+                    }
+                });
+            }
+        });
 }
 
 fn grid(ui: &mut Ui, id: &str, rows: impl FnOnce(&mut Ui)) {
     egui::Grid::new(id).num_columns(2).striped(true).show(ui, rows);
 }
 
-fn scene_section(ui: &mut Ui, view: &mut ViewState, actions: &mut Actions) {
-    ui.heading("argil");
-    ui.label(format!("file: {}", view.save_path));
+/// The file, Save / Save As / undo, and the last error or notice.
+fn file_header(ui: &mut Ui, p: &mut Panel) {
+    let view = &mut *p.view;
+    let actions = &mut *p.actions;
     ui.horizontal(|ui| {
-        actions.save |= ui.button("Save (Ctrl+S)").clicked();
-        actions.screenshot |= ui.button("Screenshot (F12)").clicked();
-        if ui.button("Help (H)").clicked() {
+        ui.heading("argil");
+        if view.modified {
+            ui.label(RichText::new("● modified").color(Color32::from_rgb(255, 200, 90)))
+                .on_hover_text("The scene differs from its file (the camera aside); Ctrl+S saves it");
+        }
+    });
+    ui.label(format!("file: {}", view.file));
+    ui.horizontal_wrapped(|ui| {
+        actions.save |= ui
+            .button("Save (Ctrl+S)")
+            .on_hover_text("Writes the edits into the scene file, keeping its comments, order and presets")
+            .clicked();
+        actions.undo |= ui.add_enabled(view.can_undo, egui::Button::new("Undo")).clicked();
+        actions.redo |= ui.add_enabled(view.can_redo, egui::Button::new("Redo")).clicked();
+        actions.screenshot |= ui
+            .button("Shot (F12)")
+            .on_hover_text("Writes argil-screenshot-N.png: the frame without UI")
+            .clicked();
+        if ui.button("Keys (H)").clicked() {
             view.show_help = !view.show_help;
         }
     });
+    ui.horizontal(|ui| {
+        ui.add(
+            egui::TextEdit::singleline(&mut view.save_as)
+                .hint_text("new-scene.toml")
+                .desired_width(ui.available_width() - 70.0),
+        )
+        .on_hover_text("A path for Save As, relative to the working directory; the viewer then edits that file");
+        actions.save_as |= ui
+            .add_enabled(!view.save_as.trim().is_empty(), egui::Button::new("Save As"))
+            .clicked();
+    });
     if let Some(error) = &view.error {
         ui.colored_label(Color32::from_rgb(255, 110, 110), error);
-        ui.label("The last good scene stays on screen.");
     } else if let Some(notice) = &view.notice {
         ui.label(notice);
     }
     ui.separator();
 }
 
-fn camera_section(ui: &mut Ui, scene: &Scene, view: &mut ViewState, camera: &mut CameraControl, actions: &mut Actions) {
-    ui.horizontal(|ui| {
+fn camera_section(ui: &mut Ui, p: &mut Panel) {
+    let (scene, view, camera, actions) = (&mut *p.scene, &mut *p.view, &mut *p.camera, &mut *p.actions);
+    ui.horizontal_wrapped(|ui| {
         ui.radio_value(&mut camera.mode, Mode::Fly, "fly");
         ui.radio_value(&mut camera.mode, Mode::Orbit, "orbit (Tab)");
-        actions.frame_scene |= ui.button("Frame (F)").clicked();
+        actions.frame_scene |= ui
+            .button("Frame (F)")
+            .on_hover_text("Fits the objects other than the ground (orbit: the selected one) into the view")
+            .clicked();
+        actions.reset_view |= ui
+            .button("Reset (R)")
+            .on_hover_text("Back to the camera of the scene file")
+            .clicked();
     });
     grid(ui, "camera", |ui| {
-        ui.label("fly speed");
+        ui.label("fly speed")
+            .on_hover_text("Scene units per second; the wheel over the view changes it");
         ui.add(
             egui::DragValue::new(&mut camera.speed)
                 .speed(0.05)
@@ -194,7 +403,15 @@ fn camera_section(ui: &mut Ui, scene: &Scene, view: &mut ViewState, camera: &mut
                 .suffix(" /s"),
         );
         ui.end_row();
-        ui.label("orbit around");
+        number(
+            ui,
+            "field of view",
+            "The vertical field of view in degrees (fov_y_degrees)",
+            &mut scene.camera.fov_y_degrees,
+            5.0..=120.0,
+        );
+        ui.label("orbit around")
+            .on_hover_text("The object the orbit mode circles and F frames in orbit mode");
         let name = |i: usize| object_name(scene, i);
         egui::ComboBox::from_id_salt("object")
             .selected_text(name(view.selected_object))
@@ -206,7 +423,8 @@ fn camera_section(ui: &mut Ui, scene: &Scene, view: &mut ViewState, camera: &mut
                 }
             });
         ui.end_row();
-        ui.label("exposure");
+        ui.label("exposure")
+            .on_hover_text("Multiplies the radiance before tone mapping (Khronos PBR Neutral); not saved");
         ui.add(egui::Slider::new(&mut view.exposure, 0.05..=20.0).logarithmic(true));
         ui.end_row();
     });
@@ -220,7 +438,8 @@ fn object_name(scene: &Scene, i: usize) -> String {
     )
 }
 
-fn materials_section(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState) {
+fn materials_section(ui: &mut Ui, p: &mut Panel) {
+    let (scene, view, actions) = (&mut *p.scene, &mut *p.view, &mut *p.actions);
     let Some(selected) = scene.materials.get(view.selected_material).map(|m| m.name.clone()) else {
         return;
     };
@@ -231,30 +450,176 @@ fn materials_section(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState) {
                 ui.selectable_value(&mut view.selected_material, i, m.name.as_str());
             }
         });
-    if let Some(m) = scene.materials.get_mut(view.selected_material) {
-        grid(ui, "material", |ui| material_fields(ui, m));
-    }
+    let Some(m) = scene.materials.get_mut(view.selected_material) else {
+        return;
+    };
+    ui.horizontal(|ui| {
+        ui.label("preset").on_hover_text(
+            "A documented parameter set for a kind of clay (docs/scene-format.md); choosing one \
+             gives the material all of its values, maps included",
+        );
+        let name = |p: Option<Preset>| p.map_or_else(|| "none".to_owned(), |p| file_name(&p));
+        egui::ComboBox::from_id_salt("preset")
+            .selected_text(name(m.preset))
+            .show_ui(ui, |ui| {
+                for preset in std::iter::once(None).chain(Preset::ALL.map(Some)) {
+                    if ui.selectable_label(m.preset == preset, name(preset)).clicked() {
+                        actions.rebuild = Some(Rebuild::Preset {
+                            material: m.name.clone(),
+                            preset,
+                        });
+                    }
+                }
+            });
+        if ui
+            .button("Reset")
+            .on_hover_text("Back to the preset's values (or the built-in defaults without one)")
+            .clicked()
+        {
+            actions.rebuild = Some(Rebuild::Preset {
+                material: m.name.clone(),
+                preset: m.preset,
+            });
+        }
+    });
+    grid(ui, "material", |ui| material_fields(ui, m));
 }
 
-/// One line per material parameter, named as in the scene file.
+/// One line per material parameter that applies to the chosen models, with the scene
+/// file's key in the tooltip.
 fn material_fields(ui: &mut Ui, m: &mut Material) {
-    choice(ui, "diffuse", &mut m.diffuse, &DIFFUSE_MODELS);
-    choice(ui, "specular", &mut m.specular, &SPECULAR_MODELS);
-    choice(ui, "distribution", &mut m.distribution, &DISTRIBUTIONS);
-    choice(ui, "geometry", &mut m.geometry, &GEOMETRIES);
-    color(ui, "base_color", &mut m.base_color);
-    number(ui, "roughness", &mut m.roughness, 0.0..=1.0);
-    number(ui, "f0", &mut m.f0, 0.0..=1.0);
-    number(ui, "diffuse_roughness", &mut m.diffuse_roughness, 0.0..=1.0);
-    color(ui, "specular_color", &mut m.specular_color);
-    number(ui, "wrap", &mut m.wrap, 0.0..=1.0);
-    number(ui, "wrap_width", &mut m.wrap_width, 0.01..=1.0);
-    color(ui, "wrap_color", &mut m.wrap_color);
-    number(ui, "wrap_intensity", &mut m.wrap_intensity, 0.0..=4.0);
-    choice(ui, "subsurface", &mut m.subsurface, &SUBSURFACE_MODELS);
-    color(ui, "scatter_color", &mut m.scatter_color);
-    number(ui, "scatter_radius", &mut m.scatter_radius, 0.0..=2.0);
-    choice(ui, "horizon", &mut m.horizon, &[Horizon::Smooth, Horizon::Seed]);
+    choice(
+        ui,
+        "diffuse model",
+        "diffuse: Lambert (the report's eq. 3), Oren-Nayar (eq. 4, Oren & Nayar 1994), EON \
+         (energy-preserving Oren-Nayar, Portsmouth et al. 2025) or none",
+        &mut m.diffuse,
+        &DIFFUSE_MODELS,
+    );
+    if m.diffuse != DiffuseModel::None {
+        color(ui, "base colour", "base_color: the diffuse albedo", &mut m.base_color);
+    }
+    if matches!(m.diffuse, DiffuseModel::OrenNayar | DiffuseModel::Eon) {
+        number(
+            ui,
+            "diffuse roughness",
+            "diffuse_roughness: σ of the Oren-Nayar facet slopes, in [0, 1]",
+            &mut m.diffuse_roughness,
+            0.0..=1.0,
+        );
+    }
+    choice(
+        ui,
+        "specular model",
+        "specular: Cook-Torrance (eq. 7, Cook & Torrance 1982), Torrance-Sparrow (eq. 6), \
+         Blinn-Phong (eq. 5) or none",
+        &mut m.specular,
+        &SPECULAR_MODELS,
+    );
+    if m.specular != SpecularModel::None {
+        if m.specular != SpecularModel::BlinnPhong {
+            choice(
+                ui,
+                "distribution",
+                "distribution: the microfacet normals, GGX (Walter et al. 2007) or Beckmann (eq. 8)",
+                &mut m.distribution,
+                &DISTRIBUTIONS,
+            );
+            choice(
+                ui,
+                "geometry",
+                "geometry: Smith masking-shadowing, height-correlated (Heitz 2014) or separable",
+                &mut m.geometry,
+                &GEOMETRIES,
+            );
+        }
+        number(
+            ui,
+            "roughness",
+            "roughness: perceptual roughness; the microfacet α is roughness²",
+            &mut m.roughness,
+            0.0..=1.0,
+        );
+        number(
+            ui,
+            "reflectance f0",
+            "f0: Schlick's reflectance at normal incidence (eq. 9, Schlick 1994); clay is about 0.04",
+            &mut m.f0,
+            0.0..=1.0,
+        );
+        color(
+            ui,
+            "specular colour",
+            "specular_color: tints the highlight",
+            &mut m.specular_color,
+        );
+    }
+    choice(
+        ui,
+        "subsurface",
+        "subsurface: none, the report's wrap lighting (seed, eq. 12), energy-conserving wrap, \
+         or pre-integrated skin-style scattering (Penner 2011)",
+        &mut m.subsurface,
+        &SUBSURFACE_MODELS,
+    );
+    if matches!(m.subsurface, Subsurface::Seed | Subsurface::EnergyConservingWrap) {
+        number(
+            ui,
+            "wrap",
+            "wrap: how far light wraps past the terminator, w₁",
+            &mut m.wrap,
+            0.0..=1.0,
+        );
+    }
+    if m.subsurface == Subsurface::Seed {
+        number(
+            ui,
+            "wrap width",
+            "wrap_width: the width of the wrap band, w₂",
+            &mut m.wrap_width,
+            0.01..=1.0,
+        );
+        color(
+            ui,
+            "wrap colour",
+            "wrap_color: the colour of the wrapped light",
+            &mut m.wrap_color,
+        );
+        number(
+            ui,
+            "wrap intensity",
+            "wrap_intensity: the strength of the wrapped light",
+            &mut m.wrap_intensity,
+            0.0..=4.0,
+        );
+    }
+    if matches!(
+        m.subsurface,
+        Subsurface::EnergyConservingWrap | Subsurface::PreIntegrated
+    ) {
+        color(
+            ui,
+            "scatter colour",
+            "scatter_color: the per-channel reach of the scattered light, in [0, 1]",
+            &mut m.scatter_color,
+        );
+    }
+    if m.subsurface == Subsurface::PreIntegrated {
+        number(
+            ui,
+            "scatter radius",
+            "scatter_radius: the diffusion σ in scene units, at scatter colour 1",
+            &mut m.scatter_radius,
+            0.0..=2.0,
+        );
+    }
+    choice(
+        ui,
+        "horizon",
+        "horizon: how a shading normal facing away from the light fades (smooth, or the report's seed clamp)",
+        &mut m.horizon,
+        &[Horizon::Smooth, Horizon::Seed],
+    );
     let maps = &mut m.maps;
     if maps.detail.is_some() {
         let blends = [
@@ -263,74 +628,120 @@ fn material_fields(ui: &mut Ui, m: &mut Material) {
             DetailBlend::Whiteout,
             DetailBlend::Seed,
         ];
-        choice(ui, "detail_blend", &mut maps.detail_blend, &blends);
+        choice(
+            ui,
+            "detail blend",
+            "detail_blend: how the detail normals combine with the normal map: reoriented normal \
+             mapping (Barré-Brisebois & Hill 2012), UDN, whiteout, or the report's eq. 16",
+            &mut maps.detail_blend,
+            &blends,
+        );
     }
     // A map's texture is fixed by the scene file; its parameters are live.
-    for (name, map) in [
-        ("base_color_map", &mut maps.base_color),
-        ("normal_map", &mut maps.normal),
-        ("detail_map", &mut maps.detail),
-        ("noise_map", &mut maps.noise),
-    ] {
+    let slots = [
+        &mut maps.base_color,
+        &mut maps.normal,
+        &mut maps.detail,
+        &mut maps.noise,
+    ];
+    for ((name, words), map) in MAPS.into_iter().zip(slots) {
         if let Some(map) = map {
-            map_fields(ui, name, map);
+            map_fields(ui, name, words, map);
         }
     }
 }
 
-fn map_fields(ui: &mut Ui, name: &str, map: &mut MapRef) {
-    number(ui, &format!("{name}.strength"), &mut map.strength, 0.0..=8.0);
-    ui.label(format!("{name}.uv_scale"));
+/// A map's live parameters; `name` is the file's table (`normal_map`), `words` the label.
+fn map_fields(ui: &mut Ui, name: &str, words: &str, map: &mut MapRef) {
+    number(
+        ui,
+        &format!("{words} strength"),
+        &format!("{name}.strength: how much of the map applies"),
+        &mut map.strength,
+        0.0..=8.0,
+    );
+    ui.label(format!("{words} scale")).on_hover_text(format!(
+        "{name}.uv_scale: the map is sampled at uv · uv_scale + uv_offset"
+    ));
     ui.horizontal(|ui| {
         ui.add(egui::DragValue::new(&mut map.uv_scale.x).speed(0.05).range(0.01..=1e4));
         ui.add(egui::DragValue::new(&mut map.uv_scale.y).speed(0.05).range(0.01..=1e4));
     });
     ui.end_row();
-    ui.label(format!("{name}.uv_offset"));
+    ui.label(format!("{words} offset")).on_hover_text(format!(
+        "{name}.uv_offset: the map is sampled at uv · uv_scale + uv_offset"
+    ));
     ui.horizontal(|ui| {
         ui.add(egui::DragValue::new(&mut map.uv_offset.x).speed(0.01));
         ui.add(egui::DragValue::new(&mut map.uv_offset.y).speed(0.01));
     });
     ui.end_row();
     if name != "base_color_map" && name != "noise_map" {
-        ui.label(format!("{name}.green"));
+        ui.label(format!("{words} green")).on_hover_text(format!(
+            "{name}.green: which way the map's green channel points (up: OpenGL, down: DirectX)"
+        ));
         ui.checkbox(&mut map.green_down, "down (DirectX)");
         ui.end_row();
     }
 }
 
-fn choice<T: Copy + PartialEq + Serialize>(ui: &mut Ui, label: &str, value: &mut T, options: &[T]) {
-    ui.label(label);
+/// A model choice, its options spelled as in the scene file.
+fn choice<T: Copy + PartialEq + Serialize>(ui: &mut Ui, label: &str, tip: &str, value: &mut T, options: &[T]) {
+    ui.label(label).on_hover_text(tip);
     egui::ComboBox::from_id_salt(label)
         .selected_text(file_name(value))
         .show_ui(ui, |ui| {
             for option in options {
                 ui.selectable_value(value, *option, file_name(option));
             }
+        })
+        .response
+        .on_hover_text(tip);
+    ui.end_row();
+}
+
+fn number(ui: &mut Ui, label: &str, tip: &str, value: &mut f32, range: RangeInclusive<f32>) {
+    ui.label(label).on_hover_text(tip);
+    ui.add(egui::Slider::new(value, range)).on_hover_text(tip);
+    ui.end_row();
+}
+
+/// A linear RGB colour as the file stores it: three numbers, a swatch picker, and the
+/// sRGB-encoded 8-bit values the swatch shows; written only when the user changes it.
+fn color(ui: &mut Ui, label: &str, tip: &str, value: &mut Vec3) {
+    ui.label(label).on_hover_text(tip);
+    ui.vertical(|ui| {
+        let mut rgb = value.to_array();
+        let mut changed = false;
+        let srgb = egui::Rgba::from_rgb(rgb[0], rgb[1], rgb[2]).to_srgba_unmultiplied();
+        ui.horizontal(|ui| {
+            changed |= ui.color_edit_button_rgb(&mut rgb).changed();
+            ui.small(format!("sRGB {} {} {}", srgb[0], srgb[1], srgb[2]));
         });
-    ui.end_row();
-}
-
-fn number(ui: &mut Ui, label: &str, value: &mut f32, range: RangeInclusive<f32>) {
-    ui.label(label);
-    ui.add(egui::Slider::new(value, range));
-    ui.end_row();
-}
-
-/// A linear RGB colour picker; the value is written only when the user changes it.
-fn color(ui: &mut Ui, label: &str, value: &mut Vec3) {
-    ui.label(label);
-    let mut rgb = value.to_array();
-    if ui.color_edit_button_rgb(&mut rgb).changed() {
-        *value = Vec3::from(rgb);
-    }
+        ui.horizontal(|ui| {
+            for c in &mut rgb {
+                changed |= ui
+                    .add(egui::DragValue::new(c).speed(0.005).range(0.0..=1.0).max_decimals(3))
+                    .on_hover_text("linear, as the scene file stores it")
+                    .changed();
+            }
+        });
+        if changed {
+            *value = Vec3::from(rgb);
+        }
+    });
     ui.end_row();
 }
 
 /// A colour and a scale (e.g. W/sr) that multiply into `value`, written only when changed.
 fn scaled_color(ui: &mut Ui, label: &str, value: &mut Vec3, unit: &str) {
     let (mut tint, mut scale) = split_color(*value);
-    color(ui, &format!("{label} colour"), &mut tint);
+    color(
+        ui,
+        &format!("{label} colour"),
+        "the colour, brightest channel 1",
+        &mut tint,
+    );
     ui.label(label);
     let speed = (scale * 0.01).max(0.001);
     if ui
@@ -440,31 +851,105 @@ fn environment_section(ui: &mut Ui, scene: &mut Scene) {
             ..
         } => {
             grid(ui, "environment", |ui| {
-                number(ui, "intensity", intensity, 0.0..=8.0);
-                number(ui, "rotation °", rotation_degrees, -180.0..=180.0);
+                number(
+                    ui,
+                    "intensity",
+                    "intensity: scales the environment's radiance",
+                    intensity,
+                    0.0..=8.0,
+                );
+                number(
+                    ui,
+                    "rotation °",
+                    "rotation_degrees: turns the environment about +y",
+                    rotation_degrees,
+                    -180.0..=180.0,
+                );
             });
             reflection
         }
     };
     grid(ui, "reflection", |ui| {
-        ui.label("reflection");
-        egui::ComboBox::from_id_salt("reflection mode")
-            .selected_text(format!("{:?}", reflection.mode))
-            .show_ui(ui, |ui| {
-                for mode in [ReflectionMode::SplitSum, ReflectionMode::Seed, ReflectionMode::Sampled] {
-                    ui.selectable_value(&mut reflection.mode, mode, format!("{mode:?}"));
-                }
-            });
-        ui.end_row();
+        choice(
+            ui,
+            "reflection",
+            "reflection: split-sum (prefiltered map and BRDF table, Karis 2013), the report's seed \
+             lookup, or sampled (importance-sampled lookups per pixel)",
+            &mut reflection.mode,
+            &REFLECTION_MODES,
+        );
         match reflection.mode {
             ReflectionMode::Sampled => {
                 ui.label("samples");
                 ui.add(egui::Slider::new(&mut reflection.samples, 1..=Reflection::MAX_SAMPLES).logarithmic(true));
                 ui.end_row();
             }
-            ReflectionMode::Seed => number(ui, "seed strength", &mut reflection.seed_strength, 0.0..=1.0),
+            ReflectionMode::Seed => number(
+                ui,
+                "seed strength",
+                "seed_strength: scales the report's reflected lookup",
+                &mut reflection.seed_strength,
+                0.0..=1.0,
+            ),
             ReflectionMode::SplitSum => {}
         }
+    });
+}
+
+/// The maps a material can take an image for: the file's key and the label.
+const MAPS: [(&str, &str); 4] = [
+    ("base_color_map", "colour map"),
+    ("normal_map", "normal map"),
+    ("detail_map", "detail map"),
+    ("noise_map", "noise map"),
+];
+
+/// A file for the selected material's maps, the environment, or a new object. A path field:
+/// no native file dialog works under Xvfb without a desktop portal.
+fn files_section(ui: &mut Ui, p: &mut Panel) {
+    let (scene, view, actions) = (&*p.scene, &mut *p.view, &mut *p.actions);
+    ui.add(
+        egui::TextEdit::singleline(&mut view.path)
+            .hint_text("textures/clay.png")
+            .desired_width(ui.available_width()),
+    )
+    .on_hover_text("An image (.png, .exr, .hdr …) or an .obj mesh, relative to the working directory");
+    let path = view.path.trim().to_owned();
+    let Some(material) = scene.materials.get(view.selected_material).map(|m| m.name.clone()) else {
+        return;
+    };
+    ui.add_enabled_ui(!path.is_empty(), |ui| {
+        ui.label(format!("use it for {material}'s"));
+        ui.horizontal_wrapped(|ui| {
+            for (map, words) in MAPS {
+                if ui.button(words).clicked() {
+                    actions.rebuild = Some(Rebuild::Texture {
+                        material: material.clone(),
+                        map,
+                        path: path.clone(),
+                    });
+                }
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .button("as the environment map")
+                .on_hover_text("An equirectangular .hdr or .exr")
+                .clicked()
+            {
+                actions.rebuild = Some(Rebuild::EnvironmentMap { path: path.clone() });
+            }
+            if ui
+                .button(format!("add the mesh, in {material}"))
+                .on_hover_text("An .obj mesh, placed at the origin")
+                .clicked()
+            {
+                actions.rebuild = Some(Rebuild::Mesh {
+                    material: material.clone(),
+                    path: path.clone(),
+                });
+            }
+        });
     });
 }
 
@@ -480,24 +965,43 @@ fn debug_section(ui: &mut Ui, view: &mut ViewState) {
 
 fn timings_section(ui: &mut Ui, view: &ViewState) {
     ui.label(&view.device_name);
-    let mean = view.timings.mean();
+    let (width, height) = view.frame_size;
+    let fps = view
+        .timings
+        .fps()
+        .map_or_else(|| "–".to_owned(), |fps| format!("{fps:.1}"));
+    ui.label(format!(
+        "{width}×{height} px, {fps} frames/s (frames are drawn only when something changes)"
+    ));
+    let Some((cpu_ms, gpu_ms)) = view.timings.mean() else {
+        return;
+    };
     grid(ui, "timings", |ui| {
-        ui.label("CPU frame");
-        ui.label(format!("{:.2} ms", mean.cpu_ms));
+        ui.label("CPU work")
+            .on_hover_text("Camera, UI and recording of a frame, up to its submission; mean over the last second");
+        ui.label(milliseconds(cpu_ms));
         ui.end_row();
-        for (name, ms) in view.timings.pass_names.iter().zip(&mean.gpu_ms) {
-            ui.label(format!("GPU {name}"));
-            ui.label(format!("{ms:.2} ms"));
+        for (name, ms) in view.timings.pass_names.iter().zip(&gpu_ms) {
+            ui.label(format!("GPU {name}"))
+                .on_hover_text("Timestamp queries around the pass; mean over the last second");
+            ui.label(milliseconds(*ms));
             ui.end_row();
         }
     });
     history_graph(ui, &view.timings);
 }
 
+/// A time in a fixed width, so that the grid's columns do not change with the numbers: egui
+/// draws a frame again whenever they do, which would keep an idle viewer drawing.
+fn milliseconds(ms: f64) -> RichText {
+    RichText::new(format!("{ms:>9.2} ms")).monospace()
+}
+
 const CPU_COLOR: Color32 = Color32::from_rgb(120, 200, 255);
 const GPU_COLOR: Color32 = Color32::from_rgb(255, 170, 80);
 
-/// CPU frame time and total GPU time of the last frames, scaled to the peak.
+/// CPU work and total GPU time of the last frames, on a scale from 0 to the peak with
+/// gridlines.
 fn history_graph(ui: &mut Ui, timings: &Timings) {
     let size = egui::vec2(ui.available_width(), 60.0);
     let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
@@ -509,6 +1013,17 @@ fn history_graph(ui: &mut Ui, timings: &Timings) {
         let x = rect.right() - (n - 1 - i) as f32 * rect.width() / super::timings::HISTORY as f32;
         egui::pos2(x, rect.bottom() - (ms / peak) as f32 * rect.height())
     };
+    for fraction in [0.5, 1.0] {
+        let y = rect.bottom() - fraction * rect.height();
+        painter.hline(rect.x_range(), y, egui::Stroke::new(1.0, Color32::from_gray(60)));
+        painter.text(
+            egui::pos2(rect.left() + 2.0, y),
+            egui::Align2::LEFT_TOP,
+            format!("{:.1} ms", peak * f64::from(fraction)),
+            egui::FontId::monospace(9.0),
+            Color32::from_gray(150),
+        );
+    }
     let cpu = timings.history().enumerate().map(|(i, t)| point(i, t.cpu_ms)).collect();
     let gpu = timings
         .history()
@@ -518,9 +1033,9 @@ fn history_graph(ui: &mut Ui, timings: &Timings) {
     painter.add(egui::Shape::line(cpu, egui::Stroke::new(1.0, CPU_COLOR)));
     painter.add(egui::Shape::line(gpu, egui::Stroke::new(1.0, GPU_COLOR)));
     ui.horizontal(|ui| {
-        ui.colored_label(CPU_COLOR, "CPU frame");
+        ui.colored_label(CPU_COLOR, "CPU work");
         ui.colored_label(GPU_COLOR, "GPU total");
-        ui.label(format!("peak {peak:.1} ms"));
+        ui.label(format!("last {n} frames"));
     });
 }
 
@@ -530,16 +1045,9 @@ mod tests {
 
     fn state() -> ViewState {
         ViewState {
-            debug_view: DebugView::Shaded,
-            exposure: 1.0,
-            selected_object: 0,
-            selected_material: 0,
-            show_help: false,
             error: Some("scene.toml: materials.clay.roughness = 2.0: must be a finite number in [0, 1]".into()),
-            notice: None,
-            timings: Timings::new(vec!["forward", "tonemap", "ui"]),
             device_name: "test device".into(),
-            save_path: "scene.toml".into(),
+            ..ViewState::new(1.0, Timings::new(vec!["forward", "tonemap", "ui"]), "scene.toml".into())
         }
     }
 
@@ -580,12 +1088,41 @@ mod tests {
     fn the_panel_stays_left_of_its_width_and_leaves_the_scene_alone() {
         let mut scene = Scene::default_scene();
         let before = scene.clone();
-        let mut view = state();
+        // The ball's material has the most controls.
+        let mut view = ViewState {
+            selected_material: scene.objects[0].material,
+            ..state()
+        };
         let primitives = run(&mut scene, &mut view);
         assert!(!primitives.is_empty());
         let right = right_edge(&primitives);
         assert!(right <= PANEL_WIDTH + 1.0, "the UI reaches x = {right}");
         assert_eq!(scene, before, "showing the UI changes nothing");
+        // The 3D view is the rest of the window, so the camera's aspect follows it.
+        let view_rect = view.view_rect;
+        assert!(
+            (view_rect.min.x - PANEL_WIDTH).abs() <= 2.0 && view_rect.max.x == 1280.0,
+            "view at {view_rect:?}"
+        );
+    }
+
+    #[test]
+    fn a_collapsed_panel_or_hidden_ui_leaves_the_whole_window_to_the_view() {
+        let mut scene = Scene::default_scene();
+        let mut view = ViewState {
+            panel_open: false,
+            ..state()
+        };
+        let primitives = run(&mut scene, &mut view);
+        assert!(right_edge(&primitives) < 120.0, "only the button that opens it again");
+        assert_eq!(view.view_rect.min.x, 0.0);
+        let mut view = ViewState {
+            hide_ui: true,
+            ..state()
+        };
+        let primitives = run(&mut scene, &mut view);
+        assert!(primitives.is_empty(), "no UI at all");
+        assert_eq!(view.view_rect.width(), 1280.0);
     }
 
     #[test]

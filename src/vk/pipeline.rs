@@ -275,6 +275,18 @@ pub fn begin_full_rendering(
         offset: vk::Offset2D::default(),
         extent,
     };
+    begin_rendering(device, cmd, area, color, depth);
+}
+
+/// Begins dynamic rendering into `area` of the attachments, with the viewport and scissor
+/// covering that area.
+pub fn begin_rendering(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    area: vk::Rect2D,
+    color: &[vk::RenderingAttachmentInfo],
+    depth: Option<&vk::RenderingAttachmentInfo>,
+) {
     let mut rendering = vk::RenderingInfo::default()
         .render_area(area)
         .layer_count(1)
@@ -283,10 +295,10 @@ pub fn begin_full_rendering(
         rendering = rendering.depth_attachment(depth);
     }
     let viewport = vk::Viewport {
-        x: 0.0,
-        y: 0.0,
-        width: extent.width as f32,
-        height: extent.height as f32,
+        x: area.offset.x as f32,
+        y: area.offset.y as f32,
+        width: area.extent.width as f32,
+        height: area.extent.height as f32,
         min_depth: 0.0,
         max_depth: 1.0,
     };
