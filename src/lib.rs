@@ -11,12 +11,14 @@
 //! - [`bench`]: `argil bench`, run time against error, and the trivial-shader floor.
 //! - [`error`]: error types the command line maps to exit codes; [`atomic`]: output files
 //!   written whole or not at all.
+//! - [`fuzz`]: the loaders' fuzz targets and mutations (`argil-fuzz`, `tests/fuzz.rs`).
 
 pub mod atomic;
 pub mod bench;
 pub mod brdf;
 pub mod compare;
 pub mod error;
+pub mod fuzz;
 pub mod reference;
 pub mod render;
 pub mod rng;
