@@ -27,6 +27,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
 
+use crate::atomic::write_bytes;
 use crate::render::environment::equirect;
 use crate::render::gpu_scene::FrameData;
 use crate::scene::{Environment, Scene};
@@ -68,7 +69,7 @@ pub struct ViewOptions {
 /// Writes `scene` to `path` as a scene file.
 pub fn save_scene(scene: &Scene, path: &Path) -> Result<()> {
     let text = scene.to_file().to_toml().context("cannot write the scene as TOML")?;
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    write_bytes(path, text.as_bytes())
 }
 
 /// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
