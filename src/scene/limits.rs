@@ -1,0 +1,62 @@
+//! How large an input argil accepts, checked before the input is parsed or decoded, so
+//! that an absurd file is refused with a message instead of exhausting memory. Images are
+//! limited from their headers in `texture.rs` and `render/environment/equirect.rs`.
+
+use std::path::Path;
+
+use super::SceneError;
+
+/// Scene files: a scene of [`MAX_OBJECTS`] objects, each a few lines, is about 1 MiB.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+/// Objects, each a draw call per frame.
+pub const MAX_OBJECTS: usize = 10_000;
+/// Point lights: the shader's fixed array (`MAX_POINT_LIGHTS` in scene_data.glsl).
+pub const MAX_LIGHTS: usize = crate::render::gpu_scene::MAX_POINT_LIGHTS;
+/// Triangles of one OBJ file, counted from its `f` lines before tobj parses it: 10⁷
+/// triangles with a vertex for every two take about 1.5 GB while loading (tobj's arrays,
+/// then argil's vertices with tangents and curvature) and 380 MB on the GPU.
+pub const MAX_MESH_TRIANGLES: u64 = 10_000_000;
+/// OBJ files, read whole before parsing: 10⁷ triangles and their vertices in text.
+pub const MAX_OBJ_BYTES: u64 = 1 << 30;
+
+/// Refuses `path` when it is larger than `limit` bytes, before it is read.
+pub fn check_file_size(path: &Path, limit: u64, what: &str) -> Result<(), SceneError> {
+    let size = std::fs::metadata(path)
+        .map_err(|error| SceneError::Io {
+            path: path.to_path_buf(),
+            error,
+        })?
+        .len();
+    if size > limit {
+        return Err(SceneError::TooLarge {
+            path: path.to_path_buf(),
+            problem: format!("the file is {size} bytes; {what} are at most {limit} bytes"),
+        });
+    }
+    Ok(())
+}
+
+/// The triangles the `f` lines of an OBJ text make once fanned: a face of n corners makes
+/// n − 2. Continuation lines (a `\` at the end) are not followed, so a face split over
+/// lines counts as its first line's corners; tobj still parses it whole.
+pub fn obj_triangles(text: &[u8]) -> u64 {
+    text.split(|&b| b == b'\n')
+        .filter_map(|line| line.trim_ascii_start().strip_prefix(b"f"))
+        .filter(|rest| rest.first().is_some_and(u8::is_ascii_whitespace))
+        .map(|rest| {
+            let corners = rest.split(u8::is_ascii_whitespace).filter(|t| !t.is_empty()).count() as u64;
+            corners.saturating_sub(2)
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_the_triangles_of_fans() {
+        let text = b"v 0 0 0\nf 1 2 3\n  f 1/1 2/2 3/3 4/4\nfoo 1 2 3\nf\tx y z w v\n# f 1 2 3\nf 1 2\n";
+        assert_eq!(obj_triangles(text), 1 + 2 + 3);
+    }
+}
