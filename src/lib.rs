@@ -11,6 +11,7 @@
 //! - [`bench`]: `argil bench`, run time against error, and the trivial-shader floor.
 //! - [`error`]: error types the command line maps to exit codes; [`atomic`]: output files
 //!   written whole or not at all.
+//! - [`fault`]: `ARGIL_FAULT`, failures injected for tests.
 //! - [`fuzz`]: the loaders' fuzz targets and mutations (`argil-fuzz`, `tests/fuzz.rs`).
 
 pub mod atomic;
@@ -18,6 +19,7 @@ pub mod bench;
 pub mod brdf;
 pub mod compare;
 pub mod error;
+pub mod fault;
 pub mod fuzz;
 pub mod reference;
 pub mod render;
