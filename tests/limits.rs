@@ -95,3 +95,19 @@ fn a_65536_squared_image_is_refused_from_its_header() {
     .expect("write");
     assert_refused(&map, &["huge.hdr", "131072", "8192"]);
 }
+
+/// The fuzzer's first crasher: an EXR whose display window is 16 × 8 but whose data window
+/// is 2²⁹ + 16 wide; decoding it asked for 25 GB and aborted.
+#[test]
+fn an_exr_with_a_huge_data_window_is_refused_from_its_header() {
+    let crasher = common::project_dir().join("tests/fuzz/crashers/exr/data-window-2e29-wide.exr");
+    let dir = temp_dir("exr");
+    std::fs::copy(&crasher, dir.join("sky.exr")).expect("copy");
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        format!("{SPHERE_OBJECT}[environment]\nkind = \"map\"\npath = \"sky.exr\"\n"),
+    )
+    .expect("write");
+    assert_refused(&scene, &["sky.exr", "data window 536870928 × 8", "at most 16384"]);
+}

@@ -1,10 +1,13 @@
 //! How large an input argil accepts, checked before the input is parsed or decoded, so
 //! that an absurd file is refused with a message instead of exhausting memory. Images are
-//! limited from their headers in `texture.rs` and `render/environment/equirect.rs`.
+//! limited from their headers in `texture.rs` and `render/environment/equirect.rs`, and
+//! OpenEXR files by [`check_exr_headers`] too.
 
 use std::path::Path;
 
-use super::SceneError;
+use exr::meta::BlockDescription;
+
+use super::{SceneError, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE};
 
 /// Scene files: a scene of [`MAX_OBJECTS`] objects, each a few lines, is about 1 MiB.
 pub const MAX_SCENE_BYTES: u64 = 16 << 20;
@@ -48,6 +51,43 @@ pub fn obj_triangles(text: &[u8]) -> u64 {
             corners.saturating_sub(2)
         })
         .sum()
+}
+
+/// Refuses an OpenEXR file whose headers describe more than a texture may hold, before it
+/// is decoded: `image` checks the display window, but decodes the data window and each
+/// block at the sizes the headers give, which a broken file sets to anything (one with a
+/// data window 2²⁹ wide and 8 high made the decoder ask for 25 GB).
+pub fn check_exr_headers(path: &Path) -> Result<(), String> {
+    let meta =
+        exr::meta::MetaData::read_from_file(path, false).map_err(|e| format!("not a valid OpenEXR file: {e}"))?;
+    let max_side = MAX_TEXTURE_SIDE as usize;
+    for header in &meta.headers {
+        if header.deep {
+            return Err("deep OpenEXR data is not supported".to_owned());
+        }
+        let (width, height) = (header.layer_size.width(), header.layer_size.height());
+        let block = match header.blocks {
+            BlockDescription::Tiles(tiles) => (tiles.tile_size.width(), tiles.tile_size.height()),
+            BlockDescription::ScanLines => (width, header.compression.scan_lines_per_block()),
+        };
+        if width > max_side || height > max_side || block.0 > max_side || block.1 > max_side {
+            return Err(format!(
+                "the image is too large (data window {width} × {height}, blocks of {} × {}); each side must be at most {MAX_TEXTURE_SIDE}",
+                block.0, block.1
+            ));
+        }
+        let pixel = header.channels.bytes_per_pixel as u64;
+        let bytes = (width as u64 * height as u64).max(block.0 as u64 * block.1 as u64) * pixel;
+        if bytes > MAX_TEXTURE_BYTES {
+            return Err(format!(
+                "the image is too large ({width} × {height} of {} channels is {} MiB); at most {} MiB",
+                header.channels.list.len(),
+                bytes >> 20,
+                MAX_TEXTURE_BYTES >> 20
+            ));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -113,6 +113,9 @@ pub fn load_texture(path: &Path, role: TextureRole) -> Result<TextureData, Scene
             ))
         }
     };
+    if format == ImageFormat::OpenExr {
+        super::limits::check_exr_headers(path).map_err(fail)?;
+    }
     let float = matches!(format, ImageFormat::Hdr | ImageFormat::OpenExr);
     if float && role == TextureRole::Normal {
         return Err(fail(format!(
