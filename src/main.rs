@@ -168,6 +168,10 @@ enum Command {
         /// Reference cache [default: bench/references; --quick: in the temporary folder].
         #[arg(long, value_name = "DIR")]
         references: Option<PathBuf>,
+        /// Instead of timing, a long run looking for leaks: FRAMES frames, then RENDERS renders
+        /// with scene reloads; host and GPU memory must stay flat (e.g. --soak 10000 1000).
+        #[arg(long, num_args = 2, value_names = ["FRAMES", "RENDERS"])]
+        soak: Option<Vec<u64>>,
     },
     /// List the Vulkan devices on this machine.
     Devices,
@@ -374,6 +378,12 @@ fn bench(choice: DeviceChoice, validation: bool, options: argil::bench::Options)
     Ok(())
 }
 
+fn soak_run(choice: DeviceChoice, validation: bool, counts: &[u64]) -> Result<()> {
+    let device = Arc::new(Device::new(DeviceOptions { choice, validation }, None)?);
+    let scratch = std::env::temp_dir().join(format!("argil-soak-{}", std::process::id()));
+    argil::bench::soak::run(&device, counts[0], counts[1], &scratch)
+}
+
 fn compare(options: argil::compare::Options) -> Result<()> {
     println!("{}", argil::compare::run(&options)?.line());
     Ok(())
@@ -456,6 +466,7 @@ fn run(cli: Cli) -> Result<()> {
             };
             reference(scene, out, settings, threads, exposure)
         }
+        Command::Bench { soak: Some(soak), .. } => soak_run(choice, validation, &soak),
         Command::Bench {
             quick,
             frames,
@@ -463,6 +474,7 @@ fn run(cli: Cli) -> Result<()> {
             max_seconds,
             out,
             references,
+            soak: None,
         } => {
             let options = argil::bench::Options {
                 quick,

@@ -9,11 +9,13 @@
 //! - [`report`]: the rows and the CSV, JSON and markdown written from them; [`plot`]: the
 //!   plot of time against error.
 //! - [`stats`]: median and p95, the stable hash, the date.
+//! - [`soak`]: `--soak`, a long run that checks memory stays flat.
 
 pub mod plan;
 pub mod plot;
 pub mod references;
 pub mod report;
+pub mod soak;
 pub mod stats;
 
 use std::path::{Path, PathBuf};
