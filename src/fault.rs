@@ -7,6 +7,9 @@
 //! - `device-lost:N`: the N-th submission fails with `VK_ERROR_DEVICE_LOST`, and so does
 //!   every later submission, present, fence wait and idle wait on that device, as on a
 //!   device that is really lost.
+//! - `present:N`: the N-th present reports the swapchain out of date
+//!   (`VK_ERROR_OUT_OF_DATE_KHR`), as when a window system takes it away; the viewer
+//!   recreates it and goes on.
 //! - `write:N`: every file written through [`crate::atomic`] fails after its first N
 //!   bytes, as on a full disk.
 //!
@@ -24,6 +27,7 @@ pub struct Faults {
     pub alloc: Option<u64>,
     pub submit: Option<u64>,
     pub device_lost: Option<u64>,
+    pub present: Option<u64>,
     /// Bytes a file write gets through before it fails.
     pub write: Option<u64>,
 }
@@ -43,7 +47,7 @@ impl Faults {
         for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let bad = |why: &str| {
                 InputError(format!(
-                    "{VARIABLE}={spec}: {item:?} {why}; expected alloc:N, submit:N, device-lost:N or write:N"
+                    "{VARIABLE}={spec}: {item:?} {why}; expected alloc:N, submit:N, device-lost:N, present:N or write:N"
                 ))
             };
             let (kind, count) = item.split_once(':').ok_or_else(|| bad("has no count"))?;
@@ -54,6 +58,7 @@ impl Faults {
                 "alloc" => &mut faults.alloc,
                 "submit" => &mut faults.submit,
                 "device-lost" => &mut faults.device_lost,
+                "present" => &mut faults.present,
                 "write" => &mut faults.write,
                 _ => return Err(bad("is not a fault")),
             };
@@ -74,11 +79,12 @@ mod tests {
     fn parses_every_kind_and_refuses_the_rest() {
         assert_eq!(Faults::parse("").unwrap(), Faults::default());
         assert_eq!(
-            Faults::parse("alloc:3, submit:1,device-lost:7,write:0").unwrap(),
+            Faults::parse("alloc:3, submit:1,device-lost:7,present:2,write:0").unwrap(),
             Faults {
                 alloc: Some(3),
                 submit: Some(1),
                 device_lost: Some(7),
+                present: Some(2),
                 write: Some(0),
             }
         );

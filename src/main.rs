@@ -27,8 +27,8 @@ an argument, --device, ARGIL_FAULT), and nothing was written; 1 argil or the mac
 written to a temporary file and renamed, so a failed run leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
-the N-th GPU allocation (alloc), queue submission (submit, device-lost) or the output after \
-N bytes (write) fail, to test the above.";
+the N-th GPU allocation (alloc), queue submission (submit, device-lost), present (present: \
+the swapchain out of date) or the output after N bytes (write) fail, to test the above.";
 
 #[derive(Parser)]
 #[command(

@@ -71,6 +71,22 @@ fn verify_fails_cleanly() {
     }
 }
 
+/// A swapchain taken away (out of date) at the 5th present: the viewer recreates it and
+/// finishes its frames; the window is never resized, so the recreation is the fault's.
+#[test]
+fn view_recovers_from_a_lost_swapchain() {
+    let mut command = Command::new("xvfb-run");
+    command
+        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
+        .args(["--frames", "20", "--width", "320", "--height", "200"])
+        .env("ARGIL_FAULT", "present:5");
+    let o = run(command);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("vulkan validation"), "validation messages: {err}");
+    assert!(err.contains("20 frames, 1 swapchain recreations"), "{err}");
+}
+
 /// Under Xvfb; 30 and more submissions and 40 allocations are past the scene's upload,
 /// in the frame loop.
 #[test]

@@ -182,6 +182,7 @@ pub struct Device {
     faults: Faults,
     allocations: AtomicU64,
     submissions: AtomicU64,
+    presents: AtomicU64,
     /// Set by an injected `device-lost`: from then on the device answers as a lost one.
     lost: AtomicBool,
     /// The window surface this device presents to. Fields drop in order: the surface after
@@ -317,6 +318,7 @@ impl Device {
             faults,
             allocations: AtomicU64::new(0),
             submissions: AtomicU64::new(0),
+            presents: AtomicU64::new(0),
             lost: AtomicBool::new(false),
             surface,
             instance,
@@ -369,7 +371,12 @@ impl Device {
     ) -> std::result::Result<bool, vk::Result> {
         self.check_lost()?;
         let _guard = self.queue_lock.lock().unwrap_or_else(|e| e.into_inner());
-        unsafe { loader.queue_present(self.queue, info) }
+        let presented = unsafe { loader.queue_present(self.queue, info) };
+        // After the real present, so its semaphore waits happen as they would.
+        if self.faults.present == Some(self.presents.fetch_add(1, Ordering::SeqCst) + 1) {
+            return Err(vk::Result::ERROR_OUT_OF_DATE_KHR);
+        }
+        presented
     }
 
     pub fn wait_idle(&self) -> Result<()> {
