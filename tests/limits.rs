@@ -76,6 +76,14 @@ fn an_obj_of_more_than_ten_million_triangles_is_refused() {
     assert_refused(&scene, &["huge.obj", "10000001 triangles", "at most 10000000"]);
 }
 
+/// A scene in `dir` with the environment map `map`.
+fn map_scene(dir: &Path, map: &str) -> PathBuf {
+    let scene = dir.join("map.toml");
+    let text = format!("{SPHERE_OBJECT}[environment]\nkind = \"map\"\npath = \"{map}\"\n");
+    std::fs::write(&scene, text).expect("write");
+    scene
+}
+
 /// As an environment map (as a texture: `huge_and_empty_headers_are_rejected_before_decoding`
 /// in src/scene/texture.rs).
 #[test]
@@ -87,13 +95,7 @@ fn a_65536_squared_image_is_refused_from_its_header() {
         "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 65536 +X 131072\n",
     )
     .expect("write");
-    let map = dir.join("map.toml");
-    std::fs::write(
-        &map,
-        format!("{SPHERE_OBJECT}[environment]\nkind = \"map\"\npath = \"huge.hdr\"\n"),
-    )
-    .expect("write");
-    assert_refused(&map, &["huge.hdr", "131072", "8192"]);
+    assert_refused(&map_scene(&dir, "huge.hdr"), &["huge.hdr", "131072", "8192"]);
 }
 
 /// The fuzzer's first crasher: an EXR whose display window is 16 × 8 but whose data window
@@ -103,11 +105,8 @@ fn an_exr_with_a_huge_data_window_is_refused_from_its_header() {
     let crasher = common::project_dir().join("tests/fuzz/crashers/exr/data-window-2e29-wide.exr");
     let dir = temp_dir("exr");
     std::fs::copy(&crasher, dir.join("sky.exr")).expect("copy");
-    let scene = dir.join("scene.toml");
-    std::fs::write(
-        &scene,
-        format!("{SPHERE_OBJECT}[environment]\nkind = \"map\"\npath = \"sky.exr\"\n"),
-    )
-    .expect("write");
-    assert_refused(&scene, &["sky.exr", "data window 536870928 × 8", "at most 16384"]);
+    assert_refused(
+        &map_scene(&dir, "sky.exr"),
+        &["sky.exr", "data window 536870928 × 8", "at most 16384"],
+    );
 }
