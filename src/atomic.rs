@@ -1,14 +1,54 @@
-//! Files written whole or not at all: each output goes to a temporary file in its folder
-//! and is renamed over the path, so an interrupted or failed write never leaves half a
-//! file or clobbers the previous one.
+//! Files written whole or not at all: each output goes to a temporary file in its folder,
+//! is flushed to the disk and renamed over the path, so an interrupted or failed write
+//! (kill -9, a full disk, a crash) never leaves half a file or clobbers the previous one.
+//! A process killed mid-write can leave its temporary, `.NAME.PID.tmp`, beside the output.
 
+use std::fs::File;
+use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use anyhow::{Context, Result};
 
-/// Runs `write` on a temporary path in `path`'s folder, then renames it to `path`; on an
+use crate::fault::{Faults, VARIABLE};
+
+/// The temporary file an output is written to: buffered, seekable (PNG and EXR encoders
+/// need it), and failing after its first N bytes under `ARGIL_FAULT=write:N`.
+pub struct Sink {
+    file: BufWriter<File>,
+    /// Bytes that may still be written, when a fault is injected.
+    budget: Option<u64>,
+}
+
+impl Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let Some(budget) = self.budget else {
+            return self.file.write(buf);
+        };
+        if budget == 0 {
+            return Err(std::io::Error::other(format!(
+                "no space left on device (injected by {VARIABLE})"
+            )));
+        }
+        let n = self.file.write(&buf[..buf.len().min(budget as usize)])?;
+        self.budget = Some(budget - n as u64);
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
+impl Seek for Sink {
+    fn seek(&mut self, position: SeekFrom) -> std::io::Result<u64> {
+        self.file.seek(position)
+    }
+}
+
+/// Runs `write` on a temporary file in `path`'s folder, then renames it to `path`; on an
 /// error the temporary file is removed and `path` is untouched.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+pub fn write_atomically(path: &Path, write: impl FnOnce(&mut Sink) -> Result<()>) -> Result<()> {
+    let budget = Faults::from_env()?.write;
     let name = path
         .file_name()
         .with_context(|| format!("{}: not a file name", path.display()))?;
@@ -16,7 +56,18 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
     temporary.push(name);
     temporary.push(format!(".{}.tmp", std::process::id()));
     let temporary = path.with_file_name(temporary);
-    let written = write(&temporary).and_then(|()| Ok(std::fs::rename(&temporary, path)?));
+    let written = (|| -> Result<()> {
+        let mut sink = Sink {
+            file: BufWriter::new(File::create(&temporary)?),
+            budget,
+        };
+        write(&mut sink)?;
+        let file = sink.file.into_inner().map_err(|e| e.into_error())?;
+        // On the disk before the rename: after a crash the name holds the old file or the
+        // new one, never an empty one.
+        file.sync_all()?;
+        Ok(std::fs::rename(&temporary, path)?)
+    })();
     if written.is_err() {
         // Best effort: the temporary may not exist, and the write error is what matters.
         let _ = std::fs::remove_file(&temporary);
@@ -26,30 +77,42 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
 
 /// [`write_atomically`] of a byte string.
 pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
-    write_atomically(path, |temporary| Ok(std::fs::write(temporary, bytes)?))
+    write_atomically(path, |sink| Ok(sink.write_all(bytes)?))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// A PNG encoder stopped half-way by a sink that fails after 100 bytes.
     #[test]
-    fn a_failed_write_leaves_the_old_file_byte_identical() {
+    fn a_write_failing_half_way_leaves_the_old_file_byte_identical() {
         let dir = std::env::temp_dir().join(format!("argil-atomic-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("frame.exr");
+        let path = dir.join("frame.png");
         write_bytes(&path, b"the previous frame").unwrap();
-        let failed = write_atomically(&path, |temporary| {
-            std::fs::write(temporary, b"half a fr")?;
-            anyhow::bail!("the disk is full")
+        let image = image::RgbaImage::from_fn(64, 64, |x, y| image::Rgba([x as u8 * 4, y as u8 * 4, 7, 255]));
+        let mut reached = 0;
+        let failed = write_atomically(&path, |sink| {
+            sink.budget = Some(100);
+            let result = image.write_to(sink, image::ImageFormat::Png);
+            reached = 100 - sink.budget.unwrap_or(0);
+            Ok(result?)
         });
-        assert!(failed.is_err());
+        let error = format!("{:#}", failed.unwrap_err());
+        assert!(
+            error.contains("frame.png") && error.contains("no space left"),
+            "{error}"
+        );
+        assert_eq!(reached, 100, "the encoder wrote up to the fault");
         assert_eq!(std::fs::read(&path).unwrap(), b"the previous frame");
         assert_eq!(
             std::fs::read_dir(&dir).unwrap().count(),
             1,
             "the temporary file is removed"
         );
+        write_atomically(&path, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?)).unwrap();
+        assert_eq!(image::open(&path).unwrap().to_rgba8(), image);
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

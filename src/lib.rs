@@ -12,6 +12,8 @@
 //! - [`cache`]: what every start computes alike, kept on disk for the next.
 //! - [`error`]: error types the command line maps to exit codes; [`atomic`]: output files
 //!   written whole or not at all.
+//! - [`fault`]: `ARGIL_FAULT`, failures injected for tests.
+//! - [`fuzz`]: the loaders' fuzz targets and mutations (`argil-fuzz`, `tests/fuzz.rs`).
 
 pub mod atomic;
 pub mod bench;
@@ -19,6 +21,8 @@ pub mod brdf;
 pub mod cache;
 pub mod compare;
 pub mod error;
+pub mod fault;
+pub mod fuzz;
 pub mod reference;
 pub mod render;
 pub mod rng;

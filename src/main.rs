@@ -11,18 +11,33 @@ use clap::{Parser, Subcommand};
 
 use argil::bench::startup::Recorder;
 use argil::brdf::subsurface::PreintegratedTable;
-use argil::error::{is_input_error, InputError};
+use argil::error::{advice, is_input_error, InputError};
 use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
 use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
 use argil::scene::Scene;
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
 
+/// The largest `--width` and `--height`: the render target's.
+const MAX_SIDE: i64 = argil::render::target::MAX_SIDE as i64;
+
+/// The exit-code contract, also in the README.
+const AFTER_HELP: &str = "\
+Exit codes: 0 success; 2 the input is wrong (a scene, mesh, texture, environment map or EXR, \
+an argument, --device, ARGIL_FAULT), and nothing was written; 1 argil or the machine failed \
+(no Vulkan driver, the device lost, out of memory, an I/O error while writing). Outputs are \
+written to a temporary file and renamed, so a failed run leaves the previous file as it was.
+
+Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
+the N-th GPU allocation (alloc), queue submission (submit, device-lost), present (present: \
+the swapchain out of date) or the output after N bytes (write) fail, to test the above.";
+
 #[derive(Parser)]
 #[command(
     name = "argil",
     version,
-    about = "A real-time renderer of physically based clay on explicit Vulkan"
+    about = "A real-time renderer of physically based clay on explicit Vulkan",
+    after_help = AFTER_HELP
 )]
 struct Cli {
     /// Vulkan device: an index or part of a name from `argil devices`.
@@ -47,9 +62,9 @@ enum Command {
         /// no tone mapping, no exposure).
         #[arg(long, short)]
         out: PathBuf,
-        #[arg(long, default_value_t = 1280)]
+        #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE))]
         width: u32,
-        #[arg(long, default_value_t = 720)]
+        #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE))]
         height: u32,
         /// Exposure multiplier applied before tone mapping (PNG only).
         #[arg(long, default_value_t = 1.0)]
@@ -70,10 +85,10 @@ enum Command {
         #[arg(long, default_value_t = 1.0)]
         exposure: f32,
         /// Initial window width in pixels.
-        #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE))]
         width: u32,
         /// Initial window height in pixels.
-        #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE))]
         height: u32,
         /// After the last frame, write what the window shows (UI included) to this PNG.
         #[arg(long, value_name = "FILE.png", requires = "frames")]
@@ -96,9 +111,9 @@ enum Command {
         /// Output file: .exr (linear radiance, RGBA32F) or .png (tone-mapped, 8-bit sRGB).
         #[arg(long, short)]
         out: PathBuf,
-        #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE))]
         width: u32,
-        #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
+        #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE))]
         height: u32,
         /// Samples per pixel [default: 64, unless --noise is given].
         #[arg(long, conflicts_with = "noise", value_parser = clap::value_parser!(u32).range(1..))]
@@ -168,6 +183,10 @@ enum Command {
         /// folder, and the other rows are kept.
         #[arg(long, value_name = "PATTERN")]
         only: Vec<String>,
+        /// Instead of timing, a long run looking for leaks: FRAMES frames, then RENDERS renders
+        /// with scene reloads; host and GPU memory must stay flat (e.g. --soak 10000 1000).
+        #[arg(long, num_args = 2, value_names = ["FRAMES", "RENDERS"])]
+        soak: Option<Vec<u64>>,
     },
     /// List the Vulkan devices on this machine.
     Devices,
@@ -384,7 +403,7 @@ fn verify(
     let report = argil::verify::run(&device, &options)?;
     print!("{}", report.table());
     if let Some(path) = json {
-        std::fs::write(&path, report.json()).with_context(|| format!("cannot write {}", path.display()))?;
+        argil::atomic::write_bytes(&path, report.json().as_bytes())?;
     }
     if let Some(validation) = device.validation() {
         if validation.error_count() > 0 {
@@ -414,6 +433,12 @@ fn bench(choice: DeviceChoice, validation: bool, options: argil::bench::Options)
         }
     }
     Ok(())
+}
+
+fn soak_run(choice: DeviceChoice, validation: bool, counts: &[u64]) -> Result<()> {
+    let device = Arc::new(Device::new(DeviceOptions { choice, validation }, None)?);
+    let scratch = std::env::temp_dir().join(format!("argil-soak-{}", std::process::id()));
+    argil::bench::soak::run(&device, counts[0], counts[1], &scratch)
 }
 
 fn compare(options: argil::compare::Options) -> Result<()> {
@@ -512,6 +537,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             };
             reference(scene, out, settings, threads, exposure)
         }
+        Command::Bench { soak: Some(soak), .. } => soak_run(choice, validation, &soak),
         Command::Bench {
             quick,
             frames,
@@ -520,6 +546,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             out,
             references,
             only,
+            soak: None,
         } => {
             let options = argil::bench::Options {
                 quick,
@@ -536,7 +563,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
         Command::Devices => {
             let devices = device::list_devices().context("cannot list Vulkan devices")?;
             if devices.is_empty() {
-                bail!("no Vulkan device found");
+                bail!(argil::vk::instance::NO_DRIVER);
             }
             for d in devices {
                 println!("{d}");
@@ -552,6 +579,9 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("argil: error: {e:#}");
+            if let Some(advice) = advice(&e) {
+                eprintln!("argil: {advice}");
+            }
             // 2 for bad input, as clap exits for bad arguments.
             if is_input_error(&e) {
                 ExitCode::from(2)

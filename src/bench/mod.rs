@@ -10,11 +10,13 @@
 //!   plot of time against error.
 //! - [`startup`]: the time from process start to the first frame, cold and warm.
 //! - [`stats`]: median and p95, the date.
+//! - [`soak`]: `--soak`, a long run that checks memory stays flat.
 
 pub mod plan;
 pub mod plot;
 pub mod references;
 pub mod report;
+pub mod soak;
 pub mod startup;
 pub mod stats;
 

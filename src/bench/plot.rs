@@ -80,9 +80,7 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
         root.present()?;
     }
     let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb).context("plot buffer of the wrong size")?;
-    write_atomically(path, |temporary| {
-        Ok(image.save_with_format(temporary, image::ImageFormat::Png)?)
-    })
+    write_atomically(path, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?))
 }
 
 /// The points no other point beats in both time and error, by increasing time.

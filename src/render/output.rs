@@ -73,7 +73,7 @@ pub fn write_linear(
 fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
     let image =
         image::RgbaImage::from_raw(width, height, rgba8.to_vec()).context("display frame has the wrong size")?;
-    write_atomically(path, |tmp| Ok(image.save_with_format(tmp, image::ImageFormat::Png)?))
+    write_atomically(path, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?))
 }
 
 /// An RGBA32F EXR with string attributes in its header (`argil.spp`, …).
@@ -94,7 +94,7 @@ pub fn write_exr(path: &Path, width: u32, height: u32, rgba: &[f32], attributes:
     }
     let layer = Layer::new((w, h), layer_attributes, Encoding::FAST_LOSSLESS, channels);
     let image = Image::from_layer(layer);
-    write_atomically(path, |tmp| Ok(image.write().to_file(tmp)?))
+    write_atomically(path, |sink| Ok(image.write().to_buffered(sink)?))
 }
 
 /// How many values of the frame are NaN or infinite.

@@ -29,6 +29,11 @@ pub enum SceneError {
     #[error("{origin}: the scene has no objects; add at least one [[objects]] table")]
     NoObjects { origin: String },
 
+    /// A file or a scene larger than argil accepts (`limits.rs`), refused before it is
+    /// read or parsed.
+    #[error("{}: {problem}", path.display())]
+    TooLarge { path: PathBuf, problem: String },
+
     /// tobj rejected the OBJ text.
     #[error("{}: invalid OBJ: {error}", path.display())]
     Obj { path: PathBuf, error: tobj::LoadError },

@@ -8,6 +8,7 @@ mod edit;
 mod error;
 pub mod file;
 mod light;
+pub mod limits;
 mod material;
 mod mesh;
 mod obj;
@@ -87,6 +88,7 @@ impl Scene {
     /// Reads, parses and validates a scene file; relative paths in it are
     /// resolved against the file's folder.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        limits::check_file_size(path, limits::MAX_SCENE_BYTES, "scene files")?;
         let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
             path: path.to_path_buf(),
             error,

@@ -1,5 +1,6 @@
 use std::path::Path;
 
+use super::limits::{check_file_size, obj_triangles, MAX_MESH_TRIANGLES, MAX_OBJ_BYTES};
 use super::{Mesh, SceneError};
 
 impl Mesh {
@@ -10,10 +11,18 @@ impl Mesh {
     /// gives normals or UVs to only some of its vertices is treated as giving
     /// none).
     pub fn load_obj(path: &Path) -> Result<Mesh, SceneError> {
+        check_file_size(path, MAX_OBJ_BYTES, "OBJ files")?;
         let text = std::fs::read(path).map_err(|error| SceneError::Io {
             path: path.to_path_buf(),
             error,
         })?;
+        let triangles = obj_triangles(&text);
+        if triangles > MAX_MESH_TRIANGLES {
+            return Err(SceneError::TooLarge {
+                path: path.to_path_buf(),
+                problem: format!("the mesh has {triangles} triangles; at most {MAX_MESH_TRIANGLES} are accepted"),
+            });
+        }
         let options = tobj::LoadOptions {
             triangulate: true,
             single_index: true,

@@ -9,6 +9,7 @@ use glam::{Vec2, Vec3};
 
 use super::file::{CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef};
 use super::light::{Reflection, ReflectionMode};
+use super::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use super::{
     builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, PointLight,
     Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
@@ -143,6 +144,14 @@ impl TextureRequests {
 
 pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result<Scene, SceneError> {
     let check = Checker { origin };
+    if file.lights.len() > MAX_LIGHTS {
+        let reason = format!("{} point lights; at most {MAX_LIGHTS} are supported", file.lights.len());
+        return Err(check.invalid("lights", file.lights.len(), reason));
+    }
+    if file.objects.len() > MAX_OBJECTS {
+        let reason = format!("{} objects; at most {MAX_OBJECTS} are supported", file.objects.len());
+        return Err(check.invalid("objects", file.objects.len(), reason));
+    }
     let camera = camera(&check, &file.camera)?;
     let lights = file
         .lights

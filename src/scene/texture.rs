@@ -113,6 +113,9 @@ pub fn load_texture(path: &Path, role: TextureRole) -> Result<TextureData, Scene
             ))
         }
     };
+    if format == ImageFormat::OpenExr {
+        super::limits::check_exr_headers(path).map_err(fail)?;
+    }
     let float = matches!(format, ImageFormat::Hdr | ImageFormat::OpenExr);
     if float && role == TextureRole::Normal {
         return Err(fail(format!(
@@ -445,6 +448,12 @@ mod tests {
             message(&png, TextureRole::Normal),
             "the image is too large (16384 × 16384 Rgba16Unorm is 2048 MiB); at most 1024 MiB"
         );
+        let png = dir.0.join("65536.png");
+        std::fs::write(&png, png_header(65536, 65536, 8)).unwrap();
+        assert_eq!(
+            message(&png, TextureRole::BaseColor),
+            "the image is too large (65536 × 65536); each side must be at most 16384"
+        );
         let png = dir.0.join("tall.png");
         std::fs::write(&png, png_header(1, 16385, 8)).unwrap();
         assert_eq!(
@@ -475,24 +484,9 @@ mod tests {
         for chunk in [ihdr, b"IDAT".to_vec()] {
             png.extend((chunk.len() as u32 - 4).to_be_bytes());
             png.extend(&chunk);
-            png.extend(crc32(&chunk).to_be_bytes());
+            png.extend(crc32fast::hash(&chunk).to_be_bytes());
         }
         png
-    }
-
-    fn crc32(bytes: &[u8]) -> u32 {
-        let mut crc = !0u32;
-        for &byte in bytes {
-            crc ^= u32::from(byte);
-            for _ in 0..8 {
-                crc = if crc & 1 == 1 {
-                    (crc >> 1) ^ 0xEDB8_8320
-                } else {
-                    crc >> 1
-                };
-            }
-        }
-        !crc
     }
 
     /// Truncations and corruptions of valid files of every format, and

@@ -11,6 +11,7 @@ use ash::vk;
 use egui::{ClippedPrimitive, TexturesDelta};
 
 use super::overlay::Overlay;
+use crate::atomic::write_atomically;
 use crate::render::{DisplayOutput, GpuScene, RenderTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
 use crate::vk::{
@@ -418,9 +419,9 @@ fn write_screenshot(capture: &PendingCapture) -> Result<()> {
         crop.extent.height,
     )
     .to_image();
-    image
-        .save(&capture.path)
-        .with_context(|| format!("cannot write {}", capture.path.display()))
+    let format = image::ImageFormat::from_path(&capture.path)
+        .with_context(|| format!("cannot write {}", capture.path.display()))?;
+    write_atomically(&capture.path, |sink| Ok(image.write_to(sink, format)?))
 }
 
 impl Drop for FrameLoop {

@@ -33,7 +33,7 @@ impl Buffer {
         let handle = unsafe { device.handle.create_buffer(&info, None) }
             .with_context(|| format!("cannot create buffer '{name}' ({size} bytes)"))?;
         let requirements = unsafe { device.handle.get_buffer_memory_requirements(handle) };
-        let allocation = device.allocator().allocate(&AllocationCreateDesc {
+        let allocation = device.allocate(&AllocationCreateDesc {
             name,
             requirements,
             location,

@@ -1,11 +1,13 @@
 //! Physical device choice, the logical device, its queue and the memory allocator.
 
 use std::mem::ManuallyDrop;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard};
 
 use anyhow::{anyhow, bail, Context, Result};
 use ash::vk;
-use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, Allocator, AllocatorCreateDesc};
+use gpu_allocator::AllocationError;
 
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
@@ -13,6 +15,8 @@ use super::instance::{Instance, ValidationReport};
 use super::pipeline_cache::PipelineCache;
 use super::surface::Surface;
 use crate::cache::DiskCache;
+use crate::error::InputError;
+use crate::fault::Faults;
 
 /// Which device to use, from `--device N|NAME`.
 #[derive(Clone, Debug)]
@@ -178,6 +182,13 @@ pub struct Device {
     allocator: ManuallyDrop<Mutex<Allocator>>,
     /// Submissions to one queue must be externally synchronised.
     queue_lock: Mutex<()>,
+    /// `ARGIL_FAULT` as it was when the device was created, and what it counts.
+    faults: Faults,
+    allocations: AtomicU64,
+    submissions: AtomicU64,
+    presents: AtomicU64,
+    /// Set by an injected `device-lost`: from then on the device answers as a lost one.
+    lost: AtomicBool,
     /// The window surface this device presents to. Fields drop in order: the surface after
     /// the device, the instance last.
     pub surface: Option<Surface>,
@@ -188,6 +199,7 @@ impl Device {
     /// Creates the device; with a window, also its surface, and picks a queue that can
     /// present to it.
     pub fn new(options: DeviceOptions, window: Option<WindowHandles>) -> Result<Self> {
+        let faults = Faults::from_env()?;
         let surface_extensions = match window {
             Some(w) => ash_window::enumerate_required_extensions(w.display)
                 .context("this window system has no Vulkan surface support")?
@@ -204,7 +216,7 @@ impl Device {
             .map(|f| f as &dyn Fn(vk::PhysicalDevice, u32) -> bool);
         let candidates = enumerate(&instance)?;
         if candidates.is_empty() {
-            bail!("no Vulkan device found (on Debian, `make setup` installs Mesa's lavapipe)");
+            bail!(super::instance::NO_DRIVER);
         }
         let usable = |info: &DeviceInfo, p: vk::PhysicalDevice| {
             info.unsupported.is_none() && pick_queue_family(&instance, p, present).is_some()
@@ -219,14 +231,19 @@ impl Device {
             DeviceChoice::Index(i) => candidates
                 .get(*i)
                 .cloned()
-                .ok_or_else(|| anyhow!("no device {i}; devices: {}", list(&candidates)))?,
+                .ok_or_else(|| InputError(format!("--device {i}: no such device; devices: {}", list(&candidates))))?,
             DeviceChoice::Name(name) => {
                 let lower = name.to_lowercase();
                 candidates
                     .iter()
                     .find(|(_, info)| info.name.to_lowercase().contains(&lower))
                     .cloned()
-                    .ok_or_else(|| anyhow!("no device named like '{name}'; devices: {}", list(&candidates)))?
+                    .ok_or_else(|| {
+                        InputError(format!(
+                            "--device {name}: no device has that in its name; devices: {}",
+                            list(&candidates)
+                        ))
+                    })?
             }
         };
         if let Some(why) = &info.unsupported {
@@ -311,6 +328,11 @@ impl Device {
             pipeline_cache,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             queue_lock: Mutex::new(()),
+            faults,
+            allocations: AtomicU64::new(0),
+            submissions: AtomicU64::new(0),
+            presents: AtomicU64::new(0),
+            lost: AtomicBool::new(false),
             surface,
             instance,
         })
@@ -320,10 +342,38 @@ impl Device {
         self.allocator.lock().unwrap_or_else(|e| e.into_inner())
     }
 
+    /// Allocates memory from the device's allocator (or fails, as `ARGIL_FAULT=alloc:N` asks).
+    pub fn allocate(&self, desc: &AllocationCreateDesc<'_>) -> Result<Allocation, AllocationError> {
+        let n = self.allocations.fetch_add(1, Ordering::SeqCst) + 1;
+        if self.faults.alloc == Some(n) {
+            return Err(AllocationError::OutOfMemory);
+        }
+        self.allocator().allocate(desc)
+    }
+
+    /// `VK_ERROR_DEVICE_LOST` once an injected loss has happened.
+    pub fn check_lost(&self) -> std::result::Result<(), vk::Result> {
+        if self.lost.load(Ordering::SeqCst) {
+            return Err(vk::Result::ERROR_DEVICE_LOST);
+        }
+        Ok(())
+    }
+
     /// Submits to the device's one queue.
     pub fn submit(&self, submits: &[vk::SubmitInfo2<'_>], fence: vk::Fence) -> Result<()> {
+        let n = self.submissions.fetch_add(1, Ordering::SeqCst) + 1;
+        if self.faults.device_lost == Some(n) {
+            self.lost.store(true, Ordering::SeqCst);
+        }
+        let injected = if self.faults.submit == Some(n) {
+            Err(vk::Result::ERROR_OUT_OF_DEVICE_MEMORY)
+        } else {
+            self.check_lost()
+        };
         let _guard = self.queue_lock.lock().unwrap_or_else(|e| e.into_inner());
-        unsafe { self.handle.queue_submit2(self.queue, submits, fence) }.context("vkQueueSubmit2 failed")
+        injected
+            .and_then(|()| unsafe { self.handle.queue_submit2(self.queue, submits, fence) })
+            .context("vkQueueSubmit2 failed")
     }
 
     /// Presents on the device's queue (which was chosen to support presenting).
@@ -332,12 +382,21 @@ impl Device {
         loader: &ash::khr::swapchain::Device,
         info: &vk::PresentInfoKHR<'_>,
     ) -> std::result::Result<bool, vk::Result> {
+        self.check_lost()?;
         let _guard = self.queue_lock.lock().unwrap_or_else(|e| e.into_inner());
-        unsafe { loader.queue_present(self.queue, info) }
+        let presented = unsafe { loader.queue_present(self.queue, info) };
+        // After the real present, so its semaphore waits happen as they would.
+        if self.faults.present == Some(self.presents.fetch_add(1, Ordering::SeqCst) + 1) {
+            return Err(vk::Result::ERROR_OUT_OF_DATE_KHR);
+        }
+        presented
     }
 
     pub fn wait_idle(&self) -> Result<()> {
-        unsafe { self.handle.device_wait_idle() }.context("vkDeviceWaitIdle failed")
+        // The real wait even after an injected loss: work submitted before it is still
+        // running, and the caller is about to destroy what it uses.
+        let waited = unsafe { self.handle.device_wait_idle() };
+        self.check_lost().and(waited).context("vkDeviceWaitIdle failed")
     }
 
     /// The validation layer's report, when validation is on.

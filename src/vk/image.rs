@@ -143,7 +143,7 @@ impl Image {
             )
         })?;
         let requirements = unsafe { device.handle.get_image_memory_requirements(handle) };
-        let allocation = device.allocator().allocate(&AllocationCreateDesc {
+        let allocation = device.allocate(&AllocationCreateDesc {
             name,
             requirements,
             location: MemoryLocation::GpuOnly,

@@ -9,6 +9,11 @@ use ash::{ext, vk};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 
+/// What to do when the loader finds no driver, or no driver finds a device.
+pub const NO_DRIVER: &str = "no Vulkan driver found: install one for your GPU, or Mesa's software \
+     driver lavapipe (Debian/Ubuntu: `sudo apt install mesa-vulkan-drivers`, or `make setup`), \
+     and check that VK_ICD_FILENAMES / VK_DRIVER_FILES, if set, name its JSON file";
+
 /// Errors and warnings reported by the validation layer, kept so a caller (a test, a
 /// `render` run) can fail when its own work produced one.
 #[derive(Default)]
@@ -94,7 +99,7 @@ impl Instance {
     pub fn new(validation: bool, surface_extensions: &[*const std::ffi::c_char]) -> Result<Self> {
         // SAFETY: loading the system Vulkan loader; failure is reported, not assumed.
         let entry = unsafe { ash::Entry::load() }
-            .context("cannot load the Vulkan loader (libvulkan.so.1); run `make setup`")?;
+            .context("cannot load the Vulkan loader libvulkan.so.1: install it (Debian/Ubuntu: `sudo apt install libvulkan1`, or `make setup`)")?;
         let version = unsafe { entry.try_enumerate_instance_version() }?.unwrap_or(vk::API_VERSION_1_0);
         if version < vk::API_VERSION_1_3 {
             bail!(
@@ -155,7 +160,11 @@ impl Instance {
                 .push_next(&mut messenger_info)
                 .push_next(&mut validation_features);
         }
-        let handle = unsafe { entry.create_instance(&create_info, None) }.context("vkCreateInstance failed")?;
+        let handle = match unsafe { entry.create_instance(&create_info, None) } {
+            Ok(handle) => handle,
+            Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => bail!(NO_DRIVER),
+            Err(e) => return Err(e).context("vkCreateInstance failed"),
+        };
 
         let messenger = if validation {
             let loader = ext::debug_utils::Instance::new(&entry, &handle);

@@ -33,8 +33,10 @@ impl Fence {
     }
 
     pub fn wait(&self) -> Result<()> {
-        unsafe { self.device.handle.wait_for_fences(&[self.handle], true, u64::MAX) }
-            .context("waiting for a fence failed (device lost?)")
+        self.device
+            .check_lost()
+            .and_then(|()| unsafe { self.device.handle.wait_for_fences(&[self.handle], true, u64::MAX) })
+            .context("waiting for a fence failed")
     }
 
     pub fn reset(&self) -> Result<()> {

@@ -162,15 +162,44 @@ pub fn scene(toml: &str) -> Scene {
 
 /// Runs the `argil` binary with the validation layer on and a private runtime directory.
 pub fn argil(args: &[&str]) -> Output {
+    argil_with(args, &[])
+}
+
+/// [`argil`] with more environment variables.
+pub fn argil_with(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_argil"));
+    command.args(args).envs(env.iter().copied());
+    run(command)
+}
+
+/// Runs `command` with the validation layer on and a private runtime directory, and fails
+/// if it runs for more than [`HANG`].
+pub fn run(mut command: Command) -> Output {
     let runtime = std::env::temp_dir().join(format!("argil-runtime-{}", std::process::id()));
     std::fs::create_dir_all(&runtime).expect("runtime dir");
-    Command::new(env!("CARGO_BIN_EXE_argil"))
-        .args(args)
+    let child = command
         .env("ARGIL_VALIDATION", "1")
         .env("XDG_RUNTIME_DIR", &runtime)
-        .output()
-        .expect("run argil")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run argil");
+    let pid = child.id();
+    let (done, output) = std::sync::mpsc::channel();
+    std::thread::spawn(move || done.send(child.wait_with_output()));
+    match output.recv_timeout(HANG) {
+        Ok(output) => output.expect("wait for argil"),
+        Err(_) => {
+            // Only the process this test started, by its id.
+            let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
+            panic!("{command:?} still running after {HANG:?}: it hangs");
+        }
+    }
 }
+
+/// Longer than any command of the tests takes on lavapipe with the machine busy (the
+/// slowest, the viewer's reload test, takes about a minute).
+pub const HANG: std::time::Duration = std::time::Duration::from_secs(600);
 
 /// (p50, p99, max) of the errors.
 pub fn percentiles(mut errors: Vec<f64>) -> (f64, f64, f64) {

@@ -7,6 +7,7 @@ use anyhow::{bail, ensure, Context, Result};
 use image::{ImageFormat, ImageReader};
 
 use crate::error::InputError;
+use crate::scene::limits::check_exr_headers;
 
 /// The largest map accepted: 8K, whose RGB f32 decode (384 MiB) stays within `image`'s
 /// default allocation limit.
@@ -39,7 +40,8 @@ fn read(path: &Path) -> Result<Equirect> {
             .context("cannot read")
     };
     match reader()?.format() {
-        Some(ImageFormat::Hdr | ImageFormat::OpenExr) => {}
+        Some(ImageFormat::OpenExr) => check_exr_headers(path).map_err(anyhow::Error::msg)?,
+        Some(ImageFormat::Hdr) => {}
         Some(other) => bail!("is a {other:?} image, not a Radiance HDR or OpenEXR one"),
         None => bail!("is not a Radiance HDR or OpenEXR image"),
     }

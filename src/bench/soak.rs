@@ -1,0 +1,206 @@
+//! `argil bench --soak FRAMES RENDERS`: a long run in one process, looking for leaks.
+//! FRAMES frames of the default scene go through the per-frame path (uniforms, recording,
+//! submitting, waiting) into one kept target, as the viewer draws them; then RENDERS
+//! renders each reload the scene from its file (alternating two versions of it), upload
+//! it, draw it and read it back, as `argil render` does, and drop it. Host memory (RSS) and
+//! gpu-allocator's allocated bytes are sampled at intervals and must be flat once the
+//! first tenth of each phase has warmed the driver's caches up; at the end no GPU
+//! allocation may be left and the validation layer must have reported nothing.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use ash::vk;
+
+use crate::render::{OffscreenTarget, Renderer};
+use crate::scene::{Scene, DEFAULT_SCENE_TOML};
+use crate::vk::Device;
+
+/// Host memory a phase may gain after its warm-up: a leak of 1 KiB a frame over 9,000
+/// frames exceeds it, while malloc's arenas and the driver's pools move RSS by a few MiB.
+pub const MAX_RSS_GROWTH: u64 = 8 << 20;
+/// Samples per phase.
+const SAMPLES: u64 = 10;
+const FRAME: vk::Extent2D = vk::Extent2D {
+    width: 320,
+    height: 180,
+};
+const RENDER: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
+
+/// Memory at one point of the run.
+struct Sample {
+    step: u64,
+    seconds: f64,
+    rss: Option<u64>,
+    gpu_allocated: u64,
+    gpu_blocks: u64,
+}
+
+/// Resident host memory, from /proc (Linux); `None` elsewhere.
+fn rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+fn sample(device: &Device, step: u64, start: &Instant) -> Sample {
+    let report = device.allocator().generate_report();
+    Sample {
+        step,
+        seconds: start.elapsed().as_secs_f64(),
+        rss: rss_bytes(),
+        gpu_allocated: report.total_allocated_bytes,
+        gpu_blocks: report.total_capacity_bytes,
+    }
+}
+
+fn mib(bytes: u64) -> f64 {
+    bytes as f64 / f64::from(1 << 20)
+}
+
+/// Prints a phase's samples and returns what is not flat about it.
+fn judge(phase: &str, samples: &[Sample]) -> Vec<String> {
+    for s in samples {
+        println!(
+            "{phase} {:>6}  {:>8.1} s  rss {:>8}  gpu allocated {:>8.2} MiB in blocks of {:>8.2} MiB",
+            s.step,
+            s.seconds,
+            s.rss.map_or_else(|| "n/a".to_owned(), |r| format!("{:.1} MiB", mib(r))),
+            mib(s.gpu_allocated),
+            mib(s.gpu_blocks)
+        );
+    }
+    let mut problems = Vec::new();
+    // The first sample is taken after the warm-up tenth.
+    let (Some(first), Some(last)) = (samples.first(), samples.last()) else {
+        return problems;
+    };
+    if let (Some(a), Some(b)) = (first.rss, last.rss) {
+        let growth = b.saturating_sub(a);
+        println!(
+            "{phase}: rss {:+.2} MiB from step {} to {}",
+            mib(growth),
+            first.step,
+            last.step
+        );
+        if growth > MAX_RSS_GROWTH {
+            problems.push(format!(
+                "{phase}: host memory grew by {:.1} MiB (at most {:.0} MiB)",
+                mib(growth),
+                mib(MAX_RSS_GROWTH)
+            ));
+        }
+    }
+    // Between frames nothing of a frame is allocated, so the bytes are the same exactly.
+    if let Some(s) = samples.iter().find(|s| s.gpu_allocated != first.gpu_allocated) {
+        problems.push(format!(
+            "{phase}: GPU memory allocated went from {} bytes at step {} to {} at step {}",
+            first.gpu_allocated, first.step, s.gpu_allocated, s.step
+        ));
+    }
+    problems
+}
+
+/// The default scene's text with its first object's material changed, so a reload is
+/// a different scene.
+fn variant(toml: &str, index: u64) -> String {
+    let colour = if index % 2 == 0 {
+        "[0.12, 0.24, 0.55]"
+    } else {
+        "[0.55, 0.24, 0.12]"
+    };
+    toml.replace("base_color = [0.12, 0.24, 0.55]", &format!("base_color = {colour}"))
+}
+
+/// Runs the soak on `device`; fails if memory is not flat, a GPU allocation is left or the
+/// validation layer reported an error.
+pub fn run(device: &Arc<Device>, frames: u64, renders: u64, scratch: &Path) -> Result<()> {
+    let start = Instant::now();
+    let mut problems = Vec::new();
+    let baseline = device.allocator().generate_report().allocations.len();
+    {
+        let mut renderer = Renderer::new(device.clone(), 1)?;
+        let scene = Scene::default_scene();
+        let gpu = renderer.upload(&scene)?;
+        let offscreen = OffscreenTarget::new(device, FRAME)?;
+        let every = (frames / SAMPLES).max(1);
+        let mut samples = Vec::new();
+        for frame in 1..=frames {
+            renderer.draw_offscreen(&scene, &gpu, &offscreen, 1.0)?;
+            if frame % every == 0 {
+                samples.push(sample(device, frame, &start));
+            }
+        }
+        problems.extend(judge("frames", &samples));
+
+        std::fs::create_dir_all(scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
+        let path = scratch.join("soak-scene.toml");
+        let every = (renders / SAMPLES).max(1);
+        let mut samples = Vec::new();
+        for render in 1..=renders {
+            crate::atomic::write_bytes(&path, variant(DEFAULT_SCENE_TOML, render).as_bytes())?;
+            let reloaded = Scene::load(&path)?;
+            let gpu = renderer.upload(&reloaded)?;
+            renderer.render_offscreen(&reloaded, &gpu, RENDER, 1.0)?;
+            drop(gpu);
+            if render % every == 0 {
+                samples.push(sample(device, render, &start));
+            }
+        }
+        problems.extend(judge("renders", &samples));
+    }
+    device.wait_idle()?;
+    let left = device.allocator().generate_report().allocations.len();
+    println!(
+        "soak: {frames} frames and {renders} renders in {:.0} s; GPU allocations left: {}",
+        start.elapsed().as_secs_f64(),
+        left - baseline.min(left)
+    );
+    if left > baseline {
+        problems.push(format!("{} GPU allocation(s) were not freed", left - baseline));
+    }
+    if let Some(report) = device.validation() {
+        println!(
+            "soak: validation layer: {} error(s), {} warning(s)",
+            report.error_count(),
+            report.warning_count()
+        );
+        if report.error_count() + report.warning_count() > 0 {
+            problems.push("the validation layer reported messages".to_owned());
+        }
+    }
+    if !problems.is_empty() {
+        bail!("the soak found leaks: {}", problems.join("; "));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn variants_differ_from_each_other_and_parse() {
+        assert_ne!(variant(DEFAULT_SCENE_TOML, 0), variant(DEFAULT_SCENE_TOML, 1));
+        for i in 0..2 {
+            Scene::from_toml(&variant(DEFAULT_SCENE_TOML, i), "soak", Path::new("")).unwrap();
+        }
+    }
+
+    #[test]
+    fn a_growing_allocation_is_reported() {
+        let at = |step, rss, gpu| Sample {
+            step,
+            seconds: 0.0,
+            rss: Some(rss),
+            gpu_allocated: gpu,
+            gpu_blocks: 0,
+        };
+        assert!(judge("t", &[at(1, 100 << 20, 5), at(2, 101 << 20, 5)]).is_empty());
+        assert_eq!(judge("t", &[at(1, 100 << 20, 5), at(2, 120 << 20, 5)]).len(), 1);
+        assert_eq!(judge("t", &[at(1, 100 << 20, 5), at(2, 100 << 20, 6)]).len(), 1);
+    }
+}

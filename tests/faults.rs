@@ -1,0 +1,102 @@
+//! Failures of the machine, injected with `ARGIL_FAULT` (src/fault.rs), in each command
+//! that drives the GPU: a failed allocation, a failed submission and a lost device end
+//! `render`, `verify` and `view` with a clear message and exit code 1, within the time
+//! limit of `common::run` (never a hang), with nothing written and no validation message.
+//! The counts land in different phases: the first allocation or submission, the uploads,
+//! and (for the viewer) the frame loop after the first frames.
+
+mod common;
+
+use std::process::{Command, Output};
+
+use common::{argil_with, run};
+
+fn assert_machine_failure(o: &Output, fault: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "ARGIL_FAULT={fault}: exit code: {err}");
+    assert!(!err.contains("panicked"), "ARGIL_FAULT={fault}: panicked: {err}");
+    assert!(
+        !err.contains("vulkan validation"),
+        "ARGIL_FAULT={fault}: validation messages: {err}"
+    );
+    let advice = if fault.starts_with("device-lost") {
+        "device was lost"
+    } else {
+        "ran out of memory"
+    };
+    assert!(err.contains(advice), "ARGIL_FAULT={fault}: no {advice:?}: {err}");
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("argil-faults-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+#[test]
+fn render_fails_cleanly() {
+    let out = temp_dir("render").join("frame.exr");
+    let out = out.to_str().expect("utf-8");
+    for fault in [
+        "alloc:1",
+        "alloc:12",
+        "submit:1",
+        "submit:4",
+        "device-lost:1",
+        "device-lost:6",
+    ] {
+        let o = argil_with(
+            &["render", "--out", out, "--width", "64", "--height", "36"],
+            &[("ARGIL_FAULT", fault)],
+        );
+        assert_machine_failure(&o, fault);
+        assert!(!std::path::Path::new(out).exists(), "ARGIL_FAULT={fault}: wrote {out}");
+    }
+}
+
+#[test]
+fn verify_fails_cleanly() {
+    let json = temp_dir("verify").join("verify.json");
+    let json = json.to_str().expect("utf-8");
+    for fault in ["alloc:3", "submit:2", "device-lost:5"] {
+        let o = argil_with(
+            &["verify", "--samples", "1000", "--json", json],
+            &[("ARGIL_FAULT", fault)],
+        );
+        assert_machine_failure(&o, fault);
+        assert!(
+            !std::path::Path::new(json).exists(),
+            "ARGIL_FAULT={fault}: wrote {json}"
+        );
+    }
+}
+
+/// A swapchain taken away (out of date) at the 5th present: the viewer recreates it and
+/// finishes its frames; the window is never resized, so the recreation is the fault's.
+#[test]
+fn view_recovers_from_a_lost_swapchain() {
+    let mut command = Command::new("xvfb-run");
+    command
+        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
+        .args(["--frames", "20", "--width", "320", "--height", "200"])
+        .env("ARGIL_FAULT", "present:5");
+    let o = run(command);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("vulkan validation"), "validation messages: {err}");
+    assert!(err.contains("20 frames, 1 swapchain recreations"), "{err}");
+}
+
+/// Under Xvfb; 30 and more submissions and 40 allocations are past the scene's upload,
+/// in the frame loop.
+#[test]
+fn view_fails_cleanly() {
+    for fault in ["alloc:2", "alloc:40", "submit:30", "device-lost:30", "device-lost:45"] {
+        let mut command = Command::new("xvfb-run");
+        command
+            .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
+            .args(["--frames", "60", "--width", "320", "--height", "200"])
+            .env("ARGIL_FAULT", fault);
+        assert_machine_failure(&run(command), fault);
+    }
+}
