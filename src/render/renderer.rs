@@ -10,16 +10,18 @@ use super::debug_view::DebugView;
 use super::environment::EnvironmentPass;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
+use super::shadow::ShadowPass;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
 use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
 /// The passes of a frame, in order; GPU times are reported with these names.
-pub const PASS_NAMES: [&str; 3] = ["forward", "skybox", "tonemap"];
-const PASS_FORWARD: u32 = 0;
-const PASS_SKYBOX: u32 = 1;
-const PASS_TONEMAP: u32 = 2;
+pub const PASS_NAMES: [&str; 4] = ["shadow", "forward", "skybox", "tonemap"];
+const PASS_SHADOW: u32 = 0;
+const PASS_FORWARD: u32 = 1;
+const PASS_SKYBOX: u32 = 2;
+const PASS_TONEMAP: u32 = 3;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping.
@@ -48,6 +50,7 @@ pub struct Renderer {
     pub device: Arc<Device>,
     one_shot: OneShot,
     environment: EnvironmentPass,
+    shadow: ShadowPass,
     forward: ForwardPass,
     tonemap: TonemapPass,
     /// One query pool per frame in flight; empty when the device has no timestamps.
@@ -57,6 +60,8 @@ pub struct Renderer {
     /// Draws every object with `floor.frag` instead of its material: `argil bench`'s
     /// measure of what the geometry and targets cost without shading.
     pub floor: bool,
+    /// Whether lights cast shadows (each light's `shadows` still applies); the viewer's toggle.
+    pub shadows: bool,
 }
 
 /// The images an offscreen frame renders into and the buffers it is read back through,
@@ -95,14 +100,23 @@ impl Renderer {
             .collect::<Result<_>>()?;
         let environment = EnvironmentPass::new(&device)?;
         let one_shot = OneShot::new(&device)?;
+        let shadow = ShadowPass::new(&device, frames_in_flight)?;
         Ok(Self {
-            forward: ForwardPass::new(&device, &one_shot, frames_in_flight, environment.set_layout())?,
+            forward: ForwardPass::new(
+                &device,
+                &one_shot,
+                frames_in_flight,
+                environment.set_layout(),
+                shadow.set_layout(),
+            )?,
+            shadow,
             one_shot,
             environment,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
             timestamps,
             debug_view: DebugView::Shaded,
             floor: false,
+            shadows: true,
             device,
         })
     }
@@ -118,10 +132,12 @@ impl Renderer {
         &mut self,
         slot: usize,
         scene: &Scene,
+        gpu: &GpuScene,
         target: &RenderTarget,
         output_format: vk::Format,
     ) -> Result<()> {
         self.environment.prepare(scene)?;
+        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         self.forward
             .prepare(slot, scene, target.aspect(), self.debug_view, self.floor)?;
         self.tonemap.prepare(slot, target, output_format)
@@ -158,9 +174,18 @@ impl Renderer {
             ImageUse::UNDEFINED,
             ImageUse::DEPTH_ATTACHMENT,
         );
+        self.timed(cmd, slot, PASS_SHADOW, || self.shadow.record(cmd, scene, gpu))?;
         self.timed(cmd, slot, PASS_FORWARD, || {
-            self.forward
-                .record(cmd, slot, scene, gpu, target, background(scene), self.environment.set())
+            self.forward.record(
+                cmd,
+                slot,
+                scene,
+                gpu,
+                target,
+                background(scene),
+                self.environment.set(),
+                self.shadow.set(slot),
+            )
         })?;
         self.timed(cmd, slot, PASS_SKYBOX, || {
             self.environment.record_skybox(cmd, target, &scene.camera);
@@ -235,7 +260,7 @@ impl Renderer {
         offscreen: &OffscreenTarget,
         exposure: f32,
     ) -> Result<Option<Vec<f64>>> {
-        self.prepare(0, scene, &offscreen.target, DISPLAY_FORMAT)?;
+        self.prepare(0, scene, gpu, &offscreen.target, DISPLAY_FORMAT)?;
         let output = DisplayOutput {
             image: offscreen.display.handle,
             view: offscreen.display.view,

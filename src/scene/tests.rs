@@ -157,10 +157,7 @@ specular = "blinn-phong"
     assert_eq!(scene.camera.fov_y_degrees, 45.0);
     assert_eq!(
         scene.lights,
-        [PointLight {
-            position: Vec3::new(2.0, 2.0, 3.0),
-            intensity: Vec3::new(10.0, 9.0, 8.0)
-        }]
+        [PointLight::new(Vec3::new(2.0, 2.0, 3.0), Vec3::new(10.0, 9.0, 8.0))]
     );
     assert_eq!(
         scene.environment,

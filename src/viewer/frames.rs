@@ -248,7 +248,7 @@ impl FrameLoop {
 
         let slot = &mut self.slots[index];
         slot.done.reset()?;
-        self.renderer.prepare(index, scene, &slot.target, format)?;
+        self.renderer.prepare(index, scene, &self.gpu, &slot.target, format)?;
         let d = &self.device.handle;
         let cmd = slot.cmd;
         unsafe {

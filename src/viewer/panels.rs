@@ -368,10 +368,7 @@ fn lights_section(ui: &mut Ui, scene: &mut Scene) {
     }
     ui.horizontal(|ui| {
         if scene.lights.len() < MAX_POINT_LIGHTS && ui.button("Add a light").clicked() {
-            scene.lights.push(PointLight {
-                position: scene.camera.position,
-                intensity: Vec3::splat(20.0),
-            });
+            scene.lights.push(PointLight::new(scene.camera.position, Vec3::splat(20.0)));
         }
         if !scene.lights.is_empty() && ui.button("Remove the last").clicked() {
             scene.lights.pop();
