@@ -108,14 +108,18 @@ float shadow_bilinear(ShadowReceiver r, vec3 w) {
     ivec2 base = shadow_texel(w, face, f);
     int last = int(shadow_data.settings.x) - 1;
     float lit = 0.0;
+    uint blocked = 0u;
     for (int j = 0; j < 2; ++j) {
         for (int i = 0; i < 2; ++i) {
             float weight = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
             ivec2 texel = clamp(base + ivec2(i, j), ivec2(0), ivec2(last));
-            lit += shadow_texel_blocker(r, face, texel) > 0.0 ? 0.0 : weight;
+            bool blocker = shadow_texel_blocker(r, face, texel) > 0.0;
+            lit += blocker ? 0.0 : weight;
+            blocked += blocker ? 1u : 0u;
         }
     }
-    return lit;
+    // The weights' fp32 sum need not be 1: all lit is exactly lit, all blocked exactly dark.
+    return blocked == 0u ? 1.0 : blocked == 4u ? 0.0 : lit;
 }
 
 // Tap k of n on a Vogel disk of unit radius turned by `rotation`.

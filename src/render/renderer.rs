@@ -1,6 +1,7 @@
 //! The renderer: owns the device's passes and records a frame from the scene into the HDR
 //! target, then through the display transform into an 8-bit image.
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use anyhow::Result;
@@ -62,6 +63,8 @@ pub struct Renderer {
     pub floor: bool,
     /// Whether lights cast shadows (each light's `shadows` still applies); the viewer's toggle.
     pub shadows: bool,
+    /// Scenes uploaded so far: the next upload's id.
+    uploads: Cell<u64>,
 }
 
 /// The images an offscreen frame renders into and the buffers it is read back through,
@@ -117,13 +120,21 @@ impl Renderer {
             debug_view: DebugView::Shaded,
             floor: false,
             shadows: true,
+            uploads: Cell::new(0),
             device,
         })
     }
 
     /// Uploads the scene's meshes.
     pub fn upload(&self, scene: &Scene) -> Result<GpuScene> {
-        GpuScene::upload(&self.device, &self.one_shot, scene, self.forward.material_layout())
+        let id = self.uploads.replace(self.uploads.get() + 1);
+        GpuScene::upload(&self.device, &self.one_shot, scene, self.forward.material_layout(), id)
+    }
+
+    /// How many times the shadow maps have been rendered: once per change of the lights,
+    /// objects or settings, not per frame.
+    pub fn shadow_map_renders(&self) -> u64 {
+        self.shadow.renders()
     }
 
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has

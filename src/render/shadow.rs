@@ -137,6 +137,8 @@ pub struct ShadowPass {
     faces: Vec<Face>,
     /// Whether the next recorded frame renders the maps.
     pending: Cell<bool>,
+    /// Frames that rendered them.
+    renders: Cell<u64>,
 }
 
 impl ShadowPass {
@@ -185,6 +187,7 @@ impl ShadowPass {
             key: Vec::new(),
             faces: Vec::new(),
             pending: Cell::new(false),
+            renders: Cell::new(0),
         })
     }
 
@@ -276,12 +279,18 @@ impl ShadowPass {
         Ok(())
     }
 
+    /// Frames that have rendered the maps.
+    pub fn renders(&self) -> u64 {
+        self.renders.get()
+    }
+
     /// Renders the maps if [`Self::prepare`] found them out of date, leaving them readable
     /// by fragment shaders; records nothing otherwise.
     pub fn record(&self, cmd: vk::CommandBuffer, scene: &Scene, gpu: &GpuScene) -> Result<()> {
         if !self.pending.replace(false) {
             return Ok(());
         }
+        self.renders.set(self.renders.get() + 1);
         let maps = self.maps.as_ref().context("shadow maps missing: prepare() was not called")?;
         let d = &self.device.handle;
         let range = maps.image.all_levels();
@@ -336,10 +345,10 @@ impl ShadowPass {
     }
 }
 
-/// Everything the maps depend on, as bits: the resolution, each shadowed light's position,
-/// each object's placement and its mesh's buffers (a reloaded scene has new ones).
+/// Everything the maps depend on, as bits: the resolution, the upload the meshes come
+/// from, each shadowed light's position and each object's placement.
 fn shadow_key(scene: &Scene, gpu: &GpuScene, shadowed: &[usize], resolution: u32) -> Vec<u64> {
-    let mut key = vec![u64::from(resolution)];
+    let mut key = vec![u64::from(resolution), gpu.id];
     let vector = |key: &mut Vec<u64>, v: DVec3| key.extend(v.to_array().map(f64::to_bits));
     for &i in shadowed {
         key.push(i as u64);
@@ -347,13 +356,7 @@ fn shadow_key(scene: &Scene, gpu: &GpuScene, shadowed: &[usize], resolution: u32
     }
     for object in &scene.objects {
         vector(&mut key, object.position.as_dvec3());
-        key.push(u64::from(object.scale.to_bits()));
-        let mesh = &gpu.meshes[object.mesh];
-        key.extend([
-            vk::Handle::as_raw(mesh.vertices.handle),
-            vk::Handle::as_raw(mesh.indices.handle),
-            u64::from(mesh.index_count),
-        ]);
+        key.extend([u64::from(object.scale.to_bits()), object.mesh as u64]);
     }
     key
 }
