@@ -54,10 +54,12 @@ float shadow_linear_depth(float depth, float near, float far) {
 }
 
 // Where the ray along c (major component 1) meets the receiver's plane through q with
-// normal n, as a major-axis distance; 2 q_major where it does not meet it before that.
-float receiver_plane_depth(vec3 c, float q_dot_n, vec3 n, float q_major) {
+// normal n, as a major-axis distance, and no further than `receiver`, the ray's point as
+// far from the light as the receiver: what lies beyond cannot stand between them (a ray
+// past the plane's horizon, or grazing it, passes the receiver there).
+float receiver_plane_depth(vec3 c, float q_dot_n, vec3 n, float receiver) {
     float depth = q_dot_n / dot(c, n);
-    return depth > 0.0 && depth < 2.0 * q_major ? depth : 2.0 * q_major;
+    return depth > 0.0 && depth < receiver ? depth : receiver;
 }
 
 // PCSS's penumbra, r (d − d_b)/d_b on the receiver, as an angle from the light (÷ d).
@@ -71,8 +73,8 @@ struct ShadowReceiver {
     float near;
     float far;
     vec3 n;        // the receiver's plane normal
-    float q_dot_n; // q the receiver relative to the light
-    float q_major;
+    float q_dot_n;  // q the receiver relative to the light
+    float distance; // |q|
 };
 
 // The distance from the light of what texel `texel` of face `face` stores, when it lies in
@@ -82,7 +84,7 @@ float shadow_texel_blocker(ShadowReceiver r, uint face, ivec2 texel) {
     vec2 ab = (vec2(texel) + 0.5) / size * 2.0 - 1.0;
     vec3 c = cube_direction(face, ab);
     c /= max(max(abs(c.x), abs(c.y)), abs(c.z));
-    float plane = receiver_plane_depth(c, r.q_dot_n, r.n, r.q_major);
+    float plane = receiver_plane_depth(c, r.q_dot_n, r.n, r.distance / length(c));
     float stored = shadow_linear_depth(texelFetch(shadow_maps, ivec3(texel, r.layer + int(face)), 0).r, r.near, r.far);
     float cos_to_plane = abs(dot(c, r.n)) / length(c);
     float bias = SHADOW_DEPTH_BIAS + SHADOW_SLOPE_BIAS / max(cos_to_plane, 1e-4);
@@ -153,7 +155,11 @@ float point_light_shadow(uint i, vec3 p, vec2 pixel) {
     vec3 w = q / d;
     float n2 = dot(face_normal, face_normal);
     vec3 n = n2 > 0.0 ? face_normal * inversesqrt(n2) : w;
-    ShadowReceiver r = ShadowReceiver(int(s.map.x), s.map.z, s.map.w, n, dot(q, n), q_major);
+    // With the light behind the triangle seen from the eye, only the subsurface term
+    // lights p, through its own object, which does not shadow it (as `argil reference`
+    // has it): the map, which cannot tell that object from others, is not read.
+    if (n2 > 0.0 && dot(n, q) * dot(n, frame.camera_position.xyz - p) >= 0.0) return 1.0;
+    ShadowReceiver r = ShadowReceiver(int(s.map.x), s.map.z, s.map.w, n, dot(q, n), d);
     float radius = s.map.y;
     if (radius <= 0.0) return shadow_bilinear(r, w);
 

@@ -68,6 +68,7 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
     let sampled: Vec<String> = SAMPLED.iter().map(|n| format!("sampled-{n}")).collect();
     let mut names = vec![FLOOR, "split-sum", "seed", REPORT];
     names.extend(sampled.iter().map(String::as_str));
+    names.extend(SHADOW_CONFIGURATIONS);
     Ok(vec![
         bench_scene("default", &default, &names, |c| resolutions(c, true))?,
         bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
@@ -134,6 +135,7 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
                 material.subsurface = Subsurface::Seed;
             }
         }
+        _ if SHADOW_CONFIGURATIONS.contains(&name) => shadow_configured(&mut file, name),
         _ => {
             let samples = name
                 .strip_prefix("sampled-")
@@ -143,6 +145,20 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         }
     }
     Ok(file)
+}
+
+/// What shadows cost and change: `no-shadows` turns every light's shadows off (the
+/// renderer before them), `hard-shadows` makes every light a point (one lookup, no PCSS).
+const SHADOW_CONFIGURATIONS: [&str; 2] = ["no-shadows", "hard-shadows"];
+
+fn shadow_configured(file: &mut SceneFile, name: &str) {
+    for light in &mut file.lights {
+        let crate::scene::file::LightDef::Point { radius, shadows, .. } = light;
+        match name {
+            "no-shadows" => *shadows = Some(false),
+            _ => *radius = None,
+        }
+    }
 }
 
 fn set_reflection(environment: &mut EnvironmentDef, mode: ReflectionMode, lookups: Option<u32>) {

@@ -52,16 +52,17 @@ pub fn shadow_linear_depth(depth: f64, near: f64, far: f64) -> f64 {
 
 /// The major-axis distance at which the ray from the light along c (scaled to a major
 /// component of 1) meets the receiver's plane through q (relative to the light) with
-/// normal n: (q·n)/(c·n). Where it does not meet it in front of the light, or meets it
-/// beyond twice the receiver's own distance `q_major` (a ray grazing the plane), that
-/// bound: the ray passes the receiver there.
-pub fn receiver_plane_depth(c: Vec3, q_dot_n: f64, n: Vec3, q_major: f64) -> f64 {
+/// normal n: (q·n)/(c·n), and no further than `receiver`, the ray's point as far from
+/// the light as the receiver (|q|/|c|): what lies beyond cannot stand between them, so
+/// a ray that meets the plane there or not at all in front of the light (past its
+/// horizon) is compared there.
+pub fn receiver_plane_depth(c: Vec3, q_dot_n: f64, n: Vec3, receiver: f64) -> f64 {
     let c_dot_n = c[0] * n[0] + c[1] * n[1] + c[2] * n[2];
     let depth = q_dot_n / c_dot_n;
-    if depth > 0.0 && depth < 2.0 * q_major {
+    if depth > 0.0 && depth < receiver {
         depth
     } else {
-        2.0 * q_major
+        receiver
     }
 }
 
@@ -111,16 +112,18 @@ mod tests {
 
     #[test]
     fn receiver_plane_depth_is_where_the_ray_meets_the_plane() {
-        // The plane y = −2 below a light at the origin: the ray through c meets it at
-        // major-axis distance 2/|c_y| when it points down.
+        // The plane y = −2 below a light at the origin, the receiver 2.1 from the light:
+        // the ray through c meets the plane at major-axis distance 2/|c_y| when it points
+        // down, and is compared no further than 2.1/|c|.
         let n = [0.0, 1.0, 0.0];
         let q_dot_n = -2.0; // q = (0.5, −2, 0.3)
-        assert!((receiver_plane_depth([0.25, -1.0, 0.1], q_dot_n, n, 2.0) - 2.0).abs() < 1e-15);
-        assert!((receiver_plane_depth([1.0, -0.5, 0.0], q_dot_n, n, 2.0) - 4.0).abs() < 1e-15);
-        // Rays that never reach it, or reach it beyond twice the receiver's distance.
-        assert_eq!(receiver_plane_depth([1.0, 0.5, 0.0], q_dot_n, n, 2.0), 4.0);
-        assert_eq!(receiver_plane_depth([1.0, 0.0, 0.0], q_dot_n, n, 2.0), 4.0);
-        assert_eq!(receiver_plane_depth([1.0, -0.1, 0.0], q_dot_n, n, 2.0), 4.0);
+        let length = |c: Vec3| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+        let c = [0.25, -1.0, 0.1];
+        assert!((receiver_plane_depth(c, q_dot_n, n, 2.1 / length(c)) - 2.0).abs() < 1e-15);
+        // Past the receiver's distance, grazing, or never reaching the plane.
+        for c in [[1.0, -0.5, 0.0], [1.0, 0.0, 0.0], [1.0, 0.5, 0.0]] {
+            assert_eq!(receiver_plane_depth(c, q_dot_n, n, 2.1 / length(c)), 2.1 / length(c));
+        }
     }
 
     #[test]

@@ -7,6 +7,7 @@ mod camera_control;
 mod frames;
 mod overlay;
 mod panels;
+mod shadow_panel;
 mod storm;
 mod timings;
 mod watch;
@@ -95,6 +96,7 @@ pub fn run(scene: Scene, options: ViewOptions) -> Result<()> {
     let mut app = App {
         view: ViewState {
             debug_view: Default::default(),
+            shadows: true,
             exposure: options.exposure,
             selected_object: 0,
             selected_material: scene.objects[0].material,
@@ -419,6 +421,7 @@ impl App {
             _ => None,
         };
         state.frames.renderer.debug_view = self.view.debug_view;
+        state.frames.renderer.shadows = self.view.shadows;
         let ui = UiFrame {
             primitives,
             textures: output.textures_delta,

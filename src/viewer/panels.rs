@@ -59,6 +59,8 @@ pub const KEYS: &[(&str, &str)] = &[
 /// What the UI shows and remembers besides the scene.
 pub struct ViewState {
     pub debug_view: DebugView,
+    /// Whether the lights cast shadows (the renderer's toggle).
+    pub shadows: bool,
     pub exposure: f32,
     /// The object the orbit mode circles.
     pub selected_object: usize,
@@ -128,6 +130,9 @@ pub fn show(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState, camera: &mut C
                 });
                 section(ui, "Materials", true, |ui| materials_section(ui, scene, view));
                 section(ui, "Lights", false, |ui| lights_section(ui, scene));
+                section(ui, "Shadows", false, |ui| {
+                    super::shadow_panel::shadows_section(ui, scene, &mut view.shadows)
+                });
                 section(ui, "Environment", false, |ui| environment_section(ui, scene));
                 section(ui, "Debug view", true, |ui| debug_section(ui, view));
                 section(ui, "Timings", true, |ui| timings_section(ui, view));
@@ -528,6 +533,7 @@ mod tests {
     fn state() -> ViewState {
         ViewState {
             debug_view: DebugView::Shaded,
+            shadows: true,
             exposure: 1.0,
             selected_object: 0,
             selected_material: 0,
