@@ -18,11 +18,12 @@ use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
 /// The passes of a frame, in order; GPU times are reported with these names.
-pub const PASS_NAMES: [&str; 4] = ["shadow", "forward", "skybox", "tonemap"];
-const PASS_SHADOW: u32 = 0;
-const PASS_FORWARD: u32 = 1;
-const PASS_SKYBOX: u32 = 2;
-const PASS_TONEMAP: u32 = 3;
+/// The shadow maps are drawn first but named last: index 0 stays the forward pass.
+pub const PASS_NAMES: [&str; 4] = ["forward", "skybox", "tonemap", "shadow"];
+const PASS_FORWARD: u32 = 0;
+const PASS_SKYBOX: u32 = 1;
+const PASS_TONEMAP: u32 = 2;
+const PASS_SHADOW: u32 = 3;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping.
