@@ -92,13 +92,7 @@ impl Image {
         usage: vk::ImageUsageFlags,
         name: &str,
     ) -> Result<Self> {
-        let shape = Shape {
-            extent,
-            mip_levels: 1,
-            layers,
-            view_type: vk::ImageViewType::TYPE_2D_ARRAY,
-        };
-        Self::create(device, shape, format, usage, vk::ImageAspectFlags::COLOR, name)
+        Self::array(device, extent, layers, format, usage, vk::ImageAspectFlags::COLOR, name)
     }
 
     /// A depth 2D array image of `layers` single-level `size`² layers (the faces of cube
@@ -112,16 +106,29 @@ impl Image {
         usage: vk::ImageUsageFlags,
         name: &str,
     ) -> Result<Self> {
+        let extent = vk::Extent2D {
+            width: size,
+            height: size,
+        };
+        Self::array(device, extent, layers, format, usage, vk::ImageAspectFlags::DEPTH, name)
+    }
+
+    fn array(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        layers: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+        name: &str,
+    ) -> Result<Self> {
         let shape = Shape {
-            extent: vk::Extent2D {
-                width: size,
-                height: size,
-            },
+            extent,
             mip_levels: 1,
             layers,
             view_type: vk::ImageViewType::TYPE_2D_ARRAY,
         };
-        Self::create(device, shape, format, usage, vk::ImageAspectFlags::DEPTH, name)
+        Self::create(device, shape, format, usage, aspect, name)
     }
 
     fn create(
