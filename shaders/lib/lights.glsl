@@ -3,6 +3,7 @@
 #define ARGIL_LIGHTS_GLSL
 #include "scene_data.glsl"
 #include "shading.glsl"
+#include "shadows.glsl"
 
 // Unit direction l from p towards point light i, and its irradiance on a surface facing
 // it, E⊥ = I / d² (the scene format's radiant intensity I).
@@ -20,7 +21,7 @@ vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geom
     vec3 radiance = vec3(0.0);
     for (uint i = 0; i < frame.counts.x; ++i) {
         vec3 l;
-        vec3 irradiance = point_light_irradiance(i, p, l);
+        vec3 irradiance = point_light_irradiance(i, p, l) * point_light_shadow(i, p, gl_FragCoord.xy);
         radiance += irradiance * (seed_horizon ? brdf_cos_seed(models, m, n, v, l, curvature)
                                                : brdf_cos(models, m, n, n_geometric, v, l, curvature));
     }

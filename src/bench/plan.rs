@@ -102,6 +102,7 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
         "generic-no-environment",
     ];
     names.extend(sampled.iter().map(String::as_str));
+    names.extend(SHADOW_CONFIGURATIONS);
     let mut scenes = vec![
         bench_scene("default", &default, &names, |c| resolutions(c, true))?,
         bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
@@ -254,6 +255,7 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
             }
         }),
         SEPARABLE_G => file.materials.values_mut().for_each(|m| m.geometry = Geometry::SmithSeparable),
+        _ if SHADOW_CONFIGURATIONS.contains(&name) => shadow_configured(&mut file, name),
         _ => {
             let samples = name
                 .strip_prefix("sampled-")
@@ -263,6 +265,20 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         }
     }
     Ok(file)
+}
+
+/// What shadows cost and change: `no-shadows` turns every light's shadows off (the
+/// renderer before them), `hard-shadows` makes every light a point (one lookup, no PCSS).
+const SHADOW_CONFIGURATIONS: [&str; 2] = ["no-shadows", "hard-shadows"];
+
+fn shadow_configured(file: &mut SceneFile, name: &str) {
+    for light in &mut file.lights {
+        let crate::scene::file::LightDef::Point { radius, shadows, .. } = light;
+        match name {
+            "no-shadows" => *shadows = Some(false),
+            _ => *radius = None,
+        }
+    }
 }
 
 fn set_reflection(environment: &mut EnvironmentDef, mode: ReflectionMode, lookups: Option<u32>) {

@@ -14,6 +14,7 @@ pub mod fresnel;
 pub mod geometry;
 pub mod normal_mapping;
 pub mod quadrature;
+pub mod shadow;
 pub mod shading;
 pub mod specular;
 pub mod subsurface;

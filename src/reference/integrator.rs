@@ -1,14 +1,17 @@
 //! The light arriving at the camera along one ray, by Monte Carlo integration of the
 //! rendering equation (Kajiya 1986; the report's eq. 2) with the material's own f64
-//! `brdf_cos`. Point lights are sampled directly (they are deltas); the environment both by
+//! `brdf_cos`. Point lights are sampled directly (they are deltas), a light with a radius
+//! as a sphere of the same power by the solid angle it subtends; the environment both by
 //! its luminance and by the material's lobes, the two combined by the power heuristic
 //! (Veach 1997). `Direct` and `Shadows` stop after the first surface; `Full` follows the
 //! path with Russian roulette.
 
+use std::f64::consts::PI;
+
 use glam::DVec3;
 
 use super::environment::EnvironmentLight;
-use super::sampling::{power_heuristic, Lobes};
+use super::sampling::{power_heuristic, sample_sphere_light, Lobes};
 use super::world::Medium;
 use super::world::{Surface, World};
 use super::{Sampling, Settings, SubsurfaceTransport, Transport};
@@ -78,7 +81,7 @@ impl CameraRays {
 pub struct Integrator<'a> {
     world: &'a World,
     environment: Option<&'a EnvironmentLight>,
-    lights: Vec<(DVec3, DVec3)>,
+    lights: Vec<Light>,
     transport: Transport,
     max_depth: u32,
     /// Whether the environment is sampled by its luminance, and by the material's lobes.
@@ -86,6 +89,16 @@ pub struct Integrator<'a> {
     material_sampling: bool,
     /// Whether scattering materials are media (`--subsurface volume`).
     volume: bool,
+}
+
+/// A scene light: a point, or with a radius a sphere emitting I/(πr²) outwards from every
+/// point of its surface, the power 4πI of the point. The sphere is not seen by rays that
+/// meet it (the camera's, the material's samples), so its light is counted once, by
+/// sampling it; a surface inside it receives none of its light.
+struct Light {
+    position: DVec3,
+    intensity: DVec3,
+    radius: f64,
 }
 
 /// What one camera ray brought back.
@@ -143,7 +156,11 @@ impl<'a> Integrator<'a> {
             lights: scene
                 .lights
                 .iter()
-                .map(|l| (l.position.as_dvec3(), l.intensity.as_dvec3()))
+                .map(|l| Light {
+                    position: l.position.as_dvec3(),
+                    intensity: l.intensity.as_dvec3(),
+                    radius: f64::from(l.radius),
+                })
                 .collect(),
             transport: settings.transport,
             max_depth: settings.max_depth,
@@ -420,13 +437,24 @@ impl<'a> Integrator<'a> {
     fn direct_light(&self, s: &Shading, rng: &mut Rng, rays: &mut u64) -> DVec3 {
         let mut radiance = DVec3::ZERO;
         let p = s.surface.position;
-        for &(position, intensity) in &self.lights {
-            let to_light = position - p;
+        for light in &self.lights {
+            if light.radius > 0.0 {
+                let u = [rng.uniform(), rng.uniform()];
+                if let Some((l, distance, pdf)) = sample_sphere_light(light.position, light.radius, p, u) {
+                    let f = self.brdf_cos(s, l);
+                    if f != DVec3::ZERO && self.visible(s.surface, l, distance, rays) {
+                        let radiance_of_sphere = light.intensity / (PI * light.radius * light.radius);
+                        radiance += f * radiance_of_sphere / pdf;
+                    }
+                }
+                continue;
+            }
+            let to_light = light.position - p;
             let distance2 = to_light.length_squared().max(MIN_LIGHT_DISTANCE2);
             let l = to_light / distance2.sqrt();
             let f = self.brdf_cos(s, l);
             if f != DVec3::ZERO && self.visible(s.surface, to_light, 1.0, rays) {
-                radiance += intensity / distance2 * f;
+                radiance += light.intensity / distance2 * f;
             }
         }
         if let Some(e) = self.environment.filter(|_| self.light_sampling) {

@@ -275,3 +275,36 @@ pub fn power_heuristic(a: f64, b: f64) -> f64 {
 #[cfg(test)]
 #[path = "sampling_tests.rs"]
 mod tests;
+
+/// A direction from `p` towards a sphere of `radius` about `center`, sampled uniformly in
+/// the cone of directions it subtends (pbrt-v4 `Sphere::Sample(ctx, u)`, PBR 4th ed.,
+/// §6.2.4): the unit direction, the distance to the sphere's near side along it, and its
+/// solid-angle pdf 1/(2π(1 − cos θmax)). None from inside the sphere.
+pub fn sample_sphere_light(center: DVec3, radius: f64, p: DVec3, u: [f64; 2]) -> Option<(DVec3, f64, f64)> {
+    let to_center = center - p;
+    let distance2 = to_center.length_squared();
+    if distance2 <= radius * radius {
+        return None;
+    }
+    let distance = distance2.sqrt();
+    let sin2_max = radius * radius / distance2;
+    let sin_max = sin2_max.sqrt();
+    let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
+    // 1 − cos θ without cancellation, where pbrt-v4 switches to a Taylor expansion below
+    // 1.5° (whose error, sin²θmax/4 relative, a 0.01 sphere at 2 shows at 6e-6): uniform
+    // in cos θ ∈ [cos θmax, 1] is t = u(1 − cos θmax), sin²θ = t(2 − t).
+    let one_minus_cos_max = sin2_max / (1.0 + cos_max);
+    let t = u[0] * one_minus_cos_max;
+    let cos_theta = 1.0 - t;
+    let sin2_theta = t * (2.0 - t);
+    // The angle α at the sphere's centre between −(its direction) and the point hit.
+    let cos_alpha = sin2_theta / sin_max + cos_theta * (1.0 - sin2_theta / sin2_max).max(0.0).sqrt();
+    let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
+    let phi = 2.0 * PI * u[1];
+    let frame = crate::brdf::environment::tangent_frame((-to_center / distance).to_array()).map(DVec3::from);
+    let on_sphere =
+        center + radius * (frame[0] * (sin_alpha * phi.cos()) + frame[1] * (sin_alpha * phi.sin()) + frame[2] * cos_alpha);
+    let to_point = on_sphere - p;
+    let length = to_point.length();
+    Some((to_point / length, length, 1.0 / (2.0 * PI * one_minus_cos_max)))
+}

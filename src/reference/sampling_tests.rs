@@ -5,6 +5,7 @@ use crate::brdf::shading::ShadingModels;
 use crate::brdf::specular::{Distribution, Geometry};
 use crate::brdf::subsurface::Subsurface;
 use crate::reference::chi2::{chi2, direction};
+use crate::rng::Rng;
 
 fn params(roughness: f64) -> ShadingParams {
     ShadingParams {
@@ -110,4 +111,38 @@ fn erf_inv_inverts_erf() {
         let x = erf_inv(y);
         assert!((erf(x) - y).abs() < 1e-13, "erf(erf_inv({y})) = {}", erf(x));
     }
+}
+
+/// Irradiance from a uniformly emitting sphere of radiance I/(πr²) (the power of a point
+/// light of intensity I) on a surface whose horizon it lies wholly above is I cos θ / d²,
+/// exactly as from the point: the estimate from solid-angle samples must agree within
+/// its own noise, facing the light and tilted, for a large and a tiny sphere (where
+/// 1 − cos θmax would cancel).
+#[test]
+fn sphere_light_samples_give_the_point_lights_irradiance() {
+    let center = DVec3::new(0.3, 2.0, -0.4);
+    for (radius, tilt) in [(0.8, 0.0), (0.8, 0.6), (0.01, 0.0), (0.01, 1.0)] {
+        let n = DVec3::new(tilt, 1.0, 0.0).normalize();
+        let radiance = 1.0 / (PI * radius * radius);
+        let mut rng = Rng::new(7);
+        let count = 200_000;
+        let (mut sum, mut sum2) = (0.0, 0.0);
+        for _ in 0..count {
+            let (l, distance, pdf) =
+                sample_sphere_light(center, radius, DVec3::ZERO, [rng.uniform(), rng.uniform()]).expect("outside");
+            // The sample lies on the sphere.
+            assert!(((l * distance - center).length() - radius).abs() < 1e-9 * center.length());
+            let x = radiance * l.dot(n).max(0.0) / pdf;
+            sum += x;
+            sum2 += x * x;
+        }
+        let mean = sum / count as f64;
+        let sigma = ((sum2 / count as f64 - mean * mean) / count as f64).sqrt();
+        let exact = n.dot(center.normalize()) / center.length_squared();
+        assert!(
+            (mean - exact).abs() <= 4.0 * sigma + 1e-12 * exact,
+            "radius {radius}, tilt {tilt}: {mean} against {exact} (σ {sigma})"
+        );
+    }
+    assert!(sample_sphere_light(center, 3.0, DVec3::ZERO, [0.5, 0.5]).is_none());
 }

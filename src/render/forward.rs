@@ -2,7 +2,8 @@
 //!
 //! Set 0: binding 0 the `FrameData` uniform buffer, binding 1 the `Materials` storage
 //! buffer, binding 2 the pre-integrated subsurface table (uploaded when a scene first
-//! needs it, a placeholder until then); set 2: the environment (see environment.rs); push constants: `ObjectPush` (see
+//! needs it, a placeholder until then); set 2: the environment (see environment.rs); set 3:
+//! the shadow maps (see shadow.rs); push constants: `ObjectPush` (see
 //! shaders/lib/scene_data.glsl). One pipeline per combination of BRDF models in use,
 //! chosen by specialization constants; for `argil bench`, one more that draws every object
 //! with the trivial `floor.frag`.
@@ -150,6 +151,7 @@ impl ForwardPass {
         one_shot: &OneShot,
         frames_in_flight: u32,
         environment_layout: &DescriptorSetLayout,
+        shadow_layout: &DescriptorSetLayout,
     ) -> Result<Self> {
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(
@@ -176,7 +178,7 @@ impl ForwardPass {
             .build(device, "material maps set")?;
         let layout = PipelineLayout::new(
             device,
-            &[&set_layout, &material_layout, environment_layout],
+            &[&set_layout, &material_layout, environment_layout, shadow_layout],
             std::mem::size_of::<ObjectPush>() as u32,
             vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
         )?;
@@ -354,6 +356,7 @@ impl ForwardPass {
         target: &RenderTarget,
         clear: [f32; 4],
         environment_set: vk::DescriptorSet,
+        shadow_set: vk::DescriptorSet,
     ) -> Result<()> {
         let d = &self.device.handle;
         let color = [vk::RenderingAttachmentInfo::default()
@@ -387,7 +390,7 @@ impl ForwardPass {
                 vk::PipelineBindPoint::GRAPHICS,
                 self.layout.handle,
                 2,
-                &[environment_set],
+                &[environment_set, shadow_set],
                 &[],
             );
         }

@@ -175,6 +175,8 @@ impl GpuMesh {
 /// The scene on the GPU, uploaded once: meshes, and each material's maps as set 1 of the
 /// forward pass (placeholders where a material has no map).
 pub struct GpuScene {
+    /// Which upload of its renderer this is: what the shadow maps were rendered from.
+    pub id: u64,
     pub meshes: Vec<GpuMesh>,
     /// Set 1 for each material of the scene, in `Scene::materials` order.
     pub material_sets: Vec<vk::DescriptorSet>,
@@ -201,6 +203,7 @@ impl GpuScene {
         one_shot: &OneShot,
         scene: &Scene,
         material_layout: &DescriptorSetLayout,
+        id: u64,
     ) -> Result<Self> {
         let meshes = scene
             .meshes
@@ -242,6 +245,7 @@ impl GpuScene {
             })
             .collect::<Result<_>>()?;
         Ok(Self {
+            id,
             meshes,
             material_sets,
             _material_pool: pool,

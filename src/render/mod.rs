@@ -7,6 +7,7 @@ pub mod gpu_scene;
 pub mod output;
 pub mod renderer;
 pub mod shaders;
+pub mod shadow;
 pub mod subsurface;
 pub mod target;
 pub mod textures;

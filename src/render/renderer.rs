@@ -1,6 +1,7 @@
 //! The renderer: owns the device's passes and records a frame from the scene into the HDR
 //! target, then through the display transform into an 8-bit image.
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use anyhow::Result;
@@ -10,16 +11,19 @@ use super::debug_view::DebugView;
 use super::environment::EnvironmentPass;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
+use super::shadow::ShadowPass;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
 use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
 /// The passes of a frame, in order; GPU times are reported with these names.
-pub const PASS_NAMES: [&str; 3] = ["forward", "skybox", "tonemap"];
+/// The shadow maps are drawn first but named last: index 0 stays the forward pass.
+pub const PASS_NAMES: [&str; 4] = ["forward", "skybox", "tonemap", "shadow"];
 const PASS_FORWARD: u32 = 0;
 const PASS_SKYBOX: u32 = 1;
 const PASS_TONEMAP: u32 = 2;
+const PASS_SHADOW: u32 = 3;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping. The frame covers `area` of the image,
@@ -49,6 +53,7 @@ pub struct Renderer {
     pub device: Arc<Device>,
     one_shot: OneShot,
     environment: EnvironmentPass,
+    shadow: ShadowPass,
     forward: ForwardPass,
     tonemap: TonemapPass,
     /// One query pool per frame in flight; empty when the device has no timestamps.
@@ -64,6 +69,10 @@ pub struct Renderer {
     /// and every map sampled, instead of specialised to the frame: what the bench compares
     /// the specialised pipelines against.
     pub generic: bool,
+    /// Whether lights cast shadows (each light's `shadows` still applies); the viewer's toggle.
+    pub shadows: bool,
+    /// Scenes uploaded so far: the next upload's id.
+    uploads: Cell<u64>,
 }
 
 /// The images an offscreen frame renders into and the buffers it is read back through,
@@ -102,8 +111,16 @@ impl Renderer {
             .collect::<Result<_>>()?;
         let environment = EnvironmentPass::new(&device)?;
         let one_shot = OneShot::new(&device)?;
+        let shadow = ShadowPass::new(&device, frames_in_flight)?;
         Ok(Self {
-            forward: ForwardPass::new(&device, &one_shot, frames_in_flight, environment.set_layout())?,
+            forward: ForwardPass::new(
+                &device,
+                &one_shot,
+                frames_in_flight,
+                environment.set_layout(),
+                shadow.set_layout(),
+            )?,
+            shadow,
             one_shot,
             environment,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
@@ -112,6 +129,8 @@ impl Renderer {
             floor: false,
             generic: false,
             environment_time: std::time::Duration::ZERO,
+            shadows: true,
+            uploads: Cell::new(0),
             device,
         })
     }
@@ -123,7 +142,14 @@ impl Renderer {
 
     /// Uploads the scene's meshes.
     pub fn upload(&self, scene: &Scene) -> Result<GpuScene> {
-        GpuScene::upload(&self.device, &self.one_shot, scene, self.forward.material_layout())
+        let id = self.uploads.replace(self.uploads.get() + 1);
+        GpuScene::upload(&self.device, &self.one_shot, scene, self.forward.material_layout(), id)
+    }
+
+    /// How many times the shadow maps have been rendered: once per change of the lights,
+    /// objects or settings, not per frame.
+    pub fn shadow_map_renders(&self) -> u64 {
+        self.shadow.renders()
     }
 
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has
@@ -132,12 +158,14 @@ impl Renderer {
         &mut self,
         slot: usize,
         scene: &Scene,
+        gpu: &GpuScene,
         target: &RenderTarget,
         output_format: vk::Format,
     ) -> Result<()> {
         let start = std::time::Instant::now();
         self.environment.prepare(scene)?;
         self.environment_time += start.elapsed();
+        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         self.forward
             .prepare(slot, scene, target.aspect(), self.debug_view, self.floor, !self.generic, &self.one_shot)?;
         self.tonemap.prepare(slot, target, output_format)
@@ -174,9 +202,18 @@ impl Renderer {
             ImageUse::UNDEFINED,
             ImageUse::DEPTH_ATTACHMENT,
         );
+        self.timed(cmd, slot, PASS_SHADOW, || self.shadow.record(cmd, scene, gpu))?;
         self.timed(cmd, slot, PASS_FORWARD, || {
-            self.forward
-                .record(cmd, slot, scene, gpu, target, background(scene), self.environment.set())
+            self.forward.record(
+                cmd,
+                slot,
+                scene,
+                gpu,
+                target,
+                background(scene),
+                self.environment.set(),
+                self.shadow.set(slot),
+            )
         })?;
         self.timed(cmd, slot, PASS_SKYBOX, || {
             self.environment.record_skybox(cmd, target, &scene.camera);
@@ -251,7 +288,7 @@ impl Renderer {
         offscreen: &OffscreenTarget,
         exposure: f32,
     ) -> Result<Option<Vec<f64>>> {
-        self.prepare(0, scene, &offscreen.target, DISPLAY_FORMAT)?;
+        self.prepare(0, scene, gpu, &offscreen.target, DISPLAY_FORMAT)?;
         let output = DisplayOutput {
             image: offscreen.display.handle,
             view: offscreen.display.view,

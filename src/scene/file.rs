@@ -25,6 +25,8 @@ pub struct SceneFile {
     pub camera: CameraDef,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lights: Vec<LightDef>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shadows: Option<ShadowsDef>,
     #[serde(default)]
     pub environment: EnvironmentDef,
     #[serde(default)]
@@ -69,7 +71,22 @@ pub enum LightDef {
         position: [f64; 3],
         /// Radiant intensity in W/sr, linear RGB.
         intensity: [f64; 3],
+        /// Radius of the emitting sphere (absent: 0, a point).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        radius: Option<f64>,
+        /// Whether objects shadow the light (absent: true).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        shadows: Option<bool>,
     },
+}
+
+/// `[shadows]`: settings of every light's shadow map.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ShadowsDef {
+    /// Texels on a side of each cube face (absent: 1024).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub resolution: Option<u32>,
 }
 
 /// `[environment]`, selected by `kind`. Optional keys are `None` when absent

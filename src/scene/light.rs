@@ -4,13 +4,36 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// An isotropic point light. Irradiance on a surface at distance d whose
-/// normal makes angle θ with the light is `intensity · cosθ / d²`.
+/// normal makes angle θ with the light is `intensity · cosθ / d²`; with a
+/// `radius`, a sphere of the same power, which casts soft shadows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLight {
     pub position: Vec3,
     /// Radiant intensity in W/sr, linear RGB.
     pub intensity: Vec3,
+    /// Radius of the emitting sphere; 0 is a point.
+    pub radius: f32,
+    /// Whether objects shadow this light.
+    pub shadows: bool,
 }
+
+impl PointLight {
+    /// A point light (radius 0) that casts shadows, as a scene file's defaults give.
+    pub fn new(position: Vec3, intensity: Vec3) -> Self {
+        Self {
+            position,
+            intensity,
+            radius: 0.0,
+            shadows: true,
+        }
+    }
+}
+
+/// `[shadows] resolution`: the side of each face of a light's cube shadow map, in texels.
+pub const DEFAULT_SHADOW_RESOLUTION: u32 = 1024;
+/// The range `[shadows] resolution` accepts: below 16 texels a face resolves nothing, and
+/// a 4096² cube is 400 MB of depth per light.
+pub const SHADOW_RESOLUTION_RANGE: std::ops::RangeInclusive<u32> = 16..=4096;
 
 /// Light arriving from infinitely far away.
 #[derive(Clone, Debug, PartialEq)]

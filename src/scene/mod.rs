@@ -28,7 +28,9 @@ use glam::{Mat4, Vec3};
 pub use camera::Camera;
 pub use error::SceneError;
 pub use file::SceneFile;
-pub use light::{Environment, PointLight, Reflection, ReflectionMode};
+pub use light::{
+    Environment, PointLight, Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE,
+};
 pub use material::{
     DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, Material, MaterialMaps, SpecularModel,
     Subsurface,
@@ -65,6 +67,8 @@ impl Object {
 pub struct Scene {
     pub camera: Camera,
     pub lights: Vec<PointLight>,
+    /// Texels on a side of each face of a light's cube shadow map.
+    pub shadow_resolution: u32,
     pub environment: Environment,
     /// Each distinct `mesh` string of the file, loaded once.
     pub meshes: Vec<Mesh>,

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 
-use super::file::{CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef};
-use super::light::{Reflection, ReflectionMode};
+use super::file::{CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef, ShadowsDef};
+use super::light::{Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE};
 use super::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use super::{
     builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, PointLight,
@@ -158,12 +158,20 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         .iter()
         .enumerate()
         .map(|(i, light)| match light {
-            LightDef::Point { position, intensity } => Ok(PointLight {
+            LightDef::Point {
+                position,
+                intensity,
+                radius,
+                shadows,
+            } => Ok(PointLight {
                 position: check.vector(&format!("lights[{i}].position"), *position)?,
                 intensity: check.color(&format!("lights[{i}].intensity"), *intensity)?,
+                radius: check.non_negative(&format!("lights[{i}].radius"), radius.unwrap_or(0.0))?,
+                shadows: shadows.unwrap_or(true),
             }),
         })
         .collect::<Result<_, _>>()?;
+    let shadow_resolution = shadow_resolution(&check, file.shadows.as_ref())?;
     let environment = environment(&check, &file.environment, base_dir)?;
 
     let mut requests = TextureRequests::default();
@@ -234,6 +242,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
     Ok(Scene {
         camera,
         lights,
+        shadow_resolution,
         environment,
         meshes,
         objects,
@@ -241,6 +250,23 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         textures,
         source: None,
     })
+}
+
+fn shadow_resolution(check: &Checker, def: Option<&ShadowsDef>) -> Result<u32, SceneError> {
+    let resolution = def.and_then(|d| d.resolution).unwrap_or(DEFAULT_SHADOW_RESOLUTION);
+    if SHADOW_RESOLUTION_RANGE.contains(&resolution) {
+        Ok(resolution)
+    } else {
+        Err(check.invalid(
+            "shadows.resolution",
+            resolution,
+            format!(
+                "must be an integer in [{}, {}]",
+                SHADOW_RESOLUTION_RANGE.start(),
+                SHADOW_RESOLUTION_RANGE.end()
+            ),
+        ))
+    }
 }
 
 fn camera(check: &Checker, def: &CameraDef) -> Result<Camera, SceneError> {
@@ -579,8 +605,13 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
             .map(|light| LightDef::Point {
                 position: widen3(light.position),
                 intensity: widen3(light.intensity),
+                radius: (light.radius > 0.0).then(|| widen(light.radius)),
+                shadows: (!light.shadows).then_some(false),
             })
             .collect(),
+        shadows: (scene.shadow_resolution != DEFAULT_SHADOW_RESOLUTION).then(|| ShadowsDef {
+            resolution: Some(scene.shadow_resolution),
+        }),
         environment: environment_def(&scene.environment, relative),
         objects: scene
             .objects

@@ -158,10 +158,7 @@ specular = "blinn-phong"
     assert_eq!(scene.camera.fov_y_degrees, 45.0);
     assert_eq!(
         scene.lights,
-        [PointLight {
-            position: Vec3::new(2.0, 2.0, 3.0),
-            intensity: Vec3::new(10.0, 9.0, 8.0)
-        }]
+        [PointLight::new(Vec3::new(2.0, 2.0, 3.0), Vec3::new(10.0, 9.0, 8.0))]
     );
     assert_eq!(
         scene.environment,
@@ -321,6 +318,10 @@ fn out_of_range_values_name_the_field() {
         ("[camera]\ntarget = [0.0, -inf, 0.0]", "camera.target = [0.0, -inf, 0.0]: every component must be a finite number"),
         ("[[lights]]\nkind = \"point\"\nposition = [0.0, 0.0, 0.0]\nintensity = [1.0, -1.0, 1.0]", "lights[0].intensity = [1.0, -1.0, 1.0]: every component must be a finite number >= 0"),
         ("[[lights]]\nkind = \"point\"\nposition = [0.0, nan, 0.0]\nintensity = [1.0, 1.0, 1.0]", "lights[0].position = [0.0, NaN, 0.0]: every component must be a finite number"),
+        ("[[lights]]\nkind = \"point\"\nposition = [0.0, 1.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = -0.5", "lights[0].radius = -0.5: must be a finite number >= 0"),
+        ("[[lights]]\nkind = \"point\"\nposition = [0.0, 1.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = inf", "lights[0].radius = inf: must be a finite number >= 0"),
+        ("[shadows]\nresolution = 8", "shadows.resolution = 8: must be an integer in [16, 4096]"),
+        ("[shadows]\nresolution = 8192", "shadows.resolution = 8192: must be an integer in [16, 4096]"),
         ("[environment]\nkind = \"uniform\"\nradiance = [-1.0, 0.0, 0.0]", "environment.radiance = [-1.0, 0.0, 0.0]: every component must be a finite number >= 0"),
         ("[[objects]]\nmesh = \"builtin:cube\"\nscale = 0.0", "objects[1].scale = 0.0: must be a finite number > 0"),
         ("[[objects]]\nmesh = \"builtin:cube\"\nscale = -2.0", "objects[1].scale = -2.0: must be a finite number > 0"),
@@ -438,6 +439,28 @@ fn scene_file_round_trips_through_toml() {
     assert_eq!(file.materials["ground"].wrap_width, MaterialDef::default().wrap_width);
     assert!(matches!(file.lights[0], LightDef::Point { intensity, .. } if intensity == [32.0, 30.0, 27.0]));
     assert!(matches!(file.environment, EnvironmentDef::Uniform { .. }));
+}
+
+/// A light's radius and shadows and the maps' resolution are read, default to a point
+/// that casts shadows at 1024, and are saved only when not the default.
+#[test]
+fn shadow_keys_are_read_defaulted_and_saved() {
+    let text = format!(
+        "{CUBE}[shadows]\nresolution = 512\n[[lights]]\nkind = \"point\"\nposition = [0.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = 0.25\nshadows = false\n[[lights]]\nkind = \"point\"\nposition = [1.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\n"
+    );
+    let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
+    assert_eq!(scene.shadow_resolution, 512);
+    assert_eq!((scene.lights[0].radius, scene.lights[0].shadows), (0.25, false));
+    assert_eq!((scene.lights[1].radius, scene.lights[1].shadows), (0.0, true));
+    let saved = scene.to_file().to_toml().unwrap();
+    let reread = Scene::from_toml(&saved, "saved.toml", Path::new("")).unwrap();
+    assert_eq!((reread.lights, reread.shadow_resolution), (scene.lights.clone(), 512));
+    let defaults = Scene::from_toml(CUBE, "scene.toml", Path::new("")).unwrap();
+    assert_eq!(defaults.shadow_resolution, crate::scene::DEFAULT_SHADOW_RESOLUTION);
+    let saved = defaults.to_file().to_toml().unwrap();
+    let keys: Vec<&str> = saved.lines().filter_map(|l| l.split(" =").next()).collect();
+    assert!(!saved.contains("[shadows]") && !keys.contains(&"radius") && !keys.contains(&"shadows"), "{saved}");
+    assert_eq!(Scene::default_scene().lights[0].radius, 0.5);
 }
 
 #[test]

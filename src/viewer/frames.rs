@@ -294,7 +294,7 @@ impl FrameLoop {
 
         let slot = &mut self.slots[index];
         slot.done.reset()?;
-        self.renderer.prepare(index, scene, &slot.target, format)?;
+        self.renderer.prepare(index, scene, &self.gpu, &slot.target, format)?;
         let d = &self.device.handle;
         let cmd = slot.cmd;
         unsafe {
@@ -450,6 +450,6 @@ mod tests {
 
     #[test]
     fn gpu_times_name_every_pass_and_the_ui() {
-        assert_eq!(gpu_pass_names(), vec!["forward", "skybox", "tonemap", "ui"]);
+        assert_eq!(gpu_pass_names(), vec!["forward", "skybox", "tonemap", "shadow", "ui"]);
     }
 }

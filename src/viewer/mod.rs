@@ -10,6 +10,7 @@ mod overlay;
 mod panels;
 mod rebuild;
 pub mod save;
+mod shadow_panel;
 mod storm;
 mod timings;
 mod watch;
@@ -578,6 +579,7 @@ impl App {
             _ => None,
         };
         state.frames.renderer.debug_view = self.view.debug_view;
+        state.frames.renderer.shadows = self.view.shadows;
         let ui = UiFrame {
             primitives,
             textures: output.textures_delta,

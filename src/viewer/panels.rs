@@ -76,6 +76,8 @@ pub enum Question {
 /// What the UI shows and remembers besides the scene.
 pub struct ViewState {
     pub debug_view: DebugView,
+    /// Whether the lights cast shadows (the renderer's toggle).
+    pub shadows: bool,
     pub exposure: f32,
     /// The object the orbit mode circles.
     pub selected_object: usize,
@@ -112,6 +114,7 @@ impl ViewState {
     pub fn new(exposure: f32, timings: Timings, file: String) -> ViewState {
         ViewState {
             debug_view: DebugView::Shaded,
+            shadows: true,
             exposure,
             selected_object: 0,
             selected_material: 0,
@@ -218,6 +221,7 @@ const SECTIONS: &[Section] = &[
     ("Camera", true, camera_section),
     ("Materials", true, materials_section),
     ("Lights", false, |ui, p| lights_section(ui, p.scene)),
+    ("Shadows", false, |ui, p| super::shadow_panel::shadows_section(ui, p.scene, &mut p.view.shadows)),
     ("Environment", false, |ui, p| environment_section(ui, p.scene)),
     ("Files", false, files_section),
     ("Debug view", true, |ui, p| debug_section(ui, p.view)),
@@ -779,10 +783,7 @@ fn lights_section(ui: &mut Ui, scene: &mut Scene) {
     }
     ui.horizontal(|ui| {
         if scene.lights.len() < MAX_POINT_LIGHTS && ui.button("Add a light").clicked() {
-            scene.lights.push(PointLight {
-                position: scene.camera.position,
-                intensity: Vec3::splat(20.0),
-            });
+            scene.lights.push(PointLight::new(scene.camera.position, Vec3::splat(20.0)));
         }
         if !scene.lights.is_empty() && ui.button("Remove the last").clicked() {
             scene.lights.pop();

@@ -92,13 +92,43 @@ impl Image {
         usage: vk::ImageUsageFlags,
         name: &str,
     ) -> Result<Self> {
+        Self::array(device, extent, layers, format, usage, vk::ImageAspectFlags::COLOR, name)
+    }
+
+    /// A depth 2D array image of `layers` single-level `size`² layers (the faces of cube
+    /// shadow maps); the view is a 2D array view for sampling, [`Self::layer_view`] one
+    /// layer for rendering.
+    pub fn depth_array(
+        device: &Arc<Device>,
+        size: u32,
+        layers: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        name: &str,
+    ) -> Result<Self> {
+        let extent = vk::Extent2D {
+            width: size,
+            height: size,
+        };
+        Self::array(device, extent, layers, format, usage, vk::ImageAspectFlags::DEPTH, name)
+    }
+
+    fn array(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        layers: u32,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+        name: &str,
+    ) -> Result<Self> {
         let shape = Shape {
             extent,
             mip_levels: 1,
             layers,
             view_type: vk::ImageViewType::TYPE_2D_ARRAY,
         };
-        Self::create(device, shape, format, usage, vk::ImageAspectFlags::COLOR, name)
+        Self::create(device, shape, format, usage, aspect, name)
     }
 
     fn create(
@@ -191,6 +221,16 @@ impl Image {
     /// A 2D array view of mip `level`: what compute shaders write a level through.
     pub fn level_view(&self, level: u32) -> Result<ImageView> {
         let handle = self.create_view(vk::ImageViewType::TYPE_2D_ARRAY, self.level_range(level))?;
+        Ok(ImageView {
+            device: self.device.clone(),
+            handle,
+        })
+    }
+
+    /// A 2D view of array layer `layer`: what a pass renders one layer through.
+    pub fn layer_view(&self, layer: u32) -> Result<ImageView> {
+        let range = full_range(self.aspect).base_array_layer(layer);
+        let handle = self.create_view(vk::ImageViewType::TYPE_2D, range)?;
         Ok(ImageView {
             device: self.device.clone(),
             handle,

@@ -113,11 +113,13 @@ impl Pipeline {
 /// dynamic state set when recording.
 pub struct GraphicsPipelineBuilder<'a> {
     vertex: &'a ShaderModule,
-    fragment: &'a ShaderModule,
+    /// None for a depth-only pipeline.
+    fragment: Option<&'a ShaderModule>,
     specialization: Specialization,
     vertex_stride: u32,
     vertex_attributes: Vec<vk::VertexInputAttributeDescription>,
-    color_format: vk::Format,
+    /// None for a depth-only pipeline.
+    color_format: Option<vk::Format>,
     depth_format: Option<vk::Format>,
     depth_write: bool,
     depth_compare: vk::CompareOp,
@@ -128,13 +130,30 @@ impl<'a> GraphicsPipelineBuilder<'a> {
     pub fn new(vertex: &'a ShaderModule, fragment: &'a ShaderModule, color_format: vk::Format) -> Self {
         Self {
             vertex,
-            fragment,
+            fragment: Some(fragment),
             specialization: Specialization::default(),
             vertex_stride: 0,
             vertex_attributes: Vec::new(),
-            color_format,
+            color_format: Some(color_format),
             depth_format: None,
             depth_write: false,
+            depth_compare: vk::CompareOp::LESS,
+            cull_mode: vk::CullModeFlags::NONE,
+        }
+    }
+
+    /// A pipeline without a fragment shader or colour attachment that writes depth into
+    /// `depth_format` (less-than): shadow maps.
+    pub fn depth_only(vertex: &'a ShaderModule, depth_format: vk::Format) -> Self {
+        Self {
+            vertex,
+            fragment: None,
+            specialization: Specialization::default(),
+            vertex_stride: 0,
+            vertex_attributes: Vec::new(),
+            color_format: None,
+            depth_format: Some(depth_format),
+            depth_write: true,
             depth_compare: vk::CompareOp::LESS,
             cull_mode: vk::CullModeFlags::NONE,
         }
@@ -186,18 +205,20 @@ impl<'a> GraphicsPipelineBuilder<'a> {
         let entries = self.specialization.entries();
         let data: &[u8] = bytemuck::cast_slice(&self.specialization.0);
         let spec_info = vk::SpecializationInfo::default().map_entries(&entries).data(data);
-        let stages = [
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::VERTEX)
-                .module(self.vertex.handle)
-                .name(c"main")
-                .specialization_info(&spec_info),
-            vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::FRAGMENT)
-                .module(self.fragment.handle)
-                .name(c"main")
-                .specialization_info(&spec_info),
-        ];
+        let mut stages = vec![vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(self.vertex.handle)
+            .name(c"main")
+            .specialization_info(&spec_info)];
+        if let Some(fragment) = self.fragment {
+            stages.push(
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::FRAGMENT)
+                    .module(fragment.handle)
+                    .name(c"main")
+                    .specialization_info(&spec_info),
+            );
+        }
         let bindings = [vk::VertexInputBindingDescription {
             binding: 0,
             stride: self.vertex_stride,
@@ -226,12 +247,13 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             .depth_test_enable(self.depth_format.is_some())
             .depth_write_enable(self.depth_write)
             .depth_compare_op(self.depth_compare);
-        let blend_attachments =
-            [vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA)];
+        let blend_attachment =
+            vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA);
+        let blend_attachments: Vec<_> = self.color_format.iter().map(|_| blend_attachment).collect();
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-        let color_formats = [self.color_format];
+        let color_formats: Vec<vk::Format> = self.color_format.into_iter().collect();
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(&color_formats)
             .depth_attachment_format(self.depth_format.unwrap_or(vk::Format::UNDEFINED));

@@ -44,6 +44,19 @@ impl Sampler {
         Self::create(device, &info)
     }
 
+    /// Nearest, clamped to the edge, one level: images read texel by texel (shadow maps,
+    /// whose depth format need not filter).
+    pub fn nearest(device: &Arc<Device>) -> Result<Self> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::NEAREST)
+            .min_filter(vk::Filter::NEAREST)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE);
+        Self::create(device, &info)
+    }
+
     fn create(device: &Arc<Device>, info: &vk::SamplerCreateInfo) -> Result<Self> {
         let handle = unsafe { device.handle.create_sampler(info, None) }.context("cannot create a sampler")?;
         Ok(Self {

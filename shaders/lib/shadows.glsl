@@ -1,0 +1,195 @@
+// Shadows of the point lights: a cube depth map per shadowed light, rendered by
+// src/render/shadow.rs (shaders/shadow.vert), its six faces layers of one 2D array.
+// Soft by the light's radius with PCSS (Fernando 2005). Fragment shaders only (the
+// receiver's plane comes from derivatives). The f64 twins are in src/brdf/shadow.rs.
+#ifndef ARGIL_SHADOWS_GLSL
+#define ARGIL_SHADOWS_GLSL
+#include "scene_data.glsl"
+#include "env_math.glsl"
+
+struct ShadowLight {
+    // x: the layer of its face +x (faces +x, −x, +y, −y, +z, −z follow), < 0 without a
+    // map; y: the light's radius; z, w: the near and far planes of its faces.
+    vec4 map;
+};
+
+layout(set = 3, binding = 0, std140) uniform ShadowData {
+    uvec4 settings;  // x: texels on a side of a face
+    ShadowLight lights[MAX_POINT_LIGHTS];
+} shadow_data;
+layout(set = 3, binding = 1) uniform sampler2DArray shadow_maps;
+
+// Every comparison is exact in principle: a texel stores the depth of the surface along
+// the ray through its centre, and it is compared with where that same ray meets the
+// receiver's own plane (receiver_plane_depth), so a lit plane compares equal to itself at
+// any slope, and no normal offset is needed. What the bias covers is rounding, relative
+// to the distance: the stored depth's, 2⁻²⁴ · far/near = 6e-5 with far/near = 1000
+// (src/render/shadow.rs), ×8; and the receiver's normal from derivatives, whose fp32
+// error (≤ 1e-5) the plane's depth amplifies by 1/cos of the ray's angle to it
+// (the slope-scaled term), ×10. At 7 m the constant term is 3.5 mm, far below a texel.
+const float SHADOW_DEPTH_BIAS = 5e-4;
+const float SHADOW_SLOPE_BIAS = 1e-4;
+// Taps of the blocker search and of the filter when the light has a radius.
+const uint SHADOW_TAPS = 16u;
+const float GOLDEN_ANGLE = 2.39996323;
+
+// The face that direction d falls in and (a, b) on it: the inverse of cube_direction.
+uint cube_face(vec3 d, out vec2 ab) {
+    vec3 m = abs(d);
+    if (m.x >= m.y && m.x >= m.z) {
+        ab = (d.x > 0.0 ? vec2(-d.z, -d.y) : vec2(d.z, -d.y)) / m.x;
+        return d.x > 0.0 ? 0u : 1u;
+    }
+    if (m.y >= m.z) {
+        ab = (d.y > 0.0 ? vec2(d.x, d.z) : vec2(d.x, -d.z)) / m.y;
+        return d.y > 0.0 ? 2u : 3u;
+    }
+    ab = (d.z > 0.0 ? vec2(d.x, -d.y) : vec2(-d.x, -d.y)) / m.z;
+    return d.z > 0.0 ? 4u : 5u;
+}
+
+// The major-axis distance of a stored depth: n f / (f − d (f − n)).
+float shadow_linear_depth(float depth, float near, float far) {
+    return near * far / (far - depth * (far - near));
+}
+
+// Where the ray along c (major component 1) meets the receiver's plane through q with
+// normal n, as a major-axis distance, and no further than `receiver`, the ray's point as
+// far from the light as the receiver: what lies beyond cannot stand between them (a ray
+// past the plane's horizon, or grazing it, passes the receiver there).
+float receiver_plane_depth(vec3 c, float q_dot_n, vec3 n, float receiver) {
+    float depth = q_dot_n / dot(c, n);
+    return depth > 0.0 && depth < receiver ? depth : receiver;
+}
+
+// PCSS's penumbra, r (d − d_b)/d_b on the receiver, as an angle from the light (÷ d).
+float penumbra_angle(float radius, float receiver, float blocker) {
+    return radius * max(receiver - blocker, 0.0) / (blocker * receiver);
+}
+
+// What one light's comparisons share.
+struct ShadowReceiver {
+    int layer;
+    float near;
+    float far;
+    vec3 n;        // the receiver's plane normal
+    float q_dot_n;  // q the receiver relative to the light
+    float distance; // |q|
+};
+
+// The distance from the light of what texel `texel` of face `face` stores, when it lies in
+// front of the receiver's plane along that texel's ray; 0 when nothing does.
+float shadow_texel_blocker(ShadowReceiver r, uint face, ivec2 texel) {
+    float size = float(shadow_data.settings.x);
+    vec2 ab = (vec2(texel) + 0.5) / size * 2.0 - 1.0;
+    vec3 c = cube_direction(face, ab);
+    c /= max(max(abs(c.x), abs(c.y)), abs(c.z));
+    float plane = receiver_plane_depth(c, r.q_dot_n, r.n, r.distance / length(c));
+    float stored = shadow_linear_depth(texelFetch(shadow_maps, ivec3(texel, r.layer + int(face)), 0).r, r.near, r.far);
+    float cos_to_plane = abs(dot(c, r.n)) / length(c);
+    float bias = SHADOW_DEPTH_BIAS + SHADOW_SLOPE_BIAS / max(cos_to_plane, 1e-4);
+    return stored * (1.0 + bias) < plane ? stored * length(c) : 0.0;
+}
+
+// The texel direction w falls in, and its fractional position from the texel centre below
+// and left of it (for bilinear weights).
+ivec2 shadow_texel(vec3 w, out uint face, out vec2 fraction) {
+    vec2 ab;
+    face = cube_face(w, ab);
+    vec2 st = (ab * 0.5 + 0.5) * float(shadow_data.settings.x) - 0.5;
+    vec2 base = floor(st);
+    fraction = st - base;
+    return ivec2(base);
+}
+
+// The fraction of the light's point arriving along w: the texels' comparisons weighted
+// bilinearly (percentage-closer filtering, Reeves et al. 1987), clamped at the face's edge.
+float shadow_bilinear(ShadowReceiver r, vec3 w) {
+    uint face;
+    vec2 f;
+    ivec2 base = shadow_texel(w, face, f);
+    int last = int(shadow_data.settings.x) - 1;
+    float lit = 0.0;
+    uint blocked = 0u;
+    for (int j = 0; j < 2; ++j) {
+        for (int i = 0; i < 2; ++i) {
+            float weight = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
+            ivec2 texel = clamp(base + ivec2(i, j), ivec2(0), ivec2(last));
+            bool blocker = shadow_texel_blocker(r, face, texel) > 0.0;
+            lit += blocker ? 0.0 : weight;
+            blocked += blocker ? 1u : 0u;
+        }
+    }
+    // The weights' fp32 sum need not be 1: all lit is exactly lit, all blocked exactly dark.
+    return blocked == 0u ? 1.0 : blocked == 4u ? 0.0 : lit;
+}
+
+// Tap k of n on a Vogel disk of unit radius turned by `rotation`.
+vec2 vogel_disk(uint k, uint n, float rotation) {
+    float radius = sqrt((float(k) + 0.5) / float(n));
+    float angle = float(k) * GOLDEN_ANGLE + rotation;
+    return radius * vec2(cos(angle), sin(angle));
+}
+
+// Interleaved gradient noise (Jimenez 2014): a per-pixel rotation of the taps, which
+// turns the banding of a fixed pattern into fine noise. An image-space term, no twin.
+float interleaved_gradient_noise(vec2 pixel) {
+    return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
+}
+
+// The fraction of point light i that reaches p, 1 without a map: PCSS, the blockers'
+// mean distance searched in the cone from p towards the light's sphere, then the
+// comparisons filtered over the penumbra they give. A light of radius 0 has the hard
+// shadow of one bilinear lookup.
+float point_light_shadow(uint i, vec3 p, vec2 pixel) {
+    // The receiver's triangle, which is what the map stores (derivatives before any branch).
+    vec3 face_normal = cross(dFdx(p), dFdy(p));
+    ShadowLight s = shadow_data.lights[i];
+    if (s.map.x < 0.0) return 1.0;
+    vec3 q = p - frame.lights[i].position.xyz;
+    vec3 m = abs(q);
+    float q_major = max(max(m.x, m.y), m.z);
+    // Outside the faces' depth range nothing is mapped.
+    if (q_major <= s.map.z || q_major >= s.map.w) return 1.0;
+    float d = length(q);
+    vec3 w = q / d;
+    float n2 = dot(face_normal, face_normal);
+    vec3 n = n2 > 0.0 ? face_normal * inversesqrt(n2) : w;
+    // With the light behind the triangle seen from the eye, only the subsurface term
+    // lights p, through its own object, which does not shadow it (as `argil reference`
+    // has it): the map, which cannot tell that object from others, is not read.
+    if (n2 > 0.0 && dot(n, q) * dot(n, frame.camera_position.xyz - p) >= 0.0) return 1.0;
+    ShadowReceiver r = ShadowReceiver(int(s.map.x), s.map.z, s.map.w, n, dot(q, n), d);
+    float radius = s.map.y;
+    if (radius <= 0.0) return shadow_bilinear(r, w);
+
+    mat3 tangent = tangent_frame(w);
+    float texel_angle = 2.0 / float(shadow_data.settings.x);
+    float rotation = TWO_PI * interleaved_gradient_noise(pixel);
+    // Blockers a third of the way from the light or further: their penumbra is at most
+    // 2r/d wide seen from it.
+    float search = max(2.0 * radius / d, texel_angle);
+    float blockers = 0.0;
+    float count = 0.0;
+    for (uint k = 0u; k < SHADOW_TAPS; ++k) {
+        vec2 o = vogel_disk(k, SHADOW_TAPS, rotation) * search;
+        uint face;
+        vec2 f;
+        ivec2 texel = shadow_texel(normalize(w + tangent[0] * o.x + tangent[1] * o.y), face, f);
+        ivec2 nearest = clamp(texel + ivec2(greaterThan(f, vec2(0.5))), ivec2(0),
+                              ivec2(int(shadow_data.settings.x) - 1));
+        float blocker = shadow_texel_blocker(r, face, nearest);
+        blockers += blocker;
+        count += blocker > 0.0 ? 1.0 : 0.0;
+    }
+    if (count == 0.0) return 1.0;
+    float filter_radius = max(penumbra_angle(radius, d, blockers / count), texel_angle);
+    float lit = 0.0;
+    for (uint k = 0u; k < SHADOW_TAPS; ++k) {
+        vec2 o = vogel_disk(k, SHADOW_TAPS, rotation) * filter_radius;
+        lit += shadow_bilinear(r, normalize(w + tangent[0] * o.x + tangent[1] * o.y));
+    }
+    return lit / float(SHADOW_TAPS);
+}
+
+#endif

@@ -1,0 +1,388 @@
+//! Shadow maps of the point lights: one cube depth map per light that casts shadows, its
+//! six faces layers of one 2D array image, rendered only when the lights, the objects or
+//! the settings change (a frame that changes nothing records no draw). Set 3 of the
+//! forward pass (shaders/lib/shadows.glsl): binding 0 the `ShadowData` uniform buffer,
+//! binding 1 the maps.
+
+use std::cell::Cell;
+use std::sync::Arc;
+
+use anyhow::{Context, Result};
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::{DVec3, Mat4, Vec3};
+use gpu_allocator::MemoryLocation;
+
+use super::gpu_scene::{GpuScene, MAX_POINT_LIGHTS};
+use super::shaders;
+use super::target::DEPTH_FORMAT;
+use crate::brdf::shadow::CUBE_FACE_AXES;
+use crate::scene::{Scene, Vertex};
+use crate::vk::{
+    begin_full_rendering, transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, ImageView, Pipeline, PipelineLayout, Sampler,
+    ShaderModule,
+};
+
+/// The far plane is this far beyond the scene's furthest point from the light, and the
+/// near plane this fraction of the far one: what the GLSL's depth bias assumes
+/// (SHADOW_DEPTH_BIAS covers 2⁻²⁴ · far/near with a margin).
+const FAR_MARGIN: f32 = 1.01;
+const NEAR_OVER_FAR: f32 = 1e-3;
+
+/// `ShadowLight` of shadows.glsl.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ShadowLightData {
+    /// First layer (< 0: no map), radius, near, far.
+    map: [f32; 4],
+}
+
+/// `ShadowData` (std140).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ShadowData {
+    settings: [u32; 4],
+    lights: [ShadowLightData; MAX_POINT_LIGHTS],
+}
+
+/// The projection of face `face` of a cube map about the origin with planes `near` and
+/// `far`: the point q goes to x = q·A, y = q·B, w = q·F (the face's axes, so that
+/// (x/w, y/w) is the (a, b) of `cube_direction`) and depth f/(f − n)·(1 − n/(q·F))
+/// (`shadow_depth` in src/brdf/shadow.rs).
+pub fn face_projection(face: usize, near: f32, far: f32) -> Mat4 {
+    let [f, a, b] = CUBE_FACE_AXES[face].map(|v| Vec3::from(v.map(|x| x as f32)));
+    let k = far / (far - near);
+    Mat4::from_cols_array_2d(&[
+        [a.x, a.y, a.z, 0.0],
+        [b.x, b.y, b.z, 0.0],
+        [k * f.x, k * f.y, k * f.z, -k * near],
+        [f.x, f.y, f.z, 0.0],
+    ])
+    .transpose()
+}
+
+/// Each object's bounding sphere in world space: (centre, radius).
+fn object_bounds(scene: &Scene) -> Vec<(Vec3, f32)> {
+    let meshes: Vec<(Vec3, f32)> = scene
+        .meshes
+        .iter()
+        .map(|mesh| {
+            let (lo, hi) = mesh.vertices.iter().fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), v: &Vertex| (lo.min(Vec3::from(v.position)), hi.max(Vec3::from(v.position))),
+            );
+            let centre = (lo + hi) * 0.5;
+            let radius = mesh
+                .vertices
+                .iter()
+                .map(|v| (Vec3::from(v.position) - centre).length())
+                .fold(0.0, f32::max);
+            (centre, radius)
+        })
+        .collect();
+    scene
+        .objects
+        .iter()
+        .map(|o| {
+            let (centre, radius) = meshes[o.mesh];
+            (o.position + centre * o.scale, radius * o.scale)
+        })
+        .collect()
+}
+
+/// The near and far planes of a light's faces: the far plane just beyond every object.
+fn depth_range(light: Vec3, bounds: &[(Vec3, f32)]) -> (f32, f32) {
+    let furthest = bounds
+        .iter()
+        .map(|&(c, r)| (c.as_dvec3() - light.as_dvec3()).length() + f64::from(r))
+        .fold(0.0, f64::max) as f32;
+    let far = (furthest * FAR_MARGIN).max(f32::MIN_POSITIVE / NEAR_OVER_FAR);
+    (far * NEAR_OVER_FAR, far)
+}
+
+/// The maps of the lights that cast shadows, with the views their faces render through.
+struct ShadowMaps {
+    image: Image,
+    faces: Vec<ImageView>,
+    resolution: u32,
+}
+
+/// What one frame in flight owns: its `ShadowData` and the set pointing at it.
+struct FrameSlot {
+    data: Buffer,
+    set: vk::DescriptorSet,
+}
+
+/// One face to render: its layer and the light's near and far planes and position.
+#[derive(Clone, Copy, PartialEq)]
+struct Face {
+    layer: u32,
+    light: Vec3,
+    near: f32,
+    far: f32,
+}
+
+pub struct ShadowPass {
+    device: Arc<Device>,
+    set_layout: DescriptorSetLayout,
+    layout: PipelineLayout,
+    pipeline: Pipeline,
+    _pool: DescriptorPool,
+    slots: Vec<FrameSlot>,
+    sampler: Sampler,
+    maps: Option<ShadowMaps>,
+    /// What the maps were last rendered from (lights, objects, meshes, settings).
+    key: Vec<u64>,
+    faces: Vec<Face>,
+    /// Whether the next recorded frame renders the maps.
+    pending: Cell<bool>,
+    /// Frames that rendered them.
+    renders: Cell<u64>,
+}
+
+impl ShadowPass {
+    pub fn new(device: &Arc<Device>, frames_in_flight: u32) -> Result<Self> {
+        let set_layout = DescriptorSetLayoutBuilder::default()
+            .binding(vk::DescriptorType::UNIFORM_BUFFER, vk::ShaderStageFlags::FRAGMENT)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT)
+            .build(device, "shadow set")?;
+        let layout = PipelineLayout::new(
+            device,
+            &[],
+            std::mem::size_of::<Mat4>() as u32,
+            vk::ShaderStageFlags::VERTEX,
+        )?;
+        let vertex = ShaderModule::new(device, shaders::SHADOW_VERT, "shadow.vert")?;
+        let pipeline = GraphicsPipelineBuilder::depth_only(&vertex, DEPTH_FORMAT)
+            .vertex_layout(
+                std::mem::size_of::<Vertex>() as u32,
+                &[(vk::Format::R32G32B32_SFLOAT, std::mem::offset_of!(Vertex, position) as u32)],
+            )
+            .build(device, &layout, "shadow map")?;
+        let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
+        let slots = (0..frames_in_flight)
+            .map(|_| {
+                Ok(FrameSlot {
+                    data: Buffer::new(
+                        device,
+                        std::mem::size_of::<ShadowData>() as u64,
+                        vk::BufferUsageFlags::UNIFORM_BUFFER,
+                        MemoryLocation::CpuToGpu,
+                        "shadow data",
+                    )?,
+                    set: pool.allocate(&set_layout)?,
+                })
+            })
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            device: device.clone(),
+            set_layout,
+            layout,
+            pipeline,
+            _pool: pool,
+            slots,
+            sampler: Sampler::nearest(device)?,
+            maps: None,
+            key: Vec::new(),
+            faces: Vec::new(),
+            pending: Cell::new(false),
+            renders: Cell::new(0),
+        })
+    }
+
+    /// The layout of set 3 of the forward pass.
+    pub fn set_layout(&self) -> &DescriptorSetLayout {
+        &self.set_layout
+    }
+
+    /// Set 3 of the forward pass for `slot`.
+    pub fn set(&self, slot: usize) -> vk::DescriptorSet {
+        self.slots[slot].set
+    }
+
+    /// Writes `slot`'s shadow data (the caller has waited for its previous frame) and, when
+    /// the lights, objects or settings changed since the maps were rendered, has the next
+    /// recorded frame render them again. `enabled` off gives every light a factor of 1.
+    pub fn prepare(&mut self, slot: usize, scene: &Scene, gpu: &GpuScene, enabled: bool) -> Result<()> {
+        let shadowed: Vec<usize> = (0..scene.lights.len().min(MAX_POINT_LIGHTS))
+            .filter(|&i| enabled && scene.lights[i].shadows)
+            .collect();
+        // Without a shadowed light, one 1-texel cube keeps the set valid.
+        let resolution = if shadowed.is_empty() { 1 } else { scene.shadow_resolution };
+        let layers = 6 * shadowed.len().max(1) as u32;
+        let key = shadow_key(scene, gpu, &shadowed, resolution);
+        if self.maps.as_ref().is_none_or(|m| m.resolution != resolution || m.image.layers != layers) {
+            self.recreate_maps(resolution, layers)?;
+        }
+        let mut data = ShadowData::zeroed();
+        data.settings[0] = resolution;
+        data.lights.iter_mut().for_each(|l| l.map[0] = -1.0);
+        if key != self.key {
+            let bounds = object_bounds(scene);
+            self.faces = shadowed
+                .iter()
+                .enumerate()
+                .flat_map(|(k, &i)| {
+                    let light = scene.lights[i].position;
+                    let (near, far) = depth_range(light, &bounds);
+                    (0..6).map(move |face| Face {
+                        layer: 6 * k as u32 + face,
+                        light,
+                        near,
+                        far,
+                    })
+                })
+                .collect();
+            self.key = key;
+            self.pending.set(true);
+        }
+        for (k, &i) in shadowed.iter().enumerate() {
+            let face = &self.faces[6 * k];
+            data.lights[i].map = [6.0 * k as f32, scene.lights[i].radius, face.near, face.far];
+        }
+        self.slots[slot].data.write(bytemuck::bytes_of(&data))
+    }
+
+    /// New maps (waiting for the frames that read the old ones) and every set pointed at them.
+    fn recreate_maps(&mut self, resolution: u32, layers: u32) -> Result<()> {
+        unsafe { self.device.handle.device_wait_idle() }.context("waiting for the device failed (device lost?)")?;
+        self.maps = None;
+        let image = Image::depth_array(
+            &self.device,
+            resolution,
+            layers,
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            "shadow maps",
+        )?;
+        let faces = (0..layers).map(|l| image.layer_view(l)).collect::<Result<_>>()?;
+        for s in &self.slots {
+            DescriptorWriter::default()
+                .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, s.data.handle)
+                .image(
+                    1,
+                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                    image.view,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    self.sampler.handle,
+                )
+                .write(&self.device, s.set);
+        }
+        self.maps = Some(ShadowMaps {
+            image,
+            faces,
+            resolution,
+        });
+        self.key.clear();
+        self.faces.clear();
+        Ok(())
+    }
+
+    /// Frames that have rendered the maps.
+    pub fn renders(&self) -> u64 {
+        self.renders.get()
+    }
+
+    /// Renders the maps if [`Self::prepare`] found them out of date, leaving them readable
+    /// by fragment shaders; records nothing otherwise.
+    pub fn record(&self, cmd: vk::CommandBuffer, scene: &Scene, gpu: &GpuScene) -> Result<()> {
+        if !self.pending.replace(false) {
+            return Ok(());
+        }
+        self.renders.set(self.renders.get() + 1);
+        let maps = self.maps.as_ref().context("shadow maps missing: prepare() was not called")?;
+        let d = &self.device.handle;
+        let range = maps.image.all_levels();
+        // The old contents go, once the frames before this one have read them.
+        let discard = ImageUse {
+            stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            ..ImageUse::UNDEFINED
+        };
+        transition_levels(&self.device, cmd, maps.image.handle, range, discard, ImageUse::DEPTH_ATTACHMENT);
+        let extent = maps.image.extent;
+        for (layer, view) in maps.faces.iter().enumerate() {
+            let depth = vk::RenderingAttachmentInfo::default()
+                .image_view(view.handle)
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
+                });
+            begin_full_rendering(&self.device, cmd, extent, &[], Some(&depth));
+            if let Some(face) = self.faces.iter().find(|f| f.layer == layer as u32) {
+                let projection = face_projection(layer % 6, face.near, face.far) * Mat4::from_translation(-face.light);
+                unsafe { d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle) };
+                for object in &scene.objects {
+                    let mesh = &gpu.meshes[object.mesh];
+                    let clip_from_object = projection * object.model_matrix();
+                    unsafe {
+                        d.cmd_push_constants(
+                            cmd,
+                            self.layout.handle,
+                            vk::ShaderStageFlags::VERTEX,
+                            0,
+                            bytemuck::bytes_of(&clip_from_object),
+                        );
+                        d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
+                        d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
+                        d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
+                    }
+                }
+            }
+            unsafe { d.cmd_end_rendering(cmd) };
+        }
+        transition_levels(
+            &self.device,
+            cmd,
+            maps.image.handle,
+            range,
+            ImageUse::DEPTH_ATTACHMENT,
+            ImageUse::FRAGMENT_READ,
+        );
+        Ok(())
+    }
+}
+
+/// Everything the maps depend on, as bits: the resolution, the upload the meshes come
+/// from, each shadowed light's position and each object's placement.
+fn shadow_key(scene: &Scene, gpu: &GpuScene, shadowed: &[usize], resolution: u32) -> Vec<u64> {
+    let mut key = vec![u64::from(resolution), gpu.id];
+    let vector = |key: &mut Vec<u64>, v: DVec3| key.extend(v.to_array().map(f64::to_bits));
+    for &i in shadowed {
+        key.push(i as u64);
+        vector(&mut key, scene.lights[i].position.as_dvec3());
+    }
+    for object in &scene.objects {
+        vector(&mut key, object.position.as_dvec3());
+        key.extend([u64::from(object.scale.to_bits()), object.mesh as u64]);
+    }
+    key
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::environment::cube_direction;
+    use crate::brdf::shadow::shadow_depth;
+
+    /// A point along (a, b) of each face at major-axis distance λ projects to (a, b) and
+    /// to the depth the f64 twin gives.
+    #[test]
+    fn face_projection_puts_points_where_the_shaders_read_them() {
+        let (near, far) = (0.01, 10.0);
+        for face in 0..6 {
+            for (a, b, lambda) in [(0.0, 0.0, 1.0), (0.6, -0.3, 4.0), (-0.9, 0.95, 9.0)] {
+                let d = cube_direction(face as u32, a, b);
+                let major = d.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                let q = Vec3::from(d.map(|x| (x / major * lambda) as f32));
+                let clip = face_projection(face, near, far) * q.extend(1.0);
+                let ndc = clip.truncate() / clip.w;
+                assert!((f64::from(ndc.x) - a).abs() < 1e-6 && (f64::from(ndc.y) - b).abs() < 1e-6, "face {face}");
+                let depth = shadow_depth(lambda, f64::from(near), f64::from(far));
+                assert!((f64::from(ndc.z) - depth).abs() < 1e-6, "face {face}: {} against {depth}", ndc.z);
+            }
+        }
+    }
+}

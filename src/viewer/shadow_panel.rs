@@ -1,0 +1,34 @@
+//! The viewer's shadow settings: the renderer-wide toggle, the maps' resolution, and each
+//! light's `shadows` and `radius` (saved with the scene).
+
+use egui::Ui;
+
+use crate::scene::{Scene, SHADOW_RESOLUTION_RANGE};
+
+/// The "Shadows" section; `enabled` is the renderer's toggle (not saved).
+pub fn shadows_section(ui: &mut Ui, scene: &mut Scene, enabled: &mut bool) {
+    ui.checkbox(enabled, "shadows (all lights)");
+    egui::Grid::new("shadows").num_columns(2).striped(true).show(ui, |ui| {
+        ui.label("map resolution");
+        ui.add(
+            egui::DragValue::new(&mut scene.shadow_resolution)
+                .range(SHADOW_RESOLUTION_RANGE)
+                .speed(16.0)
+                .suffix(" texels"),
+        );
+        ui.end_row();
+        for (i, light) in scene.lights.iter_mut().enumerate() {
+            ui.label(format!("light {i}"));
+            ui.horizontal(|ui| {
+                ui.checkbox(&mut light.shadows, "casts shadows");
+                ui.add(
+                    egui::DragValue::new(&mut light.radius)
+                        .range(0.0..=1e3)
+                        .speed(0.01)
+                        .prefix("radius "),
+                );
+            });
+            ui.end_row();
+        }
+    });
+}

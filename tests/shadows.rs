@@ -1,0 +1,200 @@
+//! Shadows of point lights (src/render/shadow.rs, shaders/lib/shadows.glsl): on lavapipe
+//! with the validation layer on, every frame charged to its test.
+
+mod common;
+
+use argil::reference::integrator::CameraRays;
+use argil::render::OffscreenTarget;
+use ash::vk;
+use common::{gpu, render, scene};
+use glam::DVec3;
+
+/// A grey plane at y = 0 under one light and a uniform environment, seen from above at
+/// an angle; `extra` adds objects, `light` the light's extra keys.
+fn plane_scene(light: &str, extra: &str) -> String {
+    format!(
+        r#"
+[camera]
+position = [0.0, 5.0, 6.0]
+target = [0.0, 0.0, 0.0]
+fov_y_degrees = 40.0
+
+[[lights]]
+kind = "point"
+position = [1.5, 4.0, 1.0]
+intensity = [20.0, 18.0, 16.0]
+{light}
+
+[environment]
+kind = "uniform"
+radiance = [0.1, 0.1, 0.12]
+
+[[objects]]
+mesh = "builtin:plane"
+scale = 4.0
+material = "ground"
+{extra}
+
+[materials.ground]
+base_color = [0.6, 0.6, 0.6]
+roughness = 0.7
+
+[shadows]
+resolution = 2048
+"#
+    )
+}
+
+const SPHERE: &str = r#"
+[[objects]]
+mesh = "builtin:sphere"
+position = [0.0, 1.3, 0.0]
+scale = 0.6
+material = "ground"
+"#;
+const SPHERE_CENTRE: DVec3 = DVec3::new(0.0, 1.3, 0.0);
+const SPHERE_RADIUS: f64 = 0.6;
+const LIGHT: DVec3 = DVec3::new(1.5, 4.0, 1.0);
+const SIZE: (u32, u32) = (160, 120);
+
+fn hdr(toml: &str) -> Vec<f32> {
+    render(&scene(toml), SIZE.0, SIZE.1).hdr
+}
+
+/// A lit plane with nothing above it has no shadow: the frame with shadows is the frame
+/// without them, bit for bit, for a point light and for a light with a radius (whose
+/// blocker search finds nothing, so no filter runs).
+#[test]
+fn a_lit_plane_alone_has_no_shadow() {
+    for radius in ["", "radius = 0.5"] {
+        let with = hdr(&plane_scene(radius, ""));
+        let without = hdr(&plane_scene(&format!("{radius}\nshadows = false"), ""));
+        let differing = with.iter().zip(&without).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+        assert_eq!(differing, 0, "{radius:?}: {differing} channels differ");
+    }
+}
+
+/// Whether the segment from ground point g to the light passes through the sphere, and
+/// how far (signed, in world units) the segment's closest approach is from its surface.
+fn shadow_margin(g: DVec3) -> (bool, f64) {
+    let d = LIGHT - g;
+    let t = ((SPHERE_CENTRE - g).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+    let miss = (g + d * t - SPHERE_CENTRE).length() - SPHERE_RADIUS;
+    (miss < 0.0, miss)
+}
+
+/// Where the camera ray through pixel point (x, y) meets the ground y = 0, unless it meets
+/// the sphere first (or misses the plane's 8×8 square).
+fn ground_point(rays: &CameraRays, x: f64, y: f64) -> Option<DVec3> {
+    let (o, d) = rays.ray(x, y, SIZE.0, SIZE.1);
+    let t = -o.y / d.y;
+    let g = o + d * t;
+    let oc = o - SPHERE_CENTRE;
+    let (a, b, c) = (d.length_squared(), oc.dot(d), oc.length_squared() - (SPHERE_RADIUS * 1.01).powi(2));
+    let hits_sphere = b * b - a * c >= 0.0 && -b > 0.0;
+    (t > 0.0 && g.x.abs() < 3.9 && g.z.abs() < 3.9 && !hits_sphere).then_some(g)
+}
+
+/// A sphere above the plane under a point light (radius 0): ground pixels inside the
+/// umbra hold only the environment's light (the frame of the same scene without the
+/// light), pixels outside it equal the unshadowed frame, both bit for bit; and the
+/// umbra's edge lies where geometry puts it to within a pixel: every pixel whose centre
+/// and corners all fall on one side of the sphere's exact shadow is on that side.
+#[test]
+fn a_point_lights_umbra_holds_only_the_environment_and_lies_where_geometry_puts_it() {
+    let shadowed = hdr(&plane_scene("", SPHERE));
+    let unshadowed = hdr(&plane_scene("shadows = false", SPHERE));
+    let environment_only = hdr(&plane_scene("", SPHERE).replace("intensity = [20.0, 18.0, 16.0]", "intensity = [0.0, 0.0, 0.0]"));
+    let camera = scene(&plane_scene("", SPHERE)).camera;
+    let rays = CameraRays::new(&camera, SIZE.0, SIZE.1);
+    let (mut umbra, mut lit, mut edge) = (0, 0, 0);
+    let mut wrong = Vec::new();
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let points = [(0.5, 0.5), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+            let sides: Option<Vec<bool>> = points
+                .iter()
+                .map(|&(dx, dy)| ground_point(&rays, f64::from(x) + dx, f64::from(y) + dy).map(|g| shadow_margin(g).0))
+                .collect();
+            let Some(sides) = sides else { continue };
+            if sides.iter().any(|&s| s != sides[0]) {
+                edge += 1;
+                continue;
+            }
+            let i = 4 * (y * SIZE.0 + x) as usize;
+            let expected = if sides[0] { &environment_only } else { &unshadowed };
+            let close = (0..3).all(|c| {
+                let (a, e) = (shadowed[i + c], expected[i + c]);
+                a.to_bits() == e.to_bits()
+            });
+            if sides[0] {
+                umbra += 1;
+            } else {
+                lit += 1;
+            }
+            if !close {
+                wrong.push((x, y, sides[0], shadowed[i], expected[i]));
+            }
+        }
+    }
+    eprintln!("umbra {umbra} px, lit {lit} px, edge {edge} px");
+    assert!(umbra > 300 && lit > 5000, "umbra {umbra}, lit {lit}: the scene does not test much");
+    assert!(wrong.is_empty(), "{} pixels off their side, first: {:?}", wrong.len(), &wrong[..wrong.len().min(8)]);
+}
+
+/// A light with a radius gives a penumbra: pixels between the point light's umbra and its
+/// lit side that are neither, and the umbra shrinks.
+#[test]
+fn a_light_with_a_radius_casts_a_penumbra() {
+    let environment_only = hdr(&plane_scene("", SPHERE).replace("intensity = [20.0, 18.0, 16.0]", "intensity = [0.0, 0.0, 0.0]"));
+    let unshadowed = hdr(&plane_scene("shadows = false", SPHERE));
+    let count = |frame: &[f32]| {
+        let (mut umbra, mut penumbra) = (0, 0);
+        for i in (0..frame.len()).step_by(4) {
+            let (e, u, a) = (environment_only[i + 1], unshadowed[i + 1], frame[i + 1]);
+            if u - e < 1e-3 {
+                continue;
+            }
+            if (a - e).abs() <= 1e-6 {
+                umbra += 1;
+            } else if a < u - 1e-4 * u {
+                penumbra += 1;
+            }
+        }
+        (umbra, penumbra)
+    };
+    let (hard_umbra, hard_penumbra) = count(&hdr(&plane_scene("", SPHERE)));
+    let (soft_umbra, soft_penumbra) = count(&hdr(&plane_scene("radius = 0.3", SPHERE)));
+    eprintln!("radius 0: umbra {hard_umbra}, penumbra {hard_penumbra}; radius 0.3: umbra {soft_umbra}, penumbra {soft_penumbra}");
+    assert!(soft_penumbra > 4 * hard_penumbra.max(1), "no penumbra");
+    assert!(soft_umbra < hard_umbra, "the umbra did not shrink");
+}
+
+/// The maps are rendered when the scene changes, not every frame: two frames of the same
+/// scene render them once, moving the light renders them again, and the frame is the same
+/// either way.
+#[test]
+fn shadow_maps_render_only_when_the_scene_changes() {
+    let mut s = scene(&plane_scene("radius = 0.2", SPHERE));
+    gpu().exclusive(|renderer| {
+        let gpu_scene = renderer.upload(&s).expect("upload");
+        let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
+        let mut frame = |renderer: &mut argil::render::Renderer, s: &argil::scene::Scene| {
+            let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
+            renderer.read_offscreen(&offscreen, ms).expect("read").hdr
+        };
+        let before = renderer.shadow_map_renders();
+        let first = frame(renderer, &s);
+        let second = frame(renderer, &s);
+        assert_eq!(renderer.shadow_map_renders(), before + 1);
+        assert_eq!(first, second);
+        s.lights[0].position.x += 0.5;
+        let moved = frame(renderer, &s);
+        assert_eq!(renderer.shadow_map_renders(), before + 2);
+        assert_ne!(moved, second);
+        // Changing only the radius needs no new map.
+        s.lights[0].radius = 0.4;
+        frame(renderer, &s);
+        assert_eq!(renderer.shadow_map_renders(), before + 2);
+    });
+}
