@@ -46,7 +46,7 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
     assert_eq!(
         first.matches("rendering the").count(),
         2,
-        "a full and a direct reference: {first}"
+        "a full and a shadows reference: {first}"
     );
 
     let rows: Vec<Value> =
@@ -64,7 +64,7 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
         ] {
             assert!(finite(row, key) > 0.0, "{key} is not positive");
         }
-        for error in ["error_full", "error_direct"] {
+        for error in ["error_full", "error_shadows"] {
             for key in ["flip_mean", "rel_mse", "reference_noise"] {
                 finite(&row[error], key);
             }

@@ -2,7 +2,7 @@
 //! GPU time per pass of steady frames (after a warm-up that absorbs the driver's first-draw
 //! shader compile), the CPU time per frame, the GPU time as a ratio to the trivial-shader
 //! floor drawn in alternation with it, and the frame's error against the scene's `full` and
-//! `direct` references (cached, see [`references`]).
+//! `shadows` references (cached, see [`references`]).
 //!
 //! - [`plan`]: the scenes and configurations.
 //! - [`references`]: the reference cache.
@@ -71,7 +71,7 @@ const WARMUP_SECONDS: f64 = 2.0;
 struct ErrorSpec {
     extent: vk::Extent2D,
     full: Stop,
-    direct: Stop,
+    shadows: Stop,
 }
 
 impl ErrorSpec {
@@ -80,7 +80,7 @@ impl ErrorSpec {
             Self {
                 extent: vk::Extent2D { width: 96, height: 54 },
                 full: Stop::Samples(8),
-                direct: Stop::Samples(8),
+                shadows: Stop::Samples(8),
             }
         } else {
             // 320×180 keeps each full-transport reference under a minute on 2 cores.
@@ -93,7 +93,7 @@ impl ErrorSpec {
                     target: 0.02,
                     max_samples: 4096,
                 },
-                direct: Stop::Noise {
+                shadows: Stop::Noise {
                     target: 0.01,
                     max_samples: 4096,
                 },
@@ -140,18 +140,18 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         if scene.configurations.is_empty() {
             continue;
         }
-        let refs = [(Transport::Full, spec.full), (Transport::Direct, spec.direct)].map(|(transport, stop)| {
+        let refs = [(Transport::Full, spec.full), (Transport::Shadows, spec.shadows)].map(|(transport, stop)| {
             let settings = references::settings(spec.extent.width, spec.extent.height, transport, stop);
             references::get(&reference_dir, scene.name, &scene.text, &settings)
         });
-        let [full, direct] = refs;
-        let (full, direct) = (full?, direct?);
+        let [full, shadows] = refs;
+        let (full, shadows) = (full?, shadows?);
         bench_scene(
             &mut renderer,
             &scene,
             options,
             &spec,
-            [&full, &direct],
+            [&full, &shadows],
             &provenance,
             &mut rows,
         )?;
@@ -197,8 +197,8 @@ fn bench_scene(
         renderer.floor = configuration.floor;
         renderer.generic = configuration.generic;
         let error_frame = frame(renderer, &parsed, &gpu, spec.extent)?;
-        let [full, direct] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
-        let (full, direct) = (full?, direct?);
+        let [full, shadows] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
+        let (full, shadows) = (full?, shadows?);
         for &extent in &configuration.resolutions {
             let timing = time(renderer, &parsed, &gpu, extent, configuration.floor, options)?;
             let row = Row::new(
@@ -207,7 +207,7 @@ fn bench_scene(
                 extent,
                 &timing,
                 (&full, refs[0]),
-                (&direct, refs[1]),
+                (&shadows, refs[1]),
                 provenance,
             );
             eprintln!("{}", row.line());

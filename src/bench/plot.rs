@@ -14,7 +14,7 @@ const SIZE: (u32, u32) = (960, 640);
 const FONT: &str = "sans-serif";
 
 /// Draws `rows` (one scene; the floor left out, as it is the unit of the x axis) into the
-/// PNG `path`, their ꟻLIP against the `direct` reference: the error of the renderer's
+/// PNG `path`, their ꟻLIP against the `shadows` reference: the error of the renderer's
 /// approximations alone. A row at another size than the first is labelled with its size.
 pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
     // Registering twice keeps the first; the font is one egui embeds already.
@@ -31,7 +31,7 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
             } else {
                 format!("{} at {}×{}", r.configuration, r.width, r.height)
             };
-            (r.forward_ratio_to_floor, r.error_direct.flip_mean, name, r.report)
+            (r.forward_ratio_to_floor, r.error_shadows.flip_mean, name, r.report)
         })
         .filter(|(x, y, ..)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
         .collect();
@@ -59,7 +59,7 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
         chart
             .configure_mesh()
             .x_desc("forward pass GPU time / the floor's (log)")
-            .y_desc("mean FLIP against the direct reference (log)")
+            .y_desc("mean FLIP against the shadows reference (log)")
             .label_style((FONT, 15))
             .draw()?;
         chart.draw_series(LineSeries::new(pareto_front(&points), BLUE.stroke_width(2)))?;

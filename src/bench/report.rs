@@ -74,9 +74,9 @@ pub struct Row {
     /// That work against the floor frame's: on a software device, the ratio that other
     /// load on the machine leaves alone.
     pub work_ratio_to_floor: f64,
-    /// Against the `full` and `direct` references, at their size.
+    /// Against the `full` and `shadows` references, at their size.
     pub error_full: Error,
-    pub error_direct: Error,
+    pub error_shadows: Error,
     pub error_width: usize,
     pub error_height: usize,
     pub device: String,
@@ -93,7 +93,7 @@ impl Row {
         extent: vk::Extent2D,
         timing: &Timing,
         full: (&Metrics, &CachedReference),
-        direct: (&Metrics, &CachedReference),
+        shadows: (&Metrics, &CachedReference),
         provenance: &Provenance,
     ) -> Self {
         Self {
@@ -115,7 +115,7 @@ impl Row {
             work_ms_median: timing.work.median,
             work_ratio_to_floor: timing.work_ratio.median,
             error_full: Error::new(full.0, full.1),
-            error_direct: Error::new(direct.0, direct.1),
+            error_shadows: Error::new(shadows.0, shadows.1),
             error_width: full.0.width,
             error_height: full.0.height,
             device: provenance.device.clone(),
@@ -128,7 +128,7 @@ impl Row {
     /// The row as one line of progress.
     pub fn line(&self) -> String {
         format!(
-            "{} {} {}x{}: GPU {:.2} ms (p95 {:.2}), forward {:.1}× the floor (work {:.1}×), CPU {:.2} ms, ꟻLIP full {:.4} direct {:.4}",
+            "{} {} {}x{}: GPU {:.2} ms (p95 {:.2}), forward {:.1}× the floor (work {:.1}×), CPU {:.2} ms, ꟻLIP full {:.4} shadows {:.4}",
             self.scene,
             self.configuration,
             self.width,
@@ -139,7 +139,7 @@ impl Row {
             self.work_ratio_to_floor,
             self.cpu_ms_median,
             self.error_full.flip_mean,
-            self.error_direct.flip_mean
+            self.error_shadows.flip_mean
         )
     }
 }
@@ -221,10 +221,10 @@ fn csv(rows: &[Row]) -> String {
         "work_ratio_to_floor",
         "flip_full",
         "rel_mse_full",
-        "flip_direct",
-        "rel_mse_direct",
+        "flip_shadows",
+        "rel_mse_shadows",
         "reference_noise_full",
-        "reference_noise_direct",
+        "reference_noise_shadows",
         "error_width",
         "error_height",
         "device",
@@ -255,10 +255,10 @@ fn csv(rows: &[Row]) -> String {
             r.work_ratio_to_floor.to_string(),
             r.error_full.flip_mean.to_string(),
             r.error_full.rel_mse.to_string(),
-            r.error_direct.flip_mean.to_string(),
-            r.error_direct.rel_mse.to_string(),
+            r.error_shadows.flip_mean.to_string(),
+            r.error_shadows.rel_mse.to_string(),
             r.error_full.reference_noise.to_string(),
-            r.error_direct.reference_noise.to_string(),
+            r.error_shadows.reference_noise.to_string(),
             r.error_width.to_string(),
             r.error_height.to_string(),
             csv_field(&r.device),
@@ -290,7 +290,7 @@ pub fn markdown(rows: &[Row]) -> String {
              of the row's steady frames; × floor: the forward pass against the trivial-shader floor's \
              in the frame drawn just before, median of the pairs; × floor (work): the same ratio of the CPU time \
              the process spent (on a software device the rendering's work, which other load on the machine \
-             does not stretch). Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `direct` one ({} spp, \
+             does not stretch). Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `shadows` one ({} spp, \
              noise {:.2}%).\n",
             first.device,
             first.driver,
@@ -300,11 +300,11 @@ pub fn markdown(rows: &[Row]) -> String {
             first.error_height,
             first.error_full.reference_spp,
             first.error_full.reference_noise * 100.0,
-            first.error_direct.reference_spp,
-            first.error_direct.reference_noise * 100.0,
+            first.error_shadows.reference_spp,
+            first.error_shadows.reference_noise * 100.0,
         );
     }
-    text += "| scene | configuration | size | frames | GPU ms | forward ms | CPU ms | × floor | × floor (work) | ꟻLIP full | rel. MSE full | ꟻLIP direct | rel. MSE direct |\n";
+    text += "| scene | configuration | size | frames | GPU ms | forward ms | CPU ms | × floor | × floor (work) | ꟻLIP full | rel. MSE full | ꟻLIP shadows | rel. MSE shadows |\n";
     text += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
     for r in rows {
         let name = if r.report {
@@ -328,8 +328,8 @@ pub fn markdown(rows: &[Row]) -> String {
             r.work_ratio_to_floor,
             r.error_full.flip_mean,
             r.error_full.rel_mse,
-            r.error_direct.flip_mean,
-            r.error_direct.rel_mse,
+            r.error_shadows.flip_mean,
+            r.error_shadows.rel_mse,
         );
     }
     text
@@ -365,7 +365,7 @@ mod tests {
             work_ms_median: gpu_ms,
             work_ratio_to_floor: gpu_ms,
             error_full: error.clone(),
-            error_direct: error,
+            error_shadows: error,
             error_width: 32,
             error_height: 16,
             device: "d".to_owned(),

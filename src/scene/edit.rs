@@ -37,6 +37,10 @@ pub fn edit_document(scene: &Scene, document: &str, path: &Path) -> Result<Strin
         merge(section(root, "environment")?, &table_of(&new.environment)?, None);
     }
     merge_list(root, "lights", &old.lights, &new.lights, None)?;
+    if old.shadows != new.shadows {
+        let shadows = new.shadows.clone().unwrap_or_default();
+        merge(section(root, "shadows")?, &table_of(&shadows)?, None);
+    }
     let object_base = table_of(&ObjectDef {
         mesh: String::new(),
         position: [0.0; 3],

@@ -189,10 +189,10 @@ mod tests {
         let folder = Folder::new();
         let path = folder.write("scene.toml", DEFAULT_SCENE_TOML);
         let (mut scene, document) = load(&path);
-        scene.lights.push(PointLight {
-            position: Vec3::new(1.0, 2.0, 3.0),
-            intensity: Vec3::splat(5.0),
-        });
+        scene.lights.push(PointLight::new(Vec3::new(1.0, 2.0, 3.0), Vec3::splat(5.0)));
+        scene.lights[0].radius = 0.25;
+        scene.lights[0].shadows = false;
+        scene.shadow_resolution = 512;
         scene.environment = Environment::Studio {
             intensity: 1.5,
             rotation_degrees: 0.0,
@@ -216,6 +216,7 @@ mod tests {
         save(&scene, &document, &path, false).unwrap();
         let (reloaded, _) = load(&path);
         assert_eq!(reloaded.lights, scene.lights);
+        assert_eq!(reloaded.shadow_resolution, 512);
     }
 
     #[test]
