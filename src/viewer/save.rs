@@ -31,7 +31,11 @@ impl Document {
     /// Reads a scene file's text.
     pub fn read(path: &Path) -> Result<Document> {
         Ok(Document {
-            text: std::fs::read_to_string(path).with_context(|| format!("{}: cannot read", path.display()))?,
+            // The file the user named: not readable is bad input (exit code 2), as Scene::load has it.
+            text: std::fs::read_to_string(path).map_err(|error| crate::scene::SceneError::Io {
+                path: path.to_path_buf(),
+                error,
+            })?,
             path: Some(path.to_path_buf()),
         })
     }
