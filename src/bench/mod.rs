@@ -171,13 +171,14 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         write_bytes(&out.join("startup.json"), serde_json::to_string_pretty(&starts)?.as_bytes())?;
         write_bytes(&out.join("startup.md"), startup::markdown(extent, &starts).as_bytes())?;
     }
-    if rows.is_empty() {
-        return Ok(out);
-    }
+    // With --only, the rows already there are written again beside the new ones (with
+    // `--only startup`, in this build's format).
     if !options.only.is_empty() {
         rows = report::merged(report::read(&out)?, rows);
     }
-    report::write(&out, &rows)?;
+    if !rows.is_empty() {
+        report::write(&out, &rows)?;
+    }
     Ok(out)
 }
 

@@ -61,6 +61,9 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
             .x_desc("forward pass GPU time / the floor's (log)")
             .y_desc("mean FLIP against the shadows reference (log)")
             .label_style((FONT, 15))
+            // Log axes put ticks at binary fractions (0.30000000000000004).
+            .x_label_formatter(&|x| format!("{}", (x * 1e3).round() / 1e3))
+            .y_label_formatter(&|y| format!("{}", (y * 1e4).round() / 1e4))
             .draw()?;
         chart.draw_series(LineSeries::new(pareto_front(&points), BLUE.stroke_width(2)))?;
         chart.draw_series(points.iter().map(|&(x, y, _, report)| {
