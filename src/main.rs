@@ -254,21 +254,18 @@ struct RenderOptions {
 }
 
 fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
-    let RenderOptions {
-        choice,
-        validation,
-        scene,
-        out,
-        width,
-        height,
-        exposure,
-        timings,
-    } = options;
+    let RenderOptions { width, height, exposure, .. } = options;
     check_exposure(exposure)?;
     let mut startup = Recorder::new(process_start);
-    let scene = startup.step("scene and its maps", || load_scene(scene.as_deref()))?;
+    let scene = startup.step("scene and its maps", || load_scene(options.scene.as_deref()))?;
     let device = startup.step("instance and device", || {
-        Device::new(DeviceOptions { choice, validation }, None).map(Arc::new)
+        Device::new(
+            DeviceOptions {
+                choice: options.choice,
+                validation: options.validation,
+            },
+            None,
+        ).map(Arc::new)
     })?;
     let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
     let gpu = startup.step("upload", || renderer.upload(&scene))?;
@@ -296,8 +293,8 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     if bad > 0 {
         eprintln!("argil: warning: {bad} NaN/Inf values in the frame");
     }
-    startup.step("write", || write_frame(&frame, &out))?;
-    if let Some(path) = &timings {
+    startup.step("write", || write_frame(&frame, &options.out))?;
+    if let Some(path) = &options.timings {
         startup.write(path)?;
     }
     let times = frame.gpu_ms.as_ref().map(|ms| {
@@ -308,7 +305,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     });
-    println!("{}", out.display());
+    println!("{}", options.out.display());
     eprintln!(
         "argil: {width}x{height} on {}{}",
         device.info.name,

@@ -179,7 +179,7 @@ fn shadow_maps_render_only_when_the_scene_changes() {
     gpu().exclusive(|renderer| {
         let gpu_scene = renderer.upload(&s).expect("upload");
         let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
-        let mut frame = |renderer: &mut argil::render::Renderer, s: &argil::scene::Scene| {
+        let frame = |renderer: &mut argil::render::Renderer, s: &argil::scene::Scene| {
             let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
             renderer.read_offscreen(&offscreen, ms).expect("read").hdr
         };

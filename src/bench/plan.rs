@@ -248,10 +248,11 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         "no-environment" => file.environment = EnvironmentDef::None,
         // Present but doing nothing: the documented way to switch off a preset's map.
         "maps-off" => file.materials.values_mut().for_each(|m| {
-            for map in [&mut m.base_color_map, &mut m.normal_map, &mut m.detail_map, &mut m.noise_map] {
-                if let Some(map) = map {
-                    map.strength = 0.0;
-                }
+            for map in [&mut m.base_color_map, &mut m.normal_map, &mut m.detail_map, &mut m.noise_map]
+                .into_iter()
+                .flatten()
+            {
+                map.strength = 0.0;
             }
         }),
         SEPARABLE_G => file.materials.values_mut().for_each(|m| m.geometry = Geometry::SmithSeparable),

@@ -44,6 +44,11 @@ fn cached(index: usize, cache: &DiskCache) -> TextureData {
     ]);
     let entry = format!("map-{}", name.trim_start_matches(super::BUILTIN_PREFIX));
     let pixels = cache.get_or_compute(&entry, key, |b| b.len() == size * size * 4, || generate(index).pixels);
+    rgba8(name, size, pixels)
+}
+
+/// A square RGBA8 texture, as every builtin one is.
+fn rgba8(name: &str, size: usize, pixels: Vec<u8>) -> TextureData {
     TextureData {
         name: name.to_owned(),
         width: size as u32,
@@ -520,13 +525,7 @@ fn normal_map(name: &str, field: &Field) -> TextureData {
             pixels.push(255);
         }
     }
-    TextureData {
-        name: name.to_owned(),
-        width: field.size as u32,
-        height: field.size as u32,
-        format: TexelFormat::Rgba8Unorm,
-        pixels,
-    }
+    rgba8(name, field.size, pixels)
 }
 
 fn unorm8(x: f32) -> u8 {
@@ -558,13 +557,7 @@ fn noise(name: &str, size: usize) -> TextureData {
             [texel(0), texel(1), texel(2), texel(3)]
         })
         .collect();
-    TextureData {
-        name: name.to_owned(),
-        width: size as u32,
-        height: size as u32,
-        format: TexelFormat::Rgba8Unorm,
-        pixels,
-    }
+    rgba8(name, size, pixels)
 }
 
 // --------------------------------------------------------------- primitives

@@ -609,7 +609,7 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
                 shadows: (!light.shadows).then_some(false),
             })
             .collect(),
-        shadows: (scene.shadow_resolution != DEFAULT_SHADOW_RESOLUTION).then(|| ShadowsDef {
+        shadows: (scene.shadow_resolution != DEFAULT_SHADOW_RESOLUTION).then_some(ShadowsDef {
             resolution: Some(scene.shadow_resolution),
         }),
         environment: environment_def(&scene.environment, relative),
