@@ -23,14 +23,14 @@ use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
 use super::shaders;
 use super::subsurface::SubsurfaceTable;
 use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
-use crate::scene::{Environment, MapRef, Material, ReflectionMode, Scene, Vertex};
+use crate::scene::{DetailBlend, Environment, MapRef, Material, ReflectionMode, Scene, Vertex};
 use crate::vk::{
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
     Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
 /// A specialization constant's value that leaves the choice to the uniform the shader
-/// also has (`FROM_UNIFORM` in shaders/lib/scene_data.glsl): the generic pipeline.
+/// also has (`FROM_UNIFORM` in shaders/lib/specialization.glsl): the generic pipeline.
 pub const FROM_UNIFORM: u32 = u32::MAX;
 
 /// The specialization constants of `forward.frag`, in `constant_id` order: a material's
@@ -88,14 +88,21 @@ impl ForwardConstants {
             u32::from(map.is_some_and(|map| !specialize || (used && map.strength != 0.0)))
         };
         let specialized = |value: u32| if specialize { value } else { FROM_UNIFORM };
+        let detail = sampled(&maps.detail, true);
+        // A normal map at strength 0 decodes to +z, which only RNM and whiteout blend a
+        // detail map over as they would over no normal map.
+        let flat_base_is_none = detail == 0 || matches!(maps.detail_blend, DetailBlend::Rnm | DetailBlend::Whiteout);
         Self {
             diffuse_model: models.diffuse as u32,
             specular_model: models.specular as u32,
             distribution: models.distribution as u32,
             geometry: models.geometry as u32,
             has_base_color_map: sampled(&maps.base_color, true),
-            has_normal_map: sampled(&maps.normal, true),
-            has_detail_map: sampled(&maps.detail, true),
+            has_normal_map: u32::from(
+                maps.normal
+                    .is_some_and(|n| !specialize || n.strength != 0.0 || !flat_base_is_none),
+            ),
+            has_detail_map: detail,
             has_noise_map: sampled(&maps.noise, reflection == Some(ReflectionMode::Seed)),
             detail_blend: maps.detail_blend as u32,
             horizon: m.horizon as u32,
@@ -321,7 +328,9 @@ impl ForwardPass {
                 if floor {
                     self.floor_pipeline()
                 } else {
-                    self.pipeline(&ForwardConstants::new(m, &scene.environment, debug_view, specialize).specialization())
+                    self.pipeline(
+                        &ForwardConstants::new(m, &scene.environment, debug_view, specialize).specialization(),
+                    )
                 }
             })
             .collect::<Result<_>>()?;
@@ -478,10 +487,19 @@ mod tests {
     fn mapped_material(strength: f32) -> Material {
         let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
             .expect("the default scene");
-        let mut m = scene.materials.into_iter().find(|m| m.maps.noise.is_some()).expect("plasticine");
+        let mut m = scene
+            .materials
+            .into_iter()
+            .find(|m| m.maps.noise.is_some())
+            .expect("plasticine");
         m.maps.base_color = m.maps.normal;
         let maps = &mut m.maps;
-        for map in [&mut maps.base_color, &mut maps.normal, &mut maps.detail, &mut maps.noise] {
+        for map in [
+            &mut maps.base_color,
+            &mut maps.normal,
+            &mut maps.detail,
+            &mut maps.noise,
+        ] {
             map.as_mut().expect("a map").strength = strength;
         }
         m
@@ -499,20 +517,62 @@ mod tests {
 
     #[test]
     fn specialised_pipelines_sample_only_maps_that_change_the_image() {
-        let shown = ForwardConstants::new(&mapped_material(0.5), &uniform(ReflectionMode::SplitSum), DebugView::Shaded, true);
+        let shown = ForwardConstants::new(
+            &mapped_material(0.5),
+            &uniform(ReflectionMode::SplitSum),
+            DebugView::Shaded,
+            true,
+        );
         assert_eq!((shown.has_base_color_map, shown.has_normal_map), (1, 1));
-        assert_eq!(shown.has_noise_map, 0, "the noise map modulates only the seed reflection");
-        let seed = ForwardConstants::new(&mapped_material(0.5), &uniform(ReflectionMode::Seed), DebugView::Shaded, true);
+        assert_eq!(
+            shown.has_noise_map, 0,
+            "the noise map modulates only the seed reflection"
+        );
+        let seed = ForwardConstants::new(
+            &mapped_material(0.5),
+            &uniform(ReflectionMode::Seed),
+            DebugView::Shaded,
+            true,
+        );
         assert_eq!(seed.has_noise_map, 1);
-        let off = ForwardConstants::new(&mapped_material(0.0), &uniform(ReflectionMode::Seed), DebugView::Shaded, true);
-        assert_eq!((off.has_base_color_map, off.has_normal_map, off.has_noise_map), (0, 0, 0));
+        let off = ForwardConstants::new(
+            &mapped_material(0.0),
+            &uniform(ReflectionMode::Seed),
+            DebugView::Shaded,
+            true,
+        );
+        assert_eq!(
+            (off.has_base_color_map, off.has_normal_map, off.has_noise_map),
+            (0, 0, 0)
+        );
         assert_eq!((off.debug_view, off.environment_kind, off.reflection_mode), (0, 1, 1));
+        // A detail map over a normal map at strength 0: UDN and the report's blend see the
+        // base's +z, so the normal map stays; RNM and whiteout do not.
+        let mut detailed = mapped_material(0.0);
+        detailed.maps.detail.as_mut().expect("a detail map").strength = 1.0;
+        for (blend, normal) in [
+            (DetailBlend::Rnm, 0),
+            (DetailBlend::Whiteout, 0),
+            (DetailBlend::Udn, 1),
+            (DetailBlend::Seed, 1),
+        ] {
+            detailed.maps.detail_blend = blend;
+            let c = ForwardConstants::new(&detailed, &uniform(ReflectionMode::SplitSum), DebugView::Shaded, true);
+            assert_eq!((c.has_normal_map, c.has_detail_map), (normal, 1), "{blend:?}");
+        }
     }
 
     #[test]
     fn generic_pipelines_read_the_uniforms_and_sample_every_map() {
         let generic = ForwardConstants::new(&mapped_material(0.0), &Environment::None, DebugView::Normals, false);
-        assert_eq!((generic.has_base_color_map, generic.has_normal_map, generic.has_noise_map), (1, 1, 1));
+        assert_eq!(
+            (
+                generic.has_base_color_map,
+                generic.has_normal_map,
+                generic.has_noise_map
+            ),
+            (1, 1, 1)
+        );
         assert_eq!(
             (generic.debug_view, generic.environment_kind, generic.reflection_mode),
             (FROM_UNIFORM, FROM_UNIFORM, FROM_UNIFORM)
