@@ -27,9 +27,11 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
 
 /// The key of bytes that depend on `parts` (source texts, sizes, device identities).
 pub fn key(parts: &[&[u8]]) -> u64 {
-    parts.iter().fold(fnv1a(env!("CARGO_PKG_VERSION").as_bytes()), |k, part| {
-        fnv1a(&[k.to_le_bytes().as_slice(), part].concat())
-    })
+    parts
+        .iter()
+        .fold(fnv1a(env!("CARGO_PKG_VERSION").as_bytes()), |k, part| {
+            fnv1a(&[k.to_le_bytes().as_slice(), part].concat())
+        })
 }
 
 #[derive(Clone, Debug)]
@@ -149,10 +151,15 @@ mod tests {
         let cache = DiskCache::at(Some(&dir.0));
         let mut computed = 0;
         for _ in 0..2 {
-            let bytes = cache.get_or_compute("t", 7, |_| true, || {
-                computed += 1;
-                vec![1, 2, 3]
-            });
+            let bytes = cache.get_or_compute(
+                "t",
+                7,
+                |_| true,
+                || {
+                    computed += 1;
+                    vec![1, 2, 3]
+                },
+            );
             assert_eq!(bytes, [1, 2, 3]);
         }
         assert_eq!(computed, 1);

@@ -254,7 +254,12 @@ struct RenderOptions {
 }
 
 fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
-    let RenderOptions { width, height, exposure, .. } = options;
+    let RenderOptions {
+        width,
+        height,
+        exposure,
+        ..
+    } = options;
     check_exposure(exposure)?;
     let mut startup = Recorder::new(process_start);
     let scene = startup.step("scene and its maps", || load_scene(options.scene.as_deref()))?;
@@ -265,7 +270,8 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
                 validation: options.validation,
             },
             None,
-        ).map(Arc::new)
+        )
+        .map(Arc::new)
     })?;
     let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
     let gpu = startup.step("upload", || renderer.upload(&scene))?;

@@ -94,13 +94,19 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
 
     // The second run finds both references in the cache; its one row replaces its
     // namesake and the others stay.
-    let second = run(&out, &references, &["--frames", "1", "--warmup", "0", "--only", "default/report"]);
+    let second = run(
+        &out,
+        &references,
+        &["--frames", "1", "--warmup", "0", "--only", "default/report"],
+    );
     assert!(!second.contains("rendering the"), "references rendered again: {second}");
     let merged: Vec<Value> =
         serde_json::from_slice(&std::fs::read(out.join("results.json")).expect("results.json")).expect("JSON rows");
     assert_eq!(merged.len(), rows.len());
     let frames = |rows: &[Value], configuration: &str| {
-        rows.iter().find(|r| r["configuration"] == configuration).map(|r| r["frames"].clone())
+        rows.iter()
+            .find(|r| r["configuration"] == configuration)
+            .map(|r| r["frames"].clone())
     };
     assert_eq!(frames(&merged, "report"), Some(Value::from(1)));
     assert_eq!(frames(&merged, "floor"), frames(&rows, "floor"));

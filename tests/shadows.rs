@@ -69,7 +69,11 @@ fn a_lit_plane_alone_has_no_shadow() {
     for radius in ["", "radius = 0.5"] {
         let with = hdr(&plane_scene(radius, ""));
         let without = hdr(&plane_scene(&format!("{radius}\nshadows = false"), ""));
-        let differing = with.iter().zip(&without).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+        let differing = with
+            .iter()
+            .zip(&without)
+            .filter(|(a, b)| a.to_bits() != b.to_bits())
+            .count();
         assert_eq!(differing, 0, "{radius:?}: {differing} channels differ");
     }
 }
@@ -90,7 +94,11 @@ fn ground_point(rays: &CameraRays, x: f64, y: f64) -> Option<DVec3> {
     let t = -o.y / d.y;
     let g = o + d * t;
     let oc = o - SPHERE_CENTRE;
-    let (a, b, c) = (d.length_squared(), oc.dot(d), oc.length_squared() - (SPHERE_RADIUS * 1.01).powi(2));
+    let (a, b, c) = (
+        d.length_squared(),
+        oc.dot(d),
+        oc.length_squared() - (SPHERE_RADIUS * 1.01).powi(2),
+    );
     let hits_sphere = b * b - a * c >= 0.0 && -b > 0.0;
     (t > 0.0 && g.x.abs() < 3.9 && g.z.abs() < 3.9 && !hits_sphere).then_some(g)
 }
@@ -104,7 +112,8 @@ fn ground_point(rays: &CameraRays, x: f64, y: f64) -> Option<DVec3> {
 fn a_point_lights_umbra_holds_only_the_environment_and_lies_where_geometry_puts_it() {
     let shadowed = hdr(&plane_scene("", SPHERE));
     let unshadowed = hdr(&plane_scene("shadows = false", SPHERE));
-    let environment_only = hdr(&plane_scene("", SPHERE).replace("intensity = [20.0, 18.0, 16.0]", "intensity = [0.0, 0.0, 0.0]"));
+    let environment_only =
+        hdr(&plane_scene("", SPHERE).replace("intensity = [20.0, 18.0, 16.0]", "intensity = [0.0, 0.0, 0.0]"));
     let camera = scene(&plane_scene("", SPHERE)).camera;
     let rays = CameraRays::new(&camera, SIZE.0, SIZE.1);
     let (mut umbra, mut lit, mut edge) = (0, 0, 0);
@@ -138,15 +147,24 @@ fn a_point_lights_umbra_holds_only_the_environment_and_lies_where_geometry_puts_
         }
     }
     eprintln!("umbra {umbra} px, lit {lit} px, edge {edge} px");
-    assert!(umbra > 300 && lit > 5000, "umbra {umbra}, lit {lit}: the scene does not test much");
-    assert!(wrong.is_empty(), "{} pixels off their side, first: {:?}", wrong.len(), &wrong[..wrong.len().min(8)]);
+    assert!(
+        umbra > 300 && lit > 5000,
+        "umbra {umbra}, lit {lit}: the scene does not test much"
+    );
+    assert!(
+        wrong.is_empty(),
+        "{} pixels off their side, first: {:?}",
+        wrong.len(),
+        &wrong[..wrong.len().min(8)]
+    );
 }
 
 /// A light with a radius gives a penumbra: pixels between the point light's umbra and its
 /// lit side that are neither, and the umbra shrinks.
 #[test]
 fn a_light_with_a_radius_casts_a_penumbra() {
-    let environment_only = hdr(&plane_scene("", SPHERE).replace("intensity = [20.0, 18.0, 16.0]", "intensity = [0.0, 0.0, 0.0]"));
+    let environment_only =
+        hdr(&plane_scene("", SPHERE).replace("intensity = [20.0, 18.0, 16.0]", "intensity = [0.0, 0.0, 0.0]"));
     let unshadowed = hdr(&plane_scene("shadows = false", SPHERE));
     let count = |frame: &[f32]| {
         let (mut umbra, mut penumbra) = (0, 0);

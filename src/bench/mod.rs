@@ -159,16 +159,26 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     drop(renderer);
     let startup = options.only.is_empty() || options.only.iter().any(|p| p == STARTUP);
     if rows.is_empty() && !startup {
-        return Err(InputError(format!("--only {}: no bench row matches", options.only.join(" --only "))).into());
+        return Err(InputError(format!(
+            "--only {}: no bench row matches",
+            options.only.join(" --only ")
+        ))
+        .into());
     }
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     if startup {
         let extent = if options.quick { plan::QUICK } else { plan::HEADLINE };
         let starts = startup::measure(device.info.index, extent)?;
         for (run, start) in ["cold", "warm"].iter().zip(&starts) {
-            eprintln!("startup ({run}): {:.1} ms from process start to frame written", start.total_ms);
+            eprintln!(
+                "startup ({run}): {:.1} ms from process start to frame written",
+                start.total_ms
+            );
         }
-        write_bytes(&out.join("startup.json"), serde_json::to_string_pretty(&starts)?.as_bytes())?;
+        write_bytes(
+            &out.join("startup.json"),
+            serde_json::to_string_pretty(&starts)?.as_bytes(),
+        )?;
         write_bytes(&out.join("startup.md"), startup::markdown(extent, &starts).as_bytes())?;
     }
     // With --only, the rows already there are written again beside the new ones (with

@@ -5,7 +5,9 @@ use anyhow::{Context, Result};
 use ash::vk;
 
 use crate::scene::file::{EnvironmentDef, LightDef, SceneFile};
-use crate::scene::{DiffuseModel, Distribution, Geometry, Horizon, ReflectionMode, SpecularModel, Subsurface, DEFAULT_SCENE_TOML};
+use crate::scene::{
+    DiffuseModel, Distribution, Geometry, Horizon, ReflectionMode, SpecularModel, Subsurface, DEFAULT_SCENE_TOML,
+};
 
 /// The configuration whose name marks the report's composition in the table and plot.
 pub const REPORT: &str = "report";
@@ -111,7 +113,10 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
     let sphere = parse(SPHERE_TOML, "bench/scenes/sphere.toml")?;
     for (name, diffuse, specular, distribution) in SPHERES {
         let mut file = sphere.clone();
-        let m = file.materials.get_mut("m").context("bench/scenes/sphere.toml has no material m")?;
+        let m = file
+            .materials
+            .get_mut("m")
+            .context("bench/scenes/sphere.toml has no material m")?;
         (m.diffuse, m.specular, m.distribution) = (diffuse, specular, distribution);
         m.diffuse_roughness = 0.5;
         let mut configurations = vec![FLOOR, "split-sum", "seed", REPORT, "sampled-64"];
@@ -121,14 +126,33 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
         scenes.push(bench_scene(name, &file, &configurations, headline)?);
     }
     let close_up = parse(CLOSE_UP_TOML, "bench/scenes/close-up.toml")?;
-    let maps = [FLOOR, "split-sum", GENERIC, "no-maps", "maps-off", "generic-maps-off", "seed", REPORT];
+    let maps = [
+        FLOOR,
+        "split-sum",
+        GENERIC,
+        "no-maps",
+        "maps-off",
+        "generic-maps-off",
+        "seed",
+        REPORT,
+    ];
     scenes.push(bench_scene("close-up", &close_up, &maps, headline)?);
     let ground = parse(BALL_ON_GROUND_TOML, "bench/scenes/ball-on-ground.toml")?;
-    scenes.push(bench_scene("ball-on-ground", &ground, &[FLOOR, "split-sum", REPORT], headline)?);
+    scenes.push(bench_scene(
+        "ball-on-ground",
+        &ground,
+        &[FLOOR, "split-sum", REPORT],
+        headline,
+    )?);
     let ball = parse(SUBSURFACE_BALL_TOML, "bench/scenes/subsurface-ball.toml")?;
     let subsurface = [FLOOR, "split-sum", "no-subsurface", REPORT];
     scenes.push(bench_scene("subsurface-ball", &ball, &subsurface, headline)?);
-    scenes.push(bench_scene("subsurface-ball-small", &scaled(&ball, 0.25), &subsurface, headline)?);
+    scenes.push(bench_scene(
+        "subsurface-ball-small",
+        &scaled(&ball, 0.25),
+        &subsurface,
+        headline,
+    )?);
     Ok(scenes)
 }
 
@@ -139,13 +163,43 @@ const SUBSURFACE_BALL_TOML: &str = include_str!("../../bench/scenes/subsurface-b
 
 /// The sphere of each BRDF model, Oren-Nayar and EON at σ = 0.5, the lobes at roughness 0.3.
 const SPHERES: [(&str, DiffuseModel, SpecularModel, Distribution); 7] = [
-    ("sphere-lambert", DiffuseModel::Lambert, SpecularModel::None, Distribution::Ggx),
-    ("sphere-oren-nayar", DiffuseModel::OrenNayar, SpecularModel::None, Distribution::Ggx),
+    (
+        "sphere-lambert",
+        DiffuseModel::Lambert,
+        SpecularModel::None,
+        Distribution::Ggx,
+    ),
+    (
+        "sphere-oren-nayar",
+        DiffuseModel::OrenNayar,
+        SpecularModel::None,
+        Distribution::Ggx,
+    ),
     ("sphere-eon", DiffuseModel::Eon, SpecularModel::None, Distribution::Ggx),
-    ("sphere-cook-torrance-ggx", DiffuseModel::Lambert, SpecularModel::CookTorrance, Distribution::Ggx),
-    ("sphere-cook-torrance-beckmann", DiffuseModel::Lambert, SpecularModel::CookTorrance, Distribution::Beckmann),
-    ("sphere-torrance-sparrow", DiffuseModel::Lambert, SpecularModel::TorranceSparrow, Distribution::Ggx),
-    ("sphere-blinn-phong", DiffuseModel::Lambert, SpecularModel::BlinnPhong, Distribution::Ggx),
+    (
+        "sphere-cook-torrance-ggx",
+        DiffuseModel::Lambert,
+        SpecularModel::CookTorrance,
+        Distribution::Ggx,
+    ),
+    (
+        "sphere-cook-torrance-beckmann",
+        DiffuseModel::Lambert,
+        SpecularModel::CookTorrance,
+        Distribution::Beckmann,
+    ),
+    (
+        "sphere-torrance-sparrow",
+        DiffuseModel::Lambert,
+        SpecularModel::TorranceSparrow,
+        Distribution::Ggx,
+    ),
+    (
+        "sphere-blinn-phong",
+        DiffuseModel::Lambert,
+        SpecularModel::BlinnPhong,
+        Distribution::Ggx,
+    ),
 ];
 
 /// Cook-Torrance with the separable Smith G, the approximation of the correlated one.
@@ -167,7 +221,9 @@ fn scaled(file: &SceneFile, s: f64) -> SceneFile {
         object.scale *= s;
     }
     for light in &mut file.lights {
-        let LightDef::Point { position, intensity, .. } = light;
+        let LightDef::Point {
+            position, intensity, ..
+        } = light;
         scale(position);
         intensity.iter_mut().for_each(|i| *i *= s * s);
     }
@@ -239,7 +295,10 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
             }
         }
         // A feature absent: what it costs is this row's time against argil's defaults.
-        "no-subsurface" => file.materials.values_mut().for_each(|m| m.subsurface = Subsurface::None),
+        "no-subsurface" => file
+            .materials
+            .values_mut()
+            .for_each(|m| m.subsurface = Subsurface::None),
         "no-maps" => file.materials.values_mut().for_each(|m| {
             // Without the preset, parsing the text back cannot restore the maps.
             m.preset = None;
@@ -248,14 +307,22 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         "no-environment" => file.environment = EnvironmentDef::None,
         // Present but doing nothing: the documented way to switch off a preset's map.
         "maps-off" => file.materials.values_mut().for_each(|m| {
-            for map in [&mut m.base_color_map, &mut m.normal_map, &mut m.detail_map, &mut m.noise_map]
-                .into_iter()
-                .flatten()
+            for map in [
+                &mut m.base_color_map,
+                &mut m.normal_map,
+                &mut m.detail_map,
+                &mut m.noise_map,
+            ]
+            .into_iter()
+            .flatten()
             {
                 map.strength = 0.0;
             }
         }),
-        SEPARABLE_G => file.materials.values_mut().for_each(|m| m.geometry = Geometry::SmithSeparable),
+        SEPARABLE_G => file
+            .materials
+            .values_mut()
+            .for_each(|m| m.geometry = Geometry::SmithSeparable),
         _ if SHADOW_CONFIGURATIONS.contains(&name) => shadow_configured(&mut file, name),
         _ => {
             let samples = name
@@ -315,7 +382,13 @@ mod tests {
         assert_eq!(names(default().selected(&[])).len(), all);
         assert_eq!(names(default().selected(&["default".into()])).len(), all);
         assert_eq!(names(default().selected(&["studio".into()])), Vec::<String>::new());
-        assert_eq!(names(default().selected(&["seed".into(), "*/floor".into()])), ["floor", "seed"]);
-        assert_eq!(names(default().selected(&["default/report".into(), "studio/seed".into()])), ["report"]);
+        assert_eq!(
+            names(default().selected(&["seed".into(), "*/floor".into()])),
+            ["floor", "seed"]
+        );
+        assert_eq!(
+            names(default().selected(&["default/report".into(), "studio/seed".into()])),
+            ["report"]
+        );
     }
 }

@@ -160,12 +160,17 @@ pub fn read(dir: &Path) -> Result<Vec<Row>> {
 pub fn merged(mut old: Vec<Row>, new: Vec<Row>) -> Vec<Row> {
     for row in new {
         let same = |r: &Row| {
-            r.scene == row.scene && r.configuration == row.configuration && (r.width, r.height) == (row.width, row.height)
+            r.scene == row.scene
+                && r.configuration == row.configuration
+                && (r.width, r.height) == (row.width, row.height)
         };
         if let Some(i) = old.iter().position(same) {
             old[i] = row;
         } else {
-            let at = old.iter().rposition(|r| r.scene == row.scene).map_or(old.len(), |i| i + 1);
+            let at = old
+                .iter()
+                .rposition(|r| r.scene == row.scene)
+                .map_or(old.len(), |i| i + 1);
             old.insert(at, row);
         }
     }
@@ -378,12 +383,22 @@ mod tests {
     #[test]
     fn merged_rows_replace_their_namesakes_and_join_their_scene() {
         let old = vec![row("a", "x", 64, 1.0), row("a", "y", 64, 2.0), row("b", "x", 64, 3.0)];
-        let new = vec![row("a", "y", 64, 20.0), row("a", "y", 128, 21.0), row("c", "x", 64, 30.0)];
+        let new = vec![
+            row("a", "y", 64, 20.0),
+            row("a", "y", 128, 21.0),
+            row("c", "x", 64, 30.0),
+        ];
         let merged: Vec<(String, String, u32, f64)> = merged(old, new)
             .into_iter()
             .map(|r| (r.scene, r.configuration, r.width, r.gpu_ms_median))
             .collect();
-        let expected = [("a", "x", 64, 1.0), ("a", "y", 64, 20.0), ("a", "y", 128, 21.0), ("b", "x", 64, 3.0), ("c", "x", 64, 30.0)];
+        let expected = [
+            ("a", "x", 64, 1.0),
+            ("a", "y", 64, 20.0),
+            ("a", "y", 128, 21.0),
+            ("b", "x", 64, 3.0),
+            ("c", "x", 64, 30.0),
+        ];
         let expected: Vec<(String, String, u32, f64)> = expected
             .iter()
             .map(|&(s, c, w, t)| (s.to_owned(), c.to_owned(), w, t))

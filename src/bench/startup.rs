@@ -74,7 +74,12 @@ pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]
         let output = Command::new(&exe)
             .args(["--device", &device_index.to_string(), "render", "--out"])
             .arg(dir.0.join("frame.exr"))
-            .args(["--width", &extent.width.to_string(), "--height", &extent.height.to_string()])
+            .args([
+                "--width",
+                &extent.width.to_string(),
+                "--height",
+                &extent.height.to_string(),
+            ])
             .arg("--timings")
             .arg(&timings)
             .env("ARGIL_CACHE_DIR", dir.0.join("argil-cache"))
@@ -82,7 +87,10 @@ pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]
             .output()
             .context("cannot start argil render")?;
         if !output.status.success() {
-            bail!("argil render failed: {}", String::from_utf8_lossy(&output.stderr).trim());
+            bail!(
+                "argil render failed: {}",
+                String::from_utf8_lossy(&output.stderr).trim()
+            );
         }
         let bytes = std::fs::read(&timings).with_context(|| format!("cannot read {}", timings.display()))?;
         serde_json::from_slice(&bytes).with_context(|| format!("{}: not a startup record", timings.display()))

@@ -12,9 +12,9 @@ use std::time::{Duration, Instant};
 use serde::{Deserialize, Serialize};
 
 use super::quadrature::gauss_legendre;
-use crate::cache::{self, DiskCache};
 use super::wrap::wrap_energy_conserving;
 use super::{Vec3, PI};
+use crate::cache::{self, DiskCache};
 
 /// The subsurface model of a material. `as u32` is the `SUBSURFACE` specialization constant
 /// of forward.frag (`SUBSURFACE_*` in subsurface.glsl): never renumber.
@@ -174,9 +174,12 @@ impl PreintegratedTable {
             include_str!("wrap.rs").as_bytes(),
         ]);
         let size = PREINTEGRATED_WIDTH * PREINTEGRATED_HEIGHT * std::mem::size_of::<[f32; 4]>();
-        let bytes = cache.get_or_compute("preintegrated-subsurface", key, |b| b.len() == size, || {
-            bytemuck::cast_slice(&Self::compute().texels).to_vec()
-        });
+        let bytes = cache.get_or_compute(
+            "preintegrated-subsurface",
+            key,
+            |b| b.len() == size,
+            || bytemuck::cast_slice(&Self::compute().texels).to_vec(),
+        );
         PreintegratedTable {
             texels: bytemuck::pod_collect_to_vec(&bytes),
             compute_time: start.elapsed(),
@@ -288,7 +291,10 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("argil-subsurface-cache-{}", std::process::id()));
         let cache = DiskCache::at(Some(&dir));
         let computed = PreintegratedTable::compute().texels;
-        let (stored, read) = (PreintegratedTable::cached(&cache).texels, PreintegratedTable::cached(&cache).texels);
+        let (stored, read) = (
+            PreintegratedTable::cached(&cache).texels,
+            PreintegratedTable::cached(&cache).texels,
+        );
         let entries = std::fs::read_dir(&dir).unwrap().count();
         std::fs::remove_dir_all(&dir).unwrap();
         assert_eq!(entries, 1);

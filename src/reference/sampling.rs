@@ -302,8 +302,8 @@ pub fn sample_sphere_light(center: DVec3, radius: f64, p: DVec3, u: [f64; 2]) ->
     let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
     let phi = 2.0 * PI * u[1];
     let frame = crate::brdf::environment::tangent_frame((-to_center / distance).to_array()).map(DVec3::from);
-    let on_sphere =
-        center + radius * (frame[0] * (sin_alpha * phi.cos()) + frame[1] * (sin_alpha * phi.sin()) + frame[2] * cos_alpha);
+    let on_sphere = center
+        + radius * (frame[0] * (sin_alpha * phi.cos()) + frame[1] * (sin_alpha * phi.sin()) + frame[2] * cos_alpha);
     let to_point = on_sphere - p;
     let length = to_point.length();
     Some((to_point / length, length, 1.0 / (2.0 * PI * one_minus_cos_max)))

@@ -166,8 +166,15 @@ impl Renderer {
         self.environment.prepare(scene)?;
         self.environment_time += start.elapsed();
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
-        self.forward
-            .prepare(slot, scene, target.aspect(), self.debug_view, self.floor, !self.generic, &self.one_shot)?;
+        self.forward.prepare(
+            slot,
+            scene,
+            target.aspect(),
+            self.debug_view,
+            self.floor,
+            !self.generic,
+            &self.one_shot,
+        )?;
         self.tonemap.prepare(slot, target, output_format)
     }
 

@@ -145,7 +145,10 @@ impl ShadowPass {
     pub fn new(device: &Arc<Device>, frames_in_flight: u32) -> Result<Self> {
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(vk::DescriptorType::UNIFORM_BUFFER, vk::ShaderStageFlags::FRAGMENT)
-            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, vk::ShaderStageFlags::FRAGMENT)
+            .binding(
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::ShaderStageFlags::FRAGMENT,
+            )
             .build(device, "shadow set")?;
         let layout = PipelineLayout::new(
             device,
@@ -157,7 +160,10 @@ impl ShadowPass {
         let pipeline = GraphicsPipelineBuilder::depth_only(&vertex, DEPTH_FORMAT)
             .vertex_layout(
                 std::mem::size_of::<Vertex>() as u32,
-                &[(vk::Format::R32G32B32_SFLOAT, std::mem::offset_of!(Vertex, position) as u32)],
+                &[(
+                    vk::Format::R32G32B32_SFLOAT,
+                    std::mem::offset_of!(Vertex, position) as u32,
+                )],
             )
             .build(device, &layout, "shadow map")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
@@ -209,10 +215,18 @@ impl ShadowPass {
             .filter(|&i| enabled && scene.lights[i].shadows)
             .collect();
         // Without a shadowed light, one 1-texel cube keeps the set valid.
-        let resolution = if shadowed.is_empty() { 1 } else { scene.shadow_resolution };
+        let resolution = if shadowed.is_empty() {
+            1
+        } else {
+            scene.shadow_resolution
+        };
         let layers = 6 * shadowed.len().max(1) as u32;
         let key = shadow_key(scene, gpu, &shadowed, resolution);
-        if self.maps.as_ref().is_none_or(|m| m.resolution != resolution || m.image.layers != layers) {
+        if self
+            .maps
+            .as_ref()
+            .is_none_or(|m| m.resolution != resolution || m.image.layers != layers)
+        {
             self.recreate_maps(resolution, layers)?;
         }
         let mut data = ShadowData::zeroed();
@@ -291,7 +305,10 @@ impl ShadowPass {
             return Ok(());
         }
         self.renders.set(self.renders.get() + 1);
-        let maps = self.maps.as_ref().context("shadow maps missing: prepare() was not called")?;
+        let maps = self
+            .maps
+            .as_ref()
+            .context("shadow maps missing: prepare() was not called")?;
         let d = &self.device.handle;
         let range = maps.image.all_levels();
         // The old contents go, once the frames before this one have read them.
@@ -299,7 +316,14 @@ impl ShadowPass {
             stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
             ..ImageUse::UNDEFINED
         };
-        transition_levels(&self.device, cmd, maps.image.handle, range, discard, ImageUse::DEPTH_ATTACHMENT);
+        transition_levels(
+            &self.device,
+            cmd,
+            maps.image.handle,
+            range,
+            discard,
+            ImageUse::DEPTH_ATTACHMENT,
+        );
         let extent = maps.image.extent;
         for (layer, view) in maps.faces.iter().enumerate() {
             let depth = vk::RenderingAttachmentInfo::default()
@@ -379,9 +403,16 @@ mod tests {
                 let q = Vec3::from(d.map(|x| (x / major * lambda) as f32));
                 let clip = face_projection(face, near, far) * q.extend(1.0);
                 let ndc = clip.truncate() / clip.w;
-                assert!((f64::from(ndc.x) - a).abs() < 1e-6 && (f64::from(ndc.y) - b).abs() < 1e-6, "face {face}");
+                assert!(
+                    (f64::from(ndc.x) - a).abs() < 1e-6 && (f64::from(ndc.y) - b).abs() < 1e-6,
+                    "face {face}"
+                );
                 let depth = shadow_depth(lambda, f64::from(near), f64::from(far));
-                assert!((f64::from(ndc.z) - depth).abs() < 1e-6, "face {face}: {} against {depth}", ndc.z);
+                assert!(
+                    (f64::from(ndc.z) - depth).abs() < 1e-6,
+                    "face {face}: {} against {depth}",
+                    ndc.z
+                );
             }
         }
     }

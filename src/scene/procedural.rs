@@ -29,7 +29,11 @@ const NOISE_SIZE: usize = 512;
 pub fn builtin_texture(name: &str) -> Option<TextureData> {
     static CACHE: [OnceLock<TextureData>; 3] = [const { OnceLock::new() }; 3];
     let index = BUILTIN_TEXTURES.iter().position(|&n| n == name)?;
-    Some(CACHE[index].get_or_init(|| cached(index, &DiskCache::from_env())).clone())
+    Some(
+        CACHE[index]
+            .get_or_init(|| cached(index, &DiskCache::from_env()))
+            .clone(),
+    )
 }
 
 /// Builtin texture `index` from `cache`: its texels depend only on this file's code and

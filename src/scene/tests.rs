@@ -459,7 +459,10 @@ fn shadow_keys_are_read_defaulted_and_saved() {
     assert_eq!(defaults.shadow_resolution, crate::scene::DEFAULT_SHADOW_RESOLUTION);
     let saved = defaults.to_file().to_toml().unwrap();
     let keys: Vec<&str> = saved.lines().filter_map(|l| l.split(" =").next()).collect();
-    assert!(!saved.contains("[shadows]") && !keys.contains(&"radius") && !keys.contains(&"shadows"), "{saved}");
+    assert!(
+        !saved.contains("[shadows]") && !keys.contains(&"radius") && !keys.contains(&"shadows"),
+        "{saved}"
+    );
     assert_eq!(Scene::default_scene().lights[0].radius, 0.5);
 }
 

@@ -221,7 +221,9 @@ const SECTIONS: &[Section] = &[
     ("Camera", true, camera_section),
     ("Materials", true, materials_section),
     ("Lights", false, |ui, p| lights_section(ui, p.scene)),
-    ("Shadows", false, |ui, p| super::shadow_panel::shadows_section(ui, p.scene, &mut p.view.shadows)),
+    ("Shadows", false, |ui, p| {
+        super::shadow_panel::shadows_section(ui, p.scene, &mut p.view.shadows)
+    }),
     ("Environment", false, |ui, p| environment_section(ui, p.scene)),
     ("Files", false, files_section),
     ("Debug view", true, |ui, p| debug_section(ui, p.view)),
@@ -783,7 +785,9 @@ fn lights_section(ui: &mut Ui, scene: &mut Scene) {
     }
     ui.horizontal(|ui| {
         if scene.lights.len() < MAX_POINT_LIGHTS && ui.button("Add a light").clicked() {
-            scene.lights.push(PointLight::new(scene.camera.position, Vec3::splat(20.0)));
+            scene
+                .lights
+                .push(PointLight::new(scene.camera.position, Vec3::splat(20.0)));
         }
         if !scene.lights.is_empty() && ui.button("Remove the last").clicked() {
             scene.lights.pop();

@@ -193,7 +193,9 @@ mod tests {
         let folder = Folder::new();
         let path = folder.write("scene.toml", DEFAULT_SCENE_TOML);
         let (mut scene, document) = load(&path);
-        scene.lights.push(PointLight::new(Vec3::new(1.0, 2.0, 3.0), Vec3::splat(5.0)));
+        scene
+            .lights
+            .push(PointLight::new(Vec3::new(1.0, 2.0, 3.0), Vec3::splat(5.0)));
         scene.lights[0].radius = 0.25;
         scene.lights[0].shadows = false;
         scene.shadow_resolution = 512;

@@ -32,10 +32,10 @@ impl PipelineCache {
         // one that rejects it anyway gets an empty cache.
         let handle = match unsafe { device.create_pipeline_cache(&info, None) } {
             Ok(handle) => handle,
-            Err(_) if !initial.is_empty() => unsafe {
-                device.create_pipeline_cache(&vk::PipelineCacheCreateInfo::default(), None)
+            Err(_) if !initial.is_empty() => {
+                unsafe { device.create_pipeline_cache(&vk::PipelineCacheCreateInfo::default(), None) }
+                    .context("cannot create a pipeline cache")?
             }
-            .context("cannot create a pipeline cache")?,
             Err(e) => return Err(e).context("cannot create a pipeline cache"),
         };
         Ok(Self { handle, disk, key })
