@@ -100,6 +100,10 @@ enum Command {
         /// changes.
         #[arg(long, conflicts_with = "frames", value_parser = parse_seconds)]
         seconds: Option<f64>,
+        /// The scripted leak hunt of `argil bench --soak-viewer`: orbit, edit a material,
+        /// and write memory samples (JSON) to this file.
+        #[arg(long, hide = true, value_name = "FILE", requires = "frames")]
+        soak_log: Option<PathBuf>,
     },
     /// Render the ground truth of a scene on the CPU: Monte Carlo integration in f64 of the
     /// same scene, camera, meshes, materials, maps, lights and environment, on every core.
@@ -187,6 +191,12 @@ enum Command {
         /// with scene reloads; host and GPU memory must stay flat (e.g. --soak 10000 1000).
         #[arg(long, num_args = 2, value_names = ["FRAMES", "RENDERS"])]
         soak: Option<Vec<u64>>,
+        /// Instead of timing, the viewer's long run: FRAMES frames in a window (a display is
+        /// needed: `xvfb-run -a argil bench --soak-viewer 10000`) with the camera orbiting and
+        /// a material edit every 100 frames; memory must stay flat, and the validation layer
+        /// (on in the child) silent, leaked objects included.
+        #[arg(long, value_name = "FRAMES", conflicts_with = "soak", value_parser = clap::value_parser!(u64).range(1..))]
+        soak_viewer: Option<u64>,
     },
     /// List the Vulkan devices on this machine.
     Devices,
@@ -451,6 +461,12 @@ fn compare(options: argil::compare::Options) -> Result<()> {
 
 fn run(cli: Cli, process_start: Instant) -> Result<()> {
     let validation = cli.validation || argil::vk::instance::validation_requested();
+    // The same choice, as a child process's `--device` reads it.
+    let device_arg = match &cli.device {
+        Some(DeviceChoice::Index(i)) => Some(i.to_string()),
+        Some(DeviceChoice::Name(n)) => Some(n.clone()),
+        Some(DeviceChoice::Best) | None => None,
+    };
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
     match cli.command {
         Command::Render {
@@ -482,6 +498,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             screenshot,
             resize_storm,
             seconds,
+            soak_log,
         } => {
             check_exposure(exposure)?;
             let (loaded, document) = match scene.as_deref() {
@@ -497,6 +514,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 screenshot,
                 resize_storm,
                 seconds,
+                soak_log,
             };
             argil::viewer::run(loaded, document, options)
         }
@@ -542,6 +560,13 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
         }
         Command::Bench { soak: Some(soak), .. } => soak_run(choice, validation, &soak),
         Command::Bench {
+            soak_viewer: Some(frames),
+            ..
+        } => {
+            let scratch = std::env::temp_dir().join(format!("argil-soak-{}", std::process::id()));
+            argil::bench::soak::run_viewer(frames, device_arg.as_deref(), &scratch)
+        }
+        Command::Bench {
             quick,
             frames,
             warmup,
@@ -550,6 +575,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             references,
             only,
             soak: None,
+            soak_viewer: None,
         } => {
             let options = argil::bench::Options {
                 quick,

@@ -306,6 +306,38 @@ fn view_opens_a_window_under_xvfb() {
     assert_clean_success(&o);
 }
 
+/// The viewer's leak hunt: without a display it is refused as bad input, saying how to get
+/// one; under Xvfb a short run samples memory ten times and counts the child's validation
+/// messages (none).
+#[test]
+fn bench_soak_viewer_needs_a_display_and_samples_the_viewer() {
+    let mut headless = Command::new(env!("CARGO_BIN_EXE_argil"));
+    headless
+        .args(["bench", "--soak-viewer", "10"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY");
+    assert_clean_failure(&common::run(headless), &["display", "xvfb-run"]);
+
+    let mut windowed = Command::new("xvfb-run");
+    windowed.args([
+        "-a",
+        "-s",
+        "-screen 0 1280x800x24",
+        env!("CARGO_BIN_EXE_argil"),
+        "bench",
+        "--soak-viewer",
+        "40",
+    ]);
+    let o = common::run(windowed);
+    assert_clean_success(&o);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(out.lines().filter(|l| l.starts_with("viewer ")).count(), 10, "{out}");
+    assert!(
+        out.contains("40 viewer frames") && out.contains("validation messages: 0"),
+        "{out}"
+    );
+}
+
 /// `argil view` under Xvfb with its own arguments; validation on.
 fn view_under_xvfb(args: &[&str]) -> Output {
     let runtime = temp_dir("xvfb-runtime");

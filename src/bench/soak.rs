@@ -6,13 +6,21 @@
 //! gpu-allocator's allocated bytes are sampled at intervals and must be flat once the
 //! first tenth of each phase has warmed the driver's caches up; at the end no GPU
 //! allocation may be left and the validation layer must have reported nothing.
+//!
+//! `argil bench --soak-viewer FRAMES` does the same for the viewer itself, in a window:
+//! a child `argil view` runs the scripted session of [`ViewerSoak`] (an orbiting camera,
+//! a material edit that switches pipelines, the panel drawn every frame, swapchain
+//! presents) and logs its memory; the validation layer's report of objects still alive
+//! when the device is destroyed is part of what it must not print.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use ash::vk;
+use serde::{Deserialize, Serialize};
 
 use crate::render::{OffscreenTarget, Renderer};
 use crate::scene::{Scene, DEFAULT_SCENE_TOML};
@@ -22,15 +30,22 @@ use crate::vk::Device;
 /// frames exceeds it, while malloc's arenas and the driver's pools move RSS by a few MiB.
 pub const MAX_RSS_GROWTH: u64 = 8 << 20;
 /// Samples per phase.
-const SAMPLES: u64 = 10;
+pub const SAMPLES: u64 = 10;
 const FRAME: vk::Extent2D = vk::Extent2D {
     width: 320,
     height: 180,
 };
 const RENDER: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
+/// The viewer's window: the panel (320 px) and a 160×270 view, small enough for 10,000
+/// frames on a software driver in minutes; leaks follow the code paths, not the pixels.
+const WINDOW: vk::Extent2D = vk::Extent2D {
+    width: 480,
+    height: 270,
+};
 
 /// Memory at one point of the run.
-struct Sample {
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Sample {
     step: u64,
     seconds: f64,
     rss: Option<u64>,
@@ -46,7 +61,7 @@ fn rss_bytes() -> Option<u64> {
     Some(kib * 1024)
 }
 
-fn sample(device: &Device, step: u64, start: &Instant) -> Sample {
+pub fn sample(device: &Device, step: u64, start: &Instant) -> Sample {
     let report = device.allocator().generate_report();
     Sample {
         step,
@@ -174,6 +189,65 @@ pub fn run(device: &Arc<Device>, frames: u64, renders: u64, scratch: &Path) -> R
     }
     if !problems.is_empty() {
         bail!("the soak found leaks: {}", problems.join("; "));
+    }
+    Ok(())
+}
+
+/// Runs the viewer's soak in a child `argil view` on this display; fails if its memory is
+/// not flat, it failed, or the validation layer printed anything (leaked objects are
+/// reported when its device is destroyed). `device` is the child's `--device`, if given.
+pub fn run_viewer(frames: u64, device: Option<&str>, scratch: &Path) -> Result<()> {
+    if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
+        return Err(crate::error::InputError(
+            "--soak-viewer needs a display; without one run it under Xvfb: xvfb-run -a argil bench --soak-viewer N"
+                .to_owned(),
+        )
+        .into());
+    }
+    std::fs::create_dir_all(scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
+    let log: PathBuf = scratch.join("viewer-soak.json");
+    let exe = std::env::current_exe().context("cannot find the argil executable")?;
+    let mut child = Command::new(exe);
+    child.arg("--validation");
+    if let Some(d) = device {
+        child.args(["--device", d]);
+    }
+    let (w, h) = (WINDOW.width.to_string(), WINDOW.height.to_string());
+    child
+        .args([
+            "view",
+            "--frames",
+            &frames.to_string(),
+            "--width",
+            &w,
+            "--height",
+            &h,
+            "--soak-log",
+        ])
+        .arg(&log);
+    let start = Instant::now();
+    let output = child.output().context("cannot start the viewer")?;
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let mut problems = Vec::new();
+    if !output.status.success() {
+        problems.push(format!("the viewer failed ({}): {}", output.status, stderr.trim()));
+    }
+    let text = std::fs::read_to_string(&log).with_context(|| format!("the viewer wrote no {}", log.display()))?;
+    let samples: Vec<Sample> = serde_json::from_str(&text).with_context(|| format!("cannot read {}", log.display()))?;
+    problems.extend(judge("viewer", &samples));
+    let messages = stderr
+        .lines()
+        .filter(|l| l.starts_with(crate::vk::instance::VALIDATION_PREFIX))
+        .count();
+    println!(
+        "soak: {frames} viewer frames in {:.0} s; validation messages: {messages}",
+        start.elapsed().as_secs_f64()
+    );
+    if messages > 0 {
+        problems.push(format!("the validation layer printed {messages} message(s)"));
+    }
+    if !problems.is_empty() {
+        bail!("the viewer soak found problems: {}", problems.join("; "));
     }
     Ok(())
 }

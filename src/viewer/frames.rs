@@ -130,6 +130,10 @@ impl FrameLoop {
         })
     }
 
+    pub fn device(&self) -> &Device {
+        &self.device
+    }
+
     pub fn frame_count(&self) -> u64 {
         self.frame
     }

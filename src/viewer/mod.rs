@@ -11,6 +11,7 @@ mod panels;
 mod rebuild;
 pub mod save;
 mod shadow_panel;
+mod soak;
 mod storm;
 mod timings;
 mod watch;
@@ -43,6 +44,7 @@ use history::History;
 use panels::{Actions, Question, ViewState};
 use rebuild::Rebuild;
 use save::{Document, Refused};
+use soak::Soak;
 use storm::StormStep;
 use timings::{FrameTimes, Timings};
 use watch::FileWatch;
@@ -74,6 +76,8 @@ pub struct ViewOptions {
     /// Close this many seconds after the first frame, drawing only when something changes
     /// (for tests of the idle viewer); `frames` draws continuously instead.
     pub seconds: Option<f64>,
+    /// Run the scripted leak hunt over `frames` and write its memory samples here.
+    pub soak_log: Option<PathBuf>,
 }
 
 /// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
@@ -121,7 +125,13 @@ pub fn run(scene: Scene, document: Document, options: ViewOptions) -> Result<()>
     let now = Instant::now();
     let mut view = ViewState::new(options.exposure, Timings::new(gpu_pass_names()), file_label(&document));
     view.selected_material = scene.objects[0].material;
+    let soak = options
+        .soak_log
+        .clone()
+        .zip(options.frames)
+        .map(|(log, frames)| Soak::new(log, frames));
     let mut app = App {
+        soak,
         view,
         watch: document.path.clone().map(|p| FileWatch::new(p, now)),
         history: History::new(&scene),
@@ -191,6 +201,8 @@ struct Running {
 }
 
 struct App {
+    /// The scripted leak hunt, when asked for.
+    soak: Option<Soak>,
     scene: Scene,
     options: ViewOptions,
     view: ViewState,
@@ -300,17 +312,10 @@ impl App {
                 area.offset.x,
                 gpu.join(", ")
             );
-            eprintln!(
-                "argil: {} frames, {} swapchain recreations; view {}x{} at x {}; last second: CPU work \
-                 {cpu_ms:.2} ms a frame, GPU {}",
-                state.frames.frame_count(),
-                state.frames.recreations(),
-                area.extent.width,
-                area.extent.height,
-                area.offset.x,
-                gpu.join(", ")
-            );
             if let Err(e) = finished {
+                self.error.get_or_insert(e);
+            }
+            if let Some(Err(e)) = self.soak.as_ref().map(Soak::write) {
                 self.error.get_or_insert(e);
             }
             if self.options.screenshot.is_some() && !self.final_screenshot_written {
@@ -538,6 +543,9 @@ impl App {
             &self.input.take(),
             dt.min(MAX_STEP_SECONDS),
         );
+        if let Some(soak) = &mut self.soak {
+            soak.before_frame(state.frames.frame_count(), &mut self.scene);
+        }
 
         let raw = state.egui.take_egui_input(&state.window);
         let mut actions = std::mem::take(&mut self.pending);
@@ -597,6 +605,9 @@ impl App {
             cpu_ms: work.as_secs_f64() * 1e3,
             gpu_ms: state.frames.gpu_ms().map(<[f64]>::to_vec).unwrap_or_default(),
         });
+        if let (true, Some(soak)) = (drawn, &mut self.soak) {
+            soak.after_frame(state.frames.device(), state.frames.frame_count());
+        }
         let screenshots = state.frames.take_screenshots();
         let done = self.options.frames.is_some_and(|n| state.frames.frame_count() >= n);
         self.report_screenshots(screenshots);

@@ -14,6 +14,9 @@ pub const NO_DRIVER: &str = "no Vulkan driver found: install one for your GPU, o
      driver lavapipe (Debian/Ubuntu: `sudo apt install mesa-vulkan-drivers`, or `make setup`), \
      and check that VK_ICD_FILENAMES / VK_DRIVER_FILES, if set, name its JSON file";
 
+/// How each validation message starts on stderr, so a parent process can count them.
+pub const VALIDATION_PREFIX: &str = "vulkan validation: ";
+
 /// Errors and warnings reported by the validation layer, kept so a caller (a test, a
 /// `render` run) can fail when its own work produced one.
 #[derive(Default)]
@@ -49,7 +52,7 @@ impl ValidationReport {
         } else {
             self.warnings.fetch_add(1, Ordering::SeqCst);
         }
-        eprintln!("vulkan validation: {text}");
+        eprintln!("{VALIDATION_PREFIX}{text}");
         self.messages.lock().unwrap_or_else(|e| e.into_inner()).push(text);
     }
 }
