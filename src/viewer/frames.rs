@@ -130,7 +130,7 @@ impl FrameLoop {
         })
     }
 
-    pub fn device(&self) -> &Device {
+    pub fn device(&self) -> &Arc<Device> {
         &self.device
     }
 

@@ -315,12 +315,21 @@ impl App {
             if let Err(e) = finished {
                 self.error.get_or_insert(e);
             }
-            if let Some(Err(e)) = self.soak.as_ref().map(Soak::write) {
-                self.error.get_or_insert(e);
-            }
             if self.options.screenshot.is_some() && !self.final_screenshot_written {
                 self.error
                     .get_or_insert(anyhow!("the window closed before the screenshot was taken"));
+            }
+            // Everything on the device is gone with the frame loop; a device still held
+            // would never be destroyed, and the validation layer never see its leaks.
+            let device = Arc::downgrade(state.frames.device());
+            drop(state);
+            if device.strong_count() > 0 {
+                self.error.get_or_insert(anyhow!(
+                    "the Vulkan device outlived the viewer: something holding it leaked"
+                ));
+            }
+            if let Some(Err(e)) = self.soak.as_ref().map(Soak::write) {
+                self.error.get_or_insert(e);
             }
         }
         event_loop.exit();
