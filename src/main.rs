@@ -74,7 +74,7 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         timings: Option<PathBuf>,
         /// Samples per pixel of the forward pass (1, 2, 4 or 8; 1 is no MSAA), instead of
-        /// the scene's [antialiasing] msaa (default 4). A count the device does not support
+        /// the scene's [antialiasing] msaa (default 1). A count the device does not support
         /// draws with the largest it does below it, with a warning.
         #[arg(long, value_name = "N", value_parser = parse_msaa)]
         msaa: Option<u32>,

@@ -430,7 +430,13 @@ impl Skybox {
         Ok(())
     }
 
-    fn record(&self, cmd: vk::CommandBuffer, target: DrawTarget, camera: &Camera, set: vk::DescriptorSet) -> Result<()> {
+    fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        target: DrawTarget,
+        camera: &Camera,
+        set: vk::DescriptorSet,
+    ) -> Result<()> {
         let pipeline = self
             .pipelines
             .get(&target.samples())

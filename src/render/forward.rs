@@ -581,14 +581,26 @@ mod tests {
             (DetailBlend::Seed, 1),
         ] {
             detailed.maps.detail_blend = blend;
-            let c = ForwardConstants::new(&detailed, &uniform(ReflectionMode::SplitSum), DebugView::Shaded, true, true);
+            let c = ForwardConstants::new(
+                &detailed,
+                &uniform(ReflectionMode::SplitSum),
+                DebugView::Shaded,
+                true,
+                true,
+            );
             assert_eq!((c.has_normal_map, c.has_detail_map), (normal, 1), "{blend:?}");
         }
     }
 
     #[test]
     fn generic_pipelines_read_the_uniforms_and_sample_every_map() {
-        let generic = ForwardConstants::new(&mapped_material(0.0), &Environment::None, DebugView::Normals, false, true);
+        let generic = ForwardConstants::new(
+            &mapped_material(0.0),
+            &Environment::None,
+            DebugView::Normals,
+            false,
+            true,
+        );
         assert_eq!(
             (
                 generic.has_base_color_map,

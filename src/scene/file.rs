@@ -95,7 +95,7 @@ pub struct ShadowsDef {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct AntialiasingDef {
-    /// Samples per pixel of the forward pass: 1, 2, 4 or 8 (absent: 4).
+    /// Samples per pixel of the forward pass: 1, 2, 4 or 8 (absent: 1).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub msaa: Option<u32>,
     /// Specular lobes widened by the shading normal's variation over a pixel (absent: true).

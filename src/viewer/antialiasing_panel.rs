@@ -15,7 +15,10 @@ pub fn antialiasing_section(ui: &mut Ui, scene: &mut Scene, supported: u32) {
         }
     });
     if supported != a.msaa {
-        ui.label(format!("this device draws {supported}× (its largest up to {}×)", a.msaa));
+        ui.label(format!(
+            "this device draws {supported}× (its largest up to {}×)",
+            a.msaa
+        ));
     }
     ui.checkbox(&mut a.specular, "specular anti-aliasing (normal variance)");
 }
