@@ -18,19 +18,15 @@
 //! constant 0: the sample count. The multisampled depth is transient (nothing reads it
 //! after the skybox); the colour is sampled by the resolve, so it cannot be.
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use ash::vk;
 
+use super::fullscreen::FullscreenPass;
 use super::shaders;
 use super::target::{DrawTarget, RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
-use crate::vk::{
-    begin_full_rendering, transition, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
-    DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, Pipeline, PipelineLayout, ShaderModule,
-    Specialization,
-};
+use crate::vk::{transition, Device, Image, ImageUse, Specialization};
 
 /// The multisampled images of one frame in flight.
 struct Multisampled {
@@ -40,16 +36,8 @@ struct Multisampled {
 
 pub struct MsaaPass {
     device: Arc<Device>,
-    /// Kept alive for the sets allocated with it.
-    _set_layout: DescriptorSetLayout,
-    layout: PipelineLayout,
-    vertex: ShaderModule,
-    fragment: ShaderModule,
     /// By sample count.
-    pipelines: HashMap<vk::SampleCountFlags, Pipeline>,
-    /// Owns `sets`.
-    _pool: DescriptorPool,
-    sets: Vec<vk::DescriptorSet>,
+    resolve: FullscreenPass<vk::SampleCountFlags>,
     /// Per frame in flight; `None` at one sample per pixel.
     slots: Vec<Option<Multisampled>>,
 }
@@ -76,23 +64,15 @@ pub fn supported_samples(device: &Device, requested: u32) -> u32 {
 
 impl MsaaPass {
     pub fn new(device: &Arc<Device>, frames_in_flight: u32) -> Result<Self> {
-        let set_layout = DescriptorSetLayoutBuilder::default()
-            .binding(vk::DescriptorType::SAMPLED_IMAGE, vk::ShaderStageFlags::FRAGMENT)
-            .build(device, "msaa resolve set")?;
-        let layout = PipelineLayout::new(device, &[&set_layout], 0, vk::ShaderStageFlags::FRAGMENT)?;
-        let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
-        let sets = (0..frames_in_flight)
-            .map(|_| pool.allocate(&set_layout))
-            .collect::<Result<_>>()?;
         Ok(Self {
             device: device.clone(),
-            vertex: ShaderModule::new(device, shaders::FULLSCREEN_VERT, "fullscreen.vert")?,
-            fragment: ShaderModule::new(device, shaders::MSAA_RESOLVE_FRAG, "msaa_resolve.frag")?,
-            _set_layout: set_layout,
-            layout,
-            pipelines: HashMap::new(),
-            _pool: pool,
-            sets,
+            resolve: FullscreenPass::new(
+                device,
+                frames_in_flight,
+                shaders::MSAA_RESOLVE_FRAG,
+                "msaa_resolve.frag",
+                0,
+            )?,
             slots: (0..frames_in_flight).map(|_| None).collect(),
         })
     }
@@ -130,24 +110,11 @@ impl MsaaPass {
                     "multisampled depth",
                 )?,
             };
-            DescriptorWriter::default()
-                .image(
-                    0,
-                    vk::DescriptorType::SAMPLED_IMAGE,
-                    images.color.view,
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    vk::Sampler::null(),
-                )
-                .write(&self.device, self.sets[slot]);
+            self.resolve.bind(slot, images.color.view);
             self.slots[slot] = Some(images);
         }
-        if !self.pipelines.contains_key(&flag) {
-            let pipeline = GraphicsPipelineBuilder::new(&self.vertex, &self.fragment, HDR_FORMAT)
-                .specialization(Specialization(vec![samples]))
-                .build(&self.device, &self.layout, &format!("msaa resolve {samples}x"))?;
-            self.pipelines.insert(flag, pipeline);
-        }
-        Ok(())
+        self.resolve
+            .prepare_pipeline(flag, HDR_FORMAT, Specialization(vec![samples]))
     }
 
     /// What the forward pass and skybox of `slot` draw into: its multisampled images, or
@@ -189,10 +156,6 @@ impl MsaaPass {
         let Some(m) = &self.slots[slot] else {
             return Ok(());
         };
-        let pipeline = self
-            .pipelines
-            .get(&m.color.samples)
-            .context("msaa resolve pipeline missing: prepare() was not called for this sample count")?;
         // The forward pass's and skybox's writes, then the resolve's reads.
         transition(
             &self.device,
@@ -202,26 +165,11 @@ impl MsaaPass {
             ImageUse::COLOR_ATTACHMENT,
             ImageUse::FRAGMENT_READ,
         );
-        let color = [vk::RenderingAttachmentInfo::default()
-            .image_view(target.color.view)
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::DONT_CARE)
-            .store_op(vk::AttachmentStoreOp::STORE)];
-        begin_full_rendering(&self.device, cmd, target.extent, &color, None);
-        let d = &self.device.handle;
-        unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.handle);
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.handle,
-                0,
-                &[self.sets[slot]],
-                &[],
-            );
-            d.cmd_draw(cmd, 3, 1, 0, 0);
-            d.cmd_end_rendering(cmd);
-        }
-        Ok(())
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: target.extent,
+        };
+        self.resolve
+            .record(cmd, slot, m.color.samples, target.color.view, area, &[])
     }
 }
