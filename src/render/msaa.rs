@@ -129,11 +129,6 @@ impl MsaaPass {
         }
     }
 
-    /// Samples per pixel of `slot`'s frames, as last prepared.
-    pub fn samples(&self, slot: usize) -> u32 {
-        self.slots[slot].as_ref().map_or(1, |m| m.color.samples.as_raw())
-    }
-
     /// Records the transitions that start a frame of `slot`: its multisampled colour (if
     /// any) from nothing to an attachment. Depth is the renderer's, as at one sample.
     pub fn begin(&self, cmd: vk::CommandBuffer, slot: usize) {

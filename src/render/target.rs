@@ -16,6 +16,8 @@ pub const MAX_SIDE: u32 = 16384;
 
 pub struct RenderTarget {
     pub color: Image,
+    /// The depth of single-sampled frames. A multisampled frame tests against its own
+    /// multisampled depth (src/render/msaa.rs) and leaves this one unwritten.
     pub depth: Image,
     pub extent: vk::Extent2D,
 }

@@ -18,7 +18,7 @@ pub struct Antialiasing {
 impl Antialiasing {
     /// What a scene file without `[antialiasing]` gets. Measured by `argil bench` on
     /// lavapipe (README): specular anti-aliasing costs nothing measurable and takes 4% off
-    /// the normal-mapped close-up's ꟻLIP, so it is on; 4× MSAA costs 1.8× the default
+    /// the normal-mapped close-up's ꟻLIP, so it is on; 4× MSAA costs 1.7× the default
     /// scene's work for 0.6% off its ꟻLIP at the bench's size, so it is asked for.
     pub const DEFAULT: Self = Self {
         msaa: 1,

@@ -475,7 +475,7 @@ fn antialiasing_keys_are_read_defaulted_validated_and_saved() {
     assert_eq!((scene.antialiasing.msaa, scene.antialiasing.specular), (4, true));
     let saved = scene.to_file().to_toml().unwrap();
     assert!(
-        saved.contains("[antialiasing]\nmsaa = 4\n") && !saved.contains("specular ="),
+        saved.contains("[antialiasing]\nmsaa = 4\n") && !saved.contains("specular = true"),
         "{saved}"
     );
     assert_eq!(

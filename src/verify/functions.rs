@@ -554,8 +554,9 @@ impl Term {
                 }
             }
             Term::SpecularAaRoughness => {
+                // The change is a sum of squares: never negative.
                 for &roughness in STRESS_ALPHAS {
-                    for &change in STRESS_ALPHAS.iter().chain(&[f32::MAX]) {
+                    for &change in STRESS_ALPHAS.iter().filter(|c| **c >= 0.0).chain(&[f32::MAX]) {
                         push([roughness, change, 0.0, 0.0], [0.0; 4]);
                     }
                 }
