@@ -9,6 +9,7 @@
 #include "lights.glsl"
 #include "environment.glsl"
 #include "debug_views.glsl"
+#include "specular_aa.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
@@ -20,6 +21,9 @@ const uint HORIZON_SEED = 1u;
 layout(constant_id = 10) const uint SUBSURFACE = 0;
 // The debug view (debug_views.glsl), or FROM_UNIFORM for FrameData.counts.y.
 layout(constant_id = 11) const uint DEBUG_VIEW = FROM_UNIFORM;
+// Whether the lobes' roughness is widened by the shading normal's change across the pixel
+// (specular_aa.glsl): the scene's [antialiasing] specular.
+layout(constant_id = 14) const bool SPECULAR_AA = false;
 
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
@@ -58,6 +62,11 @@ void main() {
     vec3 n_mapped = mapped_normal(m, n_geometric, tangent, in_normal_uv, in_detail_uv);
     bool seed_horizon = HORIZON == HORIZON_SEED;
     vec3 n = seed_horizon ? n_mapped : view_facing_normal(n_mapped, v);
+    if (SPECULAR_AA) {
+        vec3 dx = dFdx(n_mapped);
+        vec3 dy = dFdy(n_mapped);
+        m.roughness = specular_aa_roughness(m.roughness, dot(dx, dx) + dot(dy, dy));
+    }
 
     vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_noise_uv),
                                          gl_FragCoord.xy);

@@ -1,6 +1,6 @@
 #version 460
 // `argil verify`'s harness: evaluates one function of brdf.glsl, tonemap.glsl,
-// normal_mapping.glsl or shading.glsl, chosen by the FUNCTION specialization constant, on
+// msaa_resolve.glsl, specular_aa.glsl, normal_mapping.glsl or shading.glsl, chosen by the FUNCTION specialization constant, on
 // every input tuple. src/verify/functions.rs evaluates the f64 twins on the same f32 tuples;
 // the meaning of a tuple's six vec4 per function is documented there and next to each case
 // below.
@@ -8,6 +8,8 @@
 #include "tonemap.glsl"
 #include "normal_mapping.glsl"
 #include "shading.glsl"
+#include "msaa_resolve.glsl"
+#include "specular_aa.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -33,6 +35,8 @@ const uint SPEC_BLINN_PHONG = 16u;
 const uint SHADOW_TERMINATOR = 17u;
 const uint PREINTEGRATED_LOOKUP = 18u;
 const uint WRAP_ENERGY_CONSERVING_SH_KERNEL = 19u;
+const uint RESOLVE_WEIGHT = 20u;
+const uint SPECULAR_AA_ROUGHNESS = 21u;
 // From here on, BRDF models of directions: f(n, v, l) and f(n, l, v) are both written.
 const uint FIRST_MODEL = 32u;
 const uint LAMBERT = 32u;
@@ -129,6 +133,10 @@ vec4 term(Tuple t) {
         return preintegrated_lookup(a.x, a.y);
     case WRAP_ENERGY_CONSERVING_SH_KERNEL: // wrap_energy_conserving_sh_kernel(w)
         return vec4(wrap_energy_conserving_sh_kernel(a.x), 0.0);
+    case RESOLVE_WEIGHT: // resolve_weight(colour)
+        return vec4(resolve_weight(t.d.rgb));
+    case SPECULAR_AA_ROUGHNESS: // specular_aa_roughness(roughness, |∂n/∂x|² + |∂n/∂y|²)
+        return vec4(specular_aa_roughness(a.x, a.y));
     }
     return vec4(0.0);
 }

@@ -73,6 +73,11 @@ enum Command {
         /// start to the frame written) to this JSON file.
         #[arg(long, value_name = "FILE")]
         timings: Option<PathBuf>,
+        /// Samples per pixel of the forward pass (1, 2, 4 or 8; 1 is no MSAA), instead of
+        /// the scene's [antialiasing] msaa (default 1). A count the device does not support
+        /// draws with the largest it does below it, with a warning.
+        #[arg(long, value_name = "N", value_parser = parse_msaa)]
+        msaa: Option<u32>,
     },
     /// Open a window on a scene.
     View {
@@ -237,6 +242,15 @@ fn load_scene(path: Option<&Path>) -> Result<Scene> {
     }
 }
 
+/// A sample count of `--msaa`: one of `[antialiasing] msaa`'s.
+fn parse_msaa(text: &str) -> Result<u32, String> {
+    let counts = argil::scene::MSAA_COUNTS;
+    text.parse()
+        .ok()
+        .filter(|n| counts.contains(n))
+        .ok_or_else(|| format!("{text:?} is not a sample count: one of {counts:?}"))
+}
+
 /// A number of seconds: finite and positive.
 fn parse_seconds(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
@@ -261,6 +275,7 @@ struct RenderOptions {
     height: u32,
     exposure: f32,
     timings: Option<PathBuf>,
+    msaa: Option<u32>,
 }
 
 fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
@@ -272,7 +287,10 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     } = options;
     check_exposure(exposure)?;
     let mut startup = Recorder::new(process_start);
-    let scene = startup.step("scene and its maps", || load_scene(options.scene.as_deref()))?;
+    let mut scene = startup.step("scene and its maps", || load_scene(options.scene.as_deref()))?;
+    if let Some(msaa) = options.msaa {
+        scene.antialiasing.msaa = msaa;
+    }
     let device = startup.step("instance and device", || {
         Device::new(
             DeviceOptions {
@@ -285,6 +303,13 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     })?;
     let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
     let gpu = startup.step("upload", || renderer.upload(&scene))?;
+    let samples = renderer.msaa_samples(&scene);
+    if samples != scene.antialiasing.msaa {
+        eprintln!(
+            "argil: warning: {} does not support {}x MSAA; drawing {samples}x, its largest below",
+            device.info.name, scene.antialiasing.msaa
+        );
+    }
     let begin = Instant::now();
     let frame = renderer.render_offscreen(&scene, &gpu, vk::Extent2D { width, height }, exposure)?;
     // The frame's wall time holds what its preparation built the first time.
@@ -476,6 +501,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             height,
             exposure,
             timings,
+            msaa,
         } => render(
             RenderOptions {
                 choice,
@@ -486,6 +512,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 height,
                 exposure,
                 timings,
+                msaa,
             },
             process_start,
         ),

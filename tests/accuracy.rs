@@ -313,6 +313,11 @@ kind = "point"
 position = [{}, {}, {}]
 intensity = [{intensity}, {intensity}, {intensity}]
 
+# The twins are the models at one point; specular anti-aliasing widens a lobe by the
+# normal's change across the pixel.
+[antialiasing]
+specular = false
+
 [[objects]]
 mesh = "builtin:sphere"
 material = "m"

@@ -31,6 +31,7 @@ use crate::atomic::write_bytes;
 use crate::compare::metrics::{compare, Rgba32};
 use crate::error::InputError;
 use crate::reference::{Stop, Transport};
+use crate::render::msaa::supported_samples;
 use crate::render::{OffscreenTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
 use crate::vk::Device;
@@ -204,6 +205,14 @@ fn bench_scene(
 ) -> Result<()> {
     for configuration in &scene.configurations {
         let parsed = Scene::from_toml(&configuration.text, &configuration.name, Path::new(""))?;
+        let samples = supported_samples(&renderer.device, parsed.antialiasing.msaa);
+        if samples != parsed.antialiasing.msaa {
+            eprintln!(
+                "{}/{}: skipped: the device does not support {}x MSAA (it would draw {samples}x)",
+                scene.name, configuration.name, parsed.antialiasing.msaa
+            );
+            continue;
+        }
         let gpu = renderer.upload(&parsed)?;
         renderer.floor = configuration.floor;
         renderer.generic = configuration.generic;

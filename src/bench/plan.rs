@@ -4,7 +4,7 @@
 use anyhow::{Context, Result};
 use ash::vk;
 
-use crate::scene::file::{EnvironmentDef, LightDef, SceneFile};
+use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, SceneFile};
 use crate::scene::{
     DiffuseModel, Distribution, Geometry, Horizon, ReflectionMode, SpecularModel, Subsurface, DEFAULT_SCENE_TOML,
 };
@@ -105,6 +105,7 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
     ];
     names.extend(sampled.iter().map(String::as_str));
     names.extend(SHADOW_CONFIGURATIONS);
+    names.extend(ANTIALIASING_CONFIGURATIONS);
     let mut scenes = vec![
         bench_scene("default", &default, &names, |c| resolutions(c, true))?,
         bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
@@ -135,6 +136,8 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
         "generic-maps-off",
         "seed",
         REPORT,
+        "no-antialiasing",
+        "msaa-4",
     ];
     scenes.push(bench_scene("close-up", &close_up, &maps, headline)?);
     let ground = parse(BALL_ON_GROUND_TOML, "bench/scenes/ball-on-ground.toml")?;
@@ -280,8 +283,9 @@ fn bench_scene(
 /// `seed` the report's reflection alone, `report` its reflection, horizon and subsurface
 /// on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
 /// without subsurface scattering, material maps or environment, `maps-off` every map at
-/// strength 0, `smith-separable` the separable G; `generic-NAME` is NAME drawn with the
-/// generic pipelines.
+/// strength 0, `smith-separable` the separable G, the shadow and anti-aliasing
+/// configurations as their constants say; `generic-NAME` is NAME drawn with the generic
+/// pipelines.
 fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     let mut file = file.clone();
     match name.strip_prefix("generic-").unwrap_or(name) {
@@ -324,6 +328,7 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
             .values_mut()
             .for_each(|m| m.geometry = Geometry::SmithSeparable),
         _ if SHADOW_CONFIGURATIONS.contains(&name) => shadow_configured(&mut file, name),
+        _ if ANTIALIASING_CONFIGURATIONS.contains(&name) => file.antialiasing = Some(antialiasing_configured(name)),
         _ => {
             let samples = name
                 .strip_prefix("sampled-")
@@ -346,6 +351,30 @@ fn shadow_configured(file: &mut SceneFile, name: &str) {
             "no-shadows" => *shadows = Some(false),
             _ => *radius = None,
         }
+    }
+}
+
+/// What anti-aliasing costs and changes against argil's defaults (one sample, specular
+/// anti-aliasing): `no-antialiasing` is the renderer before it (no specular anti-aliasing
+/// either), `msaa-N` N samples per pixel with specular anti-aliasing, `msaa-4-no-specular-aa`
+/// multisampling alone. A row whose count the device does not support is skipped.
+const ANTIALIASING_CONFIGURATIONS: [&str; 5] =
+    ["no-antialiasing", "msaa-2", "msaa-4", "msaa-8", "msaa-4-no-specular-aa"];
+
+fn antialiasing_configured(name: &str) -> AntialiasingDef {
+    match name {
+        "no-antialiasing" => AntialiasingDef {
+            msaa: Some(1),
+            specular: Some(false),
+        },
+        "msaa-4-no-specular-aa" => AntialiasingDef {
+            msaa: Some(4),
+            specular: Some(false),
+        },
+        _ => AntialiasingDef {
+            msaa: name.strip_prefix("msaa-").and_then(|n| n.parse().ok()),
+            specular: None,
+        },
     }
 }
 

@@ -7,6 +7,7 @@
 //! integrals. Directions are unit vectors in any frame; dot products are
 //! passed as scalars wherever the GLSL function takes scalars.
 
+pub mod antialiasing;
 pub mod diffuse;
 pub mod distribution;
 pub mod environment;

@@ -16,18 +16,19 @@
 pub mod equirect;
 mod precompute;
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 use gpu_allocator::MemoryLocation;
 
 use super::shaders;
-use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
+use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::brdf::environment::{map_rotation, sh_project_cube, Sh9};
 use crate::scene::{Camera, DiffuseModel, Environment, ReflectionMode, Scene, SpecularModel};
 use crate::vk::{
@@ -205,10 +206,20 @@ impl EnvironmentPass {
         }
         self.write(environment)?;
         self.current = Some(environment.clone());
-        if self.draws_skybox() && self.skybox.is_none() {
-            self.skybox = Some(Skybox::new(&self.device, &self.set_layout)?);
-        }
         Ok(())
+    }
+
+    /// Creates the skybox's pipeline for targets of `samples` samples, if the current
+    /// environment is drawn and it does not exist yet.
+    pub fn prepare_skybox(&mut self, samples: vk::SampleCountFlags) -> Result<()> {
+        if !self.draws_skybox() {
+            return Ok(());
+        }
+        let skybox = match self.skybox.take() {
+            Some(skybox) => skybox,
+            None => Skybox::new(&self.device, &self.set_layout)?,
+        };
+        self.skybox.insert(skybox).prepare(samples)
     }
 
     fn build_cubes(&mut self, source: Source) -> Result<Cubes> {
@@ -318,9 +329,10 @@ impl EnvironmentPass {
 
     /// Records the skybox into `target` after the forward pass, if the environment is
     /// drawn: colour and depth are in attachment layouts and stay there.
-    pub fn record_skybox(&self, cmd: vk::CommandBuffer, target: &RenderTarget, camera: &Camera) {
-        if let Some(skybox) = self.skybox.as_ref().filter(|_| self.draws_skybox()) {
-            skybox.record(cmd, target, camera, self.set);
+    pub fn record_skybox(&self, cmd: vk::CommandBuffer, target: DrawTarget, camera: &Camera) -> Result<()> {
+        match self.skybox.as_ref().filter(|_| self.draws_skybox()) {
+            Some(skybox) => skybox.record(cmd, target, camera, self.set),
+            None => Ok(()),
         }
     }
 
@@ -384,7 +396,10 @@ fn needs_brdf_tables(scene: &Scene) -> bool {
 struct Skybox {
     device: Arc<Device>,
     layout: PipelineLayout,
-    pipeline: Pipeline,
+    vertex: ShaderModule,
+    fragment: ShaderModule,
+    /// By the sample count of the targets they draw into.
+    pipelines: HashMap<vk::SampleCountFlags, Pipeline>,
 }
 
 impl Skybox {
@@ -395,19 +410,37 @@ impl Skybox {
             std::mem::size_of::<SkyboxPush>() as u32,
             vk::ShaderStageFlags::FRAGMENT,
         )?;
-        let vertex = ShaderModule::new(device, shaders::SKYBOX_VERT, "skybox.vert")?;
-        let fragment = ShaderModule::new(device, shaders::SKYBOX_FRAG, "skybox.frag")?;
-        let pipeline = GraphicsPipelineBuilder::new(&vertex, &fragment, HDR_FORMAT)
-            .depth_test_only(DEPTH_FORMAT, vk::CompareOp::LESS_OR_EQUAL)
-            .build(device, &layout, "skybox")?;
         Ok(Self {
             device: device.clone(),
             layout,
-            pipeline,
+            vertex: ShaderModule::new(device, shaders::SKYBOX_VERT, "skybox.vert")?,
+            fragment: ShaderModule::new(device, shaders::SKYBOX_FRAG, "skybox.frag")?,
+            pipelines: HashMap::new(),
         })
     }
 
-    fn record(&self, cmd: vk::CommandBuffer, target: &RenderTarget, camera: &Camera, set: vk::DescriptorSet) {
+    fn prepare(&mut self, samples: vk::SampleCountFlags) -> Result<()> {
+        if !self.pipelines.contains_key(&samples) {
+            let pipeline = GraphicsPipelineBuilder::new(&self.vertex, &self.fragment, HDR_FORMAT)
+                .depth_test_only(DEPTH_FORMAT, vk::CompareOp::LESS_OR_EQUAL)
+                .samples(samples)
+                .build(&self.device, &self.layout, &format!("skybox {samples:?}"))?;
+            self.pipelines.insert(samples, pipeline);
+        }
+        Ok(())
+    }
+
+    fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        target: DrawTarget,
+        camera: &Camera,
+        set: vk::DescriptorSet,
+    ) -> Result<()> {
+        let pipeline = self
+            .pipelines
+            .get(&target.samples())
+            .context("skybox pipeline missing: prepare_skybox() was not called for this sample count")?;
         let d = &self.device.handle;
         // The forward pass's colour and depth writes come first.
         let (color_image, depth_image) = (&target.color, &target.depth);
@@ -442,9 +475,9 @@ impl Skybox {
             inverse_view_proj: view_proj.inverse().to_cols_array_2d(),
             camera_position: camera.position.extend(1.0).to_array(),
         };
-        begin_full_rendering(&self.device, cmd, target.extent, &color, Some(&depth));
+        begin_full_rendering(&self.device, cmd, target.extent(), &color, Some(&depth));
         unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.handle);
             d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.layout.handle, 0, &[set], &[]);
             d.cmd_push_constants(
                 cmd,
@@ -456,5 +489,6 @@ impl Skybox {
             d.cmd_draw(cmd, 3, 1, 0, 0);
             d.cmd_end_rendering(cmd);
         }
+        Ok(())
     }
 }

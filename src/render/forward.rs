@@ -5,8 +5,8 @@
 //! needs it, a placeholder until then); set 2: the environment (see environment.rs); set 3:
 //! the shadow maps (see shadow.rs); push constants: `ObjectPush` (see
 //! shaders/lib/scene_data.glsl). One pipeline per combination of BRDF models in use,
-//! chosen by specialization constants; for `argil bench`, one more that draws every object
-//! with the trivial `floor.frag`.
+//! chosen by specialization constants, and sample count (src/render/msaa.rs); for
+//! `argil bench`, one more that draws every object with the trivial `floor.frag`.
 
 use std::collections::HashMap;
 use std::mem::offset_of;
@@ -22,7 +22,7 @@ use super::environment::{environment_kind, reflection_code};
 use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
 use super::shaders;
 use super::subsurface::SubsurfaceTable;
-use super::target::{RenderTarget, DEPTH_FORMAT, HDR_FORMAT};
+use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::scene::{DetailBlend, Environment, MapRef, Material, ReflectionMode, Scene, Vertex};
 use crate::vk::{
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
@@ -36,7 +36,7 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// The specialization constants of `forward.frag`, in `constant_id` order: a material's
 /// models (shading.glsl), which maps it samples (material_maps.glsl), its horizon and
 /// subsurface model, the debug view (debug_views.glsl), the environment's kind and
-/// reflection mode (environment.glsl).
+/// reflection mode (environment.glsl), and specular anti-aliasing (specular_aa.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -54,11 +54,12 @@ pub struct ForwardConstants {
     pub debug_view: u32,
     pub environment_kind: u32,
     pub reflection_mode: u32,
+    pub specular_aa: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 14] = [
+    pub const NAMES: [&'static str; 15] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -73,6 +74,7 @@ impl ForwardConstants {
         "DEBUG_VIEW",
         "ENVIRONMENT_KIND",
         "REFLECTION_MODE",
+        "SPECULAR_AA",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -80,7 +82,14 @@ impl ForwardConstants {
     /// sampled, the noise map only modulates the report's reflection, and the debug view,
     /// environment kind and reflection mode are constants. Generic (`specialize` false),
     /// those three come from the uniforms and every map is sampled, as the bench compares.
-    pub fn new(m: &Material, environment: &Environment, debug_view: DebugView, specialize: bool) -> Self {
+    /// `specular_aa` is the scene's `[antialiasing] specular`.
+    pub fn new(
+        m: &Material,
+        environment: &Environment,
+        debug_view: DebugView,
+        specialize: bool,
+        specular_aa: bool,
+    ) -> Self {
         let models = m.shading_models();
         let maps = &m.maps;
         let reflection = environment.reflection().map(|r| r.mode);
@@ -110,6 +119,7 @@ impl ForwardConstants {
             debug_view: specialized(debug_view as u32),
             environment_kind: specialized(environment_kind(environment)),
             reflection_mode: specialized(reflection.map_or(0, reflection_code)),
+            specular_aa: u32::from(specular_aa),
         }
     }
 
@@ -136,9 +146,10 @@ pub struct ForwardPass {
     layout: PipelineLayout,
     vertex: ShaderModule,
     fragment: ShaderModule,
-    pipelines: HashMap<Specialization, Pipeline>,
-    /// `floor.frag`'s pipeline, created the first time a frame asks for the floor.
-    floor: Option<Pipeline>,
+    /// By sample count and specialization.
+    pipelines: HashMap<(vk::SampleCountFlags, Specialization), Pipeline>,
+    /// `floor.frag`'s pipeline by sample count, created the first time a frame asks for it.
+    floor: HashMap<vk::SampleCountFlags, Pipeline>,
     /// The pipeline of each material of the scene last prepared, in `Scene::materials` order.
     material_pipelines: Vec<vk::Pipeline>,
     /// Owns the slots' sets.
@@ -220,7 +231,7 @@ impl ForwardPass {
             vertex,
             fragment,
             pipelines: HashMap::new(),
-            floor: None,
+            floor: HashMap::new(),
             material_pipelines: Vec::new(),
             _pool: pool,
             slots,
@@ -258,33 +269,41 @@ impl ForwardPass {
         subsurface.bind(writer).write(device, set);
     }
 
-    fn pipeline(&mut self, specialization: &Specialization) -> Result<vk::Pipeline> {
-        if let Some(p) = self.pipelines.get(specialization) {
+    fn pipeline(&mut self, samples: vk::SampleCountFlags, specialization: &Specialization) -> Result<vk::Pipeline> {
+        let key = (samples, specialization.clone());
+        if let Some(p) = self.pipelines.get(&key) {
             return Ok(p.handle);
         }
         let start = Instant::now();
         let pipeline = self.build_pipeline(
             &self.fragment,
+            samples,
             specialization,
-            &format!("forward {:?}", specialization.0),
+            &format!("forward {samples:?} {:?}", specialization.0),
         )?;
         self.pipeline_time += start.elapsed();
         let handle = pipeline.handle;
-        self.pipelines.insert(specialization.clone(), pipeline);
+        self.pipelines.insert(key, pipeline);
         Ok(handle)
     }
 
-    fn floor_pipeline(&mut self) -> Result<vk::Pipeline> {
-        if let Some(p) = &self.floor {
+    fn floor_pipeline(&mut self, samples: vk::SampleCountFlags) -> Result<vk::Pipeline> {
+        if let Some(p) = self.floor.get(&samples) {
             return Ok(p.handle);
         }
         // The module may go once the pipeline exists.
         let fragment = ShaderModule::new(&self.device, shaders::FLOOR_FRAG, "floor.frag")?;
-        let pipeline = self.build_pipeline(&fragment, &Specialization::default(), "forward floor")?;
-        Ok(self.floor.insert(pipeline).handle)
+        let pipeline = self.build_pipeline(&fragment, samples, &Specialization::default(), "forward floor")?;
+        Ok(self.floor.entry(samples).or_insert(pipeline).handle)
     }
 
-    fn build_pipeline(&self, fragment: &ShaderModule, specialization: &Specialization, name: &str) -> Result<Pipeline> {
+    fn build_pipeline(
+        &self,
+        fragment: &ShaderModule,
+        samples: vk::SampleCountFlags,
+        specialization: &Specialization,
+        name: &str,
+    ) -> Result<Pipeline> {
         let stride = std::mem::size_of::<Vertex>() as u32;
         // Locations 0..=4, as forward.vert declares them.
         GraphicsPipelineBuilder::new(&self.vertex, fragment, HDR_FORMAT)
@@ -299,6 +318,7 @@ impl ForwardPass {
                 ],
             )
             .depth(DEPTH_FORMAT)
+            .samples(samples)
             .specialization(specialization.clone())
             .build(&self.device, &self.layout, name)
     }
@@ -306,7 +326,7 @@ impl ForwardPass {
     /// Writes this frame's uniforms and materials into `slot` (whose previous use the
     /// caller has waited for) and creates any pipeline the scene's materials need
     /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
-    /// `floor` the floor's pipeline for every material.
+    /// `floor` the floor's pipeline for every material, for targets of `samples` samples.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
@@ -316,6 +336,7 @@ impl ForwardPass {
         debug_view: DebugView,
         floor: bool,
         specialize: bool,
+        samples: vk::SampleCountFlags,
         one_shot: &OneShot,
     ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, aspect)?;
@@ -326,11 +347,11 @@ impl ForwardPass {
             .iter()
             .map(|m| {
                 if floor {
-                    self.floor_pipeline()
+                    self.floor_pipeline(samples)
                 } else {
-                    self.pipeline(
-                        &ForwardConstants::new(m, &scene.environment, debug_view, specialize).specialization(),
-                    )
+                    let specular_aa = scene.antialiasing.specular;
+                    let constants = ForwardConstants::new(m, &scene.environment, debug_view, specialize, specular_aa);
+                    self.pipeline(samples, &constants.specialization())
                 }
             })
             .collect::<Result<_>>()?;
@@ -353,8 +374,8 @@ impl ForwardPass {
         s.materials.write(bytes)
     }
 
-    /// Records the pass. The target's colour and depth must be in attachment layouts; its
-    /// depth is kept for the skybox.
+    /// Records the pass into `target`, of the sample count `prepare` had. Its colour and
+    /// depth must be in attachment layouts; its depth is kept for the skybox.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -362,7 +383,7 @@ impl ForwardPass {
         slot: usize,
         scene: &Scene,
         gpu: &GpuScene,
-        target: &RenderTarget,
+        target: DrawTarget,
         clear: [f32; 4],
         environment_set: vk::DescriptorSet,
         shadow_set: vk::DescriptorSet,
@@ -384,7 +405,7 @@ impl ForwardPass {
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
-        begin_full_rendering(&self.device, cmd, target.extent, &color, Some(&depth));
+        begin_full_rendering(&self.device, cmd, target.extent(), &color, Some(&depth));
         unsafe {
             d.cmd_bind_descriptor_sets(
                 cmd,
@@ -522,6 +543,7 @@ mod tests {
             &uniform(ReflectionMode::SplitSum),
             DebugView::Shaded,
             true,
+            true,
         );
         assert_eq!((shown.has_base_color_map, shown.has_normal_map), (1, 1));
         assert_eq!(
@@ -533,12 +555,14 @@ mod tests {
             &uniform(ReflectionMode::Seed),
             DebugView::Shaded,
             true,
+            true,
         );
         assert_eq!(seed.has_noise_map, 1);
         let off = ForwardConstants::new(
             &mapped_material(0.0),
             &uniform(ReflectionMode::Seed),
             DebugView::Shaded,
+            true,
             true,
         );
         assert_eq!(
@@ -557,14 +581,26 @@ mod tests {
             (DetailBlend::Seed, 1),
         ] {
             detailed.maps.detail_blend = blend;
-            let c = ForwardConstants::new(&detailed, &uniform(ReflectionMode::SplitSum), DebugView::Shaded, true);
+            let c = ForwardConstants::new(
+                &detailed,
+                &uniform(ReflectionMode::SplitSum),
+                DebugView::Shaded,
+                true,
+                true,
+            );
             assert_eq!((c.has_normal_map, c.has_detail_map), (normal, 1), "{blend:?}");
         }
     }
 
     #[test]
     fn generic_pipelines_read_the_uniforms_and_sample_every_map() {
-        let generic = ForwardConstants::new(&mapped_material(0.0), &Environment::None, DebugView::Normals, false);
+        let generic = ForwardConstants::new(
+            &mapped_material(0.0),
+            &Environment::None,
+            DebugView::Normals,
+            false,
+            true,
+        );
         assert_eq!(
             (
                 generic.has_base_color_map,

@@ -3,7 +3,9 @@
 pub mod debug_view;
 pub mod environment;
 pub mod forward;
+pub mod fullscreen;
 pub mod gpu_scene;
+pub mod msaa;
 pub mod output;
 pub mod renderer;
 pub mod shaders;

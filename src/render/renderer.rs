@@ -11,6 +11,7 @@ use super::debug_view::DebugView;
 use super::environment::EnvironmentPass;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
+use super::msaa::{sample_flag, supported_samples, MsaaPass};
 use super::shadow::ShadowPass;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
@@ -18,12 +19,14 @@ use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
 /// The passes of a frame, in order; GPU times are reported with these names.
-/// The shadow maps are drawn first but named last: index 0 stays the forward pass.
-pub const PASS_NAMES: [&str; 4] = ["forward", "skybox", "tonemap", "shadow"];
+/// The shadow maps are drawn first but named after the older passes: index 0 stays the
+/// forward pass. The MSAA resolve takes no time at one sample per pixel (nothing runs).
+pub const PASS_NAMES: [&str; 5] = ["forward", "skybox", "tonemap", "shadow", "resolve"];
 const PASS_FORWARD: u32 = 0;
 const PASS_SKYBOX: u32 = 1;
 const PASS_TONEMAP: u32 = 2;
 const PASS_SHADOW: u32 = 3;
+const PASS_RESOLVE: u32 = 4;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping. The frame covers `area` of the image,
@@ -55,13 +58,14 @@ pub struct Renderer {
     environment: EnvironmentPass,
     shadow: ShadowPass,
     forward: ForwardPass,
+    msaa: MsaaPass,
     tonemap: TonemapPass,
     /// One query pool per frame in flight; empty when the device has no timestamps.
     timestamps: Vec<Timestamps>,
     /// What the forward pass shows; `Shaded` except in the viewer's debug views.
     pub debug_view: DebugView,
-    /// Draws every object with `floor.frag` instead of its material: `argil bench`'s
-    /// measure of what the geometry and targets cost without shading.
+    /// Draws every object with `floor.frag` instead of its material, single-sampled:
+    /// `argil bench`'s measure of what the geometry and targets cost without shading.
     pub floor: bool,
     /// Wall time spent preparing environments (their precompute), for the startup's account.
     pub environment_time: std::time::Duration,
@@ -121,6 +125,7 @@ impl Renderer {
                 shadow.set_layout(),
             )?,
             shadow,
+            msaa: MsaaPass::new(&device, frames_in_flight)?,
             one_shot,
             environment,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
@@ -146,6 +151,16 @@ impl Renderer {
         GpuScene::upload(&self.device, &self.one_shot, scene, self.forward.material_layout(), id)
     }
 
+    /// Samples per pixel that frames of `scene` are drawn with: its `[antialiasing] msaa`,
+    /// or the largest count below it the device supports; 1 for the floor.
+    pub fn msaa_samples(&self, scene: &Scene) -> u32 {
+        if self.floor {
+            1
+        } else {
+            supported_samples(&self.device, scene.antialiasing.msaa)
+        }
+    }
+
     /// How many times the shadow maps have been rendered: once per change of the lights,
     /// objects or settings, not per frame.
     pub fn shadow_map_renders(&self) -> u64 {
@@ -165,6 +180,9 @@ impl Renderer {
         let start = std::time::Instant::now();
         self.environment.prepare(scene)?;
         self.environment_time += start.elapsed();
+        let samples = self.msaa_samples(scene);
+        self.environment.prepare_skybox(sample_flag(samples))?;
+        self.msaa.prepare(slot, target, samples)?;
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         self.forward.prepare(
             slot,
@@ -173,13 +191,15 @@ impl Renderer {
             self.debug_view,
             self.floor,
             !self.generic,
+            sample_flag(samples),
             &self.one_shot,
         )?;
         self.tonemap.prepare(slot, target, output_format)
     }
 
-    /// Records the whole frame: forward pass and skybox into `target`, display transform into
-    /// `output`, which is left as a colour attachment. `target.color` is left readable by shaders.
+    /// Records the whole frame: forward pass and skybox into `target` (or into multisampled
+    /// images resolved into it), display transform into `output`, which is left as a colour
+    /// attachment. `target.color` is left readable by shaders.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -201,11 +221,13 @@ impl Renderer {
             ImageUse::UNDEFINED,
             ImageUse::COLOR_ATTACHMENT,
         );
+        let draw = self.msaa.draw_target(slot, target);
+        self.msaa.begin(cmd, slot);
         transition(
             d,
             cmd,
-            target.depth.handle,
-            target.depth.aspect,
+            draw.depth.handle,
+            draw.depth.aspect,
             ImageUse::UNDEFINED,
             ImageUse::DEPTH_ATTACHMENT,
         );
@@ -216,16 +238,16 @@ impl Renderer {
                 slot,
                 scene,
                 gpu,
-                target,
+                draw,
                 background(scene),
                 self.environment.set(),
                 self.shadow.set(slot),
             )
         })?;
         self.timed(cmd, slot, PASS_SKYBOX, || {
-            self.environment.record_skybox(cmd, target, &scene.camera);
-            Ok(())
+            self.environment.record_skybox(cmd, draw, &scene.camera)
         })?;
+        self.timed(cmd, slot, PASS_RESOLVE, || self.msaa.record(cmd, slot, target))?;
 
         transition(
             d,

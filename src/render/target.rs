@@ -16,6 +16,8 @@ pub const MAX_SIDE: u32 = 16384;
 
 pub struct RenderTarget {
     pub color: Image,
+    /// The depth of single-sampled frames. A multisampled frame tests against its own
+    /// multisampled depth (src/render/msaa.rs) and leaves this one unwritten.
     pub depth: Image,
     pub extent: vk::Extent2D,
 }
@@ -49,6 +51,37 @@ impl RenderTarget {
     }
 
     pub fn aspect(&self) -> f32 {
-        self.extent.width as f32 / self.extent.height as f32
+        self.draw_target().aspect()
+    }
+
+    /// The target's own images, single-sampled, as the forward pass and skybox draw into.
+    pub fn draw_target(&self) -> DrawTarget<'_> {
+        DrawTarget {
+            color: &self.color,
+            depth: &self.depth,
+        }
+    }
+}
+
+/// The colour and depth images the forward pass and the skybox draw into: a target's own,
+/// or multisampled ones that src/render/msaa.rs resolves into it. Both have the target's
+/// extent and the same sample count.
+#[derive(Clone, Copy)]
+pub struct DrawTarget<'a> {
+    pub color: &'a Image,
+    pub depth: &'a Image,
+}
+
+impl DrawTarget<'_> {
+    pub fn extent(&self) -> vk::Extent2D {
+        self.color.extent
+    }
+
+    pub fn aspect(&self) -> f32 {
+        self.color.extent.width as f32 / self.color.extent.height as f32
+    }
+
+    pub fn samples(&self) -> vk::SampleCountFlags {
+        self.color.samples
     }
 }

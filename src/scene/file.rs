@@ -27,6 +27,8 @@ pub struct SceneFile {
     pub lights: Vec<LightDef>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shadows: Option<ShadowsDef>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub antialiasing: Option<AntialiasingDef>,
     #[serde(default)]
     pub environment: EnvironmentDef,
     #[serde(default)]
@@ -87,6 +89,18 @@ pub struct ShadowsDef {
     /// Texels on a side of each cube face (absent: 1024).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub resolution: Option<u32>,
+}
+
+/// `[antialiasing]`: multisampling and specular anti-aliasing of the frame.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AntialiasingDef {
+    /// Samples per pixel of the forward pass: 1, 2, 4 or 8 (absent: 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub msaa: Option<u32>,
+    /// Specular lobes widened by the shading normal's variation over a pixel (absent: true).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub specular: Option<bool>,
 }
 
 /// `[environment]`, selected by `kind`. Optional keys are `None` when absent

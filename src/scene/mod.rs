@@ -2,6 +2,7 @@
 //! and the runtime data the renderer draws: meshes, materials, lights and a
 //! camera.
 
+mod antialiasing;
 mod camera;
 mod curvature;
 mod edit;
@@ -25,6 +26,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 
+pub use antialiasing::{Antialiasing, MSAA_COUNTS};
 pub use camera::Camera;
 pub use error::SceneError;
 pub use file::SceneFile;
@@ -69,6 +71,7 @@ pub struct Scene {
     pub lights: Vec<PointLight>,
     /// Texels on a side of each face of a light's cube shadow map.
     pub shadow_resolution: u32,
+    pub antialiasing: Antialiasing,
     pub environment: Environment,
     /// Each distinct `mesh` string of the file, loaded once.
     pub meshes: Vec<Mesh>,

@@ -7,7 +7,10 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 
-use super::file::{CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef, ShadowsDef};
+use super::antialiasing::{Antialiasing, MSAA_COUNTS};
+use super::file::{
+    AntialiasingDef, CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef, ShadowsDef,
+};
 use super::light::{Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE};
 use super::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use super::{
@@ -172,6 +175,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         })
         .collect::<Result<_, _>>()?;
     let shadow_resolution = shadow_resolution(&check, file.shadows.as_ref())?;
+    let antialiasing = antialiasing(&check, file.antialiasing.as_ref())?;
     let environment = environment(&check, &file.environment, base_dir)?;
 
     let mut requests = TextureRequests::default();
@@ -243,6 +247,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         camera,
         lights,
         shadow_resolution,
+        antialiasing,
         environment,
         meshes,
         objects,
@@ -267,6 +272,22 @@ fn shadow_resolution(check: &Checker, def: Option<&ShadowsDef>) -> Result<u32, S
             ),
         ))
     }
+}
+
+fn antialiasing(check: &Checker, def: Option<&AntialiasingDef>) -> Result<Antialiasing, SceneError> {
+    let defaults = Antialiasing::DEFAULT;
+    let msaa = def.and_then(|d| d.msaa).unwrap_or(defaults.msaa);
+    if !MSAA_COUNTS.contains(&msaa) {
+        return Err(check.invalid(
+            "antialiasing.msaa",
+            msaa,
+            format!("must be one of {MSAA_COUNTS:?} (samples per pixel)"),
+        ));
+    }
+    Ok(Antialiasing {
+        msaa,
+        specular: def.and_then(|d| d.specular).unwrap_or(defaults.specular),
+    })
 }
 
 fn camera(check: &Checker, def: &CameraDef) -> Result<Camera, SceneError> {
@@ -612,6 +633,7 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
         shadows: (scene.shadow_resolution != DEFAULT_SHADOW_RESOLUTION).then_some(ShadowsDef {
             resolution: Some(scene.shadow_resolution),
         }),
+        antialiasing: antialiasing_def(scene.antialiasing),
         environment: environment_def(&scene.environment, relative),
         objects: scene
             .objects
@@ -656,6 +678,15 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
             })
             .collect(),
     }
+}
+
+/// `[antialiasing]` with only the keys that differ from the defaults; none when all do not.
+fn antialiasing_def(a: Antialiasing) -> Option<AntialiasingDef> {
+    let defaults = Antialiasing::DEFAULT;
+    (a != defaults).then(|| AntialiasingDef {
+        msaa: (a.msaa != defaults.msaa).then_some(a.msaa),
+        specular: (a.specular != defaults.specular).then_some(a.specular),
+    })
 }
 
 fn environment_def(environment: &Environment, relative: impl Fn(&Path) -> PathBuf) -> EnvironmentDef {

@@ -466,6 +466,46 @@ fn shadow_keys_are_read_defaulted_and_saved() {
     assert_eq!(Scene::default_scene().lights[0].radius, 0.5);
 }
 
+/// `[antialiasing]` is read, defaults to one sample with specular anti-aliasing, is saved
+/// only where it differs from that, and a sample count outside 1, 2, 4, 8 names the field.
+#[test]
+fn antialiasing_keys_are_read_defaulted_validated_and_saved() {
+    let text = format!("{CUBE}[antialiasing]\nmsaa = 4\n");
+    let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
+    assert_eq!((scene.antialiasing.msaa, scene.antialiasing.specular), (4, true));
+    let saved = scene.to_file().to_toml().unwrap();
+    assert!(
+        saved.contains("[antialiasing]\nmsaa = 4\n") && !saved.contains("specular = true"),
+        "{saved}"
+    );
+    assert_eq!(
+        Scene::from_toml(&saved, "saved.toml", Path::new(""))
+            .unwrap()
+            .antialiasing,
+        scene.antialiasing
+    );
+    let defaults = Scene::from_toml(CUBE, "scene.toml", Path::new("")).unwrap();
+    assert_eq!(defaults.antialiasing, crate::scene::Antialiasing::DEFAULT);
+    assert!(!defaults.to_file().to_toml().unwrap().contains("[antialiasing]"));
+    for bad in ["msaa = 3", "msaa = 16", "msaa = 0"] {
+        let error = Scene::from_toml(&format!("{CUBE}[antialiasing]\n{bad}\n"), "bad.toml", Path::new(""))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.contains("bad.toml") && error.contains("antialiasing.msaa"),
+            "{error}"
+        );
+    }
+    let error = Scene::from_toml(
+        &format!("{CUBE}[antialiasing]\nfxaa = true\n"),
+        "bad.toml",
+        Path::new(""),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("fxaa"), "{error}");
+}
+
 #[test]
 fn saved_scene_reloads_identically_with_relative_paths() {
     let dir = TempDir::new();

@@ -1,5 +1,5 @@
 //! What `argil verify` evaluates: every function of `shaders/lib/brdf.glsl` and
-//! `tonemap.glsl` that the harness `shaders/verify_brdf.comp` can call (and, through
+//! `tonemap.glsl` (and of `msaa_resolve.glsl` and `specular_aa.glsl`) that the harness `shaders/verify_brdf.comp` can call (and, through
 //! `normals` and `composite`, those of `normal_mapping.glsl` and `shading.glsl`), the input
 //! tuples it is fed (random over the whole domain, and stress inputs), and the f64 side of
 //! the harness, which feeds the twins in `src/brdf` the very same f32 inputs.
@@ -8,6 +8,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use bytemuck::{Pod, Zeroable};
 
+use crate::brdf::antialiasing::{resolve_weight, specular_aa_roughness};
 use crate::brdf::diffuse::{diffuse_eon, diffuse_lambert, diffuse_oren_nayar, e_fon_approx};
 use crate::brdf::distribution::{d_beckmann, d_ggx};
 use crate::brdf::fresnel::{f_schlick, f_schlick_scalar};
@@ -69,6 +70,8 @@ pub enum Term {
     ShadowTerminator = 17,
     PreintegratedLookup = 18,
     WrapEnergyConservingShKernel = 19,
+    ResolveWeight = 20,
+    SpecularAaRoughness = 21,
 }
 
 /// BRDF models of directions. The value is the GLSL `FUNCTION` of verify_brdf.comp.
@@ -137,7 +140,7 @@ const FP32: Cap = Cap {
 };
 
 impl Term {
-    pub const ALL: [Term; 20] = [
+    pub const ALL: [Term; 22] = [
         Term::DGgx,
         Term::DBeckmann,
         Term::LambdaGgx,
@@ -158,6 +161,8 @@ impl Term {
         Term::ShadowTerminator,
         Term::PreintegratedLookup,
         Term::WrapEnergyConservingShKernel,
+        Term::ResolveWeight,
+        Term::SpecularAaRoughness,
     ];
 
     /// The GLSL function's name (F and sRGB also evaluate their scalar overloads).
@@ -183,6 +188,8 @@ impl Term {
             Term::ShadowTerminator => "shadow_terminator",
             Term::PreintegratedLookup => "preintegrated_lookup",
             Term::WrapEnergyConservingShKernel => "wrap_energy_conserving_sh_kernel",
+            Term::ResolveWeight => "resolve_weight",
+            Term::SpecularAaRoughness => "specular_aa_roughness",
         }
     }
 
@@ -216,6 +223,8 @@ impl Term {
             Term::ShadowTerminator => (&["n_g·l", "n_s·l", "n_g·n_s"], None),
             Term::PreintegratedLookup => (&["n·l", "σκ"], None),
             Term::WrapEnergyConservingShKernel => (&["w"], None),
+            Term::ResolveWeight => (&[], Some("rgb")),
+            Term::SpecularAaRoughness => (&["roughness", "|∂n/∂x|²+|∂n/∂y|²"], None),
         }
     }
 
@@ -277,6 +286,8 @@ impl Term {
                 let [k0, k1, k2] = wrap_energy_conserving_sh_kernel(x);
                 [k0, k1, k2, 0.0]
             }
+            Term::ResolveWeight => scalar(resolve_weight(colour)),
+            Term::SpecularAaRoughness => scalar(specular_aa_roughness(x, y)),
         }
     }
 
@@ -365,6 +376,26 @@ impl Term {
                 scalars([rng.range(-1.0, 1.0), t, 0.0, 0.0])
             }
             Term::WrapEnergyConservingShKernel => scalars([rng.uniform(), 0.0, 0.0, 0.0]),
+            Term::ResolveWeight => {
+                // HDR radiance over many decades, some channels 0.
+                let mut channel = || match rng.uniform() {
+                    u if u < 0.1 => 0.0,
+                    _ => rng.log_uniform(1e-4, 1e4) as f32,
+                };
+                Tuple {
+                    d: [channel(), channel(), channel(), 0.0],
+                    ..Tuple::default()
+                }
+            }
+            Term::SpecularAaRoughness => {
+                // The normal's change per pixel from none to the clamp and past it.
+                let change = if rng.uniform() < 0.1 {
+                    0.0
+                } else {
+                    rng.log_uniform(1e-8, 1e2)
+                };
+                scalars([rng.uniform(), change, 0.0, 0.0])
+            }
             Term::SpecBlinnPhong => {
                 let theta = if rng.uniform() < 0.03 {
                     rng.range(FRAC_PI_2, std::f64::consts::PI) // below the horizon: 0
@@ -511,6 +542,23 @@ impl Term {
             Term::WrapEnergyConservingShKernel => {
                 for &w in STRESS_ALPHAS {
                     push([w, 0.0, 0.0, 0.0], [0.0; 4]);
+                }
+            }
+            Term::ResolveWeight => {
+                for &r in STRESS_RADIANCES {
+                    for &g in STRESS_RADIANCES {
+                        for &b in STRESS_RADIANCES {
+                            push([0.0; 4], [r, g, b, 0.0]);
+                        }
+                    }
+                }
+            }
+            Term::SpecularAaRoughness => {
+                // The change is a sum of squares: never negative.
+                for &roughness in STRESS_ALPHAS {
+                    for &change in STRESS_ALPHAS.iter().filter(|c| **c >= 0.0).chain(&[f32::MAX]) {
+                        push([roughness, change, 0.0, 0.0], [0.0; 4]);
+                    }
                 }
             }
             Term::SpecBlinnPhong => {

@@ -3,6 +3,7 @@
 //! materials and lights live, switch debug views and watch timings. The scene file is
 //! reloaded when it changes on disk; Save writes the edited scene back.
 
+mod antialiasing_panel;
 mod camera_control;
 mod frames;
 mod history;
@@ -597,6 +598,7 @@ impl App {
         };
         state.frames.renderer.debug_view = self.view.debug_view;
         state.frames.renderer.shadows = self.view.shadows;
+        self.view.msaa_samples = state.frames.renderer.msaa_samples(&self.scene);
         let ui = UiFrame {
             primitives,
             textures: output.textures_delta,

@@ -199,6 +199,8 @@ mod tests {
         scene.lights[0].radius = 0.25;
         scene.lights[0].shadows = false;
         scene.shadow_resolution = 512;
+        scene.antialiasing.msaa = 8;
+        scene.antialiasing.specular = false;
         scene.environment = Environment::Studio {
             intensity: 1.5,
             rotation_degrees: 0.0,
@@ -223,6 +225,7 @@ mod tests {
         let (reloaded, _) = load(&path);
         assert_eq!(reloaded.lights, scene.lights);
         assert_eq!(reloaded.shadow_resolution, 512);
+        assert_eq!((reloaded.antialiasing.msaa, reloaded.antialiasing.specular), (8, false));
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! 2D images and cube maps (with or without mip chains) with a view and their memory,
-//! freed in `Drop`, and extra views of single mip levels.
+//! 2D images (single- or multisampled) and cube maps (with or without mip chains) with a
+//! view and their memory, freed in `Drop`, and extra views of single mip levels.
 
 use std::sync::Arc;
 
@@ -21,6 +21,7 @@ pub struct Image {
     pub mip_levels: u32,
     /// Array layers: 1, or 6 for a cube map.
     pub layers: u32,
+    pub samples: vk::SampleCountFlags,
 }
 
 /// The number of levels of a full mip chain down to 1×1.
@@ -56,6 +57,27 @@ impl Image {
             mip_levels,
             layers: 1,
             view_type: vk::ImageViewType::TYPE_2D,
+            samples: vk::SampleCountFlags::TYPE_1,
+        };
+        Self::create(device, shape, format, usage, aspect, name)
+    }
+
+    /// A single-level image of `samples` samples per texel: a multisampled attachment.
+    pub fn multisampled(
+        device: &Arc<Device>,
+        extent: vk::Extent2D,
+        samples: vk::SampleCountFlags,
+        format: vk::Format,
+        usage: vk::ImageUsageFlags,
+        aspect: vk::ImageAspectFlags,
+        name: &str,
+    ) -> Result<Self> {
+        let shape = Shape {
+            extent,
+            mip_levels: 1,
+            layers: 1,
+            view_type: vk::ImageViewType::TYPE_2D,
+            samples,
         };
         Self::create(device, shape, format, usage, aspect, name)
     }
@@ -79,6 +101,7 @@ impl Image {
             mip_levels,
             layers: 6,
             view_type: vk::ImageViewType::CUBE,
+            samples: vk::SampleCountFlags::TYPE_1,
         };
         Self::create(device, shape, format, usage, vk::ImageAspectFlags::COLOR, name)
     }
@@ -127,6 +150,7 @@ impl Image {
             mip_levels: 1,
             layers,
             view_type: vk::ImageViewType::TYPE_2D_ARRAY,
+            samples: vk::SampleCountFlags::TYPE_1,
         };
         Self::create(device, shape, format, usage, aspect, name)
     }
@@ -144,6 +168,7 @@ impl Image {
             mip_levels,
             layers,
             view_type,
+            samples,
         } = shape;
         let flags = if view_type == vk::ImageViewType::CUBE {
             vk::ImageCreateFlags::CUBE_COMPATIBLE
@@ -161,7 +186,7 @@ impl Image {
             })
             .mip_levels(mip_levels)
             .array_layers(layers)
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(samples)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
@@ -197,6 +222,7 @@ impl Image {
             aspect,
             mip_levels,
             layers,
+            samples,
         };
         let a = image.allocation.as_ref().expect("allocated above");
         unsafe { device.handle.bind_image_memory(handle, a.memory(), a.offset()) }
@@ -253,6 +279,7 @@ struct Shape {
     mip_levels: u32,
     layers: u32,
     view_type: vk::ImageViewType,
+    samples: vk::SampleCountFlags,
 }
 
 /// An extra view of an image, destroyed in `Drop`; the image must outlive it.

@@ -124,6 +124,7 @@ pub struct GraphicsPipelineBuilder<'a> {
     depth_write: bool,
     depth_compare: vk::CompareOp,
     cull_mode: vk::CullModeFlags,
+    samples: vk::SampleCountFlags,
 }
 
 impl<'a> GraphicsPipelineBuilder<'a> {
@@ -139,6 +140,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             depth_write: false,
             depth_compare: vk::CompareOp::LESS,
             cull_mode: vk::CullModeFlags::NONE,
+            samples: vk::SampleCountFlags::TYPE_1,
         }
     }
 
@@ -156,6 +158,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             depth_write: true,
             depth_compare: vk::CompareOp::LESS,
             cull_mode: vk::CullModeFlags::NONE,
+            samples: vk::SampleCountFlags::TYPE_1,
         }
     }
 
@@ -193,6 +196,12 @@ impl<'a> GraphicsPipelineBuilder<'a> {
 
     pub fn cull_back_faces(mut self) -> Self {
         self.cull_mode = vk::CullModeFlags::BACK;
+        self
+    }
+
+    /// Rasterization samples per pixel, as the attachments have (default 1).
+    pub fn samples(mut self, samples: vk::SampleCountFlags) -> Self {
+        self.samples = samples;
         self
     }
 
@@ -241,8 +250,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             .cull_mode(self.cull_mode)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
-        let multisample =
-            vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(self.samples);
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(self.depth_format.is_some())
             .depth_write_enable(self.depth_write)
