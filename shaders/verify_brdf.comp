@@ -8,6 +8,7 @@
 #include "tonemap.glsl"
 #include "normal_mapping.glsl"
 #include "shading.glsl"
+#include "occlusion.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -33,6 +34,9 @@ const uint SPEC_BLINN_PHONG = 16u;
 const uint SHADOW_TERMINATOR = 17u;
 const uint PREINTEGRATED_LOOKUP = 18u;
 const uint WRAP_ENERGY_CONSERVING_SH_KERNEL = 19u;
+const uint GTAO_SLICE_VISIBILITY = 20u;
+const uint GTAO_MULTI_BOUNCE = 21u;
+const uint SPECULAR_OCCLUSION = 22u;
 // From here on, BRDF models of directions: f(n, v, l) and f(n, l, v) are both written.
 const uint FIRST_MODEL = 32u;
 const uint LAMBERT = 32u;
@@ -129,6 +133,12 @@ vec4 term(Tuple t) {
         return preintegrated_lookup(a.x, a.y);
     case WRAP_ENERGY_CONSERVING_SH_KERNEL: // wrap_energy_conserving_sh_kernel(w)
         return vec4(wrap_energy_conserving_sh_kernel(a.x), 0.0);
+    case GTAO_SLICE_VISIBILITY: // gtao_slice_visibility(h0, h1, γ)
+        return vec4(gtao_slice_visibility(a.x, a.y, a.z));
+    case GTAO_MULTI_BOUNCE: // gtao_multi_bounce(x, ρ)
+        return vec4(gtao_multi_bounce(a.x, t.d.rgb), 0.0);
+    case SPECULAR_OCCLUSION: // specular_occlusion(n·v, x, α)
+        return vec4(specular_occlusion(a.x, a.y, a.z));
     }
     return vec4(0.0);
 }

@@ -4,6 +4,7 @@ pub mod debug_view;
 pub mod environment;
 pub mod forward;
 pub mod gpu_scene;
+pub mod occlusion;
 pub mod output;
 pub mod renderer;
 pub mod shaders;

@@ -11,6 +11,7 @@ use super::debug_view::DebugView;
 use super::environment::EnvironmentPass;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
+use super::occlusion::{OcclusionMode, OcclusionPass};
 use super::shadow::ShadowPass;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
@@ -18,12 +19,14 @@ use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
 /// The passes of a frame, in order; GPU times are reported with these names.
-/// The shadow maps are drawn first but named last: index 0 stays the forward pass.
-pub const PASS_NAMES: [&str; 4] = ["forward", "skybox", "tonemap", "shadow"];
+/// The shadow maps and the occlusion are drawn first but named last: index 0 stays the
+/// forward pass.
+pub const PASS_NAMES: [&str; 5] = ["forward", "skybox", "tonemap", "shadow", "occlusion"];
 const PASS_FORWARD: u32 = 0;
 const PASS_SKYBOX: u32 = 1;
 const PASS_TONEMAP: u32 = 2;
 const PASS_SHADOW: u32 = 3;
+const PASS_OCCLUSION: u32 = 4;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping. The frame covers `area` of the image,
@@ -54,6 +57,7 @@ pub struct Renderer {
     one_shot: OneShot,
     environment: EnvironmentPass,
     shadow: ShadowPass,
+    occlusion_pass: OcclusionPass,
     forward: ForwardPass,
     tonemap: TonemapPass,
     /// One query pool per frame in flight; empty when the device has no timestamps.
@@ -71,6 +75,8 @@ pub struct Renderer {
     pub generic: bool,
     /// Whether lights cast shadows (each light's `shadows` still applies); the viewer's toggle.
     pub shadows: bool,
+    /// Whether a scene's `[occlusion] enabled` applies; the viewer's toggle.
+    pub occlusion: bool,
     /// Scenes uploaded so far: the next upload's id.
     uploads: Cell<u64>,
 }
@@ -112,6 +118,7 @@ impl Renderer {
         let environment = EnvironmentPass::new(&device)?;
         let one_shot = OneShot::new(&device)?;
         let shadow = ShadowPass::new(&device, frames_in_flight)?;
+        let occlusion_pass = OcclusionPass::new(&device, &one_shot)?;
         Ok(Self {
             forward: ForwardPass::new(
                 &device,
@@ -119,8 +126,10 @@ impl Renderer {
                 frames_in_flight,
                 environment.set_layout(),
                 shadow.set_layout(),
+                occlusion_pass.set_layout(),
             )?,
             shadow,
+            occlusion_pass,
             one_shot,
             environment,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
@@ -130,6 +139,7 @@ impl Renderer {
             generic: false,
             environment_time: std::time::Duration::ZERO,
             shadows: true,
+            occlusion: true,
             uploads: Cell::new(0),
             device,
         })
@@ -166,6 +176,9 @@ impl Renderer {
         self.environment.prepare(scene)?;
         self.environment_time += start.elapsed();
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
+        // The floor measures geometry and targets alone: no occlusion under it.
+        let occlusion = OcclusionMode::of(&scene.occlusion, self.occlusion && !self.floor);
+        self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
         self.forward.prepare(
             slot,
             scene,
@@ -173,6 +186,7 @@ impl Renderer {
             self.debug_view,
             self.floor,
             !self.generic,
+            occlusion,
             &self.one_shot,
         )?;
         self.tonemap.prepare(slot, target, output_format)
@@ -210,6 +224,9 @@ impl Renderer {
             ImageUse::DEPTH_ATTACHMENT,
         );
         self.timed(cmd, slot, PASS_SHADOW, || self.shadow.record(cmd, scene, gpu))?;
+        self.timed(cmd, slot, PASS_OCCLUSION, || {
+            self.occlusion_pass.record(cmd, scene, gpu)
+        })?;
         self.timed(cmd, slot, PASS_FORWARD, || {
             self.forward.record(
                 cmd,
@@ -220,6 +237,7 @@ impl Renderer {
                 background(scene),
                 self.environment.set(),
                 self.shadow.set(slot),
+                self.occlusion_pass.set(),
             )
         })?;
         self.timed(cmd, slot, PASS_SKYBOX, || {

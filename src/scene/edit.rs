@@ -41,6 +41,10 @@ pub fn edit_document(scene: &Scene, document: &str, path: &Path) -> Result<Strin
         let shadows = new.shadows.clone().unwrap_or_default();
         merge(section(root, "shadows")?, &table_of(&shadows)?, None);
     }
+    if old.occlusion != new.occlusion {
+        let occlusion = new.occlusion.clone().unwrap_or_default();
+        merge(section(root, "occlusion")?, &table_of(&occlusion)?, None);
+    }
     let object_base = table_of(&ObjectDef {
         mesh: String::new(),
         position: [0.0; 3],

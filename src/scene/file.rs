@@ -27,6 +27,8 @@ pub struct SceneFile {
     pub lights: Vec<LightDef>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shadows: Option<ShadowsDef>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub occlusion: Option<OcclusionDef>,
     #[serde(default)]
     pub environment: EnvironmentDef,
     #[serde(default)]
@@ -87,6 +89,27 @@ pub struct ShadowsDef {
     /// Texels on a side of each cube face (absent: 1024).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub resolution: Option<u32>,
+}
+
+/// `[occlusion]`: ambient occlusion of the environment's light (absent keys: defaults).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OcclusionDef {
+    /// Whether the pass runs (absent: false).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub enabled: Option<bool>,
+    /// Search radius in world units (absent: 0.5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Slice directions per pixel (absent: 4).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slices: Option<u32>,
+    /// Samples on each side of a slice (absent: 8).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps: Option<u32>,
+    /// GTAO's multi-bounce fit on the diffuse visibility (absent: true).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub multi_bounce: Option<bool>,
 }
 
 /// `[environment]`, selected by `kind`. Optional keys are `None` when absent

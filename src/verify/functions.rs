@@ -15,6 +15,7 @@ use crate::brdf::geometry::{
     g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
     g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann, lambda_ggx,
 };
+use crate::brdf::occlusion::{gtao_multi_bounce, gtao_slice_visibility, specular_occlusion};
 use crate::brdf::shading::shadow_terminator;
 use crate::brdf::specular::{spec_blinn_phong, spec_cook_torrance, spec_torrance_sparrow, Distribution, Geometry};
 use crate::brdf::subsurface::{wrap_energy_conserving_sh_kernel, PreintegratedTable};
@@ -69,6 +70,9 @@ pub enum Term {
     ShadowTerminator = 17,
     PreintegratedLookup = 18,
     WrapEnergyConservingShKernel = 19,
+    GtaoSliceVisibility = 20,
+    GtaoMultiBounce = 21,
+    SpecularOcclusion = 22,
 }
 
 /// BRDF models of directions. The value is the GLSL `FUNCTION` of verify_brdf.comp.
@@ -129,6 +133,11 @@ const SH_KERNEL: Cap = Cap {
     value: 4.0,
     label: "<= 4",
 };
+/// GTAO's slice integral of cos(θ − γ)|sin θ| reaches ∫₀^π sin² = π/2 at γ = π/2.
+const SLICE: Cap = Cap {
+    value: FRAC_PI_2,
+    label: "<= π/2",
+};
 /// Intermediates (D, Λ, E_FON) are never stored, and brdf_cos is scaled by the irradiance
 /// before it is: only fp32 overflow matters.
 const FP32: Cap = Cap {
@@ -137,7 +146,7 @@ const FP32: Cap = Cap {
 };
 
 impl Term {
-    pub const ALL: [Term; 20] = [
+    pub const ALL: [Term; 23] = [
         Term::DGgx,
         Term::DBeckmann,
         Term::LambdaGgx,
@@ -158,6 +167,9 @@ impl Term {
         Term::ShadowTerminator,
         Term::PreintegratedLookup,
         Term::WrapEnergyConservingShKernel,
+        Term::GtaoSliceVisibility,
+        Term::GtaoMultiBounce,
+        Term::SpecularOcclusion,
     ];
 
     /// The GLSL function's name (F and sRGB also evaluate their scalar overloads).
@@ -183,6 +195,9 @@ impl Term {
             Term::ShadowTerminator => "shadow_terminator",
             Term::PreintegratedLookup => "preintegrated_lookup",
             Term::WrapEnergyConservingShKernel => "wrap_energy_conserving_sh_kernel",
+            Term::GtaoSliceVisibility => "gtao_slice_visibility",
+            Term::GtaoMultiBounce => "gtao_multi_bounce",
+            Term::SpecularOcclusion => "specular_occlusion",
         }
     }
 
@@ -216,13 +231,19 @@ impl Term {
             Term::ShadowTerminator => (&["n_g·l", "n_s·l", "n_g·n_s"], None),
             Term::PreintegratedLookup => (&["n·l", "σκ"], None),
             Term::WrapEnergyConservingShKernel => (&["w"], None),
+            Term::GtaoSliceVisibility => (&["h0", "h1", "γ"], None),
+            Term::GtaoMultiBounce => (&["x"], Some("ρ")),
+            Term::SpecularOcclusion => (&["n·v", "x", "α"], None),
         }
     }
 
     fn channels(self) -> usize {
         match self {
             Term::FSchlick | Term::SrgbOetf | Term::PreintegratedLookup => 4,
-            Term::TonemapPbrNeutral | Term::SpecBlinnPhong | Term::WrapEnergyConservingShKernel => 3,
+            Term::TonemapPbrNeutral
+            | Term::SpecBlinnPhong
+            | Term::WrapEnergyConservingShKernel
+            | Term::GtaoMultiBounce => 3,
             _ => 1,
         }
     }
@@ -232,6 +253,7 @@ impl Term {
             Term::DGgx | Term::DBeckmann | Term::LambdaGgx | Term::LambdaBeckmann | Term::EFonApprox => FP32,
             Term::SpecBlinnPhong => FP16,
             Term::PreintegratedLookup | Term::WrapEnergyConservingShKernel => SH_KERNEL,
+            Term::GtaoSliceVisibility => SLICE,
             _ => UNIT,
         }
     }
@@ -277,6 +299,12 @@ impl Term {
                 let [k0, k1, k2] = wrap_energy_conserving_sh_kernel(x);
                 [k0, k1, k2, 0.0]
             }
+            Term::GtaoSliceVisibility => scalar(gtao_slice_visibility(x, y, z)),
+            Term::GtaoMultiBounce => {
+                let [r, g, b] = gtao_multi_bounce(x, colour);
+                [r, g, b, 0.0]
+            }
+            Term::SpecularOcclusion => scalar(specular_occlusion(x, y, z)),
         }
     }
 
@@ -407,6 +435,19 @@ impl Term {
                 };
                 scalars([ng_l, ns_l, ng_ns, 0.0])
             }
+            Term::GtaoSliceVisibility => {
+                // Horizons as GTAO clamps them: within π/2 of the normal's angle γ.
+                let gamma = rng.range(-FRAC_PI_2, FRAC_PI_2);
+                let h0 = rng.range(gamma - FRAC_PI_2, 0.0);
+                let h1 = rng.range(0.0, gamma + FRAC_PI_2);
+                scalars([h0, h1, gamma, 0.0])
+            }
+            Term::GtaoMultiBounce => Tuple {
+                a: [rng.uniform() as f32, 0.0, 0.0, 0.0],
+                d: colour(rng),
+                ..Tuple::default()
+            },
+            Term::SpecularOcclusion => scalars([sample_signed_cosine(rng), rng.uniform(), alpha, 0.0]),
         }
     }
 
@@ -511,6 +552,32 @@ impl Term {
             Term::WrapEnergyConservingShKernel => {
                 for &w in STRESS_ALPHAS {
                     push([w, 0.0, 0.0, 0.0], [0.0; 4]);
+                }
+            }
+            Term::GtaoSliceVisibility => {
+                let half = std::f32::consts::FRAC_PI_2;
+                for gamma in [-half, -0.5, 0.0, 0.5, half] {
+                    for h0 in [gamma - half, -1e-7, 0.0] {
+                        for h1 in [0.0, 1e-7, gamma + half] {
+                            push([h0.min(0.0), h1.max(0.0), gamma, 0.0], [0.0; 4]);
+                        }
+                    }
+                }
+            }
+            Term::GtaoMultiBounce => {
+                for &rho in STRESS_COLOURS {
+                    for x in [0.0, 1e-7, 0.5, 1.0] {
+                        push([x, 0.0, 0.0, 0.0], [rho, 1.0 - rho, rho * 0.5, 0.0]);
+                    }
+                }
+            }
+            Term::SpecularOcclusion => {
+                for &n_dot_v in STRESS_COSINES {
+                    for x in [0.0, 1e-7, 0.5, 1.0] {
+                        for &alpha in STRESS_ALPHAS {
+                            push([n_dot_v, x, alpha, 0.0], [0.0; 4]);
+                        }
+                    }
                 }
             }
             Term::SpecBlinnPhong => {

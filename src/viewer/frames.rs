@@ -450,6 +450,9 @@ mod tests {
 
     #[test]
     fn gpu_times_name_every_pass_and_the_ui() {
-        assert_eq!(gpu_pass_names(), vec!["forward", "skybox", "tonemap", "shadow", "ui"]);
+        assert_eq!(
+            gpu_pass_names(),
+            vec!["forward", "skybox", "tonemap", "shadow", "occlusion", "ui"]
+        );
     }
 }

@@ -6,6 +6,7 @@
 mod camera_control;
 mod frames;
 mod history;
+mod occlusion_panel;
 mod overlay;
 mod panels;
 mod rebuild;
@@ -580,6 +581,7 @@ impl App {
         };
         state.frames.renderer.debug_view = self.view.debug_view;
         state.frames.renderer.shadows = self.view.shadows;
+        state.frames.renderer.occlusion = self.view.occlusion;
         let ui = UiFrame {
             primitives,
             textures: output.textures_delta,

@@ -78,6 +78,8 @@ pub struct ViewState {
     pub debug_view: DebugView,
     /// Whether the lights cast shadows (the renderer's toggle).
     pub shadows: bool,
+    /// Whether a scene's occlusion applies (the renderer's toggle).
+    pub occlusion: bool,
     pub exposure: f32,
     /// The object the orbit mode circles.
     pub selected_object: usize,
@@ -115,6 +117,7 @@ impl ViewState {
         ViewState {
             debug_view: DebugView::Shaded,
             shadows: true,
+            occlusion: true,
             exposure,
             selected_object: 0,
             selected_material: 0,
@@ -223,6 +226,9 @@ const SECTIONS: &[Section] = &[
     ("Lights", false, |ui, p| lights_section(ui, p.scene)),
     ("Shadows", false, |ui, p| {
         super::shadow_panel::shadows_section(ui, p.scene, &mut p.view.shadows)
+    }),
+    ("Occlusion", false, |ui, p| {
+        super::occlusion_panel::occlusion_section(ui, p.scene, &mut p.view.occlusion)
     }),
     ("Environment", false, |ui, p| environment_section(ui, p.scene)),
     ("Files", false, files_section),
