@@ -15,6 +15,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 
 use super::shaders;
+use super::shadow::draw_depth;
 use super::target::DEPTH_FORMAT;
 use crate::scene::{Occlusion, Scene, Vertex};
 use crate::vk::{
@@ -301,23 +302,15 @@ impl OcclusionPass {
                 depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
         begin_full_rendering(&self.device, cmd, depth.extent, &[], Some(&attachment));
-        unsafe { d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.prepass.handle) };
-        for object in &scene.objects {
-            let mesh = &gpu.meshes[object.mesh];
-            let clip_from_object = *view_proj * object.model_matrix();
-            unsafe {
-                d.cmd_push_constants(
-                    cmd,
-                    self.prepass_layout.handle,
-                    vk::ShaderStageFlags::VERTEX,
-                    0,
-                    bytemuck::bytes_of(&clip_from_object),
-                );
-                d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
-                d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
-                d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
-            }
-        }
+        draw_depth(
+            &self.device,
+            cmd,
+            &self.prepass_layout,
+            &self.prepass,
+            scene,
+            gpu,
+            *view_proj,
+        );
         unsafe { d.cmd_end_rendering(cmd) };
         transition(
             &self.device,

@@ -133,9 +133,10 @@ const SH_KERNEL: Cap = Cap {
     value: 4.0,
     label: "<= 4",
 };
-/// GTAO's slice integral of cos(θ − γ)|sin θ| reaches ∫₀^π sin² = π/2 at γ = π/2.
+/// GTAO's slice integral of cos(θ − γ)|sin θ| reaches ∫₀^π sin² = π/2 at γ = π/2 (fp32's
+/// π/2, which rounds up).
 const SLICE: Cap = Cap {
-    value: FRAC_PI_2,
+    value: std::f32::consts::FRAC_PI_2 as f64,
     label: "<= π/2",
 };
 /// Intermediates (D, Λ, E_FON) are never stored, and brdf_cos is scaled by the irradiance
@@ -876,6 +877,7 @@ impl Function {
         match self {
             Function::Composite(c) => c.shadowing_rounding(t) + c.cancellation_rounding(t),
             Function::UnitVector(n) => n.argument_rounding(t),
+            Function::Term(Term::SpecularOcclusion) => specular_occlusion_rounding(t),
             _ => 0.0,
         }
     }
@@ -892,6 +894,7 @@ impl Function {
             }
             Function::Composite(_) => Composite::SHADOWING_ROUNDING.to_owned(),
             Function::UnitVector(n) => n.argument_rounding_reason().to_owned(),
+            Function::Term(Term::SpecularOcclusion) => SPECULAR_OCCLUSION_ROUNDING.to_owned(),
             _ => String::new(),
         }
     }
@@ -938,6 +941,19 @@ const STRESS_RADIANCES: &[f32] = &[0.0, DENORMAL, 1e-3, 0.08, 0.76, 1.0, 1e4, 65
 fn normalize(x: Vec3) -> Vec3 {
     let inverse = 1.0 / dot(x, x).sqrt();
     x.map(|c| c * inverse)
+}
+
+const SPECULAR_OCCLUSION_ROUNDING: &str = "rounding: (n·v + x)^k − 1 + x cancels where the \
+    occlusion is small; bound 8·2^-24 of the summands' magnitude, relative to the value";
+
+/// Where specular_occlusion's (n·v + x)^k − 1 + x cancels, fp32's pow and sum are good to a
+/// few 2⁻²⁴ of the summands' magnitude, not of the (smaller) result.
+fn specular_occlusion_rounding(t: &Tuple) -> f64 {
+    let [n_dot_v, x, alpha, _] = t.a.map(f64::from);
+    let k = (-16.0 * alpha.clamp(0.0, 1.0) - 1.0).exp2();
+    let power = (n_dot_v.max(0.0) + x).powf(k);
+    let value = specular_occlusion(n_dot_v, x, alpha);
+    8.0 * f64::from(f32::EPSILON) * 0.5 * (power + 1.0 + x.abs()) / value.abs().max(super::sweep::RELATIVE_FLOOR)
 }
 
 pub(super) fn rgb(x: [f32; 4]) -> Vec3 {
