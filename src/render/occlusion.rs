@@ -15,13 +15,13 @@ use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 
 use super::shaders;
-use super::shadow::draw_depth;
+use super::shadow::{depth_pipeline, draw_depth};
 use super::target::DEPTH_FORMAT;
-use crate::scene::{Occlusion, Scene, Vertex};
+use crate::scene::{Occlusion, Scene};
 use crate::vk::{
     begin_full_rendering, transition, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
-    DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, OneShot, Pipeline, PipelineLayout, Sampler,
-    ShaderModule, Specialization,
+    DescriptorWriter, Device, Image, ImageUse, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule,
+    Specialization,
 };
 
 /// How the forward pass applies the visibility: the `OCCLUSION` specialization constant
@@ -113,22 +113,7 @@ impl OcclusionPass {
         ];
         let set = pools[0].allocate(&set_layout)?;
         let gtao_set = pools[1].allocate(&gtao_set_layout)?;
-        let prepass_layout = PipelineLayout::new(
-            device,
-            &[],
-            std::mem::size_of::<Mat4>() as u32,
-            vk::ShaderStageFlags::VERTEX,
-        )?;
-        let vertex = ShaderModule::new(device, shaders::SHADOW_VERT, "shadow.vert")?;
-        let prepass = GraphicsPipelineBuilder::depth_only(&vertex, DEPTH_FORMAT)
-            .vertex_layout(
-                std::mem::size_of::<Vertex>() as u32,
-                &[(
-                    vk::Format::R32G32B32_SFLOAT,
-                    std::mem::offset_of!(Vertex, position) as u32,
-                )],
-            )
-            .build(device, &prepass_layout, "occlusion prepass")?;
+        let (prepass_layout, prepass) = depth_pipeline(device, "occlusion prepass")?;
         let gtao_layout = PipelineLayout::new(
             device,
             &[&gtao_set_layout],

@@ -150,22 +150,7 @@ impl ShadowPass {
                 vk::ShaderStageFlags::FRAGMENT,
             )
             .build(device, "shadow set")?;
-        let layout = PipelineLayout::new(
-            device,
-            &[],
-            std::mem::size_of::<Mat4>() as u32,
-            vk::ShaderStageFlags::VERTEX,
-        )?;
-        let vertex = ShaderModule::new(device, shaders::SHADOW_VERT, "shadow.vert")?;
-        let pipeline = GraphicsPipelineBuilder::depth_only(&vertex, DEPTH_FORMAT)
-            .vertex_layout(
-                std::mem::size_of::<Vertex>() as u32,
-                &[(
-                    vk::Format::R32G32B32_SFLOAT,
-                    std::mem::offset_of!(Vertex, position) as u32,
-                )],
-            )
-            .build(device, &layout, "shadow map")?;
+        let (layout, pipeline) = depth_pipeline(device, "shadow map")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
         let slots = (0..frames_in_flight)
             .map(|_| {
@@ -351,6 +336,28 @@ impl ShadowPass {
         );
         Ok(())
     }
+}
+
+/// A depth-only pipeline of shadow.vert (positions only, `clip_from_object` pushed) into
+/// `DEPTH_FORMAT`, with its layout: what [`draw_depth`] draws with.
+pub(super) fn depth_pipeline(device: &Arc<Device>, name: &str) -> Result<(PipelineLayout, Pipeline)> {
+    let layout = PipelineLayout::new(
+        device,
+        &[],
+        std::mem::size_of::<Mat4>() as u32,
+        vk::ShaderStageFlags::VERTEX,
+    )?;
+    let vertex = ShaderModule::new(device, shaders::SHADOW_VERT, "shadow.vert")?;
+    let pipeline = GraphicsPipelineBuilder::depth_only(&vertex, DEPTH_FORMAT)
+        .vertex_layout(
+            std::mem::size_of::<Vertex>() as u32,
+            &[(
+                vk::Format::R32G32B32_SFLOAT,
+                std::mem::offset_of!(Vertex, position) as u32,
+            )],
+        )
+        .build(device, &layout, name)?;
+    Ok((layout, pipeline))
 }
 
 /// Draws every object of `scene` with `pipeline`, a depth-only pipeline of shadow.vert
