@@ -1,7 +1,8 @@
 #version 460
 // Forward shading of one object: every point light through the material's BRDF, plus the
-// environment's light when the scene has one. The models, maps, debug view, environment
-// kind and reflection mode are specialization constants (src/render/forward.rs), so each
+// environment's light when the scene has one, occluded by the ambient visibility. The
+// models, maps, debug view, environment kind, reflection mode and occlusion are
+// specialization constants (src/render/forward.rs), so each
 // pipeline holds only the code its frame needs.
 #include "scene_data.glsl"
 #include "shading.glsl"
@@ -10,6 +11,7 @@
 #include "environment.glsl"
 #include "debug_views.glsl"
 #include "specular_aa.glsl"
+#include "occlusion_map.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
@@ -68,14 +70,16 @@ void main() {
         m.roughness = specular_aa_roughness(m.roughness, dot(dx, dx) + dot(dy, dy));
     }
 
+    float visibility = ambient_visibility(gl_FragCoord.xy);
     vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_noise_uv),
-                                         gl_FragCoord.xy);
+                                         gl_FragCoord.xy, environment_occlusion(visibility, m.base_color.rgb));
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;
     out_radiance = vec4(radiance, 1.0);
     uint debug_view = DEBUG_VIEW == FROM_UNIFORM ? frame.counts.y : DEBUG_VIEW;
     if (debug_view != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(debug_view, models, m, n, n_geometric, v, in_world_position,
-                                               in_normal, in_uv, in_tangent, environment, radiance, in_curvature);
+                                               in_normal, in_uv, in_tangent, environment, radiance, in_curvature,
+                                               visibility);
     }
 }

@@ -10,6 +10,7 @@
 #include "shading.glsl"
 #include "msaa_resolve.glsl"
 #include "specular_aa.glsl"
+#include "occlusion.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -37,6 +38,9 @@ const uint PREINTEGRATED_LOOKUP = 18u;
 const uint WRAP_ENERGY_CONSERVING_SH_KERNEL = 19u;
 const uint RESOLVE_WEIGHT = 20u;
 const uint SPECULAR_AA_ROUGHNESS = 21u;
+const uint GTAO_SLICE_VISIBILITY = 22u;
+const uint GTAO_MULTI_BOUNCE = 23u;
+const uint SPECULAR_OCCLUSION = 24u;
 // From here on, BRDF models of directions: f(n, v, l) and f(n, l, v) are both written.
 const uint FIRST_MODEL = 32u;
 const uint LAMBERT = 32u;
@@ -137,6 +141,12 @@ vec4 term(Tuple t) {
         return vec4(resolve_weight(t.d.rgb));
     case SPECULAR_AA_ROUGHNESS: // specular_aa_roughness(roughness, |∂n/∂x|² + |∂n/∂y|²)
         return vec4(specular_aa_roughness(a.x, a.y));
+    case GTAO_SLICE_VISIBILITY: // gtao_slice_visibility(h0, h1, γ)
+        return vec4(gtao_slice_visibility(a.x, a.y, a.z));
+    case GTAO_MULTI_BOUNCE: // gtao_multi_bounce(x, ρ)
+        return vec4(gtao_multi_bounce(a.x, t.d.rgb), 0.0);
+    case SPECULAR_OCCLUSION: // specular_occlusion(n·v, x, α)
+        return vec4(specular_occlusion(a.x, a.y, a.z));
     }
     return vec4(0.0);
 }

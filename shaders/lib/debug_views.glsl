@@ -20,6 +20,7 @@ const uint DEBUG_VIEW_SUBSURFACE = 8u;
 const uint DEBUG_VIEW_ENVIRONMENT = 9u;
 const uint DEBUG_VIEW_NAN = 10u;
 const uint DEBUG_VIEW_CURVATURE = 11u;
+const uint DEBUG_VIEW_OCCLUSION = 12u;
 
 // The curvature view's brightness is 1 - exp(-|κ| · CURVATURE_VIEW_SCALE): a sphere of
 // radius 1 shows at 0.39, of radius 0.35 (the builtin torus's tube) at 0.76, of radius
@@ -38,10 +39,10 @@ vec3 direction_color(vec3 d) {
 // What debug view `view` shows at a surface point; `shaded` is the normal result there.
 // `n` is the shading normal, `n_geometric` the surface's, `normal`, `tangent` and
 // `curvature` the interpolated vertex attributes (curvature in 1/world length),
-// `environment` the environment's term.
+// `environment` the environment's term, `visibility` the ambient occlusion's.
 vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
                          vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 environment,
-                         vec3 shaded, float curvature) {
+                         vec3 shaded, float curvature, float visibility) {
     if (view == DEBUG_VIEW_NORMALS) return direction_color(n);
     if (view == DEBUG_VIEW_TANGENTS) return direction_color(tangent.xyz);
     if (view == DEBUG_VIEW_BITANGENTS) {
@@ -84,6 +85,7 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         return with_subsurface - point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false);
     }
     if (view == DEBUG_VIEW_ENVIRONMENT) return environment;
+    if (view == DEBUG_VIEW_OCCLUSION) return vec3(visibility);
     if (view == DEBUG_VIEW_NAN) {
         return any(isnan(shaded)) || any(isinf(shaded)) ? vec3(1.0, 0.0, 1.0) : shaded;
     }

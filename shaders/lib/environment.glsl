@@ -7,6 +7,7 @@
 #include "env_math.glsl"
 #include "specialization.glsl"
 #include "env_tables.glsl"
+#include "occlusion.glsl"
 
 // The forward pass binds the environment as set 2; the skybox, which has no other set, as 0.
 #ifndef ENV_SET
@@ -94,8 +95,11 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // term through its own SH kernels, and the specular lobe as prefiltered radiance along its
 // dominant direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
 // by the report's eq. 17: one lookup along the mirror direction × seed_strength × noise.
-// `noise` modulates the seed mode's lookup: the material's noise map, or 1.
-vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float curvature, float noise) {
+// `noise` modulates the seed mode's lookup: the material's noise map, or 1. `occlusion`
+// (occlusion_map.glsl; a = 1: none) scales the diffuse and subsurface terms by its rgb,
+// and the specular one by the specular occlusion of its visibility a.
+vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float curvature, float noise,
+                           vec4 occlusion) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     vec3 irradiance_over_pi = env_convolve(n, SH_IRRADIANCE_OVER_PI);
     vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * irradiance_over_pi;
@@ -112,15 +116,21 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
             radiance += m.base_color.rgb * (transferred / PI - irradiance_over_pi);
         }
     }
+    float alpha = clamp_alpha(m.roughness * m.roughness);
+    float specular_visibility = 1.0;
+    if (occlusion.a < 1.0) {
+        radiance *= occlusion.rgb;
+        specular_visibility = specular_occlusion(n_dot_v, occlusion.a, alpha);
+    }
     if (models.specular == SPECULAR_NONE) return radiance;
     vec3 r = seed_reflection(n, v);
     if (reflection_mode() == REFLECTION_SEED) {
-        return radiance + env.params.z * noise * env_radiance(r, 0.0);
+        return radiance + specular_visibility * env.params.z * noise * env_radiance(r, 0.0);
     }
     vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
-    vec3 dominant = specular_dominant_direction(n, r, clamp_alpha(m.roughness * m.roughness));
-    return radiance
-         + env_prefiltered(dominant, m.roughness) * m.specular_color.rgb * (clamp(m.f0, 0.0, 1.0) * ab.x + ab.y);
+    vec3 dominant = specular_dominant_direction(n, r, alpha);
+    return radiance + specular_visibility * env_prefiltered(dominant, m.roughness) * m.specular_color.rgb
+                    * (clamp(m.f0, 0.0, 1.0) * ab.x + ab.y);
 }
 
 // PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").
@@ -177,11 +187,25 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
 }
 
 // The light the environment reflects towards v: replaces the report's constant ambient.
+// `occlusion` is applied as environment_split_sum applies it; the sampled mode then
+// estimates the diffuse (with subsurface) and specular lobes apart, to scale each.
 vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float curvature,
-                       float noise, vec2 pixel) {
+                       float noise, vec2 pixel, vec4 occlusion) {
     if (env_kind() == ENV_NONE) return vec3(0.0);
-    if (reflection_mode() == REFLECTION_SAMPLED) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel);
-    return environment_split_sum(models, m, n, v, curvature, noise);
+    if (reflection_mode() != REFLECTION_SAMPLED) {
+        return environment_split_sum(models, m, n, v, curvature, noise, occlusion);
+    }
+    if (occlusion.a >= 1.0) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel);
+    ShadingModels diffuse_only = models;
+    diffuse_only.specular = SPECULAR_NONE;
+    ShadingModels specular_only = models;
+    specular_only.diffuse = DIFFUSE_NONE;
+    specular_only.subsurface = SUBSURFACE_NONE;
+    float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+    float alpha = clamp_alpha(m.roughness * m.roughness);
+    return occlusion.rgb * environment_sampled(diffuse_only, m, n, n_geometric, v, curvature, pixel)
+         + specular_occlusion(n_dot_v, occlusion.a, alpha)
+             * environment_sampled(specular_only, m, n, n_geometric, v, curvature, pixel);
 }
 
 #endif

@@ -106,6 +106,7 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
     names.extend(sampled.iter().map(String::as_str));
     names.extend(SHADOW_CONFIGURATIONS);
     names.extend(ANTIALIASING_CONFIGURATIONS);
+    names.extend(OCCLUSION_CONFIGURATIONS);
     let mut scenes = vec![
         bench_scene("default", &default, &names, |c| resolutions(c, true))?,
         bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
@@ -141,12 +142,9 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
     ];
     scenes.push(bench_scene("close-up", &close_up, &maps, headline)?);
     let ground = parse(BALL_ON_GROUND_TOML, "bench/scenes/ball-on-ground.toml")?;
-    scenes.push(bench_scene(
-        "ball-on-ground",
-        &ground,
-        &[FLOOR, "split-sum", REPORT],
-        headline,
-    )?);
+    let mut ground_names = vec![FLOOR, "split-sum", REPORT];
+    ground_names.extend(OCCLUSION_CONFIGURATIONS);
+    scenes.push(bench_scene("ball-on-ground", &ground, &ground_names, headline)?);
     let ball = parse(SUBSURFACE_BALL_TOML, "bench/scenes/subsurface-ball.toml")?;
     let subsurface = [FLOOR, "split-sum", "no-subsurface", REPORT];
     scenes.push(bench_scene("subsurface-ball", &ball, &subsurface, headline)?);
@@ -329,6 +327,7 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
             .for_each(|m| m.geometry = Geometry::SmithSeparable),
         _ if SHADOW_CONFIGURATIONS.contains(&name) => shadow_configured(&mut file, name),
         _ if ANTIALIASING_CONFIGURATIONS.contains(&name) => file.antialiasing = Some(antialiasing_configured(name)),
+        _ if OCCLUSION_CONFIGURATIONS.contains(&name) => occlusion_configured(&mut file, name),
         _ => {
             let samples = name
                 .strip_prefix("sampled-")
@@ -376,6 +375,32 @@ fn antialiasing_configured(name: &str) -> AntialiasingDef {
             specular: None,
         },
     }
+}
+
+/// What ambient occlusion costs and changes: `occlusion` its defaults (4 slices × 8 steps,
+/// radius 0.5, the multi-bounce fit), `occlusion-plain` without the fit, `occlusion-SxN`
+/// S slices × N steps, `occlusion-r1` a radius of 1. The scenes' own rows have none.
+const OCCLUSION_CONFIGURATIONS: [&str; 5] = [
+    "occlusion",
+    "occlusion-plain",
+    "occlusion-2x4",
+    "occlusion-8x16",
+    "occlusion-r1",
+];
+
+fn occlusion_configured(file: &mut SceneFile, name: &str) {
+    let mut def = crate::scene::file::OcclusionDef {
+        enabled: Some(true),
+        ..Default::default()
+    };
+    match name {
+        "occlusion-plain" => def.multi_bounce = Some(false),
+        "occlusion-2x4" => (def.slices, def.steps) = (Some(2), Some(4)),
+        "occlusion-8x16" => (def.slices, def.steps) = (Some(8), Some(16)),
+        "occlusion-r1" => def.radius = Some(1.0),
+        _ => {}
+    }
+    file.occlusion = Some(def);
 }
 
 fn set_reflection(environment: &mut EnvironmentDef, mode: ReflectionMode, lookups: Option<u32>) {

@@ -14,6 +14,7 @@ pub mod environment;
 pub mod fresnel;
 pub mod geometry;
 pub mod normal_mapping;
+pub mod occlusion;
 pub mod quadrature;
 pub mod shading;
 pub mod shadow;

@@ -34,10 +34,13 @@ pub enum DebugView {
     /// The mesh's mean curvature (1/world length): red where convex, blue where concave,
     /// brightness 1 - exp(-|κ|/2), so a sphere of radius 1 shows at 0.39 and a plane black.
     Curvature = 11,
+    /// The ambient visibility the environment's light is scaled by (GTAO), grey; white
+    /// where nothing occludes and everywhere when the occlusion pass is off.
+    Occlusion = 12,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 12] = [
+    pub const ALL: [DebugView; 13] = [
         DebugView::Shaded,
         DebugView::Normals,
         DebugView::Tangents,
@@ -50,6 +53,7 @@ impl DebugView {
         DebugView::Environment,
         DebugView::NanHighlight,
         DebugView::Curvature,
+        DebugView::Occlusion,
     ];
 
     pub fn label(self) -> &'static str {
@@ -66,6 +70,7 @@ impl DebugView {
             DebugView::Environment => "environment",
             DebugView::NanHighlight => "NaN/Inf highlight",
             DebugView::Curvature => "curvature",
+            DebugView::Occlusion => "ambient occlusion",
         }
     }
 }

@@ -3,7 +3,7 @@
 //! Set 0: binding 0 the `FrameData` uniform buffer, binding 1 the `Materials` storage
 //! buffer, binding 2 the pre-integrated subsurface table (uploaded when a scene first
 //! needs it, a placeholder until then); set 2: the environment (see environment.rs); set 3:
-//! the shadow maps (see shadow.rs); push constants: `ObjectPush` (see
+//! the shadow maps (see shadow.rs); set 4: the ambient occlusion (see occlusion.rs); push constants: `ObjectPush` (see
 //! shaders/lib/scene_data.glsl). One pipeline per combination of BRDF models in use,
 //! chosen by specialization constants, and sample count (src/render/msaa.rs); for
 //! `argil bench`, one more that draws every object with the trivial `floor.frag`.
@@ -20,6 +20,7 @@ use gpu_allocator::MemoryLocation;
 use super::debug_view::DebugView;
 use super::environment::{environment_kind, reflection_code};
 use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
+use super::occlusion::OcclusionMode;
 use super::shaders;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
@@ -36,7 +37,9 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// The specialization constants of `forward.frag`, in `constant_id` order: a material's
 /// models (shading.glsl), which maps it samples (material_maps.glsl), its horizon and
 /// subsurface model, the debug view (debug_views.glsl), the environment's kind and
-/// reflection mode (environment.glsl), and specular anti-aliasing (specular_aa.glsl).
+/// reflection mode (environment.glsl), specular anti-aliasing (specular_aa.glsl), and how
+/// the environment's light is occluded (`OcclusionMode`, occlusion_map.glsl; always
+/// specialised).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -55,11 +58,12 @@ pub struct ForwardConstants {
     pub environment_kind: u32,
     pub reflection_mode: u32,
     pub specular_aa: u32,
+    pub occlusion: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 15] = [
+    pub const NAMES: [&'static str; 16] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -75,6 +79,7 @@ impl ForwardConstants {
         "ENVIRONMENT_KIND",
         "REFLECTION_MODE",
         "SPECULAR_AA",
+        "OCCLUSION",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -120,6 +125,7 @@ impl ForwardConstants {
             environment_kind: specialized(environment_kind(environment)),
             reflection_mode: specialized(reflection.map_or(0, reflection_code)),
             specular_aa: u32::from(specular_aa),
+            occlusion: 0,
         }
     }
 
@@ -170,6 +176,7 @@ impl ForwardPass {
         frames_in_flight: u32,
         environment_layout: &DescriptorSetLayout,
         shadow_layout: &DescriptorSetLayout,
+        occlusion_layout: &DescriptorSetLayout,
     ) -> Result<Self> {
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(
@@ -196,7 +203,13 @@ impl ForwardPass {
             .build(device, "material maps set")?;
         let layout = PipelineLayout::new(
             device,
-            &[&set_layout, &material_layout, environment_layout, shadow_layout],
+            &[
+                &set_layout,
+                &material_layout,
+                environment_layout,
+                shadow_layout,
+                occlusion_layout,
+            ],
             std::mem::size_of::<ObjectPush>() as u32,
             vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
         )?;
@@ -326,7 +339,8 @@ impl ForwardPass {
     /// Writes this frame's uniforms and materials into `slot` (whose previous use the
     /// caller has waited for) and creates any pipeline the scene's materials need
     /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
-    /// `floor` the floor's pipeline for every material, for targets of `samples` samples.
+    /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
+    /// `occlusion`: how the environment's light is occluded.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
@@ -337,6 +351,7 @@ impl ForwardPass {
         floor: bool,
         specialize: bool,
         samples: vk::SampleCountFlags,
+        occlusion: OcclusionMode,
         one_shot: &OneShot,
     ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, aspect)?;
@@ -350,7 +365,9 @@ impl ForwardPass {
                     self.floor_pipeline(samples)
                 } else {
                     let specular_aa = scene.antialiasing.specular;
-                    let constants = ForwardConstants::new(m, &scene.environment, debug_view, specialize, specular_aa);
+                    let mut constants =
+                        ForwardConstants::new(m, &scene.environment, debug_view, specialize, specular_aa);
+                    constants.occlusion = occlusion as u32;
                     self.pipeline(samples, &constants.specialization())
                 }
             })
@@ -387,6 +404,7 @@ impl ForwardPass {
         clear: [f32; 4],
         environment_set: vk::DescriptorSet,
         shadow_set: vk::DescriptorSet,
+        occlusion_set: vk::DescriptorSet,
     ) -> Result<()> {
         let d = &self.device.handle;
         let color = [vk::RenderingAttachmentInfo::default()
@@ -420,7 +438,7 @@ impl ForwardPass {
                 vk::PipelineBindPoint::GRAPHICS,
                 self.layout.handle,
                 2,
-                &[environment_set, shadow_set],
+                &[environment_set, shadow_set, occlusion_set],
                 &[],
             );
         }
@@ -472,6 +490,7 @@ mod tests {
             include_str!("../../shaders/forward.frag"),
             include_str!("../../shaders/lib/material_maps.glsl"),
             include_str!("../../shaders/lib/environment.glsl"),
+            include_str!("../../shaders/lib/occlusion_map.glsl"),
         ];
         sources
             .iter()
@@ -501,6 +520,17 @@ mod tests {
         );
         let glsl = include_str!("../../shaders/lib/specialization.glsl");
         assert!(glsl.contains(&format!("FROM_UNIFORM = 0x{FROM_UNIFORM:X}u;")));
+        let glsl = include_str!("../../shaders/lib/occlusion_map.glsl");
+        for (mode, name) in [
+            (OcclusionMode::Off, "OCCLUSION_OFF"),
+            (OcclusionMode::MultiBounce, "OCCLUSION_MULTI_BOUNCE"),
+            (OcclusionMode::Plain, "OCCLUSION_PLAIN"),
+        ] {
+            assert!(
+                glsl.contains(&format!("const uint {name} = {}u;", mode as u32)),
+                "{name}"
+            );
+        }
     }
 
     /// The default scene's plasticine (normal, detail and noise maps) with a base colour

@@ -39,7 +39,7 @@ impl FrameData {
             "the scene has {} point lights; at most {MAX_POINT_LIGHTS} are supported",
             scene.lights.len()
         );
-        let view_proj = scene.camera.projection(aspect) * scene.camera.view();
+        let view_proj = scene.camera.view_projection(aspect);
         let mut lights = [PointLightData::zeroed(); MAX_POINT_LIGHTS];
         for (slot, light) in lights.iter_mut().zip(&scene.lights) {
             slot.position = light.position.extend(1.0).to_array();

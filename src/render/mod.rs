@@ -6,6 +6,7 @@ pub mod forward;
 pub mod fullscreen;
 pub mod gpu_scene;
 pub mod msaa;
+pub mod occlusion;
 pub mod output;
 pub mod renderer;
 pub mod shaders;

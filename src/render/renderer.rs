@@ -12,6 +12,7 @@ use super::environment::EnvironmentPass;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
+use super::occlusion::{OcclusionMode, OcclusionPass};
 use super::shadow::ShadowPass;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
@@ -19,14 +20,16 @@ use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
 /// The passes of a frame, in order; GPU times are reported with these names.
-/// The shadow maps are drawn first but named after the older passes: index 0 stays the
-/// forward pass. The MSAA resolve takes no time at one sample per pixel (nothing runs).
-pub const PASS_NAMES: [&str; 5] = ["forward", "skybox", "tonemap", "shadow", "resolve"];
+/// The shadow maps and the occlusion are drawn first but named after the older passes:
+/// index 0 stays the forward pass. The MSAA resolve takes no time at one sample per pixel
+/// (nothing runs).
+pub const PASS_NAMES: [&str; 6] = ["forward", "skybox", "tonemap", "shadow", "resolve", "occlusion"];
 const PASS_FORWARD: u32 = 0;
 const PASS_SKYBOX: u32 = 1;
 const PASS_TONEMAP: u32 = 2;
 const PASS_SHADOW: u32 = 3;
 const PASS_RESOLVE: u32 = 4;
+const PASS_OCCLUSION: u32 = 5;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping. The frame covers `area` of the image,
@@ -57,6 +60,7 @@ pub struct Renderer {
     one_shot: OneShot,
     environment: EnvironmentPass,
     shadow: ShadowPass,
+    occlusion_pass: OcclusionPass,
     forward: ForwardPass,
     msaa: MsaaPass,
     tonemap: TonemapPass,
@@ -75,6 +79,8 @@ pub struct Renderer {
     pub generic: bool,
     /// Whether lights cast shadows (each light's `shadows` still applies); the viewer's toggle.
     pub shadows: bool,
+    /// Whether a scene's `[occlusion] enabled` applies; the viewer's toggle.
+    pub occlusion: bool,
     /// Scenes uploaded so far: the next upload's id.
     uploads: Cell<u64>,
 }
@@ -116,6 +122,7 @@ impl Renderer {
         let environment = EnvironmentPass::new(&device)?;
         let one_shot = OneShot::new(&device)?;
         let shadow = ShadowPass::new(&device, frames_in_flight)?;
+        let occlusion_pass = OcclusionPass::new(&device, &one_shot)?;
         Ok(Self {
             forward: ForwardPass::new(
                 &device,
@@ -123,9 +130,11 @@ impl Renderer {
                 frames_in_flight,
                 environment.set_layout(),
                 shadow.set_layout(),
+                occlusion_pass.set_layout(),
             )?,
             shadow,
             msaa: MsaaPass::new(&device, frames_in_flight)?,
+            occlusion_pass,
             one_shot,
             environment,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
@@ -135,6 +144,7 @@ impl Renderer {
             generic: false,
             environment_time: std::time::Duration::ZERO,
             shadows: true,
+            occlusion: true,
             uploads: Cell::new(0),
             device,
         })
@@ -184,6 +194,9 @@ impl Renderer {
         self.environment.prepare_skybox(sample_flag(samples))?;
         self.msaa.prepare(slot, target, samples)?;
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
+        // The floor measures geometry and targets alone: no occlusion under it.
+        let occlusion = OcclusionMode::of(&scene.occlusion, self.occlusion && !self.floor);
+        self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
         self.forward.prepare(
             slot,
             scene,
@@ -192,6 +205,7 @@ impl Renderer {
             self.floor,
             !self.generic,
             sample_flag(samples),
+            occlusion,
             &self.one_shot,
         )?;
         self.tonemap.prepare(slot, target, output_format)
@@ -232,6 +246,9 @@ impl Renderer {
             ImageUse::DEPTH_ATTACHMENT,
         );
         self.timed(cmd, slot, PASS_SHADOW, || self.shadow.record(cmd, scene, gpu))?;
+        self.timed(cmd, slot, PASS_OCCLUSION, || {
+            self.occlusion_pass.record(cmd, scene, gpu)
+        })?;
         self.timed(cmd, slot, PASS_FORWARD, || {
             self.forward.record(
                 cmd,
@@ -242,6 +259,7 @@ impl Renderer {
                 background(scene),
                 self.environment.set(),
                 self.shadow.set(slot),
+                self.occlusion_pass.set(),
             )
         })?;
         self.timed(cmd, slot, PASS_SKYBOX, || {

@@ -20,3 +20,5 @@ pub const ENV_PREFILTER_COMP: &[u8] = spirv!("env_prefilter.comp");
 pub const ENV_BRDF_LUT_COMP: &[u8] = spirv!("env_brdf_lut.comp");
 pub const SHADOW_VERT: &[u8] = spirv!("shadow.vert");
 pub const MSAA_RESOLVE_FRAG: &[u8] = spirv!("msaa_resolve.frag");
+pub const GTAO_COMP: &[u8] = spirv!("gtao.comp");
+pub const GTAO_DENOISE_COMP: &[u8] = spirv!("gtao_denoise.comp");

@@ -150,22 +150,7 @@ impl ShadowPass {
                 vk::ShaderStageFlags::FRAGMENT,
             )
             .build(device, "shadow set")?;
-        let layout = PipelineLayout::new(
-            device,
-            &[],
-            std::mem::size_of::<Mat4>() as u32,
-            vk::ShaderStageFlags::VERTEX,
-        )?;
-        let vertex = ShaderModule::new(device, shaders::SHADOW_VERT, "shadow.vert")?;
-        let pipeline = GraphicsPipelineBuilder::depth_only(&vertex, DEPTH_FORMAT)
-            .vertex_layout(
-                std::mem::size_of::<Vertex>() as u32,
-                &[(
-                    vk::Format::R32G32B32_SFLOAT,
-                    std::mem::offset_of!(Vertex, position) as u32,
-                )],
-            )
-            .build(device, &layout, "shadow map")?;
+        let (layout, pipeline) = depth_pipeline(device, "shadow map")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
         let slots = (0..frames_in_flight)
             .map(|_| {
@@ -337,23 +322,7 @@ impl ShadowPass {
             begin_full_rendering(&self.device, cmd, extent, &[], Some(&depth));
             if let Some(face) = self.faces.iter().find(|f| f.layer == layer as u32) {
                 let projection = face_projection(layer % 6, face.near, face.far) * Mat4::from_translation(-face.light);
-                unsafe { d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.pipeline.handle) };
-                for object in &scene.objects {
-                    let mesh = &gpu.meshes[object.mesh];
-                    let clip_from_object = projection * object.model_matrix();
-                    unsafe {
-                        d.cmd_push_constants(
-                            cmd,
-                            self.layout.handle,
-                            vk::ShaderStageFlags::VERTEX,
-                            0,
-                            bytemuck::bytes_of(&clip_from_object),
-                        );
-                        d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
-                        d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
-                        d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
-                    }
-                }
+                draw_depth(&self.device, cmd, &self.layout, &self.pipeline, scene, gpu, projection);
             }
             unsafe { d.cmd_end_rendering(cmd) };
         }
@@ -366,6 +335,59 @@ impl ShadowPass {
             ImageUse::FRAGMENT_READ,
         );
         Ok(())
+    }
+}
+
+/// A depth-only pipeline of shadow.vert (positions only, `clip_from_object` pushed) into
+/// `DEPTH_FORMAT`, with its layout: what [`draw_depth`] draws with.
+pub(super) fn depth_pipeline(device: &Arc<Device>, name: &str) -> Result<(PipelineLayout, Pipeline)> {
+    let layout = PipelineLayout::new(
+        device,
+        &[],
+        std::mem::size_of::<Mat4>() as u32,
+        vk::ShaderStageFlags::VERTEX,
+    )?;
+    let vertex = ShaderModule::new(device, shaders::SHADOW_VERT, "shadow.vert")?;
+    let pipeline = GraphicsPipelineBuilder::depth_only(&vertex, DEPTH_FORMAT)
+        .vertex_layout(
+            std::mem::size_of::<Vertex>() as u32,
+            &[(
+                vk::Format::R32G32B32_SFLOAT,
+                std::mem::offset_of!(Vertex, position) as u32,
+            )],
+        )
+        .build(device, &layout, name)?;
+    Ok((layout, pipeline))
+}
+
+/// Draws every object of `scene` with `pipeline`, a depth-only pipeline of shadow.vert
+/// (push constants: `clip_from_object`), through `clip_from_world`, inside a rendering.
+pub(super) fn draw_depth(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    layout: &PipelineLayout,
+    pipeline: &Pipeline,
+    scene: &Scene,
+    gpu: &GpuScene,
+    clip_from_world: Mat4,
+) {
+    let d = &device.handle;
+    unsafe { d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline.handle) };
+    for object in &scene.objects {
+        let mesh = &gpu.meshes[object.mesh];
+        let clip_from_object = clip_from_world * object.model_matrix();
+        unsafe {
+            d.cmd_push_constants(
+                cmd,
+                layout.handle,
+                vk::ShaderStageFlags::VERTEX,
+                0,
+                bytemuck::bytes_of(&clip_from_object),
+            );
+            d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
+            d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
+            d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
+        }
     }
 }
 

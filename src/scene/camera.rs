@@ -31,6 +31,11 @@ impl Camera {
         Mat4::look_at_rh(self.position, self.position + forward, up)
     }
 
+    /// World-to-clip matrix: [`Camera::projection`] after [`Camera::view`].
+    pub fn view_projection(&self, aspect: f32) -> Mat4 {
+        self.projection(aspect) * self.view()
+    }
+
     /// View-to-clip matrix for Vulkan: depth 0 at [`Camera::NEAR`] and 1 at
     /// [`Camera::FAR`], and y negated because Vulkan's NDC +y points down the
     /// screen, so world-up stays up on screen.

@@ -45,6 +45,10 @@ pub fn edit_document(scene: &Scene, document: &str, path: &Path) -> Result<Strin
         let antialiasing = new.antialiasing.clone().unwrap_or_default();
         merge(section(root, "antialiasing")?, &table_of(&antialiasing)?, None);
     }
+    if old.occlusion != new.occlusion {
+        let occlusion = new.occlusion.clone().unwrap_or_default();
+        merge(section(root, "occlusion")?, &table_of(&occlusion)?, None);
+    }
     let object_base = table_of(&ObjectDef {
         mesh: String::new(),
         position: [0.0; 3],

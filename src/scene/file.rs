@@ -29,6 +29,7 @@ pub struct SceneFile {
     pub shadows: Option<ShadowsDef>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub antialiasing: Option<AntialiasingDef>,
+    pub occlusion: Option<OcclusionDef>,
     #[serde(default)]
     pub environment: EnvironmentDef,
     #[serde(default)]
@@ -101,6 +102,27 @@ pub struct AntialiasingDef {
     /// Specular lobes widened by the shading normal's variation over a pixel (absent: true).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub specular: Option<bool>,
+}
+
+/// `[occlusion]`: ambient occlusion of the environment's light (absent keys: defaults).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OcclusionDef {
+    /// Whether the pass runs (absent: false).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub enabled: Option<bool>,
+    /// Search radius in world units (absent: 0.5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Slice directions per pixel (absent: 4).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slices: Option<u32>,
+    /// Samples on each side of a slice (absent: 8).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps: Option<u32>,
+    /// GTAO's multi-bounce fit on the diffuse visibility (absent: true).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub multi_bounce: Option<bool>,
 }
 
 /// `[environment]`, selected by `kind`. Optional keys are `None` when absent

@@ -13,6 +13,7 @@ pub mod limits;
 mod material;
 mod mesh;
 mod obj;
+mod occlusion;
 mod preset;
 mod procedural;
 mod resolve;
@@ -38,6 +39,7 @@ pub use material::{
     Subsurface,
 };
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
+pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
 pub use preset::Preset;
 pub use procedural::{builtin_texture, BUILTIN_TEXTURES};
 pub use texture::{load_texture, TexelFormat, TextureData, TextureRole, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE};
@@ -72,6 +74,8 @@ pub struct Scene {
     /// Texels on a side of each face of a light's cube shadow map.
     pub shadow_resolution: u32,
     pub antialiasing: Antialiasing,
+    /// Ambient occlusion of the environment's light.
+    pub occlusion: Occlusion,
     pub environment: Environment,
     /// Each distinct `mesh` string of the file, loaded once.
     pub meshes: Vec<Mesh>,

@@ -9,13 +9,15 @@ use glam::{Vec2, Vec3};
 
 use super::antialiasing::{Antialiasing, MSAA_COUNTS};
 use super::file::{
-    AntialiasingDef, CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef, ShadowsDef,
+    AntialiasingDef, CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef, OcclusionDef,
+    ShadowsDef,
 };
 use super::light::{Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE};
 use super::limits::{MAX_LIGHTS, MAX_OBJECTS};
 use super::{
-    builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, PointLight,
-    Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
+    builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, Occlusion,
+    PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
+    OCCLUSION_SAMPLES_RANGE,
 };
 
 /// Name of the built-in neutral material, used by objects without a
@@ -176,6 +178,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         .collect::<Result<_, _>>()?;
     let shadow_resolution = shadow_resolution(&check, file.shadows.as_ref())?;
     let antialiasing = antialiasing(&check, file.antialiasing.as_ref())?;
+    let occlusion = occlusion(&check, file.occlusion.as_ref())?;
     let environment = environment(&check, &file.environment, base_dir)?;
 
     let mut requests = TextureRequests::default();
@@ -248,6 +251,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         lights,
         shadow_resolution,
         antialiasing,
+        occlusion,
         environment,
         meshes,
         objects,
@@ -288,6 +292,41 @@ fn antialiasing(check: &Checker, def: Option<&AntialiasingDef>) -> Result<Antial
         msaa,
         specular: def.and_then(|d| d.specular).unwrap_or(defaults.specular),
     })
+}
+
+fn occlusion(check: &Checker, def: Option<&OcclusionDef>) -> Result<Occlusion, SceneError> {
+    let defaults = Occlusion::default();
+    let Some(def) = def else { return Ok(defaults) };
+    let samples = |field: &str, value: Option<u32>, default: u32| {
+        let value = value.unwrap_or(default);
+        if OCCLUSION_SAMPLES_RANGE.contains(&value) {
+            Ok(value)
+        } else {
+            let (lo, hi) = (OCCLUSION_SAMPLES_RANGE.start(), OCCLUSION_SAMPLES_RANGE.end());
+            Err(check.invalid(field, value, format!("must be an integer in [{lo}, {hi}]")))
+        }
+    };
+    Ok(Occlusion {
+        enabled: def.enabled.unwrap_or(defaults.enabled),
+        radius: check.positive("occlusion.radius", def.radius.unwrap_or(f64::from(defaults.radius)))?,
+        slices: samples("occlusion.slices", def.slices, defaults.slices)?,
+        steps: samples("occlusion.steps", def.steps, defaults.steps)?,
+        multi_bounce: def.multi_bounce.unwrap_or(defaults.multi_bounce),
+    })
+}
+
+/// `[occlusion]` as saved: only the keys that differ from the defaults, and no section
+/// when none does.
+fn occlusion_def(occlusion: &Occlusion) -> Option<OcclusionDef> {
+    let defaults = Occlusion::default();
+    let def = OcclusionDef {
+        enabled: (occlusion.enabled != defaults.enabled).then_some(occlusion.enabled),
+        radius: (occlusion.radius != defaults.radius).then(|| widen(occlusion.radius)),
+        slices: (occlusion.slices != defaults.slices).then_some(occlusion.slices),
+        steps: (occlusion.steps != defaults.steps).then_some(occlusion.steps),
+        multi_bounce: (occlusion.multi_bounce != defaults.multi_bounce).then_some(occlusion.multi_bounce),
+    };
+    (def != OcclusionDef::default()).then_some(def)
 }
 
 fn camera(check: &Checker, def: &CameraDef) -> Result<Camera, SceneError> {
@@ -634,6 +673,7 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
             resolution: Some(scene.shadow_resolution),
         }),
         antialiasing: antialiasing_def(scene.antialiasing),
+        occlusion: occlusion_def(&scene.occlusion),
         environment: environment_def(&scene.environment, relative),
         objects: scene
             .objects

@@ -322,6 +322,8 @@ fn out_of_range_values_name_the_field() {
         ("[[lights]]\nkind = \"point\"\nposition = [0.0, 1.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = inf", "lights[0].radius = inf: must be a finite number >= 0"),
         ("[shadows]\nresolution = 8", "shadows.resolution = 8: must be an integer in [16, 4096]"),
         ("[shadows]\nresolution = 8192", "shadows.resolution = 8192: must be an integer in [16, 4096]"),
+        ("[occlusion]\nslices = 0", "occlusion.slices = 0: must be an integer in [1, 32]"),
+        ("[occlusion]\nradius = 0.0", "occlusion.radius = 0.0: must be a finite number > 0"),
         ("[environment]\nkind = \"uniform\"\nradiance = [-1.0, 0.0, 0.0]", "environment.radiance = [-1.0, 0.0, 0.0]: every component must be a finite number >= 0"),
         ("[[objects]]\nmesh = \"builtin:cube\"\nscale = 0.0", "objects[1].scale = 0.0: must be a finite number > 0"),
         ("[[objects]]\nmesh = \"builtin:cube\"\nscale = -2.0", "objects[1].scale = -2.0: must be a finite number > 0"),
@@ -504,6 +506,29 @@ fn antialiasing_keys_are_read_defaulted_validated_and_saved() {
     .unwrap_err()
     .to_string();
     assert!(error.contains("fxaa"), "{error}");
+}
+
+/// `[occlusion]` is read, defaults to off (radius 0.5, 4 × 8, multi-bounce), and only the
+/// keys that differ from the defaults are saved.
+#[test]
+fn occlusion_keys_are_read_defaulted_and_saved() {
+    let text = format!("{CUBE}[occlusion]\nenabled = true\nsteps = 12\nmulti_bounce = false\n");
+    let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
+    let expected = crate::scene::Occlusion {
+        enabled: true,
+        steps: 12,
+        multi_bounce: false,
+        ..Default::default()
+    };
+    assert_eq!(scene.occlusion, expected);
+    let def = scene.to_file().occlusion.expect("an [occlusion] section");
+    assert_eq!((def.radius, def.slices), (None, None));
+    let saved = scene.to_file().to_toml().unwrap();
+    let reread = Scene::from_toml(&saved, "saved.toml", Path::new("")).unwrap();
+    assert_eq!(reread.occlusion, expected);
+    let defaults = Scene::from_toml(CUBE, "scene.toml", Path::new("")).unwrap();
+    assert!(!defaults.occlusion.enabled);
+    assert!(!defaults.to_file().to_toml().unwrap().contains("[occlusion]"));
 }
 
 #[test]

@@ -16,6 +16,7 @@ use crate::brdf::geometry::{
     g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
     g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann, lambda_ggx,
 };
+use crate::brdf::occlusion::{gtao_multi_bounce, gtao_slice_visibility, specular_occlusion};
 use crate::brdf::shading::shadow_terminator;
 use crate::brdf::specular::{spec_blinn_phong, spec_cook_torrance, spec_torrance_sparrow, Distribution, Geometry};
 use crate::brdf::subsurface::{wrap_energy_conserving_sh_kernel, PreintegratedTable};
@@ -72,6 +73,9 @@ pub enum Term {
     WrapEnergyConservingShKernel = 19,
     ResolveWeight = 20,
     SpecularAaRoughness = 21,
+    GtaoSliceVisibility = 22,
+    GtaoMultiBounce = 23,
+    SpecularOcclusion = 24,
 }
 
 /// BRDF models of directions. The value is the GLSL `FUNCTION` of verify_brdf.comp.
@@ -132,6 +136,12 @@ const SH_KERNEL: Cap = Cap {
     value: 4.0,
     label: "<= 4",
 };
+/// GTAO's slice integral of cos(θ − γ)|sin θ| reaches ∫₀^π sin² = π/2 at γ = π/2 (fp32's
+/// π/2, which rounds up).
+const SLICE: Cap = Cap {
+    value: std::f32::consts::FRAC_PI_2 as f64,
+    label: "<= π/2",
+};
 /// Intermediates (D, Λ, E_FON) are never stored, and brdf_cos is scaled by the irradiance
 /// before it is: only fp32 overflow matters.
 const FP32: Cap = Cap {
@@ -140,7 +150,7 @@ const FP32: Cap = Cap {
 };
 
 impl Term {
-    pub const ALL: [Term; 22] = [
+    pub const ALL: [Term; 25] = [
         Term::DGgx,
         Term::DBeckmann,
         Term::LambdaGgx,
@@ -163,6 +173,9 @@ impl Term {
         Term::WrapEnergyConservingShKernel,
         Term::ResolveWeight,
         Term::SpecularAaRoughness,
+        Term::GtaoSliceVisibility,
+        Term::GtaoMultiBounce,
+        Term::SpecularOcclusion,
     ];
 
     /// The GLSL function's name (F and sRGB also evaluate their scalar overloads).
@@ -190,6 +203,9 @@ impl Term {
             Term::WrapEnergyConservingShKernel => "wrap_energy_conserving_sh_kernel",
             Term::ResolveWeight => "resolve_weight",
             Term::SpecularAaRoughness => "specular_aa_roughness",
+            Term::GtaoSliceVisibility => "gtao_slice_visibility",
+            Term::GtaoMultiBounce => "gtao_multi_bounce",
+            Term::SpecularOcclusion => "specular_occlusion",
         }
     }
 
@@ -225,13 +241,19 @@ impl Term {
             Term::WrapEnergyConservingShKernel => (&["w"], None),
             Term::ResolveWeight => (&[], Some("rgb")),
             Term::SpecularAaRoughness => (&["roughness", "|∂n/∂x|²+|∂n/∂y|²"], None),
+            Term::GtaoSliceVisibility => (&["h0", "h1", "γ"], None),
+            Term::GtaoMultiBounce => (&["x"], Some("ρ")),
+            Term::SpecularOcclusion => (&["n·v", "x", "α"], None),
         }
     }
 
     fn channels(self) -> usize {
         match self {
             Term::FSchlick | Term::SrgbOetf | Term::PreintegratedLookup => 4,
-            Term::TonemapPbrNeutral | Term::SpecBlinnPhong | Term::WrapEnergyConservingShKernel => 3,
+            Term::TonemapPbrNeutral
+            | Term::SpecBlinnPhong
+            | Term::WrapEnergyConservingShKernel
+            | Term::GtaoMultiBounce => 3,
             _ => 1,
         }
     }
@@ -241,6 +263,7 @@ impl Term {
             Term::DGgx | Term::DBeckmann | Term::LambdaGgx | Term::LambdaBeckmann | Term::EFonApprox => FP32,
             Term::SpecBlinnPhong => FP16,
             Term::PreintegratedLookup | Term::WrapEnergyConservingShKernel => SH_KERNEL,
+            Term::GtaoSliceVisibility => SLICE,
             _ => UNIT,
         }
     }
@@ -288,6 +311,12 @@ impl Term {
             }
             Term::ResolveWeight => scalar(resolve_weight(colour)),
             Term::SpecularAaRoughness => scalar(specular_aa_roughness(x, y)),
+            Term::GtaoSliceVisibility => scalar(gtao_slice_visibility(x, y, z)),
+            Term::GtaoMultiBounce => {
+                let [r, g, b] = gtao_multi_bounce(x, colour);
+                [r, g, b, 0.0]
+            }
+            Term::SpecularOcclusion => scalar(specular_occlusion(x, y, z)),
         }
     }
 
@@ -438,6 +467,19 @@ impl Term {
                 };
                 scalars([ng_l, ns_l, ng_ns, 0.0])
             }
+            Term::GtaoSliceVisibility => {
+                // Horizons as GTAO clamps them: within π/2 of the normal's angle γ.
+                let gamma = rng.range(-FRAC_PI_2, FRAC_PI_2);
+                let h0 = rng.range(gamma - FRAC_PI_2, 0.0);
+                let h1 = rng.range(0.0, gamma + FRAC_PI_2);
+                scalars([h0, h1, gamma, 0.0])
+            }
+            Term::GtaoMultiBounce => Tuple {
+                a: [rng.uniform() as f32, 0.0, 0.0, 0.0],
+                d: colour(rng),
+                ..Tuple::default()
+            },
+            Term::SpecularOcclusion => scalars([sample_signed_cosine(rng), rng.uniform(), alpha, 0.0]),
         }
     }
 
@@ -553,11 +595,37 @@ impl Term {
                     }
                 }
             }
+            Term::GtaoSliceVisibility => {
+                let half = std::f32::consts::FRAC_PI_2;
+                for gamma in [-half, -0.5, 0.0, 0.5, half] {
+                    for h0 in [gamma - half, -1e-7, 0.0] {
+                        for h1 in [0.0, 1e-7, gamma + half] {
+                            push([h0.min(0.0), h1.max(0.0), gamma, 0.0], [0.0; 4]);
+                        }
+                    }
+                }
+            }
             Term::SpecularAaRoughness => {
                 // The change is a sum of squares: never negative.
                 for &roughness in STRESS_ALPHAS {
                     for &change in STRESS_ALPHAS.iter().filter(|c| **c >= 0.0).chain(&[f32::MAX]) {
                         push([roughness, change, 0.0, 0.0], [0.0; 4]);
+                    }
+                }
+            }
+            Term::GtaoMultiBounce => {
+                for &rho in STRESS_COLOURS {
+                    for x in [0.0, 1e-7, 0.5, 1.0] {
+                        push([x, 0.0, 0.0, 0.0], [rho, 1.0 - rho, rho * 0.5, 0.0]);
+                    }
+                }
+            }
+            Term::SpecularOcclusion => {
+                for &n_dot_v in STRESS_COSINES {
+                    for x in [0.0, 1e-7, 0.5, 1.0] {
+                        for &alpha in STRESS_ALPHAS {
+                            push([n_dot_v, x, alpha, 0.0], [0.0; 4]);
+                        }
                     }
                 }
             }
@@ -857,6 +925,7 @@ impl Function {
         match self {
             Function::Composite(c) => c.shadowing_rounding(t) + c.cancellation_rounding(t),
             Function::UnitVector(n) => n.argument_rounding(t),
+            Function::Term(Term::SpecularOcclusion) => specular_occlusion_rounding(t),
             _ => 0.0,
         }
     }
@@ -873,6 +942,7 @@ impl Function {
             }
             Function::Composite(_) => Composite::SHADOWING_ROUNDING.to_owned(),
             Function::UnitVector(n) => n.argument_rounding_reason().to_owned(),
+            Function::Term(Term::SpecularOcclusion) => SPECULAR_OCCLUSION_ROUNDING.to_owned(),
             _ => String::new(),
         }
     }
@@ -919,6 +989,19 @@ const STRESS_RADIANCES: &[f32] = &[0.0, DENORMAL, 1e-3, 0.08, 0.76, 1.0, 1e4, 65
 fn normalize(x: Vec3) -> Vec3 {
     let inverse = 1.0 / dot(x, x).sqrt();
     x.map(|c| c * inverse)
+}
+
+const SPECULAR_OCCLUSION_ROUNDING: &str = "rounding: (n·v + x)^k − 1 + x cancels where the \
+    occlusion is small; bound 8·2^-24 of the summands' magnitude, relative to the value";
+
+/// Where specular_occlusion's (n·v + x)^k − 1 + x cancels, fp32's pow and sum are good to a
+/// few 2⁻²⁴ of the summands' magnitude, not of the (smaller) result.
+fn specular_occlusion_rounding(t: &Tuple) -> f64 {
+    let [n_dot_v, x, alpha, _] = t.a.map(f64::from);
+    let k = (-16.0 * alpha.clamp(0.0, 1.0) - 1.0).exp2();
+    let power = (n_dot_v.max(0.0) + x).powf(k);
+    let value = specular_occlusion(n_dot_v, x, alpha);
+    8.0 * f64::from(f32::EPSILON) * 0.5 * (power + 1.0 + x.abs()) / value.abs().max(super::sweep::RELATIVE_FLOOR)
 }
 
 pub(super) fn rgb(x: [f32; 4]) -> Vec3 {

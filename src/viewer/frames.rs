@@ -456,7 +456,7 @@ mod tests {
     fn gpu_times_name_every_pass_and_the_ui() {
         assert_eq!(
             gpu_pass_names(),
-            vec!["forward", "skybox", "tonemap", "shadow", "resolve", "ui"]
+            vec!["forward", "skybox", "tonemap", "shadow", "resolve", "occlusion", "ui"]
         );
     }
 }

@@ -7,6 +7,7 @@ mod antialiasing_panel;
 mod camera_control;
 mod frames;
 mod history;
+mod occlusion_panel;
 mod overlay;
 mod panels;
 mod rebuild;
@@ -599,6 +600,7 @@ impl App {
         state.frames.renderer.debug_view = self.view.debug_view;
         state.frames.renderer.shadows = self.view.shadows;
         self.view.msaa_samples = state.frames.renderer.msaa_samples(&self.scene);
+        state.frames.renderer.occlusion = self.view.occlusion;
         let ui = UiFrame {
             primitives,
             textures: output.textures_delta,

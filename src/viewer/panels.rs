@@ -80,6 +80,8 @@ pub struct ViewState {
     pub shadows: bool,
     /// Samples per pixel the device draws the scene's `msaa` with.
     pub msaa_samples: u32,
+    /// Whether a scene's occlusion applies (the renderer's toggle).
+    pub occlusion: bool,
     pub exposure: f32,
     /// The object the orbit mode circles.
     pub selected_object: usize,
@@ -118,6 +120,7 @@ impl ViewState {
             debug_view: DebugView::Shaded,
             shadows: true,
             msaa_samples: 1,
+            occlusion: true,
             exposure,
             selected_object: 0,
             selected_material: 0,
@@ -229,6 +232,9 @@ const SECTIONS: &[Section] = &[
     }),
     ("Anti-aliasing", false, |ui, p| {
         super::antialiasing_panel::antialiasing_section(ui, p.scene, p.view.msaa_samples)
+    }),
+    ("Occlusion", false, |ui, p| {
+        super::occlusion_panel::occlusion_section(ui, p.scene, &mut p.view.occlusion)
     }),
     ("Environment", false, |ui, p| environment_section(ui, p.scene)),
     ("Files", false, files_section),

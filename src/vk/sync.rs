@@ -121,6 +121,20 @@ impl ImageUse {
         stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
         access: vk::AccessFlags2::SHADER_SAMPLED_READ,
     };
+    /// Sampled by compute shaders.
+    pub const COMPUTE_READ: Self = Self {
+        layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
+        access: vk::AccessFlags2::SHADER_SAMPLED_READ,
+    };
+    /// Read and written as a storage image by compute shaders.
+    pub const COMPUTE_STORAGE: Self = Self {
+        layout: vk::ImageLayout::GENERAL,
+        stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+        ),
+    };
     pub const TRANSFER_DST: Self = Self {
         layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
         stage: vk::PipelineStageFlags2::from_raw(

@@ -1,0 +1,37 @@
+//! The viewer's ambient occlusion settings: the renderer-wide toggle and the scene's
+//! `[occlusion]` keys (saved with the scene).
+
+use egui::Ui;
+
+use crate::scene::{Scene, OCCLUSION_SAMPLES_RANGE};
+
+/// The "Occlusion" section; `allowed` is the renderer's toggle (not saved).
+pub fn occlusion_section(ui: &mut Ui, scene: &mut Scene, allowed: &mut bool) {
+    ui.checkbox(allowed, "occlusion (renderer)");
+    let occlusion = &mut scene.occlusion;
+    egui::Grid::new("occlusion")
+        .num_columns(2)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.label("scene");
+            ui.checkbox(&mut occlusion.enabled, "enabled");
+            ui.end_row();
+            ui.label("radius");
+            ui.add(
+                egui::DragValue::new(&mut occlusion.radius)
+                    .range(1e-3..=1e3)
+                    .speed(0.01)
+                    .suffix(" units"),
+            );
+            ui.end_row();
+            ui.label("slices");
+            ui.add(egui::DragValue::new(&mut occlusion.slices).range(OCCLUSION_SAMPLES_RANGE));
+            ui.end_row();
+            ui.label("steps per side");
+            ui.add(egui::DragValue::new(&mut occlusion.steps).range(OCCLUSION_SAMPLES_RANGE));
+            ui.end_row();
+            ui.label("bounce");
+            ui.checkbox(&mut occlusion.multi_bounce, "multi-bounce fit");
+            ui.end_row();
+        });
+}

@@ -1,0 +1,202 @@
+//! Ambient occlusion of the environment's light (src/render/occlusion.rs, shaders/gtao.comp):
+//! on lavapipe with the validation layer on, every frame charged to its test.
+
+mod common;
+
+use argil::render::{DebugView, OffscreenTarget};
+use argil::scene::Scene;
+use ash::vk;
+use common::{gpu, render, scene, try_render};
+use glam::Vec3;
+
+const SIZE: (u32, u32) = (160, 120);
+
+/// A Lambert ball of albedo `albedo` under a uniform white environment (no lights), alone
+/// or resting on a ground of the same material; `occlusion` is the `[occlusion]` section.
+fn ball_scene(ground: bool, albedo: f32, occlusion: &str) -> String {
+    let ground = if ground {
+        "[[objects]]\nmesh = \"builtin:plane\"\nscale = 6.0\nmaterial = \"clay\"\n"
+    } else {
+        ""
+    };
+    format!(
+        r#"
+[camera]
+position = [0.0, 2.0, 5.0]
+target = [0.0, 0.6, 0.0]
+fov_y_degrees = 40.0
+
+[environment]
+kind = "uniform"
+radiance = [1.0, 1.0, 1.0]
+
+[[objects]]
+mesh = "builtin:sphere"
+position = [0.0, 1.0, 0.0]
+material = "clay"
+
+{ground}
+[materials.clay]
+base_color = [{albedo}, {albedo}, {albedo}]
+specular = "none"
+
+{occlusion}
+"#
+    )
+}
+
+/// What the ground 0.25 from the ball keeps of the sky at most. Exactly: the ball (radius
+/// 1, its centre 1.25 away) subtends a cone of half-angle 53° whose axis is 37° from the
+/// normal, whose cosine-weighted share of the sky is cos 37° sin² 53° = 0.51, so the
+/// visibility is 0.49; GTAO within a radius of 0.8 sees the nearer part of that cone.
+const NEAR_AT_MOST: f32 = 0.75;
+
+const ON: &str = "[occlusion]\nenabled = true\nradius = 0.8";
+
+fn hdr(toml: &str) -> Vec<f32> {
+    render(&scene(toml), SIZE.0, SIZE.1).hdr
+}
+
+/// Channels that differ in their bits, and the largest difference.
+fn differences(a: &[f32], b: &[f32]) -> (usize, f32) {
+    a.iter()
+        .zip(b)
+        .filter(|(x, y)| x.to_bits() != y.to_bits())
+        .fold((0, 0.0), |(n, max), (x, y)| (n + 1, max.max((x - y).abs())))
+}
+
+/// The white furnace: a white Lambert ball alone under a uniform white environment
+/// reflects exactly the environment's radiance, and nothing occludes it, so occlusion on
+/// changes nothing. GTAO sees nothing above the depth's own tangent planes of a convex
+/// mesh and divides by the open-horizon sum of the same slices, so the frame is the same
+/// bit for bit.
+#[test]
+fn a_ball_alone_in_the_white_furnace_is_not_occluded() {
+    let off = hdr(&ball_scene(false, 1.0, ""));
+    let on = hdr(&ball_scene(false, 1.0, ON));
+    let (differing, max) = differences(&on, &off);
+    assert_eq!(differing, 0, "{differing} channels differ, by up to {max}");
+    let covered: Vec<f32> = off.chunks_exact(4).filter(|p| p[3] > 0.0).map(|p| p[0]).collect();
+    assert!(covered.len() > 1000, "the ball covers {} pixels", covered.len());
+    assert!(covered.iter().all(|&r| (r - 1.0).abs() < 1e-5), "the ball is not white");
+}
+
+/// The pixel a world point projects to, in the frame of `scene`.
+fn pixel_of(scene: &Scene, point: Vec3) -> (usize, usize) {
+    let clip = scene.camera.view_projection(SIZE.0 as f32 / SIZE.1 as f32) * point.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    let x = ((ndc.x + 1.0) * 0.5 * SIZE.0 as f32) as usize;
+    let y = ((ndc.y + 1.0) * 0.5 * SIZE.1 as f32) as usize;
+    (x, y)
+}
+
+/// Pixels of the ground in front of the ball, 0.25 and 0.49 from its surface, and of open
+/// ground, 1.47 from it (further than the radius of 0.8), all in view.
+fn ground_pixels(scene: &Scene) -> ((usize, usize), (usize, usize), (usize, usize)) {
+    let at = |x, z| pixel_of(scene, Vec3::new(x, 0.0, z));
+    (at(0.0, 0.75), at(0.0, 1.1), at(-1.6, 1.6))
+}
+
+fn red(hdr: &[f32], (x, y): (usize, usize)) -> f32 {
+    hdr[(y * SIZE.0 as usize + x) * 4]
+}
+
+/// The ground beside the ball's contact sees less of the sky than open ground: with
+/// occlusion it is darker, by more the nearer the contact, while open ground keeps the
+/// unoccluded radiance; the multi-bounce fit gives back part of what a bright ground and
+/// ball reflect. Without occlusion both are the same.
+#[test]
+fn the_ground_beside_the_ball_is_darker_than_open_ground() {
+    let grey = |occlusion: &str| ball_scene(true, 0.5, occlusion);
+    let s = scene(&grey(ON));
+    let (near, further, open) = ground_pixels(&s);
+    let off = hdr(&grey(""));
+    let on = hdr(&grey(ON));
+    let plain = hdr(&grey(&format!("{ON}\nmulti_bounce = false")));
+    assert_eq!(
+        red(&off, near),
+        red(&off, open),
+        "without occlusion the ground is uniform"
+    );
+    assert_eq!(red(&on, open), red(&off, open), "open ground is not occluded");
+    let (near_on, further_on) = (red(&on, near), red(&on, further));
+    assert!(
+        near_on < NEAR_AT_MOST * red(&off, near) && near_on < further_on && further_on < red(&off, further),
+        "near {near_on}, further {further_on}, open {}",
+        red(&on, open)
+    );
+    assert!(
+        red(&plain, near) < near_on,
+        "the multi-bounce fit raises the visibility of a grey ground: {} against {near_on}",
+        red(&plain, near)
+    );
+}
+
+/// The occlusion debug view shows the visibility: 1 on open ground, less beside the ball;
+/// with the pass off, 1 everywhere.
+#[test]
+fn the_debug_view_shows_the_visibility() {
+    let s = scene(&ball_scene(true, 0.5, ON));
+    let (near, _, open) = ground_pixels(&s);
+    let view = |s: &Scene| {
+        gpu().exclusive(|renderer| {
+            renderer.debug_view = DebugView::Occlusion;
+            let frame = try_render(renderer, s, SIZE.0, SIZE.1);
+            renderer.debug_view = DebugView::Shaded;
+            frame.expect("render").hdr
+        })
+    };
+    let on = view(&s);
+    assert_eq!(red(&on, open), 1.0);
+    assert!(
+        red(&on, near) < NEAR_AT_MOST,
+        "visibility beside the ball {}",
+        red(&on, near)
+    );
+    let off = view(&scene(&ball_scene(true, 0.5, "")));
+    let covered: Vec<f32> = off.chunks_exact(4).filter(|p| p[3] > 0.0).map(|p| p[0]).collect();
+    assert!(covered.iter().all(|&v| v == 1.0));
+}
+
+/// Off, the frame is the frame without the section, bit for bit, whether the scene turns
+/// it off or the renderer's toggle does.
+#[test]
+fn occlusion_off_is_the_frame_without_it() {
+    let without = hdr(&ball_scene(true, 0.5, ""));
+    let disabled = hdr(&ball_scene(true, 0.5, "[occlusion]\nenabled = false\nradius = 2.0"));
+    assert_eq!(differences(&disabled, &without).0, 0);
+    let toggled = gpu().exclusive(|renderer| {
+        renderer.occlusion = false;
+        let frame = try_render(renderer, &scene(&ball_scene(true, 0.5, ON)), SIZE.0, SIZE.1);
+        renderer.occlusion = true;
+        frame.expect("render").hdr
+    });
+    assert_eq!(differences(&toggled, &without).0, 0);
+}
+
+/// Frames that turn the pass on and off and change size in one renderer: the images
+/// are made again and the forward pass's set follows, with the validation layer (and its
+/// synchronization checks) silent, and each frame is what a fresh render of it gives.
+#[test]
+fn switching_on_off_and_resizing_stays_valid_and_consistent() {
+    let on = scene(&ball_scene(true, 0.5, ON));
+    let off = scene(&ball_scene(true, 0.5, ""));
+    let reference = hdr(&ball_scene(true, 0.5, ON));
+    gpu().exclusive(|renderer| {
+        let gpu_scene = renderer.upload(&on).expect("upload");
+        for (s, size) in [(&on, (64, 48)), (&off, (64, 48)), (&on, (96, 72)), (&on, SIZE)] {
+            let extent = vk::Extent2D {
+                width: size.0,
+                height: size.1,
+            };
+            let target = OffscreenTarget::new(&renderer.device, extent).expect("target");
+            for _ in 0..2 {
+                let ms = renderer.draw_offscreen(s, &gpu_scene, &target, 1.0).expect("draw");
+                let frame = renderer.read_offscreen(&target, ms).expect("read");
+                if size == SIZE {
+                    assert_eq!(differences(&frame.hdr, &reference).0, 0);
+                }
+            }
+        }
+    });
+}
