@@ -60,7 +60,7 @@ void main() {
     vec3 n = seed_horizon ? n_mapped : view_facing_normal(n_mapped, v);
 
     vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_noise_uv),
-                                         gl_FragCoord.xy);
+                                         gl_FragCoord.xy, frame.counts.z);
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;
     out_radiance = vec4(radiance, 1.0);

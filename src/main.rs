@@ -14,7 +14,7 @@ use argil::brdf::subsurface::PreintegratedTable;
 use argil::error::{advice, is_input_error, InputError};
 use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
-use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
+use argil::render::{count_non_finite, write_frame, DebugView, Renderer, PASS_NAMES};
 use argil::scene::Scene;
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
 
@@ -73,6 +73,11 @@ enum Command {
         /// start to the frame written) to this JSON file.
         #[arg(long, value_name = "FILE")]
         timings: Option<PathBuf>,
+        /// Render this many frames and write their running mean, each frame with the next
+        /// sample set of the `sampled` reflection (as the viewer refines a still view); other
+        /// reflection modes give the single frame's image.
+        #[arg(long, value_name = "FRAMES", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65536))]
+        accumulate: u32,
     },
     /// Open a window on a scene.
     View {
@@ -100,6 +105,10 @@ enum Command {
         /// changes.
         #[arg(long, conflicts_with = "frames", value_parser = parse_seconds)]
         seconds: Option<f64>,
+        /// Start in this debug view (the panel's Debug view): shaded, normals, tangents,
+        /// bitangents, uvs, n-dot-l, diffuse, specular, subsurface, environment, nan, curvature.
+        #[arg(long, value_name = "VIEW", default_value = "shaded", value_parser = DebugView::from_name)]
+        debug_view: DebugView,
     },
     /// Render the ground truth of a scene on the CPU: Monte Carlo integration in f64 of the
     /// same scene, camera, meshes, materials, maps, lights and environment, on every core.
@@ -251,6 +260,7 @@ struct RenderOptions {
     height: u32,
     exposure: f32,
     timings: Option<PathBuf>,
+    accumulate: u32,
 }
 
 fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
@@ -276,7 +286,8 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
     let gpu = startup.step("upload", || renderer.upload(&scene))?;
     let begin = Instant::now();
-    let frame = renderer.render_offscreen(&scene, &gpu, vk::Extent2D { width, height }, exposure)?;
+    let extent = vk::Extent2D { width, height };
+    let frame = renderer.render_accumulated(&scene, &gpu, extent, exposure, options.accumulate)?;
     // The frame's wall time holds what its preparation built the first time.
     let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()
@@ -460,6 +471,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             height,
             exposure,
             timings,
+            accumulate,
         } => render(
             RenderOptions {
                 choice,
@@ -470,6 +482,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 height,
                 exposure,
                 timings,
+                accumulate,
             },
             process_start,
         ),
@@ -482,6 +495,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             screenshot,
             resize_storm,
             seconds,
+            debug_view,
         } => {
             check_exposure(exposure)?;
             let (loaded, document) = match scene.as_deref() {
@@ -497,6 +511,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 screenshot,
                 resize_storm,
                 seconds,
+                debug_view,
             };
             argil::viewer::run(loaded, document, options)
         }

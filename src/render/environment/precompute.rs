@@ -58,14 +58,6 @@ fn cube_texels(side: u32) -> vk::Extent3D {
     }
 }
 
-/// An image being written by compute shaders.
-const COMPUTE_STORAGE: ImageUse = ImageUse {
-    layout: vk::ImageLayout::GENERAL,
-    stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
-    access: vk::AccessFlags2::from_raw(
-        vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
-    ),
-};
 /// An image being cleared.
 const CLEAR_DST: ImageUse = ImageUse {
     layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
@@ -334,7 +326,7 @@ impl Precompute {
                 image.handle,
                 image.all_levels(),
                 ImageUse::UNDEFINED,
-                COMPUTE_STORAGE,
+                ImageUse::COMPUTE_STORAGE,
             );
             let mut resources = vec![Resource::Storage(views[0].handle)];
             let mut push = Vec::new();
@@ -367,7 +359,7 @@ impl Precompute {
                 cmd,
                 image.handle,
                 image.all_levels(),
-                COMPUTE_STORAGE,
+                ImageUse::COMPUTE_STORAGE,
                 SHADING_READ,
             );
             Ok(())
@@ -382,8 +374,8 @@ impl Precompute {
             cmd,
             image.handle,
             image.all_levels(),
-            COMPUTE_STORAGE,
-            COMPUTE_STORAGE,
+            ImageUse::COMPUTE_STORAGE,
+            ImageUse::COMPUTE_STORAGE,
         );
     }
 
@@ -420,7 +412,7 @@ impl Precompute {
                 image.handle,
                 image.all_levels(),
                 ImageUse::UNDEFINED,
-                COMPUTE_STORAGE,
+                ImageUse::COMPUTE_STORAGE,
             );
             for level in 0..PREFILTERED_LEVELS {
                 let side = PREFILTERED_SIZE >> level;
@@ -450,7 +442,7 @@ impl Precompute {
                 cmd,
                 image.handle,
                 image.all_levels(),
-                COMPUTE_STORAGE,
+                ImageUse::COMPUTE_STORAGE,
                 SHADING_READ,
             );
             Ok(())
@@ -470,7 +462,7 @@ impl Precompute {
                 image.handle,
                 image.all_levels(),
                 ImageUse::UNDEFINED,
-                COMPUTE_STORAGE,
+                ImageUse::COMPUTE_STORAGE,
             );
             let resources = [Resource::Storage(image.view)];
             self.dispatch(
@@ -490,7 +482,7 @@ impl Precompute {
                 cmd,
                 image.handle,
                 image.all_levels(),
-                COMPUTE_STORAGE,
+                ImageUse::COMPUTE_STORAGE,
                 SHADING_READ,
             );
             Ok(())
