@@ -72,7 +72,7 @@ void main() {
 
     float visibility = ambient_visibility(gl_FragCoord.xy);
     vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_noise_uv),
-                                         gl_FragCoord.xy, environment_occlusion(visibility, m.base_color.rgb));
+                                         gl_FragCoord.xy, frame.counts.z, environment_occlusion(visibility, m.base_color.rgb));
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;
     out_radiance = vec4(radiance, 1.0);

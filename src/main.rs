@@ -14,7 +14,7 @@ use argil::brdf::subsurface::PreintegratedTable;
 use argil::error::{advice, is_input_error, InputError};
 use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
-use argil::render::{count_non_finite, write_frame, Renderer, PASS_NAMES};
+use argil::render::{count_non_finite, write_frame, DebugView, Renderer, PASS_NAMES};
 use argil::scene::Scene;
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
 
@@ -78,6 +78,11 @@ enum Command {
         /// draws with the largest it does below it, with a warning.
         #[arg(long, value_name = "N", value_parser = parse_msaa)]
         msaa: Option<u32>,
+        /// Render this many frames and write their running mean, each frame with the next
+        /// sample set of the `sampled` reflection (as the viewer refines a still view); other
+        /// reflection modes give the single frame's image.
+        #[arg(long, value_name = "FRAMES", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65536))]
+        accumulate: u32,
     },
     /// Open a window on a scene.
     View {
@@ -109,6 +114,11 @@ enum Command {
         /// and write memory samples (JSON) to this file.
         #[arg(long, hide = true, value_name = "FILE", requires = "frames")]
         soak_log: Option<PathBuf>,
+        /// Start in this debug view (the panel's Debug view): shaded, normals, tangents,
+        /// bitangents, uvs, n-dot-l, diffuse, specular, subsurface, environment, nan, curvature,
+        /// occlusion.
+        #[arg(long, value_name = "VIEW", default_value = "shaded", value_parser = DebugView::from_name)]
+        debug_view: DebugView,
     },
     /// Render the ground truth of a scene on the CPU: Monte Carlo integration in f64 of the
     /// same scene, camera, meshes, materials, maps, lights and environment, on every core.
@@ -276,6 +286,7 @@ struct RenderOptions {
     exposure: f32,
     timings: Option<PathBuf>,
     msaa: Option<u32>,
+    accumulate: u32,
 }
 
 fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
@@ -311,7 +322,8 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
         );
     }
     let begin = Instant::now();
-    let frame = renderer.render_offscreen(&scene, &gpu, vk::Extent2D { width, height }, exposure)?;
+    let extent = vk::Extent2D { width, height };
+    let frame = renderer.render_accumulated(&scene, &gpu, extent, exposure, options.accumulate)?;
     // The frame's wall time holds what its preparation built the first time.
     let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()
@@ -502,6 +514,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             exposure,
             timings,
             msaa,
+            accumulate,
         } => render(
             RenderOptions {
                 choice,
@@ -513,6 +526,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 exposure,
                 timings,
                 msaa,
+                accumulate,
             },
             process_start,
         ),
@@ -526,6 +540,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             resize_storm,
             seconds,
             soak_log,
+            debug_view,
         } => {
             check_exposure(exposure)?;
             let (loaded, document) = match scene.as_deref() {
@@ -542,6 +557,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 resize_storm,
                 seconds,
                 soak_log,
+                debug_view,
             };
             argil::viewer::run(loaded, document, options)
         }

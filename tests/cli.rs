@@ -7,7 +7,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::{argil, argil_with};
+use common::{argil, argil_with, gpu, sampled_sphere_toml};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -365,6 +365,23 @@ fn view_area(err: &str) -> (u32, u32, u32) {
     numbers.unwrap_or_else(|| panic!("no view area in: {err}"))
 }
 
+/// RMSE in code values between the 3D view of a window screenshot, `left` pixels from
+/// its left edge, and the headless render at `path`, which has the view's size.
+fn view_rmse(window: &image::RgbImage, left: u32, path: &Path) -> f64 {
+    let reference = image::open(path).expect("read render").to_rgb8();
+    let (w, h) = reference.dimensions();
+    let mut sum = 0.0;
+    for y in 0..h {
+        for x in 0..w {
+            for c in 0..3 {
+                let d = f64::from(window.get_pixel(left + x, y)[c]) - f64::from(reference.get_pixel(x, y)[c]);
+                sum += d * d;
+            }
+        }
+    }
+    (sum / f64::from(w * h * 3)).sqrt()
+}
+
 /// The window shows the frame `argil render` writes, beside the panel: the screenshot's
 /// view area, UI included, matches the headless render of the same scene at the view's
 /// size (so the camera's aspect follows the view), and the panel is left of it.
@@ -415,19 +432,8 @@ fn view_screenshot_matches_the_headless_render_beside_the_ui() {
     ]));
 
     let window = image::open(&shot).expect("read screenshot").to_rgb8();
-    let reference = image::open(&headless).expect("read render").to_rgb8();
     assert_eq!(window.dimensions(), (w, h));
-    assert_eq!(reference.dimensions(), (view_w, view_h));
-    let mut sum = 0.0;
-    for y in 0..view_h {
-        for x in 0..view_w {
-            for c in 0..3 {
-                let d = f64::from(window.get_pixel(left + x, y)[c]) - f64::from(reference.get_pixel(x, y)[c]);
-                sum += d * d;
-            }
-        }
-    }
-    let rmse = (sum / f64::from(view_w * view_h * 3)).sqrt();
+    let rmse = view_rmse(&window, left, &headless);
     eprintln!("window vs headless: RMSE {rmse:.3} in the view");
     assert!(rmse <= 0.5, "the window shows another frame: RMSE {rmse:.3}");
     // The panel is drawn: its fill is not the frame's background, nor uniform.
@@ -612,4 +618,197 @@ fn view_reloads_the_scene_when_its_file_changes() {
         .filter(|&(x, y)| window.get_pixel(left + x, y) != reference.get_pixel(x, y))
         .count();
     assert_eq!(differing, 0, "the window does not show the reloaded scene");
+}
+
+/// Frames and lookups per pixel of the last view's running mean, from the viewer's closing
+/// line "the last view's mean has K frames × N lookups".
+fn accumulated_frames(err: &str) -> (u32, u32) {
+    let numbers = err.split("the last view's mean has ").nth(1).and_then(|rest| {
+        let mut words = rest.split_whitespace();
+        let frames = words.next()?.parse().ok()?;
+        let lookups = words.nth(2)?.parse().ok()?;
+        Some((frames, lookups))
+    });
+    numbers.unwrap_or_else(|| panic!("no accumulation in: {err}"))
+}
+
+/// A still view of the sampled reflection refines: the window shows the running mean of
+/// the frames drawn, exactly what `argil render --accumulate K` writes for the same K, and
+/// once the mean has 1024 lookups per pixel (8 frames of 128) later frames hold it.
+/// Threshold as for the split-sum screenshot: both sides compute the same fp32 mean.
+#[test]
+fn view_shows_the_accumulated_mean_of_a_still_sampled_view() {
+    let dir = temp_dir("accumulate");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, sampled_sphere_toml(128)).expect("write scene");
+    let shot = dir.join("window.png");
+    let o = view_under_xvfb(&[
+        "--frames",
+        "14",
+        "--screenshot",
+        path_str(&shot),
+        path_str(&scene),
+        "--width",
+        "480",
+        "--height",
+        "270",
+    ]);
+    assert_clean_success(&o);
+    let err = stderr(&o);
+    let (view_w, view_h, left) = view_area(&err);
+    let (frames, lookups) = accumulated_frames(&err);
+    assert_eq!(lookups, 128);
+    assert!((2..=8).contains(&frames), "{frames} frames in the mean: {err}");
+    let headless = dir.join("headless.png");
+    let (width, height, accumulate) = (view_w.to_string(), view_h.to_string(), frames.to_string());
+    assert_clean_success(&argil(&[
+        "render",
+        path_str(&scene),
+        "--out",
+        path_str(&headless),
+        "--width",
+        &width,
+        "--height",
+        &height,
+        "--accumulate",
+        &accumulate,
+    ]));
+    let single = dir.join("single.png");
+    assert_clean_success(&argil(&[
+        "render",
+        path_str(&scene),
+        "--out",
+        path_str(&single),
+        "--width",
+        &width,
+        "--height",
+        &height,
+    ]));
+    let window = image::open(&shot).expect("read screenshot").to_rgb8();
+    let (to_mean, to_single) = (view_rmse(&window, left, &headless), view_rmse(&window, left, &single));
+    eprintln!(
+        "window ({frames} frames) vs render --accumulate {frames}: RMSE {to_mean:.3}; vs one frame {to_single:.3}"
+    );
+    assert!(to_mean <= 0.5, "the window shows another frame: RMSE {to_mean:.3}");
+    assert!(to_single > to_mean, "the window shows the single frame");
+}
+
+/// The viewer keeps drawing while a still sampled view refines, up to 1024 lookups per
+/// pixel (4 frames of 256 here), then goes idle.
+#[test]
+fn a_refining_viewer_draws_until_converged_then_idles() {
+    let dir = temp_dir("converge");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, sampled_sphere_toml(256)).expect("write scene");
+    let o = view_under_xvfb(&["--seconds", "20", path_str(&scene), "--width", "320", "--height", "200"]);
+    assert_clean_success(&o);
+    let err = stderr(&o);
+    let (frames, lookups) = accumulated_frames(&err);
+    let idle: f64 = err
+        .split("; idle ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no idle time in: {err}"));
+    eprintln!("mean of {frames} frames × {lookups} lookups, idle for the last {idle} s");
+    assert_eq!(
+        u64::from(frames * lookups),
+        argil::render::accumulate::CONVERGED_LOOKUPS,
+        "{err}"
+    );
+    assert!(idle >= 3.0, "a frame {idle} s before the end: {err}");
+}
+
+/// The number after "exposure in use " in the viewer's closing lines, and its source.
+fn exposure_in_use(err: &str) -> (f32, String) {
+    let found = err.split("exposure in use ").nth(1).and_then(|rest| {
+        let mut words = rest.split_whitespace();
+        Some((words.next()?.parse().ok()?, words.next()?.to_owned()))
+    });
+    found.unwrap_or_else(|| panic!("no exposure in: {err}"))
+}
+
+/// The specular lobe alone is nearly black at exposure 1; the viewer auto-exposes it from
+/// its measured luminance, and the window shows the lobe at that exposure exactly as the
+/// renderer draws it (threshold as for the shaded screenshot).
+#[test]
+fn view_auto_exposes_the_specular_lobe() {
+    let dir = temp_dir("auto-exposure");
+    let shot = dir.join("window.png");
+    let o = view_under_xvfb(&[
+        "--debug-view",
+        "specular",
+        "--frames",
+        "6",
+        "--screenshot",
+        path_str(&shot),
+        "--width",
+        "480",
+        "--height",
+        "270",
+    ]);
+    assert_clean_success(&o);
+    let err = stderr(&o);
+    let (exposure, source) = exposure_in_use(&err);
+    assert_eq!(source, "(auto)", "{err}");
+    assert!(exposure > 2.0, "auto exposure {exposure} for the specular lobe");
+    let (view_w, view_h, left) = view_area(&err);
+    let scene = argil::scene::Scene::default_scene();
+    let frame = gpu().exclusive(|renderer| {
+        renderer.debug_view = argil::render::DebugView::Specular;
+        let gpu_scene = renderer.upload(&scene).expect("upload");
+        let extent = ash::vk::Extent2D {
+            width: view_w,
+            height: view_h,
+        };
+        let frame = renderer.render_offscreen(&scene, &gpu_scene, extent, exposure);
+        renderer.debug_view = argil::render::DebugView::Shaded;
+        frame.expect("render")
+    });
+    let headless = dir.join("headless.png");
+    image::RgbaImage::from_raw(view_w, view_h, frame.display)
+        .expect("frame size")
+        .save(&headless)
+        .expect("write png");
+    let window = image::open(&shot).expect("read screenshot").to_rgb8();
+    let rmse = view_rmse(&window, left, &headless);
+    eprintln!("specular lobe at auto exposure {exposure}: window vs renderer RMSE {rmse:.3}");
+    assert!(rmse <= 0.5, "the window shows another exposure: RMSE {rmse:.3}");
+}
+
+/// The curvature view has its legend over the view's bottom-left corner: a bar from
+/// strong blue (concave) to strong red (convex), in the colours the view itself uses.
+#[test]
+fn view_shows_the_curvature_legend() {
+    let dir = temp_dir("legend");
+    let shot = dir.join("window.png");
+    let (w, h) = (800u32, 400u32);
+    let (width, height) = (w.to_string(), h.to_string());
+    let o = view_under_xvfb(&[
+        "--debug-view",
+        "curvature",
+        "--frames",
+        "4",
+        "--screenshot",
+        path_str(&shot),
+        "--width",
+        &width,
+        "--height",
+        &height,
+    ]);
+    assert_clean_success(&o);
+    let (_, _, left) = view_area(&stderr(&o));
+    let window = image::open(&shot).expect("read screenshot").to_rgb8();
+    let legend: std::collections::HashSet<[u8; 3]> = (-70..=70)
+        .map(|i| argil::viewer::curvature_legend_color(f64::from(i) / 10.0, 1.0).to_array())
+        .map(|[r, g, b, _]| [r, g, b])
+        .collect();
+    let corner = (left + 10..left + 310).flat_map(|x| (h - 70..h - 10).map(move |y| (x, y)));
+    let (mut red, mut blue) = (0, 0);
+    for (x, y) in corner {
+        let p = window.get_pixel(x, y).0;
+        red += usize::from(p[0] > 150 && p[1] == 0 && p[2] == 0 && legend.contains(&p));
+        blue += usize::from(p[2] > 150 && p[0] == 0 && p[1] == 0 && legend.contains(&p));
+    }
+    assert!(red > 200 && blue > 200, "legend pixels: {red} red, {blue} blue");
 }

@@ -153,6 +153,15 @@ vec2 hammersley(uint i, uint n) {
     return vec2((float(i) + 0.5) / float(n), float(bitfieldReverse(i)) * RADICAL_INVERSE_SCALE);
 }
 
+// The R2 sequence's steps 1/g and 1/g² (g the plastic number, x³ = x + 1) in 0.32 fixed
+// point (Roberts 2018, "The Unreasonable Effectiveness of Quasirandom Sequences").
+const uvec2 R2_STEP = uvec2(3242174889u, 2447445414u);
+
+// Point k of the R2 sequence, frac(k/g, k/g²), exact mod 1 in fixed point; 0 at k = 0.
+vec2 r2(uint k) {
+    return vec2(k * R2_STEP) * RADICAL_INVERSE_SCALE;
+}
+
 // Cosine-weighted hemisphere (Malley's method); pdf = n·l/π.
 vec3 sample_cosine(vec2 u) {
     float r = sqrt(u.x);

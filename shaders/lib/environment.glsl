@@ -153,15 +153,20 @@ vec2 pixel_offset(vec2 pixel) {
 // multi-sample balance heuristic (Veach 1997, §9.2.2): Σ f(l) L(l) / Σ_k N_k p_k(l). Each
 // lookup reads the mip matching its pdf (filtered importance sampling), which trades
 // noise for blur; as N grows the mips go to 0 and the estimate to the integral.
+// `sample_set` k (0 for a single frame) rotates every set by point k of R2, so the frames
+// a still view accumulates (src/render/accumulate.rs) use different, evenly spread samples;
+// their mips are those of the (k + 1)N lookups accumulated by then, so the running mean
+// also converges to the integral.
 vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float curvature,
-                         vec2 pixel) {
+                         vec2 pixel, uint sample_set) {
     uvec3 counts = strategy_counts(env.mode.z, models.diffuse != DIFFUSE_NONE,
                                    models.specular != SPECULAR_NONE, subsurface_lights(models, m));
     mat3 frame = tangent_frame(n);
     vec3 v_local = v * frame;
     float n_dot_v = max(v_local.z, MIN_N_DOT_V);
     float alpha = clamp_alpha(m.roughness * m.roughness);
-    vec2 offset = pixel_offset(pixel);
+    vec2 offset = fract(pixel_offset(pixel) + r2(sample_set));
+    float accumulated = float(sample_set + 1u);
     uint total = counts.x + counts.y + counts.z;
     vec3 sum = vec3(0.0);
     for (uint i = 0u; i < total; ++i) {
@@ -181,7 +186,7 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
                     + float(counts.z) * PDF_UNIFORM_SPHERE;
         if (n_pdf <= 0.0) continue;
         vec3 f = brdf_cos(models, m, n, n_geometric, v, l, curvature);
-        sum += f * env_radiance(l, filtered_lod(n_pdf, env.texel.x)) / n_pdf;
+        sum += f * env_radiance(l, filtered_lod(accumulated * n_pdf, env.texel.x)) / n_pdf;
     }
     return sum;
 }
@@ -190,12 +195,12 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
 // `occlusion` is applied as environment_split_sum applies it; the sampled mode then
 // estimates the diffuse (with subsurface) and specular lobes apart, to scale each.
 vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float curvature,
-                       float noise, vec2 pixel, vec4 occlusion) {
+                       float noise, vec2 pixel, uint sample_set, vec4 occlusion) {
     if (env_kind() == ENV_NONE) return vec3(0.0);
     if (reflection_mode() != REFLECTION_SAMPLED) {
         return environment_split_sum(models, m, n, v, curvature, noise, occlusion);
     }
-    if (occlusion.a >= 1.0) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel);
+    if (occlusion.a >= 1.0) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel, sample_set);
     ShadingModels diffuse_only = models;
     diffuse_only.specular = SPECULAR_NONE;
     ShadingModels specular_only = models;
@@ -203,9 +208,9 @@ vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometri
     specular_only.subsurface = SUBSURFACE_NONE;
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     float alpha = clamp_alpha(m.roughness * m.roughness);
-    return occlusion.rgb * environment_sampled(diffuse_only, m, n, n_geometric, v, curvature, pixel)
+    return occlusion.rgb * environment_sampled(diffuse_only, m, n, n_geometric, v, curvature, pixel, sample_set)
          + specular_occlusion(n_dot_v, occlusion.a, alpha)
-             * environment_sampled(specular_only, m, n, n_geometric, v, curvature, pixel);
+             * environment_sampled(specular_only, m, n, n_geometric, v, curvature, pixel, sample_set);
 }
 
 #endif

@@ -15,7 +15,8 @@ struct PointLight {
 layout(set = 0, binding = 0, std140) uniform FrameData {
     mat4 view_proj;
     vec4 camera_position;
-    uvec4 counts;           // x = number of point lights, y = debug view (debug_views.glsl)
+    uvec4 counts;           // x = number of point lights, y = debug view (debug_views.glsl),
+                            // z = the sampled reflection's sample set (environment.glsl)
     PointLight lights[MAX_POINT_LIGHTS];
 } frame;
 

@@ -215,6 +215,16 @@ pub fn hammersley(i: u32, n: u32) -> [f64; 2] {
     ]
 }
 
+/// The R2 sequence's steps 1/g and 1/g² (g the plastic number, the real root of
+/// x³ = x + 1) in 0.32 fixed point (Roberts 2018), as `R2_STEP` in env_math.glsl.
+pub const R2_STEP: [u32; 2] = [3_242_174_889, 2_447_445_414];
+
+/// Point k of the R2 sequence, frac(k/g, k/g²): the rotation of the `sampled` reflection's
+/// sample sets in frame k of an accumulation.
+pub fn r2(k: u32) -> [f64; 2] {
+    R2_STEP.map(|step| f64::from(k.wrapping_mul(step)) / 4294967296.0)
+}
+
 /// Cosine-weighted hemisphere (Malley's method); pdf = n·l/π.
 pub fn sample_cosine(u: [f64; 2]) -> Vec3 {
     let r = u[0].sqrt();

@@ -403,3 +403,35 @@ fn studio_is_a_lit_cyclorama() {
         }
     }
 }
+
+/// The frames of an accumulation rotate their sample sets by R2: the shader's steps are the
+/// plastic number's, and the first K rotations stay about 1/√K apart on the torus (no two
+/// frames draw nearly the same set), as a well-spread sequence does (0.63√K at worst here).
+#[test]
+fn r2_rotations_are_the_plastic_sequence_and_spread_evenly() {
+    let glsl = include_str!("../../shaders/lib/env_math.glsl");
+    let declared = format!("const uvec2 R2_STEP = uvec2({}u, {}u);", R2_STEP[0], R2_STEP[1]);
+    assert!(glsl.contains(&declared), "env_math.glsl does not declare {declared}");
+    let g = 1.324_717_957_244_746_f64;
+    assert!((g * g * g - g - 1.0).abs() < 1e-14);
+    let [x, y] = r2(1);
+    assert!(
+        (x - 1.0 / g).abs() < 1e-9 && (y - 1.0 / (g * g)).abs() < 1e-9,
+        "{x}, {y}"
+    );
+    assert_eq!(r2(0), [0.0, 0.0]);
+    for k in [16u32, 64, 256] {
+        let points: Vec<[f64; 2]> = (0..k).map(r2).collect();
+        let torus = |a: f64, b: f64| (a - b).abs().min(1.0 - (a - b).abs());
+        let closest = points
+            .iter()
+            .enumerate()
+            .flat_map(|(i, p)| {
+                points[..i]
+                    .iter()
+                    .map(move |q| torus(p[0], q[0]).hypot(torus(p[1], q[1])))
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(closest * f64::from(k).sqrt() > 0.6, "{k} rotations: closest {closest}");
+    }
+}

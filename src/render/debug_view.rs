@@ -2,6 +2,26 @@
 //! alone. The value travels in `FrameData.counts.y` to shaders/lib/debug_views.glsl,
 //! whose `DEBUG_VIEW_*` constants are the `as u32` values here.
 
+/// `CURVATURE_VIEW_SCALE` in debug_views.glsl: the curvature view's brightness is
+/// 1 − exp(−|κ| · CURVATURE_VIEW_SCALE).
+pub const CURVATURE_VIEW_SCALE: f64 = 0.5;
+
+/// The curvature view's colour at mean curvature `kappa` (1/world length): red where
+/// convex, blue where concave (debug_views.glsl's `DEBUG_VIEW_CURVATURE` branch).
+pub fn curvature_color(kappa: f64) -> [f64; 3] {
+    let strength = 1.0 - (-kappa.abs() * CURVATURE_VIEW_SCALE).exp();
+    if kappa > 0.0 {
+        [strength, 0.0, 0.0]
+    } else {
+        [0.0, 0.0, strength]
+    }
+}
+
+/// The |κ| the curvature view shows at `brightness` in [0, 1): the inverse of its map.
+pub fn curvature_at_brightness(brightness: f64) -> f64 {
+    -(1.0 - brightness).ln() / CURVATURE_VIEW_SCALE
+}
+
 /// What the forward pass writes into the HDR target. Every view goes through the same
 /// display transform as the shaded image.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -32,7 +52,8 @@ pub enum DebugView {
     /// The shaded image with NaN/Inf pixels in magenta.
     NanHighlight = 10,
     /// The mesh's mean curvature (1/world length): red where convex, blue where concave,
-    /// brightness 1 - exp(-|κ|/2), so a sphere of radius 1 shows at 0.39 and a plane black.
+    /// brightness 1 − exp(−|κ| · [`CURVATURE_VIEW_SCALE`]) ([`curvature_color`]), so a
+    /// sphere of radius 1 shows at 0.39 and a plane black.
     Curvature = 11,
     /// The ambient visibility the environment's light is scaled by (GTAO), grey; white
     /// where nothing occludes and everywhere when the occlusion pass is off.
@@ -55,6 +76,51 @@ impl DebugView {
         DebugView::Curvature,
         DebugView::Occlusion,
     ];
+
+    /// Whether the view's values are radiance (one term of the shading alone), so that an
+    /// exposure chosen from them reads it at a glance.
+    pub fn is_radiance(self) -> bool {
+        matches!(
+            self,
+            DebugView::Diffuse | DebugView::Specular | DebugView::Subsurface | DebugView::Environment
+        )
+    }
+
+    /// Whether the view shows the environment's light, so that the `sampled` reflection's
+    /// noise is in it.
+    pub fn shows_environment(self) -> bool {
+        matches!(
+            self,
+            DebugView::Shaded | DebugView::Environment | DebugView::NanHighlight
+        )
+    }
+
+    /// The view's name on the command line (`argil view --debug-view NAME`).
+    pub fn name(self) -> &'static str {
+        match self {
+            DebugView::Shaded => "shaded",
+            DebugView::Normals => "normals",
+            DebugView::Tangents => "tangents",
+            DebugView::Bitangents => "bitangents",
+            DebugView::Uvs => "uvs",
+            DebugView::NDotL => "n-dot-l",
+            DebugView::Diffuse => "diffuse",
+            DebugView::Specular => "specular",
+            DebugView::Subsurface => "subsurface",
+            DebugView::Environment => "environment",
+            DebugView::NanHighlight => "nan",
+            DebugView::Curvature => "curvature",
+            DebugView::Occlusion => "occlusion",
+        }
+    }
+
+    /// The view named `name` (see [`Self::name`]).
+    pub fn from_name(name: &str) -> Result<Self, String> {
+        Self::ALL.into_iter().find(|v| v.name() == name).ok_or_else(|| {
+            let names: Vec<&str> = Self::ALL.iter().map(|v| v.name()).collect();
+            format!("{name:?} is not a debug view: one of {}", names.join(", "))
+        })
+    }
 
     pub fn label(self) -> &'static str {
         match self {
@@ -88,6 +154,39 @@ mod tests {
         for view in DebugView::ALL {
             let name = format!("= {}u;", view as u32);
             assert!(shader.contains(&name), "debug_views.glsl has no constant {name}");
+        }
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for view in DebugView::ALL {
+            assert_eq!(DebugView::from_name(view.name()), Ok(view));
+        }
+        assert!(DebugView::from_name("specular lobe").is_err_and(|e| e.contains("specular, subsurface")));
+    }
+
+    #[test]
+    fn curvature_colours_follow_the_shaders_map() {
+        let shader = include_str!("../../shaders/lib/debug_views.glsl");
+        let declared = format!("const float CURVATURE_VIEW_SCALE = {CURVATURE_VIEW_SCALE:?};");
+        assert!(
+            shader.contains(&declared),
+            "debug_views.glsl does not declare {declared}"
+        );
+        assert!(shader.contains("float strength = 1.0 - exp(-abs(curvature) * CURVATURE_VIEW_SCALE);"));
+        // The GLSL comment's figures: radius 1 at 0.39, 0.35 at 0.76, 0.1 at 0.99.
+        for (radius, shown) in [(1.0, 0.39), (0.35, 0.76), (0.1, 0.99)] {
+            let [r, g, b] = curvature_color(1.0 / radius);
+            assert!(
+                (r - shown).abs() < 0.005 && g == 0.0 && b == 0.0,
+                "radius {radius}: {r}"
+            );
+        }
+        assert_eq!(curvature_color(-2.0), [0.0, 0.0, curvature_color(2.0)[0]]);
+        assert_eq!(curvature_color(0.0), [0.0; 3]);
+        for kappa in [0.1, 1.0, 4.0] {
+            let back = curvature_at_brightness(curvature_color(kappa)[0]);
+            assert!((back - kappa).abs() < 1e-12, "{kappa} → {back}");
         }
     }
 }

@@ -336,8 +336,9 @@ impl ForwardPass {
             .build(&self.device, &self.layout, name)
     }
 
-    /// Writes this frame's uniforms and materials into `slot` (whose previous use the
-    /// caller has waited for) and creates any pipeline the scene's materials need
+    /// Writes this frame's uniforms (with the `sampled` reflection's `sample_set`) and
+    /// materials into `slot` (whose previous use the caller has waited for) and creates
+    /// any pipeline the scene's materials need
     /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
     /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
     /// `occlusion`: how the environment's light is occluded.
@@ -348,6 +349,7 @@ impl ForwardPass {
         scene: &Scene,
         aspect: f32,
         debug_view: DebugView,
+        sample_set: u32,
         floor: bool,
         specialize: bool,
         samples: vk::SampleCountFlags,
@@ -356,6 +358,7 @@ impl ForwardPass {
     ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, aspect)?;
         frame_data.counts[1] = debug_view as u32;
+        frame_data.counts[2] = sample_set;
         let materials: Vec<MaterialData> = scene.materials.iter().map(MaterialData::from).collect();
         self.material_pipelines = scene
             .materials

@@ -1,7 +1,9 @@
 //! Passes built from the Vulkan pieces, and the renderer that owns them.
 
+pub mod accumulate;
 pub mod debug_view;
 pub mod environment;
+pub mod exposure;
 pub mod forward;
 pub mod fullscreen;
 pub mod gpu_scene;

@@ -7,8 +7,10 @@ use std::sync::Arc;
 use anyhow::Result;
 use ash::vk;
 
+use super::accumulate::{AccumulatePass, Accumulated, Accumulation, View};
 use super::debug_view::DebugView;
 use super::environment::EnvironmentPass;
+use super::exposure::ExposurePass;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
@@ -23,13 +25,24 @@ use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestam
 /// The shadow maps and the occlusion are drawn first but named after the older passes:
 /// index 0 stays the forward pass. The MSAA resolve takes no time at one sample per pixel
 /// (nothing runs).
-pub const PASS_NAMES: [&str; 6] = ["forward", "skybox", "tonemap", "shadow", "resolve", "occlusion"];
+pub const PASS_NAMES: [&str; 8] = [
+    "forward",
+    "skybox",
+    "tonemap",
+    "shadow",
+    "resolve",
+    "occlusion",
+    "accumulate",
+    "exposure",
+];
 const PASS_FORWARD: u32 = 0;
 const PASS_SKYBOX: u32 = 1;
 const PASS_TONEMAP: u32 = 2;
 const PASS_SHADOW: u32 = 3;
 const PASS_RESOLVE: u32 = 4;
 const PASS_OCCLUSION: u32 = 5;
+const PASS_ACCUMULATE: u32 = 6;
+const PASS_EXPOSURE: u32 = 7;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping. The frame covers `area` of the image,
@@ -63,6 +76,8 @@ pub struct Renderer {
     occlusion_pass: OcclusionPass,
     forward: ForwardPass,
     msaa: MsaaPass,
+    accumulate: AccumulatePass,
+    exposure: ExposurePass,
     tonemap: TonemapPass,
     /// One query pool per frame in flight; empty when the device has no timestamps.
     timestamps: Vec<Timestamps>,
@@ -81,6 +96,12 @@ pub struct Renderer {
     pub shadows: bool,
     /// Whether a scene's `[occlusion] enabled` applies; the viewer's toggle.
     pub occlusion: bool,
+    /// Which frames of a still view with the `sampled` reflection join a running mean
+    /// (accumulate.rs); off, every frame is the same single frame.
+    pub accumulation: Accumulation,
+    /// Whether frames measure their luminance for [`Self::auto_exposure`]; the viewer's
+    /// auto exposure of debug views.
+    pub measure_exposure: bool,
     /// Scenes uploaded so far: the next upload's id.
     uploads: Cell<u64>,
 }
@@ -137,6 +158,8 @@ impl Renderer {
             occlusion_pass,
             one_shot,
             environment,
+            accumulate: AccumulatePass::new(&device, frames_in_flight)?,
+            exposure: ExposurePass::new(&device, frames_in_flight)?,
             tonemap: TonemapPass::new(&device, frames_in_flight)?,
             timestamps,
             debug_view: DebugView::Shaded,
@@ -145,6 +168,8 @@ impl Renderer {
             environment_time: std::time::Duration::ZERO,
             shadows: true,
             occlusion: true,
+            accumulation: Accumulation::Off,
+            measure_exposure: false,
             uploads: Cell::new(0),
             device,
         })
@@ -197,17 +222,24 @@ impl Renderer {
         // The floor measures geometry and targets alone: no occlusion under it.
         let occlusion = OcclusionMode::of(&scene.occlusion, self.occlusion && !self.floor);
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
+        let switches = [self.shadows, self.floor, self.generic, self.occlusion];
+        let view = (self.accumulation != Accumulation::Off)
+            .then(|| View::of(scene, gpu, target.extent, self.debug_view, switches))
+            .flatten();
+        let sample_set = self.accumulate.prepare(slot, view, self.accumulation, target)?;
         self.forward.prepare(
             slot,
             scene,
             target.aspect(),
             self.debug_view,
+            sample_set,
             self.floor,
             !self.generic,
             sample_flag(samples),
             occlusion,
             &self.one_shot,
         )?;
+        self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
     }
 
@@ -266,15 +298,20 @@ impl Renderer {
             self.environment.record_skybox(cmd, draw, &scene.camera)
         })?;
         self.timed(cmd, slot, PASS_RESOLVE, || self.msaa.record(cmd, slot, target))?;
+        let color = self.timed(cmd, slot, PASS_ACCUMULATE, || self.accumulate.record(cmd, slot, target))?;
 
         transition(
             d,
             cmd,
             target.color.handle,
             target.color.aspect,
-            ImageUse::COLOR_ATTACHMENT,
-            ImageUse::FRAGMENT_READ,
+            color,
+            ImageUse::SHADER_READ,
         );
+        self.timed(cmd, slot, PASS_EXPOSURE, || {
+            self.exposure.record(cmd, slot, target);
+            Ok(())
+        })?;
         transition(
             d,
             cmd,
@@ -290,16 +327,39 @@ impl Renderer {
     }
 
     /// Records `pass` between the two timestamps that time it, when the device has them.
-    fn timed(&self, cmd: vk::CommandBuffer, slot: usize, pass: u32, record: impl FnOnce() -> Result<()>) -> Result<()> {
+    fn timed<R>(
+        &self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        pass: u32,
+        record: impl FnOnce() -> Result<R>,
+    ) -> Result<R> {
         let timestamps = self.timestamps.get(slot);
         if let Some(t) = timestamps {
             t.begin(cmd, pass);
         }
-        record()?;
+        let recorded = record()?;
         if let Some(t) = timestamps {
             t.end(cmd, pass);
         }
-        Ok(())
+        Ok(recorded)
+    }
+
+    /// The exposure that the luminance measured a frame or two ago asks for (see
+    /// exposure.rs); `None` until a measured frame has been read back.
+    pub fn auto_exposure(&self) -> Option<f32> {
+        self.exposure.auto_exposure()
+    }
+
+    /// The luminance histogram behind [`Self::auto_exposure`].
+    pub fn luminance_histogram(&self) -> Option<&[u32]> {
+        self.exposure.histogram()
+    }
+
+    /// How far the running mean of the frame prepared last has come; `None` when that
+    /// frame was not accumulated.
+    pub fn accumulated(&self) -> Option<Accumulated> {
+        self.accumulate.accumulated()
     }
 
     /// The environment's GPU resources and what precomputing them cost.
@@ -324,6 +384,37 @@ impl Renderer {
         let offscreen = OffscreenTarget::new(&self.device, extent)?;
         let gpu_ms = self.draw_offscreen(scene, gpu, &offscreen, exposure)?;
         self.read_offscreen(&offscreen, gpu_ms)
+    }
+
+    /// Renders `frames` frames of `scene` into one target, accumulating the `sampled`
+    /// reflection's running mean from a fresh start (one frame is
+    /// [`Self::render_offscreen`]'s image), and reads the mean back with the last frame's
+    /// GPU times.
+    pub fn render_accumulated(
+        &mut self,
+        scene: &Scene,
+        gpu: &GpuScene,
+        extent: vk::Extent2D,
+        exposure: f32,
+        frames: u32,
+    ) -> Result<OffscreenFrame> {
+        let offscreen = OffscreenTarget::new(&self.device, extent)?;
+        let accumulation = if frames > 1 {
+            Accumulation::Unlimited
+        } else {
+            Accumulation::Off
+        };
+        let accumulation = std::mem::replace(&mut self.accumulation, accumulation);
+        self.accumulate.reset();
+        let mut gpu_ms = Ok(None);
+        for _ in 0..frames {
+            gpu_ms = self.draw_offscreen(scene, gpu, &offscreen, exposure);
+            if gpu_ms.is_err() {
+                break;
+            }
+        }
+        self.accumulation = accumulation;
+        self.read_offscreen(&offscreen, gpu_ms?)
     }
 
     /// Renders one frame of `scene` into `offscreen`, waits for it, and returns its GPU

@@ -12,6 +12,7 @@ use egui::{ClippedPrimitive, TexturesDelta};
 
 use super::overlay::Overlay;
 use crate::atomic::write_atomically;
+use crate::render::accumulate::{Accumulation, CONVERGED_LOOKUPS};
 use crate::render::{DisplayOutput, GpuScene, RenderTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
 use crate::vk::{
@@ -92,7 +93,9 @@ pub struct FrameLoop {
 
 impl FrameLoop {
     pub fn new(device: Arc<Device>, scene: &Scene, size: vk::Extent2D) -> Result<Self> {
-        let renderer = Renderer::new(device.clone(), FRAMES_IN_FLIGHT as u32)?;
+        let mut renderer = Renderer::new(device.clone(), FRAMES_IN_FLIGHT as u32)?;
+        // A still view of the sampled reflection refines until it has converged.
+        renderer.accumulation = Accumulation::UpTo(CONVERGED_LOOKUPS);
         let gpu = renderer.upload(scene)?;
         let pool = CommandPool::new(&device)?;
         let cmds = pool.allocate(FRAMES_IN_FLIGHT as u32)?;
@@ -456,7 +459,17 @@ mod tests {
     fn gpu_times_name_every_pass_and_the_ui() {
         assert_eq!(
             gpu_pass_names(),
-            vec!["forward", "skybox", "tonemap", "shadow", "resolve", "occlusion", "ui"]
+            vec![
+                "forward",
+                "skybox",
+                "tonemap",
+                "shadow",
+                "resolve",
+                "occlusion",
+                "accumulate",
+                "exposure",
+                "ui"
+            ]
         );
     }
 }

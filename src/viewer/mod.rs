@@ -7,6 +7,7 @@ mod antialiasing_panel;
 mod camera_control;
 mod frames;
 mod history;
+mod legend;
 mod occlusion_panel;
 mod overlay;
 mod panels;
@@ -36,6 +37,7 @@ use winit::window::{Window, WindowId};
 
 use crate::render::environment::equirect;
 use crate::render::gpu_scene::FrameData;
+use crate::render::DebugView;
 use crate::scene::{Camera, Environment, Scene};
 use crate::vk::{Device, DeviceChoice, DeviceOptions, WindowHandles};
 use camera_control::{
@@ -51,6 +53,7 @@ use storm::StormStep;
 use timings::{FrameTimes, Timings};
 use watch::FileWatch;
 
+pub use legend::curvature_legend_color;
 pub use panels::PANEL_WIDTH;
 /// Redraws the resize storm lasts; `--frames` beyond it render at the storm's last size.
 pub const RESIZE_STORM_TICKS: u64 = storm::DURATION;
@@ -60,6 +63,8 @@ pub const DEFAULT_SAVE_PATH: &str = "argil-scene.toml";
 
 /// How often the loop wakes while the window is minimised, to notice it coming back.
 const IDLE_TICK: Duration = Duration::from_millis(100);
+/// An auto exposure within this fraction of the one on screen is not drawn again.
+const EXPOSURE_SETTLED: f32 = 0.02;
 /// Camera steps are cut at this many seconds, so a stall does not fling the camera away.
 const MAX_STEP_SECONDS: f32 = 0.1;
 
@@ -80,6 +85,8 @@ pub struct ViewOptions {
     pub seconds: Option<f64>,
     /// Run the scripted leak hunt over `frames` and write its memory samples here.
     pub soak_log: Option<PathBuf>,
+    /// The debug view shown first.
+    pub debug_view: DebugView,
 }
 
 /// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
@@ -132,6 +139,7 @@ pub fn run(scene: Scene, document: Document, options: ViewOptions) -> Result<()>
         .clone()
         .zip(options.frames)
         .map(|(log, frames)| Soak::new(log, frames));
+    view.debug_view = options.debug_view;
     let mut app = App {
         soak,
         view,
@@ -314,6 +322,16 @@ impl App {
                 area.offset.x,
                 gpu.join(", ")
             );
+            let source = if self.view.auto_exposed() { "auto" } else { "camera" };
+            eprintln!("argil: exposure in use {} ({source})", self.view.exposure_in_use);
+            if let Some(a) = state.frames.renderer.accumulated() {
+                eprintln!(
+                    "argil: sampled reflection: the last view's mean has {} frames × {} lookups = {} lookups per pixel",
+                    a.frames,
+                    a.lookups_per_frame,
+                    a.lookups()
+                );
+            }
             if let Err(e) = finished {
                 self.error.get_or_insert(e);
             }
@@ -563,6 +581,8 @@ impl App {
         self.view.modified = self.history.modified(&self.scene);
         self.view.can_undo = self.history.can_undo();
         self.view.can_redo = self.history.can_redo();
+        // The mean of the last frame drawn; this frame may take it further.
+        self.view.accumulated = state.frames.renderer.accumulated();
         let output = self.egui.run_ui(raw, |ui| {
             actions.merge(panels::show(ui, &mut self.scene, &mut self.view, &mut self.camera));
         });
@@ -601,13 +621,19 @@ impl App {
         state.frames.renderer.shadows = self.view.shadows;
         self.view.msaa_samples = state.frames.renderer.msaa_samples(&self.scene);
         state.frames.renderer.occlusion = self.view.occlusion;
+        let renderer = &mut state.frames.renderer;
+        renderer.measure_exposure = self.view.auto_exposed();
+        self.view.exposure_in_use = renderer
+            .auto_exposure()
+            .filter(|_| renderer.measure_exposure)
+            .unwrap_or(self.view.exposure);
         let ui = UiFrame {
             primitives,
             textures: output.textures_delta,
             pixels_per_point: output.pixels_per_point,
         };
         let work = now.elapsed();
-        let drawn = state.frames.draw(&self.scene, self.view.exposure, ui, capture)?;
+        let drawn = state.frames.draw(&self.scene, self.view.exposure_in_use, ui, capture)?;
         if !drawn {
             // Asked again with the next frame that is drawn.
             self.pending.screenshot |= actions.screenshot;
@@ -760,9 +786,23 @@ impl ApplicationHandler for App {
         }
         let Some(state) = &self.state else { return };
         // Scripted runs of N frames draw continuously; otherwise a frame is drawn when
-        // something changed, while the camera moves, and when egui asks.
+        // something changed, while the camera moves, when egui asks, and while a still
+        // view of the sampled reflection refines (then once more, for the panel to say so).
         let continuous = self.options.frames.is_some() || self.options.resize_storm;
+        let shown = self.view.accumulated;
+        let renderer = &state.frames.renderer;
+        let refining = renderer
+            .accumulated()
+            .is_some_and(|a| a.converging() || shown != Some(a));
+        // Auto exposure: until a measured frame is back, and while it asks for another exposure.
+        let exposing = renderer.measure_exposure
+            && (renderer.luminance_histogram().is_none()
+                || renderer
+                    .auto_exposure()
+                    .is_some_and(|e| (e / self.view.exposure_in_use - 1.0).abs() > EXPOSURE_SETTLED));
         let wanted = continuous
+            || refining
+            || exposing
             || self.needs_redraw
             || self.input.looking && self.input.look != Vec2::ZERO
             || self.input.moving()

@@ -12,6 +12,8 @@ use serde::Serialize;
 use super::camera_control::{CameraControl, Mode};
 use super::rebuild::Rebuild;
 use super::timings::Timings;
+use crate::render::accumulate::{Accumulated, CONVERGED_LOOKUPS};
+use crate::render::exposure::PERCENTILE;
 use crate::render::gpu_scene::MAX_POINT_LIGHTS;
 use crate::render::DebugView;
 use crate::scene::{
@@ -110,6 +112,12 @@ pub struct ViewState {
     pub view_rect: egui::Rect,
     /// The frame's size in pixels, for the timings.
     pub frame_size: (u32, u32),
+    /// The running mean of the sampled reflection as of the last frame drawn.
+    pub accumulated: Option<Accumulated>,
+    /// Whether debug views of radiance are exposed from their own luminance.
+    pub auto_exposure: bool,
+    /// The exposure of the last frame drawn: `exposure`, or the auto exposure's.
+    pub exposure_in_use: f32,
     /// The Files section's path field.
     pub path: String,
 }
@@ -139,8 +147,16 @@ impl ViewState {
             hide_ui: false,
             view_rect: egui::Rect::NOTHING,
             frame_size: (0, 0),
+            accumulated: None,
+            auto_exposure: true,
+            exposure_in_use: exposure,
             path: String::new(),
         }
+    }
+
+    /// Whether the frame is auto exposed: a debug view of radiance with auto exposure on.
+    pub fn auto_exposed(&self) -> bool {
+        self.auto_exposure && self.debug_view.is_radiance()
     }
 
     /// Keeps the selections valid for a scene (after a reload).
@@ -283,6 +299,9 @@ pub fn show(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState, camera: &mut C
             });
     }
     view.view_rect = ui.available_rect_before_wrap();
+    if view.debug_view == DebugView::Curvature {
+        super::legend::show(ui.ctx(), view.view_rect, view.exposure_in_use);
+    }
     help_window(ui, view);
     question_window(ui, view, &mut actions);
     actions
@@ -978,6 +997,16 @@ fn debug_section(ui: &mut Ui, view: &mut ViewState) {
                 ui.selectable_value(&mut view.debug_view, v, v.label());
             }
         });
+    if view.debug_view.is_radiance() {
+        ui.checkbox(&mut view.auto_exposure, "auto exposure")
+            .on_hover_text(format!(
+                "Exposes this term from its own luminance, measured on the GPU a frame or two late: {:.0}% of the \
+             lit pixels below the tone curve's shoulder. Off, the Camera section's exposure applies",
+                PERCENTILE * 100.0
+            ));
+        let source = if view.auto_exposed() { "auto" } else { "camera" };
+        ui.label(RichText::new(format!("exposure in use {:>10.3} ({source})", view.exposure_in_use)).monospace());
+    }
 }
 
 fn timings_section(ui: &mut Ui, view: &ViewState) {
@@ -990,6 +1019,16 @@ fn timings_section(ui: &mut Ui, view: &ViewState) {
     ui.label(format!(
         "{width}×{height} px, {fps} frames/s (frames are drawn only when something changes)"
     ));
+    if let Some(a) = view.accumulated {
+        let state = if a.converging() { "refining" } else { "converged" };
+        ui.label(format!(
+            "sampled reflection: {} frames × {} lookups = {} lookups/pixel, {state} (at {CONVERGED_LOOKUPS})",
+            a.frames,
+            a.lookups_per_frame,
+            a.lookups()
+        ))
+        .on_hover_text("A still view's frames are averaged, each with the next sample set; any change starts again");
+    }
     let Some((cpu_ms, gpu_ms)) = view.timings.mean() else {
         return;
     };

@@ -116,6 +116,14 @@ impl ImageUse {
                 | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ.as_raw(),
         ),
     };
+    /// Read and written as a storage image by compute shaders.
+    pub const COMPUTE_STORAGE: Self = Self {
+        layout: vk::ImageLayout::GENERAL,
+        stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
+        access: vk::AccessFlags2::from_raw(
+            vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+        ),
+    };
     pub const FRAGMENT_READ: Self = Self {
         layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
@@ -127,13 +135,13 @@ impl ImageUse {
         stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
         access: vk::AccessFlags2::SHADER_SAMPLED_READ,
     };
-    /// Read and written as a storage image by compute shaders.
-    pub const COMPUTE_STORAGE: Self = Self {
-        layout: vk::ImageLayout::GENERAL,
-        stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
-        access: vk::AccessFlags2::from_raw(
-            vk::AccessFlags2::SHADER_STORAGE_READ.as_raw() | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+    /// Sampled by fragment and compute shaders alike (the tone map and the exposure measure).
+    pub const SHADER_READ: Self = Self {
+        layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        stage: vk::PipelineStageFlags2::from_raw(
+            vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw() | vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw(),
         ),
+        access: vk::AccessFlags2::SHADER_SAMPLED_READ,
     };
     pub const TRANSFER_DST: Self = Self {
         layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,

@@ -230,3 +230,28 @@ base_color = [0.8, 0.6, 0.4]
 diffuse = "lambert"
 specular = "none"
 "#;
+
+/// A glossy clay sphere under the studio, its environment light `samples` sampled lookups a
+/// frame: noisy in both lobes, for the accumulation's tests.
+pub fn sampled_sphere_toml(samples: u32) -> String {
+    format!(
+        r#"
+[camera]
+position = [0.0, 0.0, 5.0]
+target = [0.0, 0.0, 0.0]
+fov_y_degrees = 25.0
+[environment]
+kind = "studio"
+reflection = "sampled"
+samples = {samples}
+[[objects]]
+mesh = "builtin:sphere"
+material = "m"
+[materials.m]
+base_color = [0.62, 0.26, 0.12]
+diffuse = "lambert"
+specular = "cook-torrance"
+roughness = 0.3
+"#
+    )
+}
