@@ -100,7 +100,7 @@ impl View {
             objects: scene.objects.clone(),
             materials: scene.materials.clone(),
             antialiasing: scene.antialiasing,
-            occlusion: scene.occlusion.clone(),
+            occlusion: scene.occlusion,
             debug_view,
             switches,
         })

@@ -926,6 +926,7 @@ impl Function {
             Function::Composite(c) => c.shadowing_rounding(t) + c.cancellation_rounding(t),
             Function::UnitVector(n) => n.argument_rounding(t),
             Function::Term(Term::SpecularOcclusion) => specular_occlusion_rounding(t),
+            Function::Model(m) => half_vector_rounding(m, t),
             _ => 0.0,
         }
     }
@@ -943,6 +944,7 @@ impl Function {
             Function::Composite(_) => Composite::SHADOWING_ROUNDING.to_owned(),
             Function::UnitVector(n) => n.argument_rounding_reason().to_owned(),
             Function::Term(Term::SpecularOcclusion) => SPECULAR_OCCLUSION_ROUNDING.to_owned(),
+            Function::Model(_) => HALF_VECTOR_ROUNDING.to_owned(),
             _ => String::new(),
         }
     }
@@ -1002,6 +1004,37 @@ fn specular_occlusion_rounding(t: &Tuple) -> f64 {
     let power = (n_dot_v.max(0.0) + x).powf(k);
     let value = specular_occlusion(n_dot_v, x, alpha);
     8.0 * f64::from(f32::EPSILON) * 0.5 * (power + 1.0 + x.abs()) / value.abs().max(super::sweep::RELATIVE_FLOOR)
+}
+
+const HALF_VECTOR_ROUNDING: &str = "rounding: where v and l are nearly opposite \
+    (|v + l| < 0.3), the fp32 sum v + l is good to a few 2^-24 of |v| = 1, which turns h by that \
+    over |v + l|; bound the f64 model's own change when l moves by 4·2^-24 along each axis";
+
+/// The error the GPU's h = (v + l)/|v + l| carries into a model where v and l are nearly
+/// opposite: turning h as the sum's rounding does is moving l by that rounding, so the
+/// bound is the f64 model's largest relative change under such a move. Elsewhere h is
+/// well conditioned and the tolerance holds as it is.
+fn half_vector_rounding(model: Model, t: &Tuple) -> f64 {
+    let (n, v, l, p, colour) = (rgb(t.a), rgb(t.b), rgb(t.c), f64::from(t.a[3]), rgb(t.d));
+    let sum = [v[0] + l[0], v[1] + l[1], v[2] + l[2]];
+    if dot(sum, sum).sqrt() >= MIN_RECIPROCAL_HALF_LEN {
+        return 0.0;
+    }
+    let value = model.eval(n, v, l, p, colour);
+    let step = 4.0 * f64::from(f32::EPSILON) * 0.5;
+    let mut worst: f64 = 0.0;
+    for axis in 0..3 {
+        for sign in [-1.0, 1.0] {
+            let mut moved = l;
+            moved[axis] += sign * step;
+            let changed = model.eval(n, v, normalize(moved), p, colour);
+            for c in 0..3 {
+                let change = (changed[c] - value[c]).abs() / value[c].abs().max(super::sweep::RELATIVE_FLOOR);
+                worst = worst.max(change);
+            }
+        }
+    }
+    worst
 }
 
 pub(super) fn rgb(x: [f32; 4]) -> Vec3 {

@@ -424,9 +424,15 @@ mod tests {
             ["gpu vs f64: p99 rel. error"],
             "2e-5 everywhere is beyond p99 only"
         );
+        // The tuples whose half vector is ill-conditioned have their own bound, which 2e-4
+        // everywhere exceeds too where that conditioning is mild.
         assert_eq!(
             failing(&statuses(scaled(1.0 - 2e-4))),
-            ["gpu vs f64: p99 rel. error", "gpu vs f64: max rel. error"]
+            [
+                "gpu vs f64: p99 rel. error",
+                "gpu vs f64: max rel. error",
+                "gpu vs f64, rest: error/bound"
+            ]
         );
         assert!(failing(&statuses(scaled(1.001))).contains(&"stress: finite, >= 0, capped"));
         let negative = |i, mut v: Values<f32>| {
