@@ -197,8 +197,8 @@ enum Command {
         /// Reference cache [default: bench/references; --quick: in the temporary folder].
         #[arg(long, value_name = "DIR")]
         references: Option<PathBuf>,
-        /// Only these rows: a scene or configuration name, or SCENE/CONFIGURATION (`*` for
-        /// any); repeatable. Their rows replace the same rows of the results already in the
+        /// Only these rows: a scene or configuration name, or SCENE/CONFIGURATION (`*` matches
+        /// any run of characters); repeatable. Their rows replace the same rows of the results already in the
         /// folder, and the other rows are kept.
         #[arg(long, value_name = "PATTERN")]
         only: Vec<String>,

@@ -38,13 +38,13 @@ pub struct BenchScene {
 
 impl BenchScene {
     /// The scene with only the configurations one of `patterns` names (all without
-    /// patterns): a scene or configuration name, or `SCENE/CONFIGURATION` with `*` for
-    /// either part.
+    /// patterns): a scene or configuration name, or `SCENE/CONFIGURATION`, where `*`
+    /// stands for any run of characters (`occlusion*`, `*/sampled-*`).
     pub fn selected(mut self, patterns: &[String]) -> Self {
         let matches = |configuration: &str| {
             patterns.iter().any(|p| match p.split_once('/') {
-                Some((s, c)) => (s == "*" || s == self.name) && (c == "*" || c == configuration),
-                None => p == self.name || p == configuration,
+                Some((s, c)) => wildcard(s, self.name) && wildcard(c, configuration),
+                None => wildcard(p, self.name) || wildcard(p, configuration),
             })
         };
         if !patterns.is_empty() {
@@ -52,6 +52,26 @@ impl BenchScene {
         }
         self
     }
+}
+
+/// Whether `text` matches `pattern`, in which `*` matches any run of characters.
+fn wildcard(pattern: &str, text: &str) -> bool {
+    let mut parts = pattern.split('*');
+    let first = parts.next().unwrap_or_default();
+    let Some(mut rest) = text.strip_prefix(first) else {
+        return false;
+    };
+    let mut parts: Vec<&str> = parts.collect();
+    let Some(last) = parts.pop() else {
+        return rest.is_empty();
+    };
+    for part in parts {
+        match rest.find(part) {
+            Some(at) => rest = &rest[at + part.len()..],
+            None => return false,
+        }
+    }
+    rest.ends_with(last)
 }
 
 pub const HEADLINE: vk::Extent2D = vk::Extent2D {
@@ -444,5 +464,20 @@ mod tests {
             names(default().selected(&["default/report".into(), "studio/seed".into()])),
             ["report"]
         );
+        assert_eq!(
+            names(default().selected(&["sampled-1*".into()])),
+            ["sampled-1", "sampled-16", "sampled-1024"]
+        );
+        assert_eq!(names(default().selected(&["d*t/*-10*4".into()])), ["sampled-1024"]);
+    }
+
+    #[test]
+    fn a_star_matches_any_run_of_characters() {
+        assert!(wildcard("*", ""));
+        assert!(wildcard("occlusion*", "occlusion-2x4"));
+        assert!(wildcard("*-maps-*", "generic-maps-off"));
+        assert!(!wildcard("a*a", "a"));
+        assert!(!wildcard("seed", "seeds"));
+        assert!(!wildcard("*seed", "seeds"));
     }
 }
