@@ -16,6 +16,7 @@ pub mod plan;
 pub mod plot;
 pub mod references;
 pub mod report;
+mod sky;
 pub mod soak;
 pub mod startup;
 pub mod stats;
@@ -136,7 +137,12 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     let spec = ErrorSpec::new(options.quick);
     let mut renderer = Renderer::new(device.clone(), 1)?;
     let mut rows = Vec::new();
-    for scene in plan::scenes(options.quick)? {
+    let sky = if options.quick {
+        None
+    } else {
+        Some(sky::ensure(&reference_dir)?)
+    };
+    for scene in plan::scenes(options.quick, sky.as_deref())? {
         let scene = scene.selected(&options.only);
         if scene.configurations.is_empty() {
             continue;

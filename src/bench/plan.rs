@@ -1,6 +1,8 @@
 //! What the bench renders: scenes, each as scene-file text, and the configurations of the
 //! renderer it times on each, built by editing the scene file.
 
+use std::path::Path;
+
 use anyhow::{Context, Result};
 use ash::vk;
 
@@ -90,8 +92,9 @@ pub const QUICK: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
 /// Environment lookups per pixel of the `sampled` configurations.
 const SAMPLED: [u32; 6] = [1, 4, 16, 64, 256, 1024];
 
-/// Every scene and configuration of a full run, or the `--quick` subset.
-pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
+/// Every scene and configuration of a full run, or the `--quick` subset; `sky` is the
+/// equirectangular map of the `sphere-sky` scene, which is left out without one.
+pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     let default: SceneFile = toml::from_str(DEFAULT_SCENE_TOML).context("the embedded default scene")?;
     if quick {
         return Ok(vec![bench_scene(
@@ -146,6 +149,14 @@ pub fn scenes(quick: bool) -> Result<Vec<BenchScene>> {
             configurations.push(SEPARABLE_G);
         }
         scenes.push(bench_scene(name, &file, &configurations, headline)?);
+    }
+    if let Some(sky) = sky {
+        scenes.push(bench_scene(
+            "sphere-sky",
+            &under_sky(&sphere, sky),
+            &SKY_CONFIGURATIONS,
+            |c| resolutions(c, false),
+        )?);
     }
     let close_up = parse(CLOSE_UP_TOML, "bench/scenes/close-up.toml")?;
     let maps = [
@@ -222,6 +233,37 @@ const SPHERES: [(&str, DiffuseModel, SpecularModel, Distribution); 7] = [
         Distribution::Ggx,
     ),
 ];
+
+/// The sphere under an equirectangular map: reflection modes, `sampled` counts included,
+/// on the map's dynamic range.
+const SKY_CONFIGURATIONS: [&str; 8] = [
+    FLOOR,
+    "split-sum",
+    "seed",
+    REPORT,
+    "sampled-4",
+    "sampled-16",
+    "sampled-64",
+    "sampled-256",
+];
+
+/// The BRDF sphere (Cook-Torrance GGX) lit by the map at `sky` alone.
+fn under_sky(sphere: &SceneFile, sky: &Path) -> SceneFile {
+    let mut file = sphere.clone();
+    file.lights.clear();
+    file.environment = EnvironmentDef::Map {
+        path: sky.to_path_buf(),
+        intensity: None,
+        rotation_degrees: None,
+        reflection: None,
+        samples: None,
+        seed_strength: None,
+    };
+    if let Some(m) = file.materials.get_mut("m") {
+        m.specular = SpecularModel::CookTorrance;
+    }
+    file
+}
 
 /// Cook-Torrance with the separable Smith G, the approximation of the correlated one.
 const SEPARABLE_G: &str = "smith-separable";
@@ -451,7 +493,7 @@ mod tests {
 
     #[test]
     fn patterns_select_scenes_configurations_or_both() {
-        let default = || scenes(false).unwrap().remove(0);
+        let default = || scenes(false, None).unwrap().remove(0);
         let all = names(default()).len();
         assert_eq!(names(default().selected(&[])).len(), all);
         assert_eq!(names(default().selected(&["default".into()])).len(), all);
@@ -469,6 +511,15 @@ mod tests {
             ["sampled-1", "sampled-16", "sampled-1024"]
         );
         assert_eq!(names(default().selected(&["d*t/*-10*4".into()])), ["sampled-1024"]);
+    }
+
+    #[test]
+    fn the_sky_scene_needs_its_map() {
+        let named = |sky| scenes(false, sky).unwrap().into_iter().find(|s| s.name == "sphere-sky");
+        assert!(named(None).is_none());
+        let scene = named(Some(Path::new("bench/references/sky-v1.exr"))).unwrap();
+        assert!(scene.text.contains("bench/references/sky-v1.exr"), "{}", scene.text);
+        assert!(!scene.text.contains("[[lights]]"));
     }
 
     #[test]

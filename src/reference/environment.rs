@@ -47,7 +47,7 @@ fn luminance(c: DVec3) -> f64 {
 }
 
 /// The direction of equirectangular (u, v): the inverse of `equirect_uv`.
-fn equirect_direction(u: f64, v: f64) -> DVec3 {
+pub fn equirect_direction(u: f64, v: f64) -> DVec3 {
     let theta = v * PI;
     let phi = (u - 0.5) * 2.0 * PI;
     let (sin_t, cos_t) = theta.sin_cos();
