@@ -18,7 +18,7 @@ use argil::brdf::shading::{diffuse_lobe, specular_lobe};
 use argil::render::environment::{LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
 use argil::render::OffscreenFrame;
 use argil::scene::{Environment, Reflection, ReflectionMode, Scene};
-use common::{argil, assert_matches_golden, gpu, render, scene, try_render};
+use common::{argil, argil_with, assert_matches_golden, gpu, render, scene, try_render};
 
 /// A sphere filling most of a square frame, seen from +z.
 fn sphere_scene(environment: &str, material: &str) -> String {
@@ -688,6 +688,43 @@ fn render_prints_precomputation_costs() {
     ] {
         assert!(stderr.contains(step), "no {step:?} in: {stderr}");
     }
+}
+
+/// A second start reads the BRDF tables from the disk cache instead of computing them,
+/// and draws the same bits.
+#[test]
+fn brdf_tables_come_from_the_disk_cache_on_a_warm_start() {
+    let dir = TempDir::new("lut-cache");
+    let scene_path = dir.0.join("sphere.toml");
+    std::fs::write(&scene_path, sphere_scene("kind = \"studio\"", "roughness = 0.5")).expect("write scene");
+    let cache = dir.0.join("cache");
+    let run = |name: &str| {
+        let out = dir.0.join(name);
+        let o = argil_with(
+            &[
+                "render",
+                scene_path.to_str().expect("utf-8"),
+                "--out",
+                out.to_str().expect("utf-8"),
+                "--width",
+                "48",
+                "--height",
+                "32",
+            ],
+            &[("ARGIL_CACHE_DIR", cache.to_str().expect("utf-8"))],
+        );
+        let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{stderr}");
+        (stderr, std::fs::read(out).expect("output"))
+    };
+    let (cold, cold_image) = run("cold.exr");
+    let (warm, warm_image) = run("warm.exr");
+    assert!(
+        cold.contains("brdf tables") && !cold.contains("brdf tables (disk cache)"),
+        "{cold}"
+    );
+    assert!(warm.contains("brdf tables (disk cache)"), "{warm}");
+    assert!(cold_image == warm_image, "the warm start drew other bits");
 }
 
 /// The subsurface models under uniform light. The energy-conserving wrap only moves light

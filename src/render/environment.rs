@@ -30,6 +30,7 @@ use gpu_allocator::MemoryLocation;
 use super::shaders;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::brdf::environment::{map_rotation, sh_project_cube, Sh9};
+use crate::cache::DiskCache;
 use crate::scene::{Camera, DiffuseModel, Environment, ReflectionMode, Scene, SpecularModel};
 use crate::vk::{
     begin_full_rendering, transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
@@ -202,7 +203,7 @@ impl EnvironmentPass {
             }
         }
         if add_lut {
-            self.brdf_lut = Some(self.precompute.brdf_lut(&mut self.costs)?);
+            self.brdf_lut = Some(self.precompute.brdf_lut(&DiskCache::from_env(), &mut self.costs)?);
         }
         self.write(environment)?;
         self.current = Some(environment.clone());

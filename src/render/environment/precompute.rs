@@ -13,6 +13,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::equirect::Equirect;
 use crate::brdf::environment::LUT_LAYERS;
+use crate::cache::{self, DiskCache};
 use crate::render::shaders;
 use crate::vk::{
     copy_region, transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
@@ -33,6 +34,8 @@ const PREFILTER_SAMPLES: u32 = 128;
 /// BRDF tables: n·v × roughness, and the samples per texel (QMC error ~1e-3).
 pub const LUT_SIZE: vk::Extent2D = vk::Extent2D { width: 32, height: 32 };
 pub const LUT_SAMPLES: u32 = 512;
+/// The disk cache's entry of the BRDF tables.
+const LUT_ENTRY: &str = "brdf-tables";
 /// Compute shaders' workgroups are 8×8 texels of one layer.
 const GROUP: u32 = 8;
 
@@ -450,10 +453,44 @@ impl Precompute {
         Ok(image)
     }
 
-    /// The BRDF tables, `LUT_LAYERS` layers of `LUT_SIZE`.
-    pub fn brdf_lut(&mut self, costs: &mut Vec<Cost>) -> Result<Image> {
-        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+    /// The BRDF tables, `LUT_LAYERS` layers of `LUT_SIZE`: read from `disk` when this
+    /// device and driver computed them before with this shader, else computed and stored.
+    pub fn brdf_lut(&mut self, disk: &DiskCache, costs: &mut Vec<Cost>) -> Result<Image> {
+        let usage = vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC
+            | vk::ImageUsageFlags::TRANSFER_DST;
         let image = Image::array_2d(&self.device, LUT_SIZE, LUT_LAYERS, FORMAT, usage, "brdf tables")?;
+        // The driver's arithmetic is part of the result, so its identity is in the key.
+        let key = cache::key(&[
+            shaders::ENV_BRDF_LUT_COMP,
+            &LUT_SAMPLES.to_le_bytes(),
+            &LUT_SIZE.width.to_le_bytes(),
+            &LUT_SIZE.height.to_le_bytes(),
+            &LUT_LAYERS.to_le_bytes(),
+            self.device.info.name.as_bytes(),
+            self.device.info.driver.as_bytes(),
+        ]);
+        let bytes = (u64::from(LUT_SIZE.width) * u64::from(LUT_SIZE.height) * u64::from(LUT_LAYERS) * 8) as usize;
+        match disk.load(LUT_ENTRY, key).filter(|b| b.len() == bytes) {
+            Some(cached) => {
+                let start = Instant::now();
+                self.upload_level(&image, &cached)?;
+                costs.push(Cost {
+                    step: "brdf tables (disk cache)",
+                    ms: start.elapsed().as_secs_f64() * 1e3,
+                    gpu: false,
+                });
+            }
+            None => {
+                self.compute_brdf_lut(&image, costs)?;
+                disk.store(LUT_ENTRY, key, &self.read_level_bits(&image, 0)?);
+            }
+        }
+        Ok(image)
+    }
+
+    fn compute_brdf_lut(&mut self, image: &Image, costs: &mut Vec<Cost>) -> Result<()> {
         let pool = self.pool(KernelKind::BrdfLut, 1)?;
         self.timed("brdf tables", costs, |cmd| {
             transition_levels(
@@ -486,13 +523,67 @@ impl Precompute {
                 SHADING_READ,
             );
             Ok(())
-        })?;
-        Ok(image)
+        })
+    }
+
+    /// Fills level 0 of a one-level image, every layer, with `bits` (as `read_level_bits`
+    /// returns them), leaving it in `SHADING_READ`.
+    fn upload_level(&self, image: &Image, bits: &[u8]) -> Result<()> {
+        let mut staging = Buffer::new(
+            &self.device,
+            bits.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+            "environment upload",
+        )?;
+        staging.write(bits)?;
+        let extent = vk::Extent2D {
+            width: image.extent.width,
+            height: image.extent.height,
+        };
+        self.one_shot.run(|cmd| {
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                image.all_levels(),
+                ImageUse::UNDEFINED,
+                ImageUse::TRANSFER_DST,
+            );
+            let region = copy_region(image.aspect, 0, image.layers, extent);
+            unsafe {
+                self.device.handle.cmd_copy_buffer_to_image(
+                    cmd,
+                    staging.handle,
+                    image.handle,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[region],
+                )
+            };
+            transition_levels(
+                &self.device,
+                cmd,
+                image.handle,
+                image.all_levels(),
+                ImageUse::TRANSFER_DST,
+                SHADING_READ,
+            );
+        })
     }
 
     /// Mip `level` of an RGBA16F image, every layer, as f32 texels (layer-major, rows from
     /// the top); the image is in `SHADING_READ` and is left there.
     pub fn read_level(&self, image: &Image, level: u32) -> Result<Vec<[f32; 4]>> {
+        let bits = self.read_level_bits(image, level)?;
+        let float = |t: &[u8]| half::f16::from_bits(u16::from_ne_bytes([t[0], t[1]])).to_f32();
+        Ok(bits
+            .chunks_exact(8)
+            .map(|t| [float(&t[0..2]), float(&t[2..4]), float(&t[4..6]), float(&t[6..8])])
+            .collect())
+    }
+
+    /// `read_level`'s texels as the image holds them: RGBA16F bits, native byte order.
+    fn read_level_bits(&self, image: &Image, level: u32) -> Result<Vec<u8>> {
         let (w, h) = (
             (image.extent.width >> level).max(1),
             (image.extent.height >> level).max(1),
@@ -541,12 +632,7 @@ impl Precompute {
             let dependency = vk::DependencyInfo::default().memory_barriers(&to_host);
             unsafe { self.device.handle.cmd_pipeline_barrier2(cmd, &dependency) };
         })?;
-        let halves: &[u16] = bytemuck::cast_slice(buffer.read()?);
-        let float = |bits: u16| half::f16::from_bits(bits).to_f32();
-        Ok(halves
-            .chunks_exact(4)
-            .map(|t| [float(t[0]), float(t[1]), float(t[2]), float(t[3])])
-            .collect())
+        Ok(buffer.read()?.to_vec())
     }
 
     /// Placeholders for descriptors an environment does not use (Vulkan needs every
