@@ -690,10 +690,10 @@ fn render_prints_precomputation_costs() {
     }
 }
 
-/// A second start reads the BRDF tables from the disk cache instead of computing them,
-/// and draws the same bits.
+/// A second start reads the BRDF tables and the studio's prefiltered cube from the disk
+/// cache instead of computing them, and draws the same bits.
 #[test]
-fn brdf_tables_come_from_the_disk_cache_on_a_warm_start() {
+fn environment_tables_come_from_the_disk_cache_on_a_warm_start() {
     let dir = TempDir::new("lut-cache");
     let scene_path = dir.0.join("sphere.toml");
     std::fs::write(&scene_path, sphere_scene("kind = \"studio\"", "roughness = 0.5")).expect("write scene");
@@ -719,11 +719,11 @@ fn brdf_tables_come_from_the_disk_cache_on_a_warm_start() {
     };
     let (cold, cold_image) = run("cold.exr");
     let (warm, warm_image) = run("warm.exr");
-    assert!(
-        cold.contains("brdf tables") && !cold.contains("brdf tables (disk cache)"),
-        "{cold}"
-    );
-    assert!(warm.contains("brdf tables (disk cache)"), "{warm}");
+    for step in ["brdf tables", "prefilter"] {
+        let cached = format!("{step} (disk cache)");
+        assert!(cold.contains(step) && !cold.contains(&cached), "{cold}");
+        assert!(warm.contains(&cached), "{warm}");
+    }
     assert!(cold_image == warm_image, "the warm start drew other bits");
 }
 

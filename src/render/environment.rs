@@ -196,10 +196,12 @@ impl EnvironmentPass {
         }
         if add_prefiltered {
             if let Some(cubes) = self.cubes.as_mut() {
-                cubes.prefiltered = Some(
-                    self.precompute
-                        .prefilter(&cubes.radiance, &self.sampler, &mut self.costs)?,
-                );
+                cubes.prefiltered = Some(self.precompute.prefilter(
+                    &cubes.radiance,
+                    &self.sampler,
+                    &DiskCache::from_env(),
+                    &mut self.costs,
+                )?);
             }
         }
         if add_lut {

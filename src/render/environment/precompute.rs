@@ -34,8 +34,9 @@ const PREFILTER_SAMPLES: u32 = 128;
 /// BRDF tables: n·v × roughness, and the samples per texel (QMC error ~1e-3).
 pub const LUT_SIZE: vk::Extent2D = vk::Extent2D { width: 32, height: 32 };
 pub const LUT_SAMPLES: u32 = 512;
-/// The disk cache's entry of the BRDF tables.
+/// The disk cache's entries of the BRDF tables and of a prefiltered cube map.
 const LUT_ENTRY: &str = "brdf-tables";
+const PREFILTERED_ENTRY: &str = "prefiltered-environment";
 /// Compute shaders' workgroups are 8×8 texels of one layer.
 const GROUP: u32 = 8;
 
@@ -50,6 +51,27 @@ fn prefilter_min_lod(roughness: f32, side: u32, source_size: u32) -> f32 {
     let lobe_texels = 6.0 * alpha * alpha * f64::from(side * side);
     let levels = (f64::from(source_size) / f64::from(side)).log2() - 0.5 * lobe_texels.max(1.0).log2();
     levels.max(0.0) as f32
+}
+
+/// Bytes of an RGBA16F texel.
+const TEXEL_BYTES: u64 = 8;
+
+/// The size of mip `level` of `image`.
+fn level_extent(image: &Image, level: u32) -> vk::Extent2D {
+    vk::Extent2D {
+        width: (image.extent.width >> level).max(1),
+        height: (image.extent.height >> level).max(1),
+    }
+}
+
+/// Bytes of every level and layer of an RGBA16F image, as `upload_levels` takes them.
+fn level_bytes(image: &Image) -> usize {
+    (0..image.mip_levels)
+        .map(|level| {
+            let extent = level_extent(image, level);
+            u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * TEXEL_BYTES
+        })
+        .sum::<u64>() as usize
 }
 
 /// The texels of a cube map level with `side`² faces, for a dispatch.
@@ -394,7 +416,10 @@ impl Precompute {
 
     /// A cube map that compute shaders write level by level, with one view per level.
     fn storage_cube(&self, size: u32, levels: u32, name: &str) -> Result<(Image, Vec<ImageView>)> {
-        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_SRC;
+        let usage = vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC
+            | vk::ImageUsageFlags::TRANSFER_DST;
         let image = Image::cube(&self.device, size, levels, FORMAT, usage, name)?;
         let views = (0..levels)
             .map(|l| image.level_view(l))
@@ -403,8 +428,57 @@ impl Precompute {
     }
 
     /// The GGX-prefiltered cube of `source`: mip k filtered for roughness k/(levels − 1).
-    pub fn prefilter(&mut self, source: &SourceCube, sampler: &Sampler, costs: &mut Vec<Cost>) -> Result<Image> {
+    /// Read from `disk` when this device and driver prefiltered the same source texels
+    /// before (the studio at every start, a map opened again), else computed and stored.
+    pub fn prefilter(
+        &mut self,
+        source: &SourceCube,
+        sampler: &Sampler,
+        disk: &DiskCache,
+        costs: &mut Vec<Cost>,
+    ) -> Result<Image> {
         let (image, views) = self.storage_cube(PREFILTERED_SIZE, PREFILTERED_LEVELS, "prefiltered environment")?;
+        // Its mips follow from level 0 by `env_downsample.comp`, so level 0 stands for the
+        // whole source.
+        let start = Instant::now();
+        let key = cache::key(&[
+            &self.read_level_bits(&source.image, 0)?,
+            shaders::ENV_DOWNSAMPLE_COMP,
+            shaders::ENV_PREFILTER_COMP,
+            &PREFILTERED_SIZE.to_le_bytes(),
+            &PREFILTERED_LEVELS.to_le_bytes(),
+            &PREFILTER_SAMPLES.to_le_bytes(),
+            self.device.info.name.as_bytes(),
+            self.device.info.driver.as_bytes(),
+        ]);
+        if let Some(cached) = disk
+            .load(PREFILTERED_ENTRY, key)
+            .filter(|b| b.len() == level_bytes(&image))
+        {
+            self.upload_levels(&image, &cached)?;
+            costs.push(Cost {
+                step: "prefilter (disk cache)",
+                ms: start.elapsed().as_secs_f64() * 1e3,
+                gpu: false,
+            });
+            return Ok(image);
+        }
+        self.compute_prefiltered(source, sampler, &image, &views, costs)?;
+        let levels = (0..image.mip_levels)
+            .map(|level| self.read_level_bits(&image, level))
+            .collect::<Result<Vec<_>>>()?;
+        disk.store(PREFILTERED_ENTRY, key, &levels.concat());
+        Ok(image)
+    }
+
+    fn compute_prefiltered(
+        &mut self,
+        source: &SourceCube,
+        sampler: &Sampler,
+        image: &Image,
+        views: &[ImageView],
+        costs: &mut Vec<Cost>,
+    ) -> Result<()> {
         let pool = self.pool(KernelKind::Prefilter, PREFILTERED_LEVELS)?;
         let source_size = source.image.extent.width;
         let texel_solid_angle = 4.0 * std::f32::consts::PI / (6.0 * (source_size * source_size) as f32);
@@ -449,8 +523,7 @@ impl Precompute {
                 SHADING_READ,
             );
             Ok(())
-        })?;
-        Ok(image)
+        })
     }
 
     /// The BRDF tables, `LUT_LAYERS` layers of `LUT_SIZE`: read from `disk` when this
@@ -471,11 +544,10 @@ impl Precompute {
             self.device.info.name.as_bytes(),
             self.device.info.driver.as_bytes(),
         ]);
-        let bytes = (u64::from(LUT_SIZE.width) * u64::from(LUT_SIZE.height) * u64::from(LUT_LAYERS) * 8) as usize;
-        match disk.load(LUT_ENTRY, key).filter(|b| b.len() == bytes) {
+        match disk.load(LUT_ENTRY, key).filter(|b| b.len() == level_bytes(&image)) {
             Some(cached) => {
                 let start = Instant::now();
-                self.upload_level(&image, &cached)?;
+                self.upload_levels(&image, &cached)?;
                 costs.push(Cost {
                     step: "brdf tables (disk cache)",
                     ms: start.elapsed().as_secs_f64() * 1e3,
@@ -526,9 +598,9 @@ impl Precompute {
         })
     }
 
-    /// Fills level 0 of a one-level image, every layer, with `bits` (as `read_level_bits`
-    /// returns them), leaving it in `SHADING_READ`.
-    fn upload_level(&self, image: &Image, bits: &[u8]) -> Result<()> {
+    /// Fills every level and layer of an image with `bits` (the levels' `read_level_bits`
+    /// one after another), leaving it in `SHADING_READ`.
+    fn upload_levels(&self, image: &Image, bits: &[u8]) -> Result<()> {
         let mut staging = Buffer::new(
             &self.device,
             bits.len() as u64,
@@ -537,10 +609,15 @@ impl Precompute {
             "environment upload",
         )?;
         staging.write(bits)?;
-        let extent = vk::Extent2D {
-            width: image.extent.width,
-            height: image.extent.height,
-        };
+        let mut offset = 0;
+        let regions: Vec<vk::BufferImageCopy> = (0..image.mip_levels)
+            .map(|level| {
+                let extent = level_extent(image, level);
+                let region = copy_region(image.aspect, level, image.layers, extent).buffer_offset(offset);
+                offset += u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * TEXEL_BYTES;
+                region
+            })
+            .collect();
         self.one_shot.run(|cmd| {
             transition_levels(
                 &self.device,
@@ -550,14 +627,13 @@ impl Precompute {
                 ImageUse::UNDEFINED,
                 ImageUse::TRANSFER_DST,
             );
-            let region = copy_region(image.aspect, 0, image.layers, extent);
             unsafe {
                 self.device.handle.cmd_copy_buffer_to_image(
                     cmd,
                     staging.handle,
                     image.handle,
                     vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[region],
+                    &regions,
                 )
             };
             transition_levels(
@@ -584,14 +660,11 @@ impl Precompute {
 
     /// `read_level`'s texels as the image holds them: RGBA16F bits, native byte order.
     fn read_level_bits(&self, image: &Image, level: u32) -> Result<Vec<u8>> {
-        let (w, h) = (
-            (image.extent.width >> level).max(1),
-            (image.extent.height >> level).max(1),
-        );
-        let texels = u64::from(w) * u64::from(h) * u64::from(image.layers);
+        let extent = level_extent(image, level);
+        let texels = u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers);
         let buffer = Buffer::new(
             &self.device,
-            texels * 8,
+            texels * TEXEL_BYTES,
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
             "environment readback",
@@ -606,7 +679,7 @@ impl Precompute {
                 SHADING_READ,
                 ImageUse::TRANSFER_SRC,
             );
-            let region = copy_region(image.aspect, level, image.layers, vk::Extent2D { width: w, height: h });
+            let region = copy_region(image.aspect, level, image.layers, extent);
             unsafe {
                 self.device.handle.cmd_copy_image_to_buffer(
                     cmd,
