@@ -69,7 +69,7 @@ impl WorldMaterial {
             base_color_map: material.maps.base_color.as_ref().map(Map::new),
             normal_map: material.maps.normal.as_ref().map(Map::new),
             detail_map: material.maps.detail.as_ref().map(Map::new),
-            detail_blend: material.maps.detail_blend,
+            detail_blend: material.detail_blend,
         }
     }
 }

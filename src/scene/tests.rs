@@ -95,6 +95,7 @@ fn minimal_scene_gets_the_documented_defaults() {
             scatter_color: Vec3::ONE,
             scatter_radius: 0.0,
             horizon: Horizon::Smooth,
+            detail_blend: DetailBlend::Rnm,
             maps: MaterialMaps::default(),
         }]
     );
@@ -728,12 +729,12 @@ texture = "builtin:clay-lumps"
     );
     assert_eq!(a.detail, Some(defaults(2)));
     assert_eq!(a.noise, Some(defaults(3)));
-    assert_eq!(a.detail_blend, DetailBlend::Whiteout);
+    assert_eq!(scene.materials[0].detail_blend, DetailBlend::Whiteout);
     let b = &scene.materials[1].maps;
     assert_eq!(b.normal.map(|m| (m.texture, m.strength)), Some((1, 8.0)));
     assert_eq!(b.detail.map(|m| m.texture), Some(1));
     assert_eq!((b.base_color, b.noise), (None, None));
-    assert_eq!(b.detail_blend, DetailBlend::Rnm);
+    assert_eq!(scene.materials[1].detail_blend, DetailBlend::Rnm);
 }
 
 #[test]
@@ -748,7 +749,7 @@ fn detail_blend_names() {
             "{CUBE}material = \"m\"\n[materials.m]\ndetail_blend = \"{name}\"\n"
         ))
         .unwrap();
-        assert_eq!(scene.materials[0].maps.detail_blend, blend);
+        assert_eq!(scene.materials[0].detail_blend, blend);
     }
     let message = error(&format!("{CUBE}[materials.m]\ndetail_blend = \"mix\"\n"));
     assert!(
@@ -931,7 +932,7 @@ fn keys_written_in_a_table_override_its_preset() {
     );
     assert_eq!(material.roughness, 0.2);
     assert_eq!(material.base_color, Vec3::new(0.1, 0.2, 0.3));
-    assert_eq!(material.maps.detail_blend, DetailBlend::Udn);
+    assert_eq!(material.detail_blend, DetailBlend::Udn);
     // Untouched keys keep the preset's values, also inside map tables.
     assert_eq!(material.f0, preset.f0 as f32);
     assert_eq!(material.diffuse, preset.diffuse);
