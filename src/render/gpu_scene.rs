@@ -86,7 +86,7 @@ gpu_struct! {
         pub diffuse_roughness: f32,
         pub wrap: f32,
         pub wrap_width: f32,
-        pub pad0: f32,
+        pub metallic: f32,
         pub pad1: f32,
         pub pad2: f32,
         pub base_color_uv: [f32; 4],

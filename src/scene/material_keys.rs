@@ -555,6 +555,14 @@ material_keys! {
         shown: has_specular,
         gpu: [f0],
         twin: f0;
+    metallic: Scalar = Scalar::UNIT,
+        default: 0.0,
+        label: "metallic",
+        doc: "0 for a dielectric (clay), 1 for a metal, whose F0 is the base colour and which has no \
+              diffuse lobe; between, the blend of glTF 2.0's metallic-roughness model",
+        shown: |m| has_specular(m) || m.diffuse != DiffuseModel::None,
+        gpu: [metallic],
+        twin: metallic;
     diffuse_roughness: Scalar = Scalar::UNIT,
         default: 0.0,
         label: "diffuse roughness",

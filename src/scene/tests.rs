@@ -85,6 +85,7 @@ fn minimal_scene_gets_the_documented_defaults() {
             geometry: Geometry::SmithCorrelated,
             roughness: 0.5,
             f0: 0.04,
+            metallic: 0.0,
             diffuse_roughness: 0.0,
             specular_color: Vec3::ONE,
             wrap: 0.0,
@@ -892,7 +893,12 @@ fn presets_supply_every_field() {
 /// Each preset has the character docs/scene-format.md gives it.
 #[test]
 fn presets_look_like_their_clay() {
-    let [plasticine, terracotta, wet, polymer] = Preset::ALL.map(Preset::material);
+    let [plasticine, terracotta, wet, polymer, armature] = Preset::ALL.map(Preset::material);
+    assert_eq!(
+        (armature.metallic, plasticine.metallic, polymer.metallic),
+        (1.0, 0.0, 0.0)
+    );
+    assert_eq!(armature.subsurface, Subsurface::None);
     let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     let texture = |map: &Option<file::MapDef>| map.as_ref().map(|m| m.texture.clone());
 
