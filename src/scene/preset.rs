@@ -126,20 +126,12 @@ impl Preset {
                 noise_map: map("builtin:noise", 0.4, [2.0, 1.0]),
                 ..clay
             },
+            // The defaults' Lambert lobe and wrap and scatter keys, all unused by a metal.
             Preset::MetalArmature => MaterialDef {
                 base_color: [0.913, 0.922, 0.924],
                 metallic: 1.0,
-                diffuse: DiffuseModel::Lambert,
-                diffuse_roughness: 0.0,
                 roughness: 0.35,
-                f0: 0.04,
-                wrap: 0.0,
-                wrap_width: 0.3,
-                wrap_color: [1.0; 3],
-                wrap_intensity: 0.0,
                 subsurface: Subsurface::None,
-                scatter_color: [1.0; 3],
-                scatter_radius: 0.0,
                 normal_map: map("builtin:clay-lumps", 0.1, [8.0, 4.0]),
                 detail_map: None,
                 noise_map: map("builtin:noise", 0.2, [2.0, 1.0]),
