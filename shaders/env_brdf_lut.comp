@@ -32,6 +32,7 @@ void main() {
     m.wrap_color = vec4(0.0);
     m.roughness = xy.y;
     m.diffuse_roughness = xy.y;
+    m.metallic = 0.0;
     uint layer = uint(texel.z);
     vec2 sum = vec2(0.0);
     if (layer == LUT_LAYER_OREN_NAYAR) {

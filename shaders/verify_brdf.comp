@@ -71,7 +71,8 @@ const uint FIRST_SHADING = 64u;
 // Unit vectors: the vector arguments in a, b, c (tangent: all of c), scalars in a.w, b.x.
 // brdf_cos: a = (n_geometric, roughness), b = (v, f0), c = (l, diffuse_roughness),
 // d = (base_color, wrap_intensity), e = (specular_color, wrap), f = (wrap_color, wrap_width),
-// g = (scatter_color, curvature), with scatter_radius 1 (only σκ counts).
+// g = (scatter_color, curvature), h = (metallic, 0, 0, 0), with scatter_radius 1 (only σκ
+// counts).
 struct Tuple {
     vec4 a;
     vec4 b;
@@ -80,6 +81,7 @@ struct Tuple {
     vec4 e;
     vec4 f;
     vec4 g;
+    vec4 h;
 };
 
 layout(std430, set = 0, binding = 0) readonly buffer Inputs {
@@ -213,7 +215,7 @@ vec3 shading(Tuple t) {
     ShadingModels models = ShadingModels((code >> 4) & 3u, (code >> 2) & 3u, (code >> 1) & 1u, code & 1u,
                                          (code >> 6) & 3u);
     Material m = Material(vec4(t.d.rgb, 1.0), vec4(t.e.rgb, 1.0), vec4(t.f.rgb, t.d.w), vec4(t.g.rgb, 1.0),
-                          t.a.w, t.b.w, t.c.w, t.e.w, t.f.w, 0.0, 0.0, 0.0,
+                          t.a.w, t.b.w, t.c.w, t.e.w, t.f.w, t.h.x, 0.0, 0.0,
                           // No maps: brdf_cos does not read them.
                           vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), uvec4(0u));
     if ((code >> 8) == 1u) return brdf_cos_seed(models, m, vec3(0.0, 0.0, 1.0), t.b.xyz, t.c.xyz, t.g.w);

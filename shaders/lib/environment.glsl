@@ -83,10 +83,10 @@ vec2 brdf_table(uint layer, float n_dot_v, float y) {
 
 // The directional albedo of the diffuse lobe: what it reflects of a unit uniform light.
 vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
-    if (model == DIFFUSE_LAMBERT) return m.base_color.rgb;
+    if (model == DIFFUSE_LAMBERT) return diffuse_color(m);
     if (model == DIFFUSE_OREN_NAYAR)
-        return m.base_color.rgb * brdf_table(LUT_LAYER_OREN_NAYAR, n_dot_v, m.diffuse_roughness).r;
-    if (model == DIFFUSE_EON) return diffuse_eon_albedo(m.base_color.rgb, m.diffuse_roughness, n_dot_v);
+        return diffuse_color(m) * brdf_table(LUT_LAYER_OREN_NAYAR, n_dot_v, m.diffuse_roughness).r;
+    if (model == DIFFUSE_EON) return diffuse_eon_albedo(diffuse_color(m), m.diffuse_roughness, n_dot_v);
     return vec3(0.0);
 }
 
@@ -113,7 +113,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
             vec3 transferred = vec3(env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.r)).r,
                                     env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.g)).g,
                                     env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.b)).b);
-            radiance += m.base_color.rgb * (transferred / PI - irradiance_over_pi);
+            radiance += diffuse_color(m) * (transferred / PI - irradiance_over_pi);
         }
     }
     float alpha = clamp_alpha(m.roughness * m.roughness);
@@ -130,7 +130,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
     vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
     vec3 dominant = specular_dominant_direction(n, r, alpha);
     return radiance + specular_visibility * env_prefiltered(dominant, m.roughness) * m.specular_color.rgb
-                    * (clamp(m.f0, 0.0, 1.0) * ab.x + ab.y);
+                    * (clamp(specular_f0(m), 0.0, 1.0) * ab.x + ab.y);
 }
 
 // PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").

@@ -13,7 +13,7 @@ struct Material {
     float diffuse_roughness;
     float wrap;
     float wrap_width;
-    float pad0;
+    float metallic;       // 0 dielectric, 1 metal (glTF 2.0 metallic-roughness)
     float pad1;
     float pad2;
     // Material maps (material_maps.glsl): uv · scale + offset, strengths, conventions.
@@ -24,6 +24,18 @@ struct Material {
     vec4 map_strength;    // base colour, normal, detail, noise
     uvec4 green_down;     // x normal map, y detail map: 1 for DirectX-style maps
 };
+
+// glTF 2.0's metallic-roughness blend (glTF 2.0 specification, appendix B): the albedo
+// of the diffuse lobes and subsurface terms, base_color · (1 − metallic) ...
+vec3 diffuse_color(Material m) {
+    return m.base_color.rgb * (1.0 - m.metallic);
+}
+
+// ... and the specular lobe's F0, mix(f0, base_color, metallic): a metal reflects its base
+// colour. Twins: ShadingParams::diffuse_color and specular_f0 in src/brdf/shading.rs.
+vec3 specular_f0(Material m) {
+    return mix(vec3(m.f0), m.base_color.rgb, m.metallic);
+}
 
 // A map's uv from the mesh's: uv · scale + offset (`transform` is one of the *_uv fields).
 vec2 map_uv(vec4 transform, vec2 uv) {

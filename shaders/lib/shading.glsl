@@ -59,9 +59,9 @@ float shadow_terminator(float ng_dot_l, float ns_dot_l, float ng_dot_ns) {
 
 // The diffuse lobe f_d (without the cosine), albedo included.
 vec3 diffuse_lobe(uint model, Material m, vec3 n, vec3 v, vec3 l, float n_dot_v, float n_dot_l) {
-    if (model == DIFFUSE_LAMBERT) return m.base_color.rgb * diffuse_lambert();
-    if (model == DIFFUSE_OREN_NAYAR) return m.base_color.rgb * diffuse_oren_nayar(m.diffuse_roughness, n, v, l);
-    if (model == DIFFUSE_EON) return diffuse_eon(m.base_color.rgb, m.diffuse_roughness, n_dot_v, n_dot_l, dot(v, l));
+    if (model == DIFFUSE_LAMBERT) return diffuse_color(m) * diffuse_lambert();
+    if (model == DIFFUSE_OREN_NAYAR) return diffuse_color(m) * diffuse_oren_nayar(m.diffuse_roughness, n, v, l);
+    if (model == DIFFUSE_EON) return diffuse_eon(diffuse_color(m), m.diffuse_roughness, n_dot_v, n_dot_l, dot(v, l));
     return vec3(0.0);
 }
 
@@ -74,7 +74,7 @@ vec3 specular_lobe(ShadingModels models, Material m, vec3 n, vec3 v, vec3 l, flo
     float n_dot_h = max(dot(n, h), 0.0);
     float len2 = dot(n_cross_h, n_cross_h);
     float v_dot_h = max(dot(v, h), 0.0);
-    vec3 f0 = vec3(m.f0);
+    vec3 f0 = specular_f0(m);
     vec3 f;
     if (models.specular == SPECULAR_COOK_TORRANCE) {
         f = spec_cook_torrance(alpha, n_dot_v, n_dot_l, n_dot_h, len2, f0, v_dot_h,
@@ -117,7 +117,7 @@ vec3 subsurface_cos(ShadingModels models, Material m, float n_dot_l, float curva
     }
     vec3 transfer = subsurface_transfer(models.subsurface, n_dot_l,
                                         subsurface_reach(models.subsurface, m, curvature));
-    return m.base_color.rgb / PI * (transfer - max(n_dot_l, 0.0));
+    return diffuse_color(m) / PI * (transfer - max(n_dot_l, 0.0));
 }
 
 // `lit` (the lobes plus the subsurface term), clamped at 0 for the models that take light

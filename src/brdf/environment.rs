@@ -373,6 +373,7 @@ fn lut_material(y: f64, f0: f64) -> ShadingParams {
         wrap_width: 1.0,
         scatter_color: [0.0; 3],
         scatter_radius: 0.0,
+        metallic: 0.0,
     }
 }
 

@@ -75,6 +75,24 @@ pub struct ShadingParams {
     pub scatter_color: Vec3,
     /// The pre-integrated model's profile σ at scatter_color 1, in scene units.
     pub scatter_radius: f64,
+    /// 0 dielectric, 1 metal: see [`ShadingParams::specular_f0`].
+    pub metallic: f64,
+}
+
+impl ShadingParams {
+    /// glTF 2.0's metallic-roughness blend (glTF 2.0 specification, appendix B): the
+    /// albedo of the diffuse lobes and of the subsurface terms, base_color·(1 − metallic).
+    pub fn diffuse_color(&self) -> Vec3 {
+        scale(self.base_color, 1.0 - self.metallic)
+    }
+
+    /// The specular lobe's F0 in the same blend, mix(f0, base_color, metallic): a metal
+    /// reflects its base colour. Both are linear in metallic, so is the BRDF: the blend's
+    /// energy is (1 − metallic) E_dielectric + metallic E_metal.
+    pub fn specular_f0(&self) -> Vec3 {
+        self.base_color
+            .map(|c| self.f0 * (1.0 - self.metallic) + c * self.metallic)
+    }
 }
 
 /// Smallest n·v of a shading normal after it is turned towards the viewer.
@@ -129,9 +147,9 @@ pub fn diffuse_lobe(
     n_dot_l: f64,
 ) -> Vec3 {
     match model {
-        DiffuseModel::Lambert => scale(m.base_color, diffuse_lambert()),
-        DiffuseModel::OrenNayar => scale(m.base_color, diffuse_oren_nayar(m.diffuse_roughness, n, v, l)),
-        DiffuseModel::Eon => diffuse_eon(m.base_color, m.diffuse_roughness, n_dot_v, n_dot_l, dot(v, l)),
+        DiffuseModel::Lambert => scale(m.diffuse_color(), diffuse_lambert()),
+        DiffuseModel::OrenNayar => scale(m.diffuse_color(), diffuse_oren_nayar(m.diffuse_roughness, n, v, l)),
+        DiffuseModel::Eon => diffuse_eon(m.diffuse_color(), m.diffuse_roughness, n_dot_v, n_dot_l, dot(v, l)),
         DiffuseModel::None => [0.0; 3],
     }
 }
@@ -155,7 +173,7 @@ pub fn specular_lobe(
     let n_dot_h = dot(n, h).max(0.0);
     let len2 = dot(n_cross_h, n_cross_h);
     let v_dot_h = dot(v, h).max(0.0);
-    let f0 = [m.f0; 3];
+    let f0 = m.specular_f0();
     let f = match models.specular {
         SpecularModel::CookTorrance => spec_cook_torrance(
             alpha,
@@ -207,8 +225,8 @@ pub fn subsurface_cos(models: ShadingModels, m: &ShadingParams, n_dot_l: f64, cu
     }
     let reach = subsurface_reach(models.subsurface, m, curvature);
     let transfer = subsurface_transfer(models.subsurface, n_dot_l, reach);
-    let lambert = n_dot_l.max(0.0);
-    std::array::from_fn(|c| m.base_color[c] / PI * (transfer[c] - lambert))
+    let (lambert, albedo) = (n_dot_l.max(0.0), m.diffuse_color());
+    std::array::from_fn(|c| albedo[c] / PI * (transfer[c] - lambert))
 }
 
 /// Reflected radiance per unit irradiance E⊥ arriving along l, for shading normal `n`

@@ -16,7 +16,7 @@ use super::world::Medium;
 use super::world::{Surface, World};
 use super::{Sampling, Settings, SubsurfaceTransport, Transport};
 use crate::brdf::environment::{sample_cosine, sample_uniform_sphere, tangent_frame};
-use crate::brdf::fresnel::f_schlick_scalar;
+use crate::brdf::fresnel::f_schlick;
 use crate::brdf::shading::{
     brdf_cos, brdf_cos_seed, subsurface_lights, view_facing_normal, DiffuseModel, ShadingModels, ShadingParams,
     SpecularModel,
@@ -219,6 +219,7 @@ impl<'a> Integrator<'a> {
                 ..models
             };
             params.base_color = [1.0; 3];
+            params.metallic = 0.0;
         } else if medium.is_some() {
             models.diffuse = DiffuseModel::None;
             models.subsurface = Subsurface::None;
@@ -367,11 +368,11 @@ impl<'a> Integrator<'a> {
                 let c = sample_cosine([rng.uniform(), rng.uniform()]);
                 let l = (inward[0] * c[0] + inward[1] * c[1] + inward[2] * c[2]).normalize();
                 let reflected = if s.models.specular == SpecularModel::None {
-                    0.0
+                    DVec3::ZERO
                 } else {
-                    f_schlick_scalar(s.params.f0, v.dot(s.n).clamp(0.0, 1.0))
+                    DVec3::from(f_schlick(s.params.specular_f0(), v.dot(s.n).clamp(0.0, 1.0)))
                 };
-                throughput *= (1.0 - reflected) / s.enter;
+                throughput *= (DVec3::ONE - reflected) / s.enter;
                 let Some(out) = self.random_walk(&surface, l, &medium, rng, &mut throughput, &mut rays) else {
                     break;
                 };

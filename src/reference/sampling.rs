@@ -54,11 +54,12 @@ impl Lobes {
         let diffuse = if models.diffuse == DiffuseModel::None {
             0.0
         } else {
-            luminance(m.base_color).max(1e-3)
+            luminance(m.diffuse_color()).max(1e-3)
         };
         let specular_weight = if specular.is_some() {
             // Schlick's Fresnel at n·v, so grazing views favour the specular lobe.
-            let f = m.f0 + (1.0 - m.f0) * (1.0 - n_dot_v.clamp(0.0, 1.0)).powi(5);
+            let f0 = luminance(m.specular_f0());
+            let f = f0 + (1.0 - f0) * (1.0 - n_dot_v.clamp(0.0, 1.0)).powi(5);
             (luminance(m.specular_color) * f).max(1e-3).max(0.1 * diffuse)
         } else {
             0.0

@@ -20,6 +20,7 @@ fn params(roughness: f64) -> ShadingParams {
         wrap_width: 0.3,
         scatter_color: [1.0; 3],
         scatter_radius: 0.1,
+        metallic: 0.0,
     }
 }
 

@@ -69,7 +69,7 @@ impl WorldMaterial {
             base_color_map: material.maps.base_color.as_ref().map(Map::new),
             normal_map: material.maps.normal.as_ref().map(Map::new),
             detail_map: material.maps.detail.as_ref().map(Map::new),
-            detail_blend: material.maps.detail_blend,
+            detail_blend: material.detail_blend,
         }
     }
 }
@@ -99,7 +99,8 @@ pub fn single_scattering_albedo(multiple: f64) -> f64 {
 impl Medium {
     /// The medium of a surface's material, if it scatters (a subsurface model with a
     /// `scatter_radius` and a diffuse lobe): mean free path `scatter_radius` ·
-    /// `scatter_color` per channel, albedo from the mapped `base_color` at the point.
+    /// `scatter_color` per channel, albedo from the mapped `base_color` at the point (its
+    /// dielectric part, `diffuse_color`).
     pub fn of(material: &WorldMaterial, params: &ShadingParams) -> Option<Medium> {
         let scatters = material.models.subsurface != crate::brdf::subsurface::Subsurface::None
             && material.models.diffuse != crate::brdf::shading::DiffuseModel::None
@@ -110,7 +111,7 @@ impl Medium {
                     .scatter_color
                     .map(|c| 1.0 / (params.scatter_radius * c).max(MIN_MEAN_FREE_PATH)),
             ),
-            albedo: DVec3::from(params.base_color.map(single_scattering_albedo)),
+            albedo: DVec3::from(params.diffuse_color().map(single_scattering_albedo)),
         })
     }
 }

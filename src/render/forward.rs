@@ -105,7 +105,7 @@ impl ForwardConstants {
         let detail = sampled(&maps.detail, true);
         // A normal map at strength 0 decodes to +z, which only RNM and whiteout blend a
         // detail map over as they would over no normal map.
-        let flat_base_is_none = detail == 0 || matches!(maps.detail_blend, DetailBlend::Rnm | DetailBlend::Whiteout);
+        let flat_base_is_none = detail == 0 || matches!(m.detail_blend, DetailBlend::Rnm | DetailBlend::Whiteout);
         Self {
             diffuse_model: models.diffuse as u32,
             specular_model: models.specular as u32,
@@ -118,7 +118,7 @@ impl ForwardConstants {
             ),
             has_detail_map: detail,
             has_noise_map: sampled(&maps.noise, reflection == Some(ReflectionMode::Seed)),
-            detail_blend: maps.detail_blend as u32,
+            detail_blend: m.detail_blend as u32,
             horizon: m.horizon as u32,
             subsurface: models.subsurface as u32,
             debug_view: specialized(debug_view as u32),
@@ -613,7 +613,7 @@ mod tests {
             (DetailBlend::Udn, 1),
             (DetailBlend::Seed, 1),
         ] {
-            detailed.maps.detail_blend = blend;
+            detailed.detail_blend = blend;
             let c = ForwardConstants::new(
                 &detailed,
                 &uniform(ReflectionMode::SplitSum),

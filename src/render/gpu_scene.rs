@@ -54,26 +54,48 @@ impl FrameData {
     }
 }
 
-/// `Material` (std430).
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct MaterialData {
-    pub base_color: [f32; 4],
-    pub specular_color: [f32; 4],
-    pub wrap_color: [f32; 4],
-    pub scatter: [f32; 4],
-    pub roughness: f32,
-    pub f0: f32,
-    pub diffuse_roughness: f32,
-    pub wrap: f32,
-    pub wrap_width: f32,
-    pub pad: [f32; 3],
-    pub base_color_uv: [f32; 4],
-    pub normal_uv: [f32; 4],
-    pub detail_uv: [f32; 4],
-    pub noise_uv: [f32; 4],
-    pub map_strength: [f32; 4],
-    pub green_down: [u32; 4],
+/// A Pod struct whose fields' names, offsets and sizes a test compares with a GLSL block.
+macro_rules! gpu_struct {
+    ($(#[$meta:meta])* pub struct $name:ident { $(pub $field:ident: $ty:ty,)+ }) => {
+        $(#[$meta])*
+        pub struct $name {
+            $(pub $field: $ty,)+
+        }
+
+        #[cfg(test)]
+        impl $name {
+            /// (name, offset, size) of every field, in order.
+            const FIELDS: &[(&str, usize, usize)] =
+                &[$((stringify!($field), std::mem::offset_of!($name, $field), std::mem::size_of::<$ty>())),+];
+        }
+    };
+}
+
+gpu_struct! {
+    /// `Material` of shaders/lib/material.glsl (std430); the keys' fields are filled where
+    /// `scene::material_keys` declares them.
+    #[repr(C)]
+    #[derive(Clone, Copy, Pod, Zeroable)]
+    pub struct MaterialData {
+        pub base_color: [f32; 4],
+        pub specular_color: [f32; 4],
+        pub wrap_color: [f32; 4],
+        pub scatter: [f32; 4],
+        pub roughness: f32,
+        pub f0: f32,
+        pub diffuse_roughness: f32,
+        pub wrap: f32,
+        pub wrap_width: f32,
+        pub metallic: f32,
+        pub pad1: f32,
+        pub pad2: f32,
+        pub base_color_uv: [f32; 4],
+        pub normal_uv: [f32; 4],
+        pub detail_uv: [f32; 4],
+        pub noise_uv: [f32; 4],
+        pub map_strength: [f32; 4],
+        pub green_down: [u32; 4],
+    }
 }
 
 /// A map's `uv · scale + offset` as (scale, offset), and its strength; identity without a map.
@@ -84,21 +106,12 @@ fn map_terms(map: Option<&MapRef>) -> ([f32; 4], f32) {
 }
 
 impl From<&Material> for MaterialData {
+    /// The keys where `material_keys` packs them, then the maps.
     fn from(m: &Material) -> Self {
         let maps = &m.maps;
         let (base_color, normal) = (map_terms(maps.base_color.as_ref()), map_terms(maps.normal.as_ref()));
         let (detail, noise) = (map_terms(maps.detail.as_ref()), map_terms(maps.noise.as_ref()));
-        Self {
-            base_color: m.base_color.extend(1.0).to_array(),
-            specular_color: m.specular_color.extend(1.0).to_array(),
-            wrap_color: m.wrap_color.extend(m.wrap_intensity).to_array(),
-            scatter: m.scatter_color.extend(m.scatter_radius).to_array(),
-            roughness: m.roughness,
-            f0: m.f0,
-            diffuse_roughness: m.diffuse_roughness,
-            wrap: m.wrap,
-            wrap_width: m.wrap_width,
-            pad: [0.0; 3],
+        let mut data = Self {
             base_color_uv: base_color.0,
             normal_uv: normal.0,
             detail_uv: detail.0,
@@ -110,7 +123,10 @@ impl From<&Material> for MaterialData {
                 0,
                 0,
             ],
-        }
+            ..Self::zeroed()
+        };
+        m.pack(&mut data);
+        data
     }
 }
 
@@ -253,5 +269,119 @@ impl GpuScene {
             _placeholders: placeholders,
             _sampler: sampler,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::material_keys::GPU_SLOTS;
+
+    /// The members of `struct Material` in material.glsl: (type, name).
+    fn glsl_members() -> Vec<(String, String)> {
+        let glsl = include_str!("../../shaders/lib/material.glsl");
+        let start = glsl
+            .find("struct Material {")
+            .expect("material.glsl declares struct Material");
+        let body = &glsl[start..][..glsl[start..].find("};").expect("the struct ends")];
+        body.lines()
+            .skip(1)
+            .map(|line| line.split("//").next().unwrap_or("").trim())
+            .filter(|line| !line.is_empty())
+            .map(|line| {
+                let declaration = line.strip_suffix(';').expect("one member a line");
+                let (ty, name) = declaration.split_once(' ').expect("type and name");
+                (ty.to_owned(), name.trim().to_owned())
+            })
+            .collect()
+    }
+
+    /// std430 (size, alignment) of the member types material.glsl uses.
+    fn std430(ty: &str) -> (usize, usize) {
+        match ty {
+            "float" | "uint" | "int" => (4, 4),
+            "vec2" => (8, 8),
+            "vec4" | "uvec4" => (16, 16),
+            other => panic!("material.glsl: no std430 rule here for {other}"),
+        }
+    }
+
+    #[test]
+    fn material_data_has_the_glsl_layout() {
+        let mut offset = 0usize;
+        let glsl: Vec<(String, usize, usize)> = glsl_members()
+            .into_iter()
+            .map(|(ty, name)| {
+                let (size, align) = std430(&ty);
+                offset = offset.next_multiple_of(align);
+                let member = (name, offset, size);
+                offset += size;
+                member
+            })
+            .collect();
+        let rust: Vec<(String, usize, usize)> = MaterialData::FIELDS
+            .iter()
+            .map(|&(name, offset, size)| (name.to_owned(), offset, size))
+            .collect();
+        assert_eq!(rust, glsl);
+        assert_eq!(std::mem::size_of::<MaterialData>(), offset.next_multiple_of(16));
+    }
+
+    #[test]
+    fn every_key_packs_into_a_glsl_member() {
+        let members = glsl_members();
+        for (key, slot) in GPU_SLOTS {
+            let field = slot.split(['[', ' ']).next().unwrap_or(slot);
+            let (ty, _) = members
+                .iter()
+                .find(|(_, name)| name == field)
+                .unwrap_or_else(|| panic!("{key}: material.glsl has no member {field}"));
+            // A colour fills a vec4's rgb, a number a float or one component.
+            let indexed = slot.contains('[');
+            assert_eq!(ty == "vec4", indexed, "{key} packs into {slot}, a {ty}");
+        }
+    }
+
+    #[test]
+    fn verify_builds_every_member_of_the_material() {
+        let comp = include_str!("../../shaders/verify_brdf.comp");
+        let call = &comp[comp
+            .find("Material m = Material(")
+            .expect("verify_brdf.comp builds a Material")
+            + 22..];
+        let mut depth = 0;
+        let mut arguments = 1;
+        for c in call.chars() {
+            match c {
+                '(' => depth += 1,
+                ')' if depth == 0 => break,
+                ')' => depth -= 1,
+                ',' if depth == 0 => arguments += 1,
+                _ => {}
+            }
+        }
+        assert_eq!(arguments, glsl_members().len());
+    }
+
+    #[test]
+    fn keys_pack_where_declared() {
+        let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
+            .expect("the default scene");
+        for m in &scene.materials {
+            let data = MaterialData::from(m);
+            assert_eq!(data.base_color[..3], m.base_color.to_array());
+            assert_eq!(data.wrap_color, m.wrap_color.extend(m.wrap_intensity).to_array());
+            assert_eq!(data.scatter, m.scatter_color.extend(m.scatter_radius).to_array());
+            assert_eq!(
+                [
+                    data.roughness,
+                    data.f0,
+                    data.diffuse_roughness,
+                    data.wrap,
+                    data.wrap_width
+                ],
+                [m.roughness, m.f0, m.diffuse_roughness, m.wrap, m.wrap_width]
+            );
+        }
     }
 }

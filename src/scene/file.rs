@@ -13,8 +13,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use super::light::ReflectionMode;
-use super::material::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, SpecularModel, Subsurface};
-use super::preset::Preset;
+pub use super::material_keys::MaterialDef;
 
 /// A whole scene file. Every section is optional; validation rejects a scene
 /// without objects.
@@ -37,6 +36,14 @@ pub struct SceneFile {
     /// Sorted by name so saved files are stable.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, MaterialDef>,
+}
+
+/// A model or option as the file spells it (`"oren-nayar"`).
+pub fn file_name<T: Serialize>(value: &T) -> String {
+    match toml::Value::try_from(value) {
+        Ok(toml::Value::String(s)) => s,
+        _ => "?".to_owned(),
+    }
 }
 
 impl SceneFile {
@@ -190,78 +197,6 @@ fn one() -> f64 {
     1.0
 }
 
-/// One `[materials.<name>]` table: its `preset`'s values (or the defaults
-/// below, without one) with the keys written in the table on top, merged key
-/// by key, also inside the map tables. Unknown keys are errors.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "MaterialKeys")]
-pub struct MaterialDef {
-    /// The preset the table started from. Every other field already holds
-    /// the merged values, so writing it back is informational:
-    /// `Scene::to_file` leaves it out.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub preset: Option<Preset>,
-    pub base_color: [f64; 3],
-    pub diffuse: DiffuseModel,
-    pub specular: SpecularModel,
-    pub distribution: Distribution,
-    pub geometry: Geometry,
-    pub roughness: f64,
-    pub f0: f64,
-    pub diffuse_roughness: f64,
-    pub specular_color: [f64; 3],
-    pub wrap: f64,
-    pub wrap_width: f64,
-    pub wrap_color: [f64; 3],
-    pub wrap_intensity: f64,
-    pub subsurface: Subsurface,
-    pub scatter_color: [f64; 3],
-    pub scatter_radius: f64,
-    pub horizon: Horizon,
-    pub detail_blend: DetailBlend,
-    // Tables last: TOML writes them after the plain keys.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub base_color_map: Option<MapDef>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub normal_map: Option<MapDef>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub detail_map: Option<MapDef>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub noise_map: Option<MapDef>,
-}
-
-impl Default for MaterialDef {
-    /// Also the built-in neutral material: grey Lambert + GGX Cook-Torrance,
-    /// no maps.
-    fn default() -> Self {
-        Self {
-            preset: None,
-            base_color: [0.8; 3],
-            diffuse: DiffuseModel::Lambert,
-            specular: SpecularModel::CookTorrance,
-            distribution: Distribution::Ggx,
-            geometry: Geometry::SmithCorrelated,
-            roughness: 0.5,
-            f0: 0.04,
-            diffuse_roughness: 0.0,
-            specular_color: [1.0; 3],
-            wrap: 0.0,
-            wrap_width: 0.3,
-            wrap_color: [1.0; 3],
-            wrap_intensity: 0.0,
-            subsurface: Subsurface::Seed,
-            scatter_color: [1.0; 3],
-            scatter_radius: 0.0,
-            horizon: Horizon::Smooth,
-            detail_blend: DetailBlend::Rnm,
-            base_color_map: None,
-            normal_map: None,
-            detail_map: None,
-            noise_map: None,
-        }
-    }
-}
-
 /// A material map table such as `[materials.clay.normal_map]`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MapDef {
@@ -298,77 +233,15 @@ pub enum Green {
     Down,
 }
 
-/// A material table as written: `None` for an absent key, so that the
-/// preset's value survives it. Deserialised straight from the document, so
-/// toml's errors keep their line and column.
+/// A map table as written: `None` for an absent key.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct MaterialKeys {
-    preset: Option<Preset>,
-    base_color: Option<[f64; 3]>,
-    diffuse: Option<DiffuseModel>,
-    specular: Option<SpecularModel>,
-    distribution: Option<Distribution>,
-    geometry: Option<Geometry>,
-    roughness: Option<f64>,
-    f0: Option<f64>,
-    diffuse_roughness: Option<f64>,
-    specular_color: Option<[f64; 3]>,
-    wrap: Option<f64>,
-    wrap_width: Option<f64>,
-    wrap_color: Option<[f64; 3]>,
-    wrap_intensity: Option<f64>,
-    subsurface: Option<Subsurface>,
-    scatter_color: Option<[f64; 3]>,
-    scatter_radius: Option<f64>,
-    horizon: Option<Horizon>,
-    detail_blend: Option<DetailBlend>,
-    base_color_map: Option<MapKeys>,
-    normal_map: Option<MapKeys>,
-    detail_map: Option<MapKeys>,
-    noise_map: Option<MapKeys>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MapKeys {
+pub(super) struct MapKeys {
     texture: Option<String>,
     strength: Option<f64>,
     uv_scale: Option<[f64; 2]>,
     uv_offset: Option<[f64; 2]>,
     green: Option<Green>,
-}
-
-impl TryFrom<MaterialKeys> for MaterialDef {
-    type Error = String;
-
-    fn try_from(keys: MaterialKeys) -> Result<MaterialDef, String> {
-        let mut def = keys.preset.map_or_else(MaterialDef::default, Preset::material);
-        def.preset = keys.preset;
-        set(&mut def.base_color, keys.base_color);
-        set(&mut def.diffuse, keys.diffuse);
-        set(&mut def.specular, keys.specular);
-        set(&mut def.distribution, keys.distribution);
-        set(&mut def.geometry, keys.geometry);
-        set(&mut def.roughness, keys.roughness);
-        set(&mut def.f0, keys.f0);
-        set(&mut def.diffuse_roughness, keys.diffuse_roughness);
-        set(&mut def.specular_color, keys.specular_color);
-        set(&mut def.wrap, keys.wrap);
-        set(&mut def.wrap_width, keys.wrap_width);
-        set(&mut def.wrap_color, keys.wrap_color);
-        set(&mut def.wrap_intensity, keys.wrap_intensity);
-        set(&mut def.subsurface, keys.subsurface);
-        set(&mut def.scatter_color, keys.scatter_color);
-        set(&mut def.scatter_radius, keys.scatter_radius);
-        set(&mut def.horizon, keys.horizon);
-        set(&mut def.detail_blend, keys.detail_blend);
-        def.base_color_map = merge_map("base_color_map", def.base_color_map, keys.base_color_map)?;
-        def.normal_map = merge_map("normal_map", def.normal_map, keys.normal_map)?;
-        def.detail_map = merge_map("detail_map", def.detail_map, keys.detail_map)?;
-        def.noise_map = merge_map("noise_map", def.noise_map, keys.noise_map)?;
-        Ok(def)
-    }
 }
 
 fn set<T>(field: &mut T, key: Option<T>) {
@@ -377,24 +250,26 @@ fn set<T>(field: &mut T, key: Option<T>) {
     }
 }
 
-/// The preset's map (if any) with the table's keys on top.
-fn merge_map(name: &str, preset: Option<MapDef>, keys: Option<MapKeys>) -> Result<Option<MapDef>, String> {
-    let Some(keys) = keys else {
-        return Ok(preset);
-    };
-    let mut map = match (preset, keys.texture) {
-        (Some(preset), None) => preset,
-        (Some(preset), Some(texture)) => MapDef { texture, ..preset },
-        (None, Some(texture)) => MapDef::new(texture),
-        (None, None) => {
-            return Err(format!(
-                "missing field `texture` in `{name}` (no preset supplies this map)"
-            ))
-        }
-    };
-    set(&mut map.strength, keys.strength);
-    set(&mut map.uv_scale, keys.uv_scale);
-    set(&mut map.uv_offset, keys.uv_offset);
-    set(&mut map.green, keys.green);
-    Ok(Some(map))
+impl MapDef {
+    /// The preset's map (if any) with the table's keys on top.
+    pub(super) fn merge(name: &str, preset: Option<MapDef>, keys: Option<MapKeys>) -> Result<Option<MapDef>, String> {
+        let Some(keys) = keys else {
+            return Ok(preset);
+        };
+        let mut map = match (preset, keys.texture) {
+            (Some(preset), None) => preset,
+            (Some(preset), Some(texture)) => MapDef { texture, ..preset },
+            (None, Some(texture)) => MapDef::new(texture),
+            (None, None) => {
+                return Err(format!(
+                    "missing field `texture` in `{name}` (no preset supplies this map)"
+                ))
+            }
+        };
+        set(&mut map.strength, keys.strength);
+        set(&mut map.uv_scale, keys.uv_scale);
+        set(&mut map.uv_offset, keys.uv_offset);
+        set(&mut map.green, keys.green);
+        Ok(Some(map))
+    }
 }

@@ -11,6 +11,7 @@ pub mod file;
 mod light;
 pub mod limits;
 mod material;
+pub mod material_keys;
 mod mesh;
 mod obj;
 mod occlusion;

@@ -15,14 +15,17 @@ pub enum Preset {
     Terracotta,
     WetClay,
     PolymerClay,
+    /// Not clay: the aluminium wire armature inside a figure, where it shows.
+    MetalArmature,
 }
 
 impl Preset {
-    pub const ALL: [Preset; 4] = [
+    pub const ALL: [Preset; 5] = [
         Preset::Plasticine,
         Preset::Terracotta,
         Preset::WetClay,
         Preset::PolymerClay,
+        Preset::MetalArmature,
     ];
 
     /// Every field of the preset. UV scales suit the builtin sphere as a
@@ -121,6 +124,17 @@ impl Preset {
                 normal_map: map("builtin:clay-lumps", 0.25, [8.0, 4.0]),
                 detail_map: map("builtin:fingerprints", 0.4, [6.0, 3.0]),
                 noise_map: map("builtin:noise", 0.4, [2.0, 1.0]),
+                ..clay
+            },
+            // The defaults' Lambert lobe and wrap and scatter keys, all unused by a metal.
+            Preset::MetalArmature => MaterialDef {
+                base_color: [0.913, 0.922, 0.924],
+                metallic: 1.0,
+                roughness: 0.35,
+                subsurface: Subsurface::None,
+                normal_map: map("builtin:clay-lumps", 0.1, [8.0, 4.0]),
+                detail_map: None,
+                noise_map: map("builtin:noise", 0.2, [2.0, 1.0]),
                 ..clay
             },
         }

@@ -14,6 +14,7 @@ use super::file::{
 };
 use super::light::{Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE};
 use super::limits::{MAX_LIGHTS, MAX_OBJECTS};
+use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
 use super::{
     builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, Occlusion,
     PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
@@ -74,24 +75,6 @@ impl Checker<'_> {
         }
     }
 
-    fn unit_color(&self, field: &str, v: [f64; 3]) -> Result<Vec3, SceneError> {
-        let narrowed = narrow3(v);
-        if narrowed.to_array().iter().all(|x| (0.0..=1.0).contains(x)) {
-            Ok(narrowed)
-        } else {
-            Err(self.invalid(field, v, "every component must be a finite number in [0, 1]"))
-        }
-    }
-
-    fn unit(&self, field: &str, x: f64) -> Result<f32, SceneError> {
-        self.scalar(
-            field,
-            x,
-            |x| (0.0..=1.0).contains(&x),
-            "must be a finite number in [0, 1]",
-        )
-    }
-
     fn non_negative(&self, field: &str, x: f64) -> Result<f32, SceneError> {
         self.scalar(field, x, |x| x.is_finite() && x >= 0.0, "must be a finite number >= 0")
     }
@@ -116,7 +99,7 @@ fn narrow3(v: [f64; 3]) -> Vec3 {
 
 /// The f64 whose shortest decimal form is the f32's, so that saved files
 /// read `0.6` rather than `0.6000000238418579`; it narrows back to `x`.
-fn widen(x: f32) -> f64 {
+pub(super) fn widen(x: f32) -> f64 {
     x.to_string().parse().unwrap_or(f64::from(x))
 }
 
@@ -480,52 +463,20 @@ fn material(
             .map(|def| check_map(check, &field(key), def, role, textures))
             .transpose()
     };
-    Ok(Material {
-        name: name.to_owned(),
-        preset: def.preset,
-        base_color: check.color(&field("base_color"), def.base_color)?,
-        diffuse: def.diffuse,
-        specular: def.specular,
-        distribution: def.distribution,
-        geometry: def.geometry,
-        roughness: check.unit(&field("roughness"), def.roughness)?,
-        f0: check.unit(&field("f0"), def.f0)?,
-        diffuse_roughness: check.unit(&field("diffuse_roughness"), def.diffuse_roughness)?,
-        specular_color: check.color(&field("specular_color"), def.specular_color)?,
-        wrap: check.unit(&field("wrap"), def.wrap)?,
-        wrap_width: check.positive(&field("wrap_width"), def.wrap_width)?,
-        wrap_color: check.color(&field("wrap_color"), def.wrap_color)?,
-        wrap_intensity: check.non_negative(&field("wrap_intensity"), def.wrap_intensity)?,
-        subsurface: def.subsurface,
-        scatter_color: check.unit_color(&field("scatter_color"), def.scatter_color)?,
-        scatter_radius: check.scalar(
-            &field("scatter_radius"),
-            def.scatter_radius,
-            |x| (0.0..=MAX_SCATTER_RADIUS).contains(&x),
-            &format!("must be a finite number in [0, {MAX_SCATTER_RADIUS:e}]"),
-        )?,
-        horizon: def.horizon,
-        // Last, so errors come in the order of the documented keys.
-        maps: MaterialMaps {
-            base_color: map("base_color_map", &def.base_color_map, TextureRole::BaseColor)?,
-            normal: map("normal_map", &def.normal_map, TextureRole::Normal)?,
-            detail: map("detail_map", &def.detail_map, TextureRole::Normal)?,
-            noise: map("noise_map", &def.noise_map, TextureRole::Noise)?,
-            detail_blend: def.detail_blend,
+    Material::resolve(
+        name,
+        def,
+        |key, value, reason| check.invalid(&field(key), value, reason),
+        || {
+            Ok(MaterialMaps {
+                base_color: map("base_color_map", &def.base_color_map, TextureRole::BaseColor)?,
+                normal: map("normal_map", &def.normal_map, TextureRole::Normal)?,
+                detail: map("detail_map", &def.detail_map, TextureRole::Normal)?,
+                noise: map("noise_map", &def.noise_map, TextureRole::Noise)?,
+            })
         },
-    })
+    )
 }
-
-/// Largest scatter radius, in scene units: far beyond any object, so the pre-integrated
-/// model is already uniform (t = σκ ≫ 1) there; it keeps σκ finite in fp32.
-const MAX_SCATTER_RADIUS: f32 = 1e6;
-
-/// Largest |uv_scale| component: beyond it a map repeats more often than
-/// texels can be told apart even on a 16384² texture.
-const MAX_UV_SCALE: f32 = 1e4;
-
-/// Largest map strength.
-const MAX_MAP_STRENGTH: f32 = 8.0;
 
 /// Checks one map table (`field` is e.g. `materials.clay.normal_map`) and
 /// requests its texture.
@@ -555,14 +506,17 @@ fn check_map(
     let strength = check.scalar(
         &key("strength"),
         def.strength,
-        |s| (0.0..=MAX_MAP_STRENGTH).contains(&s),
-        "must be a finite number in [0, 8]",
+        |s| MAP_STRENGTH.contains(s),
+        &MAP_STRENGTH.reason(),
     )?;
     let uv_scale = check.vector2(
         &key("uv_scale"),
         def.uv_scale,
         |s| s != 0.0 && s.abs() <= MAX_UV_SCALE,
-        "every component must be a finite, non-zero number in [-10000, 10000]",
+        &format!(
+            "every component must be a finite, non-zero number in [-{0}, {0}]",
+            limit(MAX_UV_SCALE)
+        ),
     )?;
     let uv_offset = check.vector2(
         &key("uv_offset"),
@@ -689,31 +643,7 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
             .materials
             .iter()
             .map(|m| {
-                let def = MaterialDef {
-                    preset: m.preset,
-                    base_color: widen3(m.base_color),
-                    diffuse: m.diffuse,
-                    specular: m.specular,
-                    distribution: m.distribution,
-                    geometry: m.geometry,
-                    roughness: widen(m.roughness),
-                    f0: widen(m.f0),
-                    diffuse_roughness: widen(m.diffuse_roughness),
-                    specular_color: widen3(m.specular_color),
-                    wrap: widen(m.wrap),
-                    wrap_width: widen(m.wrap_width),
-                    wrap_color: widen3(m.wrap_color),
-                    wrap_intensity: widen(m.wrap_intensity),
-                    subsurface: m.subsurface,
-                    scatter_color: widen3(m.scatter_color),
-                    scatter_radius: widen(m.scatter_radius),
-                    horizon: m.horizon,
-                    detail_blend: m.maps.detail_blend,
-                    base_color_map: map(&m.maps.base_color),
-                    normal_map: map(&m.maps.normal),
-                    detail_map: map(&m.maps.detail),
-                    noise_map: map(&m.maps.noise),
-                };
+                let def = m.to_def(map);
                 (m.name.clone(), def)
             })
             .collect(),

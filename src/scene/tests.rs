@@ -85,6 +85,7 @@ fn minimal_scene_gets_the_documented_defaults() {
             geometry: Geometry::SmithCorrelated,
             roughness: 0.5,
             f0: 0.04,
+            metallic: 0.0,
             diffuse_roughness: 0.0,
             specular_color: Vec3::ONE,
             wrap: 0.0,
@@ -95,6 +96,7 @@ fn minimal_scene_gets_the_documented_defaults() {
             scatter_color: Vec3::ONE,
             scatter_radius: 0.0,
             horizon: Horizon::Smooth,
+            detail_blend: DetailBlend::Rnm,
             maps: MaterialMaps::default(),
         }]
     );
@@ -728,12 +730,12 @@ texture = "builtin:clay-lumps"
     );
     assert_eq!(a.detail, Some(defaults(2)));
     assert_eq!(a.noise, Some(defaults(3)));
-    assert_eq!(a.detail_blend, DetailBlend::Whiteout);
+    assert_eq!(scene.materials[0].detail_blend, DetailBlend::Whiteout);
     let b = &scene.materials[1].maps;
     assert_eq!(b.normal.map(|m| (m.texture, m.strength)), Some((1, 8.0)));
     assert_eq!(b.detail.map(|m| m.texture), Some(1));
     assert_eq!((b.base_color, b.noise), (None, None));
-    assert_eq!(b.detail_blend, DetailBlend::Rnm);
+    assert_eq!(scene.materials[1].detail_blend, DetailBlend::Rnm);
 }
 
 #[test]
@@ -748,7 +750,7 @@ fn detail_blend_names() {
             "{CUBE}material = \"m\"\n[materials.m]\ndetail_blend = \"{name}\"\n"
         ))
         .unwrap();
-        assert_eq!(scene.materials[0].maps.detail_blend, blend);
+        assert_eq!(scene.materials[0].detail_blend, blend);
     }
     let message = error(&format!("{CUBE}[materials.m]\ndetail_blend = \"mix\"\n"));
     assert!(
@@ -891,7 +893,12 @@ fn presets_supply_every_field() {
 /// Each preset has the character docs/scene-format.md gives it.
 #[test]
 fn presets_look_like_their_clay() {
-    let [plasticine, terracotta, wet, polymer] = Preset::ALL.map(Preset::material);
+    let [plasticine, terracotta, wet, polymer, armature] = Preset::ALL.map(Preset::material);
+    assert_eq!(
+        (armature.metallic, plasticine.metallic, polymer.metallic),
+        (1.0, 0.0, 0.0)
+    );
+    assert_eq!(armature.subsurface, Subsurface::None);
     let luminance = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
     let texture = |map: &Option<file::MapDef>| map.as_ref().map(|m| m.texture.clone());
 
@@ -931,7 +938,7 @@ fn keys_written_in_a_table_override_its_preset() {
     );
     assert_eq!(material.roughness, 0.2);
     assert_eq!(material.base_color, Vec3::new(0.1, 0.2, 0.3));
-    assert_eq!(material.maps.detail_blend, DetailBlend::Udn);
+    assert_eq!(material.detail_blend, DetailBlend::Udn);
     // Untouched keys keep the preset's values, also inside map tables.
     assert_eq!(material.f0, preset.f0 as f32);
     assert_eq!(material.diffuse, preset.diffuse);

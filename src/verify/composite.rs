@@ -19,7 +19,8 @@ use crate::rng::Rng;
 
 /// `brdf_cos` for one combination of models. Tuples: a = (n_geometric, roughness),
 /// b = (v, f0), c = (l, diffuse_roughness), d = (base_color, wrap_intensity),
-/// e = (specular_color, wrap), f = (wrap_color, wrap_width); the shading normal is +z, where
+/// e = (specular_color, wrap), f = (wrap_color, wrap_width), g = (scatter_color, curvature),
+/// h = (metallic, 0, 0, 0); the shading normal is +z, where
 /// n × h is exact in fp32 as for the models, and n_geometric leans away from it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Composite {
@@ -214,6 +215,7 @@ impl Composite {
             wrap_width: f64::from(t.f[3]),
             scatter_color: rgb(t.g),
             scatter_radius: 1.0,
+            metallic: f64::from(t.h[0]),
         }
     }
 
@@ -245,7 +247,7 @@ impl Composite {
             u if u < 0.1 => 1.0,
             _ => rng.uniform(),
         };
-        let (f0, diffuse_roughness, wrap) = (fraction(), fraction(), fraction());
+        let (f0, diffuse_roughness, wrap, metallic) = (fraction(), fraction(), fraction(), fraction());
         let wrap_intensity = if rng.uniform() < 0.5 {
             0.0
         } else {
@@ -270,6 +272,7 @@ impl Composite {
             e: with(colour(rng), wrap),
             f: with(colour(rng), wrap_width),
             g: with(colour(rng), curvature),
+            h: [metallic as f32, 0.0, 0.0, 0.0],
         }
     }
 
@@ -304,19 +307,25 @@ impl Composite {
             g,
             ..Tuple::default()
         };
+        let clay = material(
+            0.04,
+            0.5,
+            [
+                [0.0, 0.5, 1.0, 10.0],
+                [1.0, 1.0, 1.0, 0.5],
+                [1.0, 0.5, 0.0, DENORMAL],
+                [1.0, 0.5, 0.0, DENORMAL],
+            ],
+        );
         let materials = [
             material(0.0, 0.0, [[0.0; 4], [0.0; 4], [0.0, 0.0, 0.0, 1.0], [0.0; 4]]),
             material(1.0, 1.0, [[1.0; 4], [1.0; 4], [1.0; 4], [1.0, 1.0, 1.0, f32::MAX]]),
-            material(
-                0.04,
-                0.5,
-                [
-                    [0.0, 0.5, 1.0, 10.0],
-                    [1.0, 1.0, 1.0, 0.5],
-                    [1.0, 0.5, 0.0, DENORMAL],
-                    [1.0, 0.5, 0.0, DENORMAL],
-                ],
-            ),
+            clay,
+            // The same as a metal.
+            Tuple {
+                h: [1.0, 0.0, 0.0, 0.0],
+                ..clay
+            },
         ];
         let mut out = Vec::new();
         for n_geometric in n_geometrics {
@@ -358,7 +367,7 @@ impl Composite {
         format!(
             "roughness={:e}, n·v={:e}, n·l={:e}, n·h={:e}, n_g·n={:e}, n_g·l={:e}, f0={:e}, \
              diffuse_roughness={:e}, base=({:e}, {:e}, {:e}), wrap intensity {:e}, w {:e}, width {:e}, \
-             scatter=({:e}, {:e}, {:e}), curvature {:e}",
+             scatter=({:e}, {:e}, {:e}), curvature {:e}, metallic {:e}",
             t.a[3],
             v[2],
             l[2],
@@ -376,7 +385,8 @@ impl Composite {
             t.g[0],
             t.g[1],
             t.g[2],
-            t.g[3]
+            t.g[3],
+            t.h[0]
         )
     }
 }

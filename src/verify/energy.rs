@@ -9,10 +9,14 @@ use crate::brdf::quadrature::{
     d_normalisation, diffuse_albedo, directional_albedo, gauss_legendre, weak_white_furnace,
     weak_white_furnace_microfacet,
 };
+use crate::brdf::shading::{brdf_cos, DiffuseModel, ShadingModels, ShadingParams, SpecularModel};
+use crate::brdf::specular::{Distribution, Geometry};
+use crate::brdf::subsurface::Subsurface;
 use crate::brdf::subsurface::{PreintegratedTable, PREINTEGRATED_WIDTH};
 use crate::brdf::wrap::{wrap_energy_conserving, wrap_seed};
 use crate::brdf::{dot, Vec3, MIN_ALPHA, PI};
 
+use super::composite::Composite;
 use super::functions::{Model, Parameter, NORMAL};
 use super::{Row, Status};
 
@@ -29,6 +33,9 @@ const ORACLE_TOLERANCE: f64 = 1e-3;
 const NORMALISATION_TOLERANCE: f64 = 1e-6;
 /// The weak white furnace with an exact Smith G1 (the oracle: within 2.3e-5).
 const FURNACE_TOLERANCE: f64 = 1e-4;
+/// The same integrand evaluated two ways (a white metal's `brdf_cos` and the white
+/// conductor's model), or a linear combination of quadratures on the same nodes.
+const TERM_TOLERANCE: f64 = 1e-12;
 /// Exact relations (closed forms integrated by Gauss-Legendre, exact for polynomials).
 const EXACT_TOLERANCE: f64 = 1e-12;
 /// The pre-integrated table's D columns against its own k₀: both f32, and D is within
@@ -334,5 +341,71 @@ pub fn rows() -> Vec<Row> {
             note,
         ));
     }
+    rows.push(metallic_blend());
+
     rows
+}
+
+/// A white furnace of glTF's metallic-roughness blend (Filament's furnace test of
+/// blends): the white directional albedo of `brdf_cos` (Lambert + GGX Cook-Torrance,
+/// f0 0.04, base colour 1) at metallic 0, ½ and 1, over α and μo. A white metal must be the
+/// white conductor (F0 = 1, no diffuse lobe) and the blend linear in metallic, its energy
+/// (1 − m) E_dielectric + m E_metal: the blend adds none of its own.
+fn metallic_blend() -> Row {
+    let models = ShadingModels {
+        diffuse: DiffuseModel::Lambert,
+        specular: SpecularModel::CookTorrance,
+        distribution: Distribution::Ggx,
+        geometry: Geometry::SmithCorrelated,
+        subsurface: Subsurface::None,
+    };
+    let order = SPECULAR_ORDER + RESOLUTION_ORDER_STEP;
+    let energy = |metallic: f64, alpha: f64, mu: f64| {
+        let m = ShadingParams {
+            base_color: WHITE,
+            specular_color: WHITE,
+            wrap_color: [0.0; 3],
+            wrap_intensity: 0.0,
+            roughness: alpha.sqrt(),
+            f0: 0.04,
+            diffuse_roughness: 0.0,
+            wrap: 0.0,
+            wrap_width: 1.0,
+            scatter_color: [0.0; 3],
+            scatter_radius: 0.0,
+            metallic,
+        };
+        let f = |v: Vec3, l: Vec3| {
+            if l[2] > 0.0 {
+                brdf_cos(models, &m, NORMAL, NORMAL, v, l, 0.0)[0] / l[2]
+            } else {
+                0.0
+            }
+        };
+        directional_albedo(f, mu, order)
+    };
+    let mut max = [f64::NEG_INFINITY; 3];
+    let (mut conductor_gap, mut linearity_gap) = (0.0f64, 0.0f64);
+    for &alpha in &ALPHAS[1..] {
+        for mu in VIEW_COSINES {
+            let e = [0.0, 0.5, 1.0].map(|m| energy(m, alpha, mu));
+            let conductor = albedo(Model::CookTorranceGgxCorrelated, alpha, mu, RESOLUTION_ORDER_STEP);
+            max = std::array::from_fn(|i| max[i].max(e[i]));
+            conductor_gap = conductor_gap.max((e[2] - conductor).abs());
+            linearity_gap = linearity_gap.max((e[1] - 0.5 * (e[0] + e[2])).abs());
+        }
+    }
+    row(
+        Composite::ALL[0].name,
+        "metallic blend (white furnace)",
+        format!(
+            "metal − white conductor {conductor_gap:.1e}, blend − mean {linearity_gap:.1e}; max albedo {:.4} / {:.4} / {:.4}",
+            max[0], max[1], max[2]
+        ),
+        format!("{TERM_TOLERANCE:e}"),
+        pass(conductor_gap <= TERM_TOLERANCE && linearity_gap <= TERM_TOLERANCE),
+        "metallic 0 / 0.5 / 1, f0 0.04, base colour 1, α > MIN_ALPHA; the dielectric's lobes add without \
+         (1 − F) coupling, so white clay's albedo exceeds 1 by its specular albedo"
+            .to_owned(),
+    )
 }

@@ -31,7 +31,7 @@ use crate::rng::Rng;
 /// One input of the harness, as `Tuple` in verify_brdf.comp. Terms: `a` holds the scalar
 /// arguments and `d` a colour argument. Models: `a` = (n, p), `b` = (v, 0), `c` = (l, 0),
 /// `d` = (F0 or ρ, 0), p being α, σ or r. Unit vectors and `brdf_cos`: see `UnitVector` and
-/// `Composite`; only `brdf_cos`, whose material has four colours, uses `e`, `f` and `g`.
+/// `Composite`; only `brdf_cos`, whose material has four colours, uses `e`, `f`, `g` and `h`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Tuple {
@@ -42,6 +42,7 @@ pub struct Tuple {
     pub e: [f32; 4],
     pub f: [f32; 4],
     pub g: [f32; 4],
+    pub h: [f32; 4],
 }
 
 /// What the harness writes per tuple: the value (up to four channels) and, for models, the

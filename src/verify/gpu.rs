@@ -37,21 +37,20 @@ pub struct Harness {
     outputs: Buffer,
     /// Read by brdf_cos with a pre-integrated subsurface model.
     _subsurface: SubsurfaceTable,
+    /// Tuples per dispatch: what the storage buffers hold.
     capacity: usize,
 }
 
 impl Harness {
     /// A harness for up to `capacity` tuples per dispatch.
-    pub fn new(device: &Arc<Device>, capacity: usize) -> Result<Self> {
+    /// A harness for up to `tuples` tuples a function, evaluated in as few dispatches as
+    /// the device's largest storage buffer allows.
+    pub fn new(device: &Arc<Device>, tuples: usize) -> Result<Self> {
+        let limits = &device.limits;
+        let per_buffer = limits.max_storage_buffer_range as usize / std::mem::size_of::<Tuple>().max(RESULT_SIZE);
+        let capacity = tuples.min(per_buffer).max(1);
         let input_size = (capacity * std::mem::size_of::<Tuple>()) as vk::DeviceSize;
         let output_size = (capacity * RESULT_SIZE) as vk::DeviceSize;
-        let limits = &device.limits;
-        ensure!(
-            input_size.max(output_size) <= u64::from(limits.max_storage_buffer_range),
-            "{capacity} tuples need {input_size}-byte storage buffers; {} allows {}",
-            device.info.name,
-            limits.max_storage_buffer_range
-        );
         ensure!(
             (capacity as u64).div_ceil(u64::from(WORKGROUP_SIZE)) <= u64::from(limits.max_compute_work_group_count[0]),
             "{capacity} tuples need more workgroups than {} dispatches",
@@ -99,12 +98,6 @@ impl Harness {
     /// Evaluates `function` on every tuple on the GPU, in one dispatch, into `results`
     /// (reused: fresh 32 MB vectors per function cost more in page faults than the copy).
     pub fn evaluate(&mut self, function: Function, tuples: &[Tuple], results: &mut Vec<Values<f32>>) -> Result<()> {
-        ensure!(
-            tuples.len() <= self.capacity,
-            "{} tuples for a harness of {}",
-            tuples.len(),
-            self.capacity
-        );
         let name = format!("verify {}", function.name());
         // One pipeline per function: the specialization constant folds the other cases away.
         let pipeline = Pipeline::compute(
@@ -114,6 +107,21 @@ impl Harness {
             &Specialization(vec![function.id()]),
             &name,
         )?;
+        results.clear();
+        for chunk in tuples.chunks(self.capacity) {
+            self.dispatch(function, &pipeline, chunk, results)?;
+        }
+        Ok(())
+    }
+
+    /// Evaluates `tuples` (at most `capacity`), appending their values to `results`.
+    fn dispatch(
+        &mut self,
+        function: Function,
+        pipeline: &Pipeline,
+        tuples: &[Tuple],
+        results: &mut Vec<Values<f32>>,
+    ) -> Result<()> {
         self.inputs.write(bytemuck::cast_slice(tuples))?;
         let count = tuples.len() as u32;
         let device = &self.device.handle;
@@ -147,7 +155,6 @@ impl Harness {
             .with_context(|| format!("cannot run the harness on {}", function.name()))?;
         let bytes = &self.outputs.read()?[..tuples.len() * RESULT_SIZE];
         // The mapping is at least 4-byte aligned, but copy rather than assume it.
-        results.clear();
         results.extend(
             bytes
                 .chunks_exact(RESULT_SIZE)

@@ -16,36 +16,15 @@ use crate::render::accumulate::{Accumulated, CONVERGED_LOOKUPS};
 use crate::render::exposure::PERCENTILE;
 use crate::render::gpu_scene::MAX_POINT_LIGHTS;
 use crate::render::DebugView;
-use crate::scene::{
-    DetailBlend, DiffuseModel, Distribution, Environment, Geometry, Horizon, MapRef, Material, PointLight, Preset,
-    Reflection, ReflectionMode, Scene, SpecularModel, Subsurface,
-};
+pub use crate::scene::file::file_name;
+use crate::scene::material_keys::{Edit, MAP_STRENGTH, MAX_UV_SCALE};
+use crate::scene::{Environment, MapRef, Material, PointLight, Preset, Reflection, ReflectionMode, Scene};
 
 /// Width of the left panel in points when the viewer opens; it can be dragged wider or
 /// narrower, or collapsed.
 pub const PANEL_WIDTH: f32 = 320.0;
 const PANEL_WIDTHS: RangeInclusive<f32> = 200.0..=600.0;
 
-const DIFFUSE_MODELS: [DiffuseModel; 4] = [
-    DiffuseModel::Lambert,
-    DiffuseModel::OrenNayar,
-    DiffuseModel::Eon,
-    DiffuseModel::None,
-];
-const SPECULAR_MODELS: [SpecularModel; 4] = [
-    SpecularModel::CookTorrance,
-    SpecularModel::TorranceSparrow,
-    SpecularModel::BlinnPhong,
-    SpecularModel::None,
-];
-const DISTRIBUTIONS: [Distribution; 2] = [Distribution::Ggx, Distribution::Beckmann];
-const GEOMETRIES: [Geometry; 2] = [Geometry::SmithCorrelated, Geometry::SmithSeparable];
-const SUBSURFACE_MODELS: [Subsurface; 4] = [
-    Subsurface::None,
-    Subsurface::Seed,
-    Subsurface::EnergyConservingWrap,
-    Subsurface::PreIntegrated,
-];
 const REFLECTION_MODES: [ReflectionMode; 3] = [ReflectionMode::SplitSum, ReflectionMode::Seed, ReflectionMode::Sampled];
 
 /// The keys of the viewer, for the help window.
@@ -216,14 +195,6 @@ pub fn split_color(v: Vec3) -> (Vec3, f32) {
         (v / scale, scale)
     } else {
         (Vec3::ONE, 0.0)
-    }
-}
-
-/// The name of a model choice as the scene file spells it (`"oren-nayar"`).
-pub fn file_name<T: Serialize>(value: &T) -> String {
-    match toml::Value::try_from(value) {
-        Ok(toml::Value::String(s)) => s,
-        _ => "?".to_owned(),
     }
 }
 
@@ -522,159 +493,38 @@ fn materials_section(ui: &mut Ui, p: &mut Panel) {
     grid(ui, "material", |ui| material_fields(ui, m));
 }
 
-/// One line per material parameter that applies to the chosen models, with the scene
-/// file's key in the tooltip.
+/// One line per material key that applies to the chosen models (`material_keys` declares
+/// each key's widget, range and tooltip), then the maps' parameters.
 fn material_fields(ui: &mut Ui, m: &mut Material) {
-    choice(
-        ui,
-        "diffuse model",
-        "diffuse: Lambert (the report's eq. 3), Oren-Nayar (eq. 4, Oren & Nayar 1994), EON \
-         (energy-preserving Oren-Nayar, Portsmouth et al. 2025) or none",
-        &mut m.diffuse,
-        &DIFFUSE_MODELS,
-    );
-    if m.diffuse != DiffuseModel::None {
-        color(ui, "base colour", "base_color: the diffuse albedo", &mut m.base_color);
-    }
-    if matches!(m.diffuse, DiffuseModel::OrenNayar | DiffuseModel::Eon) {
-        number(
-            ui,
-            "diffuse roughness",
-            "diffuse_roughness: σ of the Oren-Nayar facet slopes, in [0, 1]",
-            &mut m.diffuse_roughness,
-            0.0..=1.0,
-        );
-    }
-    choice(
-        ui,
-        "specular model",
-        "specular: Cook-Torrance (eq. 7, Cook & Torrance 1982), Torrance-Sparrow (eq. 6), \
-         Blinn-Phong (eq. 5) or none",
-        &mut m.specular,
-        &SPECULAR_MODELS,
-    );
-    if m.specular != SpecularModel::None {
-        if m.specular != SpecularModel::BlinnPhong {
-            choice(
-                ui,
-                "distribution",
-                "distribution: the microfacet normals, GGX (Walter et al. 2007) or Beckmann (eq. 8)",
-                &mut m.distribution,
-                &DISTRIBUTIONS,
-            );
-            choice(
-                ui,
-                "geometry",
-                "geometry: Smith masking-shadowing, height-correlated (Heitz 2014) or separable",
-                &mut m.geometry,
-                &GEOMETRIES,
-            );
+    for (key, edit) in m.edits() {
+        match edit {
+            Edit::Number(value, range) => number(ui, key.label, &key.tip, value, range),
+            Edit::Color(value) => color(ui, key.label, &key.tip, value),
+            Edit::Choice(mut chooser) => {
+                let names = chooser.names();
+                let tip = key.tip.as_str();
+                ui.label(key.label).on_hover_text(tip);
+                let selected = chooser
+                    .selected()
+                    .and_then(|i| names.get(i))
+                    .map_or("?", String::as_str);
+                egui::ComboBox::from_id_salt(key.name)
+                    .selected_text(selected)
+                    .show_ui(ui, |ui| {
+                        for (i, name) in names.iter().enumerate() {
+                            if ui.selectable_label(chooser.selected() == Some(i), name).clicked() {
+                                chooser.select(i);
+                            }
+                        }
+                    })
+                    .response
+                    .on_hover_text(tip);
+                ui.end_row();
+            }
         }
-        number(
-            ui,
-            "roughness",
-            "roughness: perceptual roughness; the microfacet α is roughness²",
-            &mut m.roughness,
-            0.0..=1.0,
-        );
-        number(
-            ui,
-            "reflectance f0",
-            "f0: Schlick's reflectance at normal incidence (eq. 9, Schlick 1994); clay is about 0.04",
-            &mut m.f0,
-            0.0..=1.0,
-        );
-        color(
-            ui,
-            "specular colour",
-            "specular_color: tints the highlight",
-            &mut m.specular_color,
-        );
-    }
-    choice(
-        ui,
-        "subsurface",
-        "subsurface: none, the report's wrap lighting (seed, eq. 12), energy-conserving wrap, \
-         or pre-integrated skin-style scattering (Penner 2011)",
-        &mut m.subsurface,
-        &SUBSURFACE_MODELS,
-    );
-    if matches!(m.subsurface, Subsurface::Seed | Subsurface::EnergyConservingWrap) {
-        number(
-            ui,
-            "wrap",
-            "wrap: how far light wraps past the terminator, w₁",
-            &mut m.wrap,
-            0.0..=1.0,
-        );
-    }
-    if m.subsurface == Subsurface::Seed {
-        number(
-            ui,
-            "wrap width",
-            "wrap_width: the width of the wrap band, w₂",
-            &mut m.wrap_width,
-            0.01..=1.0,
-        );
-        color(
-            ui,
-            "wrap colour",
-            "wrap_color: the colour of the wrapped light",
-            &mut m.wrap_color,
-        );
-        number(
-            ui,
-            "wrap intensity",
-            "wrap_intensity: the strength of the wrapped light",
-            &mut m.wrap_intensity,
-            0.0..=4.0,
-        );
-    }
-    if matches!(
-        m.subsurface,
-        Subsurface::EnergyConservingWrap | Subsurface::PreIntegrated
-    ) {
-        color(
-            ui,
-            "scatter colour",
-            "scatter_color: the per-channel reach of the scattered light, in [0, 1]",
-            &mut m.scatter_color,
-        );
-    }
-    if m.subsurface == Subsurface::PreIntegrated {
-        number(
-            ui,
-            "scatter radius",
-            "scatter_radius: the diffusion σ in scene units, at scatter colour 1",
-            &mut m.scatter_radius,
-            0.0..=2.0,
-        );
-    }
-    choice(
-        ui,
-        "horizon",
-        "horizon: how a shading normal facing away from the light fades (smooth, or the report's seed clamp)",
-        &mut m.horizon,
-        &[Horizon::Smooth, Horizon::Seed],
-    );
-    let maps = &mut m.maps;
-    if maps.detail.is_some() {
-        let blends = [
-            DetailBlend::Rnm,
-            DetailBlend::Udn,
-            DetailBlend::Whiteout,
-            DetailBlend::Seed,
-        ];
-        choice(
-            ui,
-            "detail blend",
-            "detail_blend: how the detail normals combine with the normal map: reoriented normal \
-             mapping (Barré-Brisebois & Hill 2012), UDN, whiteout, or the report's eq. 16",
-            &mut maps.detail_blend,
-            &blends,
-        );
     }
     // A map's texture is fixed by the scene file; its parameters are live.
+    let maps = &mut m.maps;
     let slots = [
         &mut maps.base_color,
         &mut maps.normal,
@@ -695,14 +545,22 @@ fn map_fields(ui: &mut Ui, name: &str, words: &str, map: &mut MapRef) {
         &format!("{words} strength"),
         &format!("{name}.strength: how much of the map applies"),
         &mut map.strength,
-        0.0..=8.0,
+        MAP_STRENGTH.slider_range(),
     );
     ui.label(format!("{words} scale")).on_hover_text(format!(
         "{name}.uv_scale: the map is sampled at uv · uv_scale + uv_offset"
     ));
     ui.horizontal(|ui| {
-        ui.add(egui::DragValue::new(&mut map.uv_scale.x).speed(0.05).range(0.01..=1e4));
-        ui.add(egui::DragValue::new(&mut map.uv_scale.y).speed(0.05).range(0.01..=1e4));
+        ui.add(
+            egui::DragValue::new(&mut map.uv_scale.x)
+                .speed(0.05)
+                .range(0.01..=MAX_UV_SCALE),
+        );
+        ui.add(
+            egui::DragValue::new(&mut map.uv_scale.y)
+                .speed(0.05)
+                .range(0.01..=MAX_UV_SCALE),
+        );
     });
     ui.end_row();
     ui.label(format!("{words} offset")).on_hover_text(format!(
@@ -1098,6 +956,7 @@ fn history_graph(ui: &mut Ui, timings: &Timings) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::{DiffuseModel, Geometry, SpecularModel};
 
     fn state() -> ViewState {
         ViewState {
