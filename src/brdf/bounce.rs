@@ -98,8 +98,8 @@ pub fn ground_bounce_irradiance(
             let e = plane_point_irradiance(to_light[1], distance2);
             if e > 0.0 {
                 let v = visibility(i, x);
-                for c in 0..3 {
-                    lit[c] += light.intensity[c] * e * v;
+                for (l, intensity) in lit.iter_mut().zip(light.intensity) {
+                    *l += intensity * e * v;
                 }
             }
         }
@@ -136,7 +136,7 @@ mod tests {
     fn the_gather_converges_to_the_view_factor_of_the_ground() {
         let albedo = 0.5;
         let mut worst_fixed: f64 = 0.0;
-        for theta in [0.3, 1.0, 1.5707963, 2.2, 2.9, std::f64::consts::PI] {
+        for theta in [0.3, 1.0, std::f64::consts::FRAC_PI_2, 2.2, 2.9, std::f64::consts::PI] {
             for phi in [0.0, 0.7, 2.0] {
                 let n = normal(theta, phi);
                 let exact = PI * (albedo - 1.0) * (1.0 - n[1]) / 2.0;
