@@ -12,6 +12,7 @@
 #include "debug_views.glsl"
 #include "specular_aa.glsl"
 #include "occlusion_map.glsl"
+#include "bounce.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
@@ -75,6 +76,10 @@ void main() {
                                          gl_FragCoord.xy, frame.counts.z, environment_occlusion(visibility, m.base_color.rgb));
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;
+    if (models.diffuse != DIFFUSE_NONE) {
+        // The bounced light, gathered by a Lambertian lobe.
+        radiance += m.base_color.rgb / PI * ground_bounce_irradiance(in_world_position, n);
+    }
     out_radiance = vec4(radiance, 1.0);
     uint debug_view = DEBUG_VIEW == FROM_UNIFORM ? frame.counts.y : DEBUG_VIEW;
     if (debug_view != DEBUG_VIEW_SHADED) {

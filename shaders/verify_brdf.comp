@@ -41,6 +41,7 @@ const uint SPECULAR_AA_ROUGHNESS = 21u;
 const uint GTAO_SLICE_VISIBILITY = 22u;
 const uint GTAO_MULTI_BOUNCE = 23u;
 const uint SPECULAR_OCCLUSION = 24u;
+const uint PLANE_POINT_IRRADIANCE = 25u;
 // From here on, BRDF models of directions: f(n, v, l) and f(n, l, v) are both written.
 const uint FIRST_MODEL = 32u;
 const uint LAMBERT = 32u;
@@ -149,6 +150,8 @@ vec4 term(Tuple t) {
         return vec4(gtao_multi_bounce(a.x, t.d.rgb), 0.0);
     case SPECULAR_OCCLUSION: // specular_occlusion(n·v, x, α)
         return vec4(specular_occlusion(a.x, a.y, a.z));
+    case PLANE_POINT_IRRADIANCE: // plane_point_irradiance(height, d²)
+        return vec4(plane_point_irradiance(a.x, a.y));
     }
     return vec4(0.0);
 }

@@ -116,7 +116,7 @@ enum Command {
         soak_log: Option<PathBuf>,
         /// Start in this debug view (the panel's Debug view): shaded, normals, tangents,
         /// bitangents, uvs, n-dot-l, diffuse, specular, subsurface, environment, nan, curvature,
-        /// occlusion.
+        /// occlusion, shadows, bounce.
         #[arg(long, value_name = "VIEW", default_value = "shaded", value_parser = DebugView::from_name)]
         debug_view: DebugView,
     },

@@ -216,3 +216,75 @@ fn shadow_maps_render_only_when_the_scene_changes() {
         assert_eq!(renderer.shadow_map_renders(), before + 2);
     });
 }
+
+/// Pixels of the ground wholly on one side of the sphere's exact shadow (centre and
+/// corners): (index, inside the umbra).
+fn ground_sides() -> Vec<(usize, bool)> {
+    let camera = scene(&plane_scene("", SPHERE)).camera;
+    let rays = CameraRays::new(&camera, SIZE.0, SIZE.1);
+    let mut sides = Vec::new();
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let points = [(0.5, 0.5), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+            let side: Option<Vec<bool>> = points
+                .iter()
+                .map(|&(dx, dy)| ground_point(&rays, f64::from(x) + dx, f64::from(y) + dy).map(|g| shadow_margin(g).0))
+                .collect();
+            if let Some(side) = side.filter(|s| s.iter().all(|&v| v == s[0])) {
+                sides.push((4 * (y * SIZE.0 + x) as usize, side[0]));
+            }
+        }
+    }
+    sides
+}
+
+/// The shadow debug view is the shadow factor: 1 on every covered pixel of a lit plane
+/// alone, 0 in the sphere's umbra and 1 outside it (a light of radius 0).
+#[test]
+fn the_shadow_debug_view_shows_the_shadow_factor() {
+    let view = |toml: &str| {
+        gpu().exclusive(|renderer| {
+            renderer.debug_view = argil::render::DebugView::Shadows;
+            let frame = common::try_render(renderer, &scene(toml), SIZE.0, SIZE.1);
+            renderer.debug_view = argil::render::DebugView::Shaded;
+            frame.expect("render").hdr
+        })
+    };
+    let alone = view(&plane_scene("", ""));
+    assert!(alone.chunks_exact(4).filter(|p| p[3] > 0.0).all(|p| p[0] == 1.0));
+    let shadowed = view(&plane_scene("", SPHERE));
+    let sides = ground_sides();
+    let umbra = sides.iter().filter(|s| s.1).count();
+    assert!(umbra > 300, "umbra {umbra} px: the scene does not test much");
+    let wrong: Vec<_> = sides
+        .iter()
+        .filter(|&&(i, inside)| shadowed[i] != if inside { 0.0 } else { 1.0 })
+        .collect();
+    assert!(
+        wrong.is_empty(),
+        "{} pixels off: {:?}",
+        wrong.len(),
+        &wrong[..wrong.len().min(8)]
+    );
+}
+
+/// `[shadows] bounce` leaves the ground as it was, bit for bit (nothing is gathered on it),
+/// and brightens the sphere's underside over the lit ground.
+#[test]
+fn bounce_lights_the_sphere_from_the_ground_and_leaves_the_ground_alone() {
+    let with_bounce = |toml: String| toml.replace("resolution = 2048", "resolution = 2048\nbounce = true");
+    let plain = hdr(&plane_scene("", SPHERE));
+    let bounced = hdr(&with_bounce(plane_scene("", SPHERE)));
+    for (i, _) in ground_sides() {
+        assert!(
+            (0..4).all(|c| plain[i + c].to_bits() == bounced[i + c].to_bits()),
+            "ground pixel {i} changed"
+        );
+    }
+    let brighter = plain
+        .chunks_exact(4)
+        .zip(bounced.chunks_exact(4))
+        .filter(|(a, b)| b[1] > a[1] * 1.05)
+        .count();
+    assert!(brighter > 50, "{brighter} pixels brightened by the bounce");
+}

@@ -7,6 +7,7 @@
 #include "scene_data.glsl"
 #include "shading.glsl"
 #include "lights.glsl"
+#include "bounce.glsl"
 
 const uint DEBUG_VIEW_SHADED = 0u;
 const uint DEBUG_VIEW_NORMALS = 1u;
@@ -21,6 +22,8 @@ const uint DEBUG_VIEW_ENVIRONMENT = 9u;
 const uint DEBUG_VIEW_NAN = 10u;
 const uint DEBUG_VIEW_CURVATURE = 11u;
 const uint DEBUG_VIEW_OCCLUSION = 12u;
+const uint DEBUG_VIEW_SHADOWS = 13u;
+const uint DEBUG_VIEW_BOUNCE = 14u;
 
 // The curvature view's brightness is 1 - exp(-|κ| · CURVATURE_VIEW_SCALE): a sphere of
 // radius 1 shows at 0.39, of radius 0.35 (the builtin torus's tube) at 0.76, of radius
@@ -86,6 +89,27 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
     }
     if (view == DEBUG_VIEW_ENVIRONMENT) return environment;
     if (view == DEBUG_VIEW_OCCLUSION) return vec3(visibility);
+    if (view == DEBUG_VIEW_SHADOWS) {
+        // The shadow factors of the point lights (shadows.glsl), weighted by the luminance
+        // of their irradiance on a surface facing them: white lit, black in every umbra.
+        float lit = 0.0;
+        float total = 0.0;
+        for (uint i = 0; i < frame.counts.x; ++i) {
+            vec3 l;
+            float e = dot(point_light_irradiance(i, p, l), vec3(0.2126, 0.7152, 0.0722));
+            total += e;
+            lit += e * point_light_shadow(i, p, gl_FragCoord.xy);
+        }
+        return vec3(total > 0.0 ? lit / total : 1.0);
+    }
+    if (view == DEBUG_VIEW_BOUNCE) {
+        // The light bounced off the ground alone (bounce.glsl); where the ground is darker
+        // than the sky it takes light away, shown in red by the luminance it takes.
+        vec3 bounce = models.diffuse == MODEL_NONE ? vec3(0.0)
+                    : m.base_color.rgb / PI * ground_bounce_irradiance(p, n);
+        float taken = max(-dot(bounce, vec3(0.2126, 0.7152, 0.0722)), 0.0);
+        return max(bounce, vec3(0.0)) + vec3(taken, 0.0, 0.0);
+    }
     if (view == DEBUG_VIEW_NAN) {
         return any(isnan(shaded)) || any(isinf(shaded)) ? vec3(1.0, 0.0, 1.0) : shaded;
     }

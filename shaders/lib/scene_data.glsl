@@ -18,6 +18,9 @@ layout(set = 0, binding = 0, std140) uniform FrameData {
     uvec4 counts;           // x = number of point lights, y = debug view (debug_views.glsl),
                             // z = the sampled reflection's sample set (environment.glsl)
     PointLight lights[MAX_POINT_LIGHTS];
+    vec4 ground;         // the ground that bounces light (bounce.glsl): xyz its centre,
+                         // w its half side, 0 without a bounce
+    vec4 ground_albedo;  // rgb its albedo
 } frame;
 
 layout(set = 0, binding = 1, std430) readonly buffer Materials {

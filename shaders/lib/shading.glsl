@@ -34,6 +34,14 @@ const float MIN_NORMAL_LENGTH2 = 1e-12;
 // Smallest n·v of a shading normal after it is turned towards the viewer.
 const float MIN_SHADING_N_DOT_V = 1e-3;
 
+// Irradiance per unit intensity on a plane from a point light `height` above it at squared
+// distance distance2 (the inverse-square law with Lambert's cosine): cos θ / d² =
+// height / d³; 0 where the light is not above the plane.
+float plane_point_irradiance(float height, float distance2) {
+    if (height <= 0.0) return 0.0;
+    return height * inversesqrt(distance2) / distance2;
+}
+
 // A visible point's shading normal cannot face away from the eye: one that does (normal
 // maps, interpolated normals at silhouettes) is turned towards v, continuously, until
 // n·v = m = MIN_SHADING_N_DOT_V before normalisation; after it, for unit n and v,

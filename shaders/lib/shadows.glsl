@@ -6,6 +6,7 @@
 #define ARGIL_SHADOWS_GLSL
 #include "scene_data.glsl"
 #include "env_math.glsl"
+#include "sampling.glsl"
 
 struct ShadowLight {
     // x: the layer of its face +x (faces +x, −x, +y, −y, +z, −z follow), < 0 without a
@@ -31,7 +32,6 @@ const float SHADOW_DEPTH_BIAS = 5e-4;
 const float SHADOW_SLOPE_BIAS = 1e-4;
 // Taps of the blocker search and of the filter when the light has a radius.
 const uint SHADOW_TAPS = 16u;
-const float GOLDEN_ANGLE = 2.39996323;
 
 // The face that direction d falls in and (a, b) on it: the inverse of cube_direction.
 uint cube_face(vec3 d, out vec2 ab) {
@@ -122,13 +122,6 @@ float shadow_bilinear(ShadowReceiver r, vec3 w) {
     }
     // The weights' fp32 sum need not be 1: all lit is exactly lit, all blocked exactly dark.
     return blocked == 0u ? 1.0 : blocked == 4u ? 0.0 : lit;
-}
-
-// Tap k of n on a Vogel disk of unit radius turned by `rotation`.
-vec2 vogel_disk(uint k, uint n, float rotation) {
-    float radius = sqrt((float(k) + 0.5) / float(n));
-    float angle = float(k) * GOLDEN_ANGLE + rotation;
-    return radius * vec2(cos(angle), sin(angle));
 }
 
 // Interleaved gradient noise (Jimenez 2014): a per-pixel rotation of the taps, which

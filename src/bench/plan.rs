@@ -130,6 +130,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     names.extend(SHADOW_CONFIGURATIONS);
     names.extend(ANTIALIASING_CONFIGURATIONS);
     names.extend(OCCLUSION_CONFIGURATIONS);
+    names.extend(BOUNCE_CONFIGURATIONS);
     let mut scenes = vec![
         bench_scene("default", &default, &names, |c| resolutions(c, true))?,
         bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
@@ -175,6 +176,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     let ground = parse(BALL_ON_GROUND_TOML, "bench/scenes/ball-on-ground.toml")?;
     let mut ground_names = vec![FLOOR, "split-sum", REPORT];
     ground_names.extend(OCCLUSION_CONFIGURATIONS);
+    ground_names.extend(BOUNCE_CONFIGURATIONS);
     scenes.push(bench_scene("ball-on-ground", &ground, &ground_names, headline)?);
     let ball = parse(SUBSURFACE_BALL_TOML, "bench/scenes/subsurface-ball.toml")?;
     let subsurface = [FLOOR, "split-sum", "no-subsurface", REPORT];
@@ -390,6 +392,7 @@ fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         _ if SHADOW_CONFIGURATIONS.contains(&name) => shadow_configured(&mut file, name),
         _ if ANTIALIASING_CONFIGURATIONS.contains(&name) => file.antialiasing = Some(antialiasing_configured(name)),
         _ if OCCLUSION_CONFIGURATIONS.contains(&name) => occlusion_configured(&mut file, name),
+        _ if BOUNCE_CONFIGURATIONS.contains(&name) => bounce_configured(&mut file, name),
         _ => {
             let samples = name
                 .strip_prefix("sampled-")
@@ -463,6 +466,16 @@ fn occlusion_configured(file: &mut SceneFile, name: &str) {
         _ => {}
     }
     file.occlusion = Some(def);
+}
+
+/// What the light bounced off the ground costs and changes, alone and with occlusion.
+const BOUNCE_CONFIGURATIONS: [&str; 2] = ["bounce", "bounce-occlusion"];
+
+fn bounce_configured(file: &mut SceneFile, name: &str) {
+    file.shadows.get_or_insert_with(Default::default).bounce = Some(true);
+    if name == "bounce-occlusion" {
+        occlusion_configured(file, "occlusion");
+    }
 }
 
 fn set_reflection(environment: &mut EnvironmentDef, mode: ReflectionMode, lookups: Option<u32>) {

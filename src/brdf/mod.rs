@@ -8,6 +8,7 @@
 //! passed as scalars wherever the GLSL function takes scalars.
 
 pub mod antialiasing;
+pub mod bounce;
 pub mod diffuse;
 pub mod distribution;
 pub mod environment;

@@ -58,10 +58,16 @@ pub enum DebugView {
     /// The ambient visibility the environment's light is scaled by (GTAO), grey; white
     /// where nothing occludes and everywhere when the occlusion pass is off.
     Occlusion = 12,
+    /// The point lights' shadow factors, weighted by the luminance of their irradiance, grey:
+    /// white where every light is unshadowed, black inside every umbra.
+    Shadows = 13,
+    /// The light bounced off the ground alone (`[shadows] bounce`); red by the luminance it
+    /// takes where the ground is darker than the sky; black with bounce off.
+    Bounce = 14,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 13] = [
+    pub const ALL: [DebugView; 15] = [
         DebugView::Shaded,
         DebugView::Normals,
         DebugView::Tangents,
@@ -75,6 +81,8 @@ impl DebugView {
         DebugView::NanHighlight,
         DebugView::Curvature,
         DebugView::Occlusion,
+        DebugView::Shadows,
+        DebugView::Bounce,
     ];
 
     /// Whether the view's values are radiance (one term of the shading alone), so that an
@@ -82,7 +90,11 @@ impl DebugView {
     pub fn is_radiance(self) -> bool {
         matches!(
             self,
-            DebugView::Diffuse | DebugView::Specular | DebugView::Subsurface | DebugView::Environment
+            DebugView::Diffuse
+                | DebugView::Specular
+                | DebugView::Subsurface
+                | DebugView::Environment
+                | DebugView::Bounce
         )
     }
 
@@ -111,6 +123,8 @@ impl DebugView {
             DebugView::NanHighlight => "nan",
             DebugView::Curvature => "curvature",
             DebugView::Occlusion => "occlusion",
+            DebugView::Shadows => "shadows",
+            DebugView::Bounce => "bounce",
         }
     }
 
@@ -137,6 +151,8 @@ impl DebugView {
             DebugView::NanHighlight => "NaN/Inf highlight",
             DebugView::Curvature => "curvature",
             DebugView::Occlusion => "ambient occlusion",
+            DebugView::Shadows => "shadow factor",
+            DebugView::Bounce => "bounced light",
         }
     }
 }

@@ -30,6 +30,11 @@ pub struct FrameData {
     pub camera_position: [f32; 4],
     pub counts: [u32; 4],
     pub lights: [PointLightData; MAX_POINT_LIGHTS],
+    /// The ground that bounces the lights' light (shaders/lib/bounce.glsl): xyz its centre,
+    /// w its half side, 0 without a bounce.
+    pub ground: [f32; 4],
+    /// rgb the ground's albedo.
+    pub ground_albedo: [f32; 4],
 }
 
 impl FrameData {
@@ -45,11 +50,20 @@ impl FrameData {
             slot.position = light.position.extend(1.0).to_array();
             slot.intensity = light.intensity.extend(0.0).to_array();
         }
+        let (ground, ground_albedo) = match scene.bounce_ground() {
+            Some(object) => (
+                object.position.extend(object.scale).to_array(),
+                scene.materials[object.material].base_color.extend(0.0).to_array(),
+            ),
+            None => ([0.0; 4], [0.0; 4]),
+        };
         Ok(Self {
             view_proj: view_proj.to_cols_array_2d(),
             camera_position: scene.camera.position.extend(1.0).to_array(),
             counts: [scene.lights.len() as u32, 0, 0, 0],
             lights,
+            ground,
+            ground_albedo,
         })
     }
 }

@@ -97,6 +97,9 @@ pub struct ShadowsDef {
     /// Texels on a side of each cube face (absent: 1024).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub resolution: Option<u32>,
+    /// Whether the lights' light bounces off the ground onto the objects (absent: false).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bounce: Option<bool>,
 }
 
 /// `[antialiasing]`: multisampling and specular anti-aliasing of the frame.

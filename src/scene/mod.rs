@@ -74,6 +74,8 @@ pub struct Scene {
     pub lights: Vec<PointLight>,
     /// Texels on a side of each face of a light's cube shadow map.
     pub shadow_resolution: u32,
+    /// Whether the lights' light bounces off the ground onto the objects (`[shadows] bounce`).
+    pub bounce: bool,
     pub antialiasing: Antialiasing,
     /// Ambient occlusion of the environment's light.
     pub occlusion: Occlusion,
@@ -95,6 +97,18 @@ impl Scene {
     /// Whether a material reads the pre-integrated subsurface table.
     pub fn needs_preintegrated_table(&self) -> bool {
         self.materials.iter().any(|m| m.subsurface == Subsurface::PreIntegrated)
+    }
+
+    /// The ground that bounces the lights' light when `bounce` is on: the largest
+    /// `builtin:plane` (a 2 × 2 square facing +y, scaled).
+    pub fn bounce_ground(&self) -> Option<&Object> {
+        if !self.bounce {
+            return None;
+        }
+        self.objects
+            .iter()
+            .filter(|o| self.meshes[o.mesh].name == "builtin:plane")
+            .max_by(|a, b| a.scale.total_cmp(&b.scale))
     }
 
     /// Reads, parses and validates a scene file; relative paths in it are

@@ -160,6 +160,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         })
         .collect::<Result<_, _>>()?;
     let shadow_resolution = shadow_resolution(&check, file.shadows.as_ref())?;
+    let bounce = file.shadows.as_ref().and_then(|d| d.bounce).unwrap_or(false);
     let antialiasing = antialiasing(&check, file.antialiasing.as_ref())?;
     let occlusion = occlusion(&check, file.occlusion.as_ref())?;
     let environment = environment(&check, &file.environment, base_dir)?;
@@ -233,6 +234,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         camera,
         lights,
         shadow_resolution,
+        bounce,
         antialiasing,
         occlusion,
         environment,
@@ -242,6 +244,15 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         textures,
         source: None,
     })
+}
+
+/// `[shadows]` with the keys that differ from their defaults, or none.
+fn shadows_def(scene: &Scene) -> Option<ShadowsDef> {
+    let def = ShadowsDef {
+        resolution: (scene.shadow_resolution != DEFAULT_SHADOW_RESOLUTION).then_some(scene.shadow_resolution),
+        bounce: scene.bounce.then_some(true),
+    };
+    (def != ShadowsDef::default()).then_some(def)
 }
 
 fn shadow_resolution(check: &Checker, def: Option<&ShadowsDef>) -> Result<u32, SceneError> {
@@ -623,9 +634,7 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
                 shadows: (!light.shadows).then_some(false),
             })
             .collect(),
-        shadows: (scene.shadow_resolution != DEFAULT_SHADOW_RESOLUTION).then_some(ShadowsDef {
-            resolution: Some(scene.shadow_resolution),
-        }),
+        shadows: shadows_def(scene),
         antialiasing: antialiasing_def(scene.antialiasing),
         occlusion: occlusion_def(&scene.occlusion),
         environment: environment_def(&scene.environment, relative),

@@ -1195,3 +1195,27 @@ fn broken_obj_in_a_scene_is_reported_with_the_object_and_the_file() {
         )
     );
 }
+
+/// `[shadows] bounce` is read, defaults to off, is saved only when on, and picks the largest
+/// `builtin:plane` as the ground (none without a plane or with bounce off).
+#[test]
+fn bounce_is_read_defaulted_saved_and_finds_the_largest_plane() {
+    let planes = "[[objects]]\nmesh = \"builtin:plane\"\nscale = 2.0\n\
+                  [[objects]]\nmesh = \"builtin:plane\"\nscale = 6.0\nposition = [0.0, -1.0, 0.0]\n";
+    let text = format!("{CUBE}{planes}[shadows]\nbounce = true\n");
+    let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
+    assert!(scene.bounce);
+    let ground = scene.bounce_ground().expect("a ground");
+    assert_eq!((ground.scale, ground.position.y), (6.0, -1.0));
+    let saved = scene.to_file().to_toml().unwrap();
+    assert!(
+        saved.contains("bounce = true") && !saved.contains("resolution"),
+        "{saved}"
+    );
+    assert!(Scene::from_toml(&saved, "saved.toml", Path::new("")).unwrap().bounce);
+    let off = Scene::from_toml(&format!("{CUBE}{planes}"), "scene.toml", Path::new("")).unwrap();
+    assert!(!off.bounce && off.bounce_ground().is_none());
+    assert!(!off.to_file().to_toml().unwrap().contains("[shadows]"));
+    let no_plane = Scene::from_toml(&format!("{CUBE}[shadows]\nbounce = true\n"), "s.toml", Path::new("")).unwrap();
+    assert!(no_plane.bounce_ground().is_none());
+}

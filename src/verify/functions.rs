@@ -9,6 +9,7 @@ use std::f64::consts::FRAC_PI_2;
 use bytemuck::{Pod, Zeroable};
 
 use crate::brdf::antialiasing::{resolve_weight, specular_aa_roughness};
+use crate::brdf::bounce::plane_point_irradiance;
 use crate::brdf::diffuse::{diffuse_eon, diffuse_lambert, diffuse_oren_nayar, e_fon_approx};
 use crate::brdf::distribution::{d_beckmann, d_ggx};
 use crate::brdf::fresnel::{f_schlick, f_schlick_scalar};
@@ -77,6 +78,7 @@ pub enum Term {
     GtaoSliceVisibility = 22,
     GtaoMultiBounce = 23,
     SpecularOcclusion = 24,
+    PlanePointIrradiance = 25,
 }
 
 /// BRDF models of directions. The value is the GLSL `FUNCTION` of verify_brdf.comp.
@@ -151,7 +153,7 @@ const FP32: Cap = Cap {
 };
 
 impl Term {
-    pub const ALL: [Term; 25] = [
+    pub const ALL: [Term; 26] = [
         Term::DGgx,
         Term::DBeckmann,
         Term::LambdaGgx,
@@ -177,6 +179,7 @@ impl Term {
         Term::GtaoSliceVisibility,
         Term::GtaoMultiBounce,
         Term::SpecularOcclusion,
+        Term::PlanePointIrradiance,
     ];
 
     /// The GLSL function's name (F and sRGB also evaluate their scalar overloads).
@@ -207,6 +210,7 @@ impl Term {
             Term::GtaoSliceVisibility => "gtao_slice_visibility",
             Term::GtaoMultiBounce => "gtao_multi_bounce",
             Term::SpecularOcclusion => "specular_occlusion",
+            Term::PlanePointIrradiance => "plane_point_irradiance",
         }
     }
 
@@ -245,6 +249,7 @@ impl Term {
             Term::GtaoSliceVisibility => (&["h0", "h1", "γ"], None),
             Term::GtaoMultiBounce => (&["x"], Some("ρ")),
             Term::SpecularOcclusion => (&["n·v", "x", "α"], None),
+            Term::PlanePointIrradiance => (&["height", "d²"], None),
         }
     }
 
@@ -261,7 +266,12 @@ impl Term {
 
     fn cap(self) -> Cap {
         match self {
-            Term::DGgx | Term::DBeckmann | Term::LambdaGgx | Term::LambdaBeckmann | Term::EFonApprox => FP32,
+            Term::DGgx
+            | Term::DBeckmann
+            | Term::LambdaGgx
+            | Term::LambdaBeckmann
+            | Term::EFonApprox
+            | Term::PlanePointIrradiance => FP32,
             Term::SpecBlinnPhong => FP16,
             Term::PreintegratedLookup | Term::WrapEnergyConservingShKernel => SH_KERNEL,
             Term::GtaoSliceVisibility => SLICE,
@@ -318,6 +328,7 @@ impl Term {
                 [r, g, b, 0.0]
             }
             Term::SpecularOcclusion => scalar(specular_occlusion(x, y, z)),
+            Term::PlanePointIrradiance => scalar(plane_point_irradiance(x, y)),
         }
     }
 
@@ -481,6 +492,11 @@ impl Term {
                 ..Tuple::default()
             },
             Term::SpecularOcclusion => scalars([sample_signed_cosine(rng), rng.uniform(), alpha, 0.0]),
+            Term::PlanePointIrradiance => {
+                // A light from 1e-4 to 1e4 away, at any height (below the plane: 0).
+                let distance = rng.log_uniform(1e-4, 1e4);
+                scalars([distance * rng.range(-1.0, 1.0), distance * distance, 0.0, 0.0])
+            }
         }
     }
 
@@ -618,6 +634,14 @@ impl Term {
                 for &rho in STRESS_COLOURS {
                     for x in [0.0, 1e-7, 0.5, 1.0] {
                         push([x, 0.0, 0.0, 0.0], [rho, 1.0 - rho, rho * 0.5, 0.0]);
+                    }
+                }
+            }
+            Term::PlanePointIrradiance => {
+                // Straight above, grazing, nearly in the plane, at MIN_LIGHT_DISTANCE2 and far.
+                for distance in [1e-4f32, 1e-2, 1.0, 1e3, 1e4] {
+                    for h in [1.0, 0.5, 1e-3, 1e-7, 0.0, -0.5] {
+                        push([distance * h, distance * distance, 0.0, 0.0], [0.0; 4]);
                     }
                 }
             }

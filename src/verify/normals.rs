@@ -256,7 +256,13 @@ impl UnitVector {
     pub fn argument_rounding(self, t: &Tuple) -> f64 {
         let condition = match self {
             UnitVector::BlendRnm => 1.0,
-            UnitVector::ViewFacingNormal if dot(rgb(t.a), rgb(t.b)) < MIN_SHADING_N_DOT_V => 1.0,
+            // Bent, or so near the bend that fp32's n·v (a sum of three products, good to
+            // 2·2^-24) may fall below m and bend it on the GPU alone.
+            UnitVector::ViewFacingNormal
+                if dot(rgb(t.a), rgb(t.b)) < MIN_SHADING_N_DOT_V + 2.0 * f64::from(f32::EPSILON) =>
+            {
+                1.0
+            }
             UnitVector::TangentToWorld => {
                 let (normal, tangent) = (rgb(t.b), rgb(t.c));
                 let along = dot(normal, tangent);

@@ -1,5 +1,5 @@
-//! The viewer's shadow settings: the renderer-wide toggle, the maps' resolution, and each
-//! light's `shadows` and `radius` (saved with the scene).
+//! The viewer's shadow settings: the renderer-wide toggle, the maps' resolution, the light
+//! bounced off the ground, and each light's `shadows` and `radius` (saved with the scene).
 
 use egui::Ui;
 
@@ -16,6 +16,9 @@ pub fn shadows_section(ui: &mut Ui, scene: &mut Scene, enabled: &mut bool) {
                 .speed(16.0)
                 .suffix(" texels"),
         );
+        ui.end_row();
+        ui.label("bounce");
+        ui.checkbox(&mut scene.bounce, "light bounced off the ground");
         ui.end_row();
         for (i, light) in scene.lights.iter_mut().enumerate() {
             ui.label(format!("light {i}"));
