@@ -449,6 +449,109 @@ fn view_screenshot_matches_the_headless_render_beside_the_ui() {
     );
 }
 
+/// RMSE in code values between columns `columns` (and rows above `bottom`) of the 3D view
+/// of a window screenshot, `left` pixels from its left edge, and the same pixels of `reference`.
+fn region_rmse(
+    window: &image::RgbImage,
+    left: u32,
+    reference: &image::RgbImage,
+    columns: std::ops::Range<u32>,
+    bottom: u32,
+) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0.0;
+    for y in 0..bottom {
+        for x in columns.clone() {
+            for c in 0..3 {
+                let d = f64::from(window.get_pixel(left + x, y)[c]) - f64::from(reference.get_pixel(x, y)[c]);
+                sum += d * d;
+                n += 1.0;
+            }
+        }
+    }
+    (sum / n).sqrt()
+}
+
+/// `argil view --split report` shows the scene as it is left of a divider down the middle
+/// of the 3D view and the report's composition right of it: each part matches the headless
+/// render of its configuration (RMSE ≤ 0.5, as the whole view does without the split, see
+/// above), the right part is told apart from the scene (its RMSE against the scene's render
+/// is more than twice that against the report's, and at least 0.25: 0.64 measured at this
+/// size, the ring and ground only), the divider is drawn and the validation layer stays
+/// silent. The labels' strip at the bottom and the columns next to the divider are left out.
+#[test]
+fn view_splits_the_view_between_two_configurations() {
+    let dir = temp_dir("split-view");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
+    let file: argil::scene::file::SceneFile = toml::from_str(argil::scene::DEFAULT_SCENE_TOML).expect("parse");
+    let report = dir.join("report.toml");
+    let report_text = argil::bench::plan::configured(&file, "report")
+        .expect("configure")
+        .to_toml();
+    std::fs::write(&report, report_text.expect("toml")).expect("write report");
+    let shot = dir.join("window.png");
+    let o = view_under_xvfb(&[
+        "--frames",
+        "3",
+        "--screenshot",
+        path_str(&shot),
+        path_str(&scene),
+        "--width",
+        "640",
+        "--height",
+        "400",
+        "--split",
+        "report",
+    ]);
+    assert_clean_success(&o);
+    let (view_w, view_h, left) = view_area(&stderr(&o));
+    let (width, height) = (view_w.to_string(), view_h.to_string());
+    let headless = |scene: &Path, name: &str| {
+        let out = dir.join(name);
+        assert_clean_success(&argil(&[
+            "render",
+            path_str(scene),
+            "--out",
+            path_str(&out),
+            "--width",
+            &width,
+            "--height",
+            &height,
+        ]));
+        image::open(&out).expect("read render").to_rgb8()
+    };
+    let (as_is, composition) = (headless(&scene, "scene.png"), headless(&report, "report.png"));
+    let window = image::open(&shot).expect("read screenshot").to_rgb8();
+    let (middle, bottom) = (view_w / 2, view_h - 40);
+    let (left_part, right_part) = (0..middle - 3, middle + 3..view_w);
+    let left_rmse = region_rmse(&window, left, &as_is, left_part, bottom);
+    let right_rmse = region_rmse(&window, left, &composition, right_part.clone(), bottom);
+    let right_vs_scene = region_rmse(&window, left, &as_is, right_part, bottom);
+    eprintln!(
+        "split view: left vs the scene RMSE {left_rmse:.3}, right vs the report {right_rmse:.3}, right vs the \
+         scene {right_vs_scene:.3}"
+    );
+    assert!(left_rmse <= 0.5, "the left part is not the scene: RMSE {left_rmse:.3}");
+    assert!(
+        right_rmse <= 0.5,
+        "the right part is not the report: RMSE {right_rmse:.3}"
+    );
+    assert!(
+        right_vs_scene >= 0.25 && right_vs_scene > 2.0 * right_rmse,
+        "{right_vs_scene:.3}"
+    );
+    let divider = (0..bottom)
+        .filter(|&y| {
+            (middle.saturating_sub(1)..=middle + 1).any(|x| window.get_pixel(left + x, y).0.iter().all(|&c| c > 200))
+        })
+        .count();
+    assert!(
+        divider as u32 > bottom * 9 / 10,
+        "no divider: {divider} of {bottom} rows"
+    );
+}
+
 /// Nothing changes, nothing is drawn: an idle viewer draws its first frames (egui lays
 /// out its grids over a few frames until their columns settle), then waits. Drawing
 /// continuously, it draws a frame every 0.1–1 s here (1 s with the whole suite running),

@@ -16,6 +16,7 @@ use super::gpu_scene::GpuScene;
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
 use super::occlusion::{OcclusionMode, OcclusionPass};
 use super::shadow::ShadowPass;
+use super::split::Split;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
 use crate::scene::{Environment, Scene};
@@ -102,6 +103,9 @@ pub struct Renderer {
     /// Whether frames measure their luminance for [`Self::auto_exposure`]; the viewer's
     /// auto exposure of debug views.
     pub measure_exposure: bool,
+    /// Draws the right part of frames with other materials and reflection mode (split.rs);
+    /// the viewer's split view.
+    pub split: Option<Split>,
     /// Scenes uploaded so far: the next upload's id.
     uploads: Cell<u64>,
 }
@@ -170,6 +174,7 @@ impl Renderer {
             occlusion: true,
             accumulation: Accumulation::Off,
             measure_exposure: false,
+            split: None,
             uploads: Cell::new(0),
             device,
         })
@@ -212,8 +217,11 @@ impl Renderer {
         target: &RenderTarget,
         output_format: vk::Format,
     ) -> Result<()> {
+        if let Some(split) = &self.split {
+            split.check(scene)?;
+        }
         let start = std::time::Instant::now();
-        self.environment.prepare(scene)?;
+        self.environment.prepare(scene, self.split.as_ref())?;
         self.environment_time += start.elapsed();
         let samples = self.msaa_samples(scene);
         self.environment.prepare_skybox(sample_flag(samples))?;
@@ -224,12 +232,22 @@ impl Renderer {
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
         let switches = [self.shadows, self.floor, self.generic, self.occlusion];
         let view = (self.accumulation != Accumulation::Off)
-            .then(|| View::of(scene, gpu, target.extent, self.debug_view, switches))
+            .then(|| {
+                View::of(
+                    scene,
+                    gpu,
+                    target.extent,
+                    self.debug_view,
+                    switches,
+                    self.split.as_ref(),
+                )
+            })
             .flatten();
         let sample_set = self.accumulate.prepare(slot, view, self.accumulation, target)?;
         self.forward.prepare(
             slot,
             scene,
+            self.split.as_ref(),
             target.aspect(),
             self.debug_view,
             sample_set,
@@ -286,6 +304,7 @@ impl Renderer {
                 cmd,
                 slot,
                 scene,
+                self.split.as_ref(),
                 gpu,
                 draw,
                 background(scene),

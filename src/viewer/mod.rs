@@ -15,6 +15,7 @@ mod rebuild;
 pub mod save;
 mod shadow_panel;
 mod soak;
+mod split_view;
 mod storm;
 mod timings;
 mod watch;
@@ -55,6 +56,7 @@ use watch::FileWatch;
 
 pub use legend::curvature_legend_color;
 pub use panels::PANEL_WIDTH;
+pub use split_view::parse_configuration as parse_split_configuration;
 /// Redraws the resize storm lasts; `--frames` beyond it render at the storm's last size.
 pub const RESIZE_STORM_TICKS: u64 = storm::DURATION;
 
@@ -87,6 +89,8 @@ pub struct ViewOptions {
     pub soak_log: Option<PathBuf>,
     /// The debug view shown first.
     pub debug_view: DebugView,
+    /// Start with the split view on, its right half in this bench configuration.
+    pub split: Option<String>,
 }
 
 /// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
@@ -140,6 +144,10 @@ pub fn run(scene: Scene, document: Document, options: ViewOptions) -> Result<()>
         .zip(options.frames)
         .map(|(log, frames)| Soak::new(log, frames));
     view.debug_view = options.debug_view;
+    if let Some(configuration) = &options.split {
+        view.split.on = true;
+        view.split.configuration.clone_from(configuration);
+    }
     let mut app = App {
         soak,
         view,
@@ -369,6 +377,7 @@ impl App {
             KeyCode::KeyY if ctrl => self.pending.redo = true,
             KeyCode::KeyR if !ctrl => self.pending.reset_view = true,
             KeyCode::KeyU if !ctrl => self.view.hide_ui = !self.view.hide_ui,
+            KeyCode::KeyV if !ctrl => self.view.split.on = !self.view.split.on,
             KeyCode::Escape if self.view.question.is_some() => self.view.question = None,
             KeyCode::Escape => self.pending.quit = Some(false),
             _ => {}
@@ -604,6 +613,11 @@ impl App {
         let area = state.frames.frame_area();
         self.view.frame_size = (area.extent.width, area.extent.height);
         let aspect = area.extent.width as f32 / area.extent.height.max(1) as f32;
+        // The divider at the middle of the 3D view, as the UI draws it.
+        let middle = (self.view.view_rect.center().x * output.pixels_per_point)
+            .round()
+            .max(0.0) as u32;
+        state.frames.renderer.split = self.view.split.split(&self.scene, middle.saturating_sub(left));
 
         let last_frame = self.options.frames.is_some_and(|n| state.frames.frame_count() + 1 >= n);
         let capture = match (&self.options.screenshot, last_frame) {

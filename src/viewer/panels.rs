@@ -59,6 +59,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ("F", "frame the objects (the selected one in orbit mode)"),
     ("R", "back to the camera of the scene file"),
     ("U", "hide / show all UI"),
+    ("V", "split view: the right half in another configuration"),
     ("F12", "screenshot of the frame without UI"),
     ("Ctrl+S", "save the scene to its file"),
     ("Ctrl+Z, Ctrl+Y", "undo, redo an edit"),
@@ -120,6 +121,7 @@ pub struct ViewState {
     pub exposure_in_use: f32,
     /// The Files section's path field.
     pub path: String,
+    pub split: super::split_view::SplitView,
 }
 
 impl ViewState {
@@ -151,6 +153,7 @@ impl ViewState {
             auto_exposure: true,
             exposure_in_use: exposure,
             path: String::new(),
+            split: Default::default(),
         }
     }
 
@@ -254,6 +257,9 @@ const SECTIONS: &[Section] = &[
     }),
     ("Environment", false, |ui, p| environment_section(ui, p.scene)),
     ("Files", false, files_section),
+    ("Split view", false, |ui, p| {
+        super::split_view::section(ui, &mut p.view.split)
+    }),
     ("Debug view", true, |ui, p| debug_section(ui, p.view)),
     ("Timings", true, |ui, p| timings_section(ui, p.view)),
 ];
@@ -299,6 +305,7 @@ pub fn show(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState, camera: &mut C
             });
     }
     view.view_rect = ui.available_rect_before_wrap();
+    super::split_view::overlay(ui.ctx(), view.view_rect, &view.split);
     if view.debug_view == DebugView::Curvature {
         super::legend::show(ui.ctx(), view.view_rect, view.exposure_in_use);
     }
