@@ -540,3 +540,32 @@ fn split_view_draws_each_half_in_its_configuration() {
         assert!(left_apart >= 1e-4 && right_apart >= 1e-4, "{left_apart} {right_apart}");
     }
 }
+
+/// The viewer's reference of the current view compares the real-time frame with
+/// `argil reference` of the same camera: a finite mean ꟻLIP, well below 1 for the same
+/// scene (0.5 would be a wrong picture), and a heat map of the frame's size.
+#[test]
+fn reference_of_the_view_gives_a_finite_flip() {
+    let scene = Scene::default_scene();
+    let (w, h) = (80, 45);
+    let frame = render(&scene, w, h);
+    let settings = argil::reference::Settings {
+        width: w,
+        height: h,
+        transport: argil::reference::Transport::Shadows,
+        filter: argil::reference::Filter::Box,
+        sampling: argil::reference::Sampling::Mis,
+        subsurface: argil::reference::SubsurfaceTransport::Model,
+        stop: argil::reference::Stop::Samples(16),
+        seed: 1,
+        max_depth: argil::reference::Settings::DEFAULT_MAX_DEPTH,
+    };
+    let compared = argil::viewer::reference_and_compare(&scene, &frame.hdr, &settings, 1.0, &()).expect("compare");
+    let flip = compared.comparison.metrics.flip.mean;
+    eprintln!(
+        "reference of the view: mean ꟻLIP {flip:.4}, 16 spp, noise {:.2e}",
+        compared.reference.noise
+    );
+    assert!(flip.is_finite() && flip > 0.0 && flip < 0.5, "{flip}");
+    assert_eq!(compared.comparison.heat_map.dimensions(), (w, h));
+}

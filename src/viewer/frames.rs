@@ -13,7 +13,7 @@ use egui::{ClippedPrimitive, TexturesDelta};
 use super::overlay::Overlay;
 use crate::atomic::write_atomically;
 use crate::render::accumulate::{Accumulation, CONVERGED_LOOKUPS};
-use crate::render::{DisplayOutput, GpuScene, RenderTarget, Renderer, PASS_NAMES};
+use crate::render::{DebugView, DisplayOutput, GpuScene, OffscreenFrame, RenderTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
 use crate::vk::{
     transition, Acquired, CommandPool, Device, Fence, ImageRegion, ImageUse, Readback, Semaphore, Swapchain, Timestamps,
@@ -183,6 +183,17 @@ impl FrameLoop {
     /// Whether the window has an area to draw into (not while minimised).
     pub fn has_area(&self) -> bool {
         self.wanted.width > 0 && self.wanted.height > 0
+    }
+
+    /// Renders the shaded `scene` offscreen at `extent` and reads it back, once the frames
+    /// in flight are done (the viewer's reference compares it): no split, no debug view.
+    pub fn render_still(&mut self, scene: &Scene, extent: vk::Extent2D, exposure: f32) -> Result<OffscreenFrame> {
+        self.device.wait_idle()?;
+        let split = self.renderer.split.take();
+        let debug_view = std::mem::replace(&mut self.renderer.debug_view, DebugView::Shaded);
+        let frame = self.renderer.render_offscreen(scene, &self.gpu, extent, exposure);
+        (self.renderer.split, self.renderer.debug_view) = (split, debug_view);
+        frame
     }
 
     /// Replaces the scene's meshes on the GPU (after a reload).

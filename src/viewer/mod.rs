@@ -12,6 +12,7 @@ mod occlusion_panel;
 mod overlay;
 mod panels;
 mod rebuild;
+mod reference_view;
 pub mod save;
 mod shadow_panel;
 mod soak;
@@ -56,6 +57,7 @@ use watch::FileWatch;
 
 pub use legend::curvature_legend_color;
 pub use panels::PANEL_WIDTH;
+pub use reference_view::reference_and_compare;
 pub use split_view::parse_configuration as parse_split_configuration;
 /// Redraws the resize storm lasts; `--frames` beyond it render at the storm's last size.
 pub const RESIZE_STORM_TICKS: u64 = storm::DURATION;
@@ -585,6 +587,7 @@ impl App {
             soak.before_frame(state.frames.frame_count(), &mut self.scene);
         }
 
+        self.view.reference.poll(&self.egui, &self.scene);
         let raw = state.egui.take_egui_input(&state.window);
         let mut actions = std::mem::take(&mut self.pending);
         self.view.modified = self.history.modified(&self.scene);
@@ -646,6 +649,18 @@ impl App {
             textures: output.textures_delta,
             pixels_per_point: output.pixels_per_point,
         };
+        if self.view.reference.take_request() {
+            let r = &self.view.reference;
+            let settings = reference_view::settings((area.extent.width, area.extent.height), r.transport, r.spp);
+            let extent = reference_view::frame_extent(&settings);
+            match state.frames.render_still(&self.scene, extent, self.view.exposure_in_use) {
+                Ok(frame) => self
+                    .view
+                    .reference
+                    .start(&self.scene, frame, settings, self.view.exposure_in_use),
+                Err(e) => self.view.error = Some(format!("{e:#}")),
+            }
+        }
         let work = now.elapsed();
         let drawn = state.frames.draw(&self.scene, self.view.exposure_in_use, ui, capture)?;
         if !drawn {

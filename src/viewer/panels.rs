@@ -122,6 +122,7 @@ pub struct ViewState {
     /// The Files section's path field.
     pub path: String,
     pub split: super::split_view::SplitView,
+    pub reference: super::reference_view::ReferenceView,
 }
 
 impl ViewState {
@@ -154,6 +155,7 @@ impl ViewState {
             exposure_in_use: exposure,
             path: String::new(),
             split: Default::default(),
+            reference: Default::default(),
         }
     }
 
@@ -259,6 +261,9 @@ const SECTIONS: &[Section] = &[
     ("Files", false, files_section),
     ("Split view", false, |ui, p| {
         super::split_view::section(ui, &mut p.view.split)
+    }),
+    ("Reference", false, |ui, p| {
+        super::reference_view::section(ui, &mut p.view.reference)
     }),
     ("Debug view", true, |ui, p| debug_section(ui, p.view)),
     ("Timings", true, |ui, p| timings_section(ui, p.view)),
