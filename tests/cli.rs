@@ -552,6 +552,69 @@ fn view_splits_the_view_between_two_configurations() {
     );
 }
 
+/// Moves the X pointer (XTest, through ctypes) to `over` every 0.4 s for `seconds`, then to
+/// `after` once.
+const POINTER_SCRIPT: &str = r#"
+import ctypes, sys, time
+x11 = ctypes.CDLL("libX11.so.6")
+xtst = ctypes.CDLL("libXtst.so.6")
+x11.XOpenDisplay.restype = ctypes.c_void_p
+display = ctypes.c_void_p(x11.XOpenDisplay(None))
+if not display:
+    sys.exit("no display")
+over_x, over_y, after_x, after_y, seconds = map(float, sys.argv[1:])
+def move(x, y):
+    xtst.XTestFakeMotionEvent(display, -1, int(x), int(y), 0)
+    x11.XFlush(display)
+end = time.time() + seconds
+jiggle = 0
+while time.time() < end:
+    move(over_x + jiggle, over_y)
+    jiggle = 1 - jiggle
+    time.sleep(0.4)
+move(after_x, after_y)
+"#;
+
+/// Slow frames answer the UI quickly: with the pointer over the panel on lavapipe (a full
+/// frame takes far more than `SLOW_FRAME_MS`), the viewer draws the 3D view at reduced
+/// resolution, and once the pointer has left the panel for the 3D view it draws a full
+/// frame again and idles. The pointer is moved by XTest under Xvfb while the viewer runs.
+#[test]
+fn slow_frames_are_reduced_while_the_ui_is_in_use() {
+    let python = Command::new("python3").arg("--version").output();
+    assert!(python.is_ok(), "python3 is missing: the test moves the pointer with it");
+    let dir = temp_dir("responsive");
+    let script = dir.join("pointer.py");
+    std::fs::write(&script, POINTER_SCRIPT).expect("write script");
+    let runtime = temp_dir("xvfb-runtime");
+    // The window opens at the screen's top left: the panel is x < 320, the view beyond.
+    let viewer = format!(
+        "{} view --seconds 40 --width 560 --height 300 & viewer=$!; python3 {} 100 150 450 150 25; wait $viewer",
+        env!("CARGO_BIN_EXE_argil"),
+        path_str(&script)
+    );
+    let o = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &viewer])
+        .env("ARGIL_VALIDATION", "1")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .output()
+        .expect("run xvfb-run");
+    assert_clean_success(&o);
+    let err = stderr(&o);
+    let line = err
+        .lines()
+        .find(|l| l.contains("resolution while the UI was in use"))
+        .unwrap_or_else(|| panic!("no line on reduced frames in: {err}"));
+    eprintln!("{line}");
+    let reduced: u64 = line
+        .strip_prefix("argil: ")
+        .and_then(|l| l.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no count in: {line}"));
+    assert!(reduced >= 2, "{line}");
+    assert!(line.contains("the last frame at 1/1;"), "{line}");
+}
+
 /// Nothing changes, nothing is drawn: an idle viewer draws its first frames (egui lays
 /// out its grids over a few frames until their columns settle), then waits. Drawing
 /// continuously, it draws a frame every 0.1–1 s here (1 s with the whole suite running),

@@ -47,7 +47,8 @@ const PASS_EXPOSURE: u32 = 7;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping. The frame covers `area` of the image,
-/// which has the render target's size.
+/// which has the render target's size times `scale`: each texel is drawn as `scale`×`scale`
+/// pixels (the viewer's reduced resolution; 1 otherwise).
 pub struct DisplayOutput {
     pub image: vk::Image,
     pub view: vk::ImageView,
@@ -55,6 +56,7 @@ pub struct DisplayOutput {
     pub area: vk::Rect2D,
     pub from: ImageUse,
     pub exposure: f32,
+    pub scale: u32,
 }
 
 /// One offscreen frame read back to the CPU.
@@ -340,8 +342,15 @@ impl Renderer {
             ImageUse::COLOR_ATTACHMENT,
         );
         self.timed(cmd, slot, PASS_TONEMAP, || {
-            self.tonemap
-                .record(cmd, slot, output.view, output.format, output.area, output.exposure)
+            self.tonemap.record(
+                cmd,
+                slot,
+                output.view,
+                output.format,
+                output.area,
+                output.exposure,
+                output.scale,
+            )
         })
     }
 
@@ -456,6 +465,7 @@ impl Renderer {
             },
             from: ImageUse::UNDEFINED,
             exposure,
+            scale: 1,
         };
         self.one_shot
             .run(|cmd| self.record(cmd, 0, scene, gpu, &offscreen.target, &output))??;

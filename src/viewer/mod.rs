@@ -13,6 +13,7 @@ mod overlay;
 mod panels;
 mod rebuild;
 mod reference_view;
+mod responsive;
 pub mod save;
 mod shadow_panel;
 mod soak;
@@ -199,6 +200,11 @@ impl InputState {
         movement_from_keys(|k| self.held.contains(&k)) != glam::Vec3::ZERO
     }
 
+    /// Whether the camera is being moved: looking around, or a movement key held.
+    fn camera_moving(&self) -> bool {
+        self.looking || self.moving()
+    }
+
     /// This frame's camera input; mouse motion and wheel are consumed.
     fn take(&mut self) -> Input {
         let input = Input {
@@ -331,6 +337,15 @@ impl App {
                 area.extent.height,
                 area.offset.x,
                 gpu.join(", ")
+            );
+            eprintln!(
+                "argil: {} frames at 1/{} resolution while the UI was in use; the last frame at 1/{}; GPU time of \
+                 the last full frame {}, of the last reduced one {}",
+                state.frames.reduced_frames(),
+                responsive::REDUCED_SCALE,
+                state.frames.scale(),
+                milliseconds(state.frames.full_gpu_ms()),
+                milliseconds(state.frames.reduced_gpu_ms()),
             );
             let source = if self.view.auto_exposed() { "auto" } else { "camera" };
             eprintln!("argil: exposure in use {} ({source})", self.view.exposure_in_use);
@@ -653,7 +668,10 @@ impl App {
             let r = &self.view.reference;
             let settings = reference_view::settings((area.extent.width, area.extent.height), r.transport, r.spp);
             let extent = reference_view::frame_extent(&settings);
-            match state.frames.render_still(&self.scene, extent, self.view.exposure_in_use) {
+            match state
+                .frames
+                .render_still(&self.scene, extent, self.view.exposure_in_use)
+            {
                 Ok(frame) => self
                     .view
                     .reference
@@ -661,6 +679,9 @@ impl App {
                 Err(e) => self.view.error = Some(format!("{e:#}")),
             }
         }
+        let in_use = responsive::in_use(&self.egui, self.input.camera_moving());
+        let scale = responsive::scale(in_use, state.frames.full_gpu_ms());
+        state.frames.set_scale(scale);
         let work = now.elapsed();
         let drawn = state.frames.draw(&self.scene, self.view.exposure_in_use, ui, capture)?;
         if !drawn {
@@ -689,6 +710,10 @@ impl App {
         }
         Ok(())
     }
+}
+
+fn milliseconds(ms: Option<f64>) -> String {
+    ms.map_or_else(|| "unknown".to_owned(), |ms| format!("{ms:.1} ms"))
 }
 
 /// `argil-screenshot-N.png` in the working directory, for the first N not taken.
@@ -829,7 +854,10 @@ impl ApplicationHandler for App {
                 || renderer
                     .auto_exposure()
                     .is_some_and(|e| (e / self.view.exposure_in_use - 1.0).abs() > EXPOSURE_SETTLED));
+        // A frame reduced while the UI was in use is followed by a full one.
+        let restoring = state.frames.scale() > 1 && !responsive::in_use(&self.egui, self.input.camera_moving());
         let wanted = continuous
+            || restoring
             || refining
             || exposing
             || self.needs_redraw

@@ -189,7 +189,9 @@ impl ReferenceView {
         else {
             return;
         };
-        let finished = thread.join().unwrap_or_else(|_| Err(anyhow!("the reference's thread panicked")));
+        let finished = thread
+            .join()
+            .unwrap_or_else(|_| Err(anyhow!("the reference's thread panicked")));
         match finished {
             Ok(compared) => {
                 self.shown = Some(show(ctx, &frame, &settings, exposure, &compared));
@@ -212,7 +214,11 @@ fn show(ctx: &egui::Context, frame: &[u8], settings: &Settings, exposure: f32, c
             [r, g, b, 255]
         })
         .collect();
-    let heat = compared.comparison.heat_map.pixels().flat_map(|p| [p[0], p[1], p[2], 255]);
+    let heat = compared
+        .comparison
+        .heat_map
+        .pixels()
+        .flat_map(|p| [p[0], p[1], p[2], 255]);
     let heat: Vec<u8> = heat.collect();
     let texture = |name: &str, rgba: &[u8]| {
         let image = egui::ColorImage::from_rgba_unmultiplied([w, h], rgba);
@@ -263,7 +269,11 @@ pub fn section(ui: &mut Ui, view: &mut ReferenceView) {
             );
         ui.add(egui::DragValue::new(&mut view.spp).range(1..=4096).suffix(" spp"));
     });
-    let label = if view.running() { "restart the reference" } else { "reference of this view" };
+    let label = if view.running() {
+        "restart the reference"
+    } else {
+        "reference of this view"
+    };
     if ui
         .button(label)
         .on_hover_text(format!(
@@ -275,7 +285,10 @@ pub fn section(ui: &mut Ui, view: &mut ReferenceView) {
         view.requested = true;
     }
     if let Some(job) = &view.job {
-        let (done, total) = (job.shared.done.load(Ordering::Relaxed), job.shared.total.load(Ordering::Relaxed));
+        let (done, total) = (
+            job.shared.done.load(Ordering::Relaxed),
+            job.shared.total.load(Ordering::Relaxed),
+        );
         let fraction = if total > 0 { done as f32 / total as f32 } else { 0.0 };
         ui.add(egui::ProgressBar::new(fraction).show_percentage());
         ui.ctx().request_repaint_after(PROGRESS_INTERVAL);
@@ -318,7 +331,9 @@ mod tests {
     fn a_cancelled_reference_stops_with_an_error() {
         let scene = Scene::default_scene();
         let settings = settings((64, 36), Transport::Direct, 1_000_000);
-        let error = reference::render(&scene, &settings, &Cancelled).err().expect("cancelled");
+        let error = reference::render(&scene, &settings, &Cancelled)
+            .err()
+            .expect("cancelled");
         assert!(error.to_string().contains("cancelled"), "{error:#}");
     }
 
@@ -348,7 +363,11 @@ mod tests {
         assert_eq!(view.status, None);
         let shown = view.shown.as_ref().expect("shown");
         assert!(shown.summary.starts_with("mean ꟻLIP 0."), "{}", shown.summary);
-        assert!(shown.summary.contains("direct transport, box filter, 2 spp"), "{}", shown.summary);
+        assert!(
+            shown.summary.contains("direct transport, box filter, 2 spp"),
+            "{}",
+            shown.summary
+        );
         assert!(shown.textures.iter().all(|t| t.size() == [24, 14]));
     }
 
