@@ -11,6 +11,7 @@ mod legend;
 mod occlusion_panel;
 mod overlay;
 mod panels;
+mod path_completion;
 mod rebuild;
 mod reference_view;
 mod responsive;

@@ -962,6 +962,7 @@ fn files_section(ui: &mut Ui, p: &mut Panel) {
             .desired_width(ui.available_width()),
     )
     .on_hover_text("An image (.png, .exr, .hdr …) or an .obj mesh, relative to the working directory");
+    super::path_completion::show(ui, &mut view.path);
     let path = view.path.trim().to_owned();
     let Some(material) = scene.materials.get(view.selected_material).map(|m| m.name.clone()) else {
         return;
