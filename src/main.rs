@@ -119,6 +119,10 @@ enum Command {
         /// occlusion, shadows, bounce.
         #[arg(long, value_name = "VIEW", default_value = "shaded", value_parser = DebugView::from_name)]
         debug_view: DebugView,
+        /// Start with the split view on, its right half in this configuration of
+        /// `argil bench` (seed, report, no-subsurface, maps-off, …).
+        #[arg(long, value_name = "CONFIGURATION", value_parser = argil::viewer::parse_split_configuration)]
+        split: Option<String>,
     },
     /// Render the ground truth of a scene on the CPU: Monte Carlo integration in f64 of the
     /// same scene, camera, meshes, materials, maps, lights and environment, on every core.
@@ -541,6 +545,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             seconds,
             soak_log,
             debug_view,
+            split,
         } => {
             check_exposure(exposure)?;
             let (loaded, document) = match scene.as_deref() {
@@ -558,6 +563,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 seconds,
                 soak_log,
                 debug_view,
+                split,
             };
             argil::viewer::run(loaded, document, options)
         }

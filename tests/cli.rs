@@ -449,6 +449,172 @@ fn view_screenshot_matches_the_headless_render_beside_the_ui() {
     );
 }
 
+/// RMSE in code values between columns `columns` (and rows above `bottom`) of the 3D view
+/// of a window screenshot, `left` pixels from its left edge, and the same pixels of `reference`.
+fn region_rmse(
+    window: &image::RgbImage,
+    left: u32,
+    reference: &image::RgbImage,
+    columns: std::ops::Range<u32>,
+    bottom: u32,
+) -> f64 {
+    let mut sum = 0.0;
+    let mut n = 0.0;
+    for y in 0..bottom {
+        for x in columns.clone() {
+            for c in 0..3 {
+                let d = f64::from(window.get_pixel(left + x, y)[c]) - f64::from(reference.get_pixel(x, y)[c]);
+                sum += d * d;
+                n += 1.0;
+            }
+        }
+    }
+    (sum / n).sqrt()
+}
+
+/// `argil view --split report` shows the scene as it is left of a divider down the middle
+/// of the 3D view and the report's composition right of it: each part matches the headless
+/// render of its configuration (RMSE ≤ 0.5, as the whole view does without the split, see
+/// above), the right part is told apart from the scene (its RMSE against the scene's render
+/// is more than twice that against the report's, and at least 0.25: 0.64 measured at this
+/// size, the ring and ground only), the divider is drawn and the validation layer stays
+/// silent. The labels' strip at the bottom and the columns next to the divider are left out.
+#[test]
+fn view_splits_the_view_between_two_configurations() {
+    let dir = temp_dir("split-view");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
+    let file: argil::scene::file::SceneFile = toml::from_str(argil::scene::DEFAULT_SCENE_TOML).expect("parse");
+    let report = dir.join("report.toml");
+    let report_text = argil::bench::plan::configured(&file, "report")
+        .expect("configure")
+        .to_toml();
+    std::fs::write(&report, report_text.expect("toml")).expect("write report");
+    let shot = dir.join("window.png");
+    let o = view_under_xvfb(&[
+        "--frames",
+        "3",
+        "--screenshot",
+        path_str(&shot),
+        path_str(&scene),
+        "--width",
+        "640",
+        "--height",
+        "400",
+        "--split",
+        "report",
+    ]);
+    assert_clean_success(&o);
+    let (view_w, view_h, left) = view_area(&stderr(&o));
+    let (width, height) = (view_w.to_string(), view_h.to_string());
+    let headless = |scene: &Path, name: &str| {
+        let out = dir.join(name);
+        assert_clean_success(&argil(&[
+            "render",
+            path_str(scene),
+            "--out",
+            path_str(&out),
+            "--width",
+            &width,
+            "--height",
+            &height,
+        ]));
+        image::open(&out).expect("read render").to_rgb8()
+    };
+    let (as_is, composition) = (headless(&scene, "scene.png"), headless(&report, "report.png"));
+    let window = image::open(&shot).expect("read screenshot").to_rgb8();
+    let (middle, bottom) = (view_w / 2, view_h - 40);
+    let (left_part, right_part) = (0..middle - 3, middle + 3..view_w);
+    let left_rmse = region_rmse(&window, left, &as_is, left_part, bottom);
+    let right_rmse = region_rmse(&window, left, &composition, right_part.clone(), bottom);
+    let right_vs_scene = region_rmse(&window, left, &as_is, right_part, bottom);
+    eprintln!(
+        "split view: left vs the scene RMSE {left_rmse:.3}, right vs the report {right_rmse:.3}, right vs the \
+         scene {right_vs_scene:.3}"
+    );
+    assert!(left_rmse <= 0.5, "the left part is not the scene: RMSE {left_rmse:.3}");
+    assert!(
+        right_rmse <= 0.5,
+        "the right part is not the report: RMSE {right_rmse:.3}"
+    );
+    assert!(
+        right_vs_scene >= 0.25 && right_vs_scene > 2.0 * right_rmse,
+        "{right_vs_scene:.3}"
+    );
+    let divider = (0..bottom)
+        .filter(|&y| {
+            (middle.saturating_sub(1)..=middle + 1).any(|x| window.get_pixel(left + x, y).0.iter().all(|&c| c > 200))
+        })
+        .count();
+    assert!(
+        divider as u32 > bottom * 9 / 10,
+        "no divider: {divider} of {bottom} rows"
+    );
+}
+
+/// Moves the X pointer (XTest, through ctypes) to `over` every 0.4 s for `seconds`, then to
+/// `after` once.
+const POINTER_SCRIPT: &str = r#"
+import ctypes, sys, time
+x11 = ctypes.CDLL("libX11.so.6")
+xtst = ctypes.CDLL("libXtst.so.6")
+x11.XOpenDisplay.restype = ctypes.c_void_p
+display = ctypes.c_void_p(x11.XOpenDisplay(None))
+if not display:
+    sys.exit("no display")
+over_x, over_y, after_x, after_y, seconds = map(float, sys.argv[1:])
+def move(x, y):
+    xtst.XTestFakeMotionEvent(display, -1, int(x), int(y), 0)
+    x11.XFlush(display)
+end = time.time() + seconds
+jiggle = 0
+while time.time() < end:
+    move(over_x + jiggle, over_y)
+    jiggle = 1 - jiggle
+    time.sleep(0.4)
+move(after_x, after_y)
+"#;
+
+/// Slow frames answer the UI quickly: with the pointer over the panel on lavapipe (a full
+/// frame takes far more than `SLOW_FRAME_MS`), the viewer draws the 3D view at reduced
+/// resolution, and once the pointer has left the panel for the 3D view it draws a full
+/// frame again and idles. The pointer is moved by XTest under Xvfb while the viewer runs.
+#[test]
+fn slow_frames_are_reduced_while_the_ui_is_in_use() {
+    let python = Command::new("python3").arg("--version").output();
+    assert!(python.is_ok(), "python3 is missing: the test moves the pointer with it");
+    let dir = temp_dir("responsive");
+    let script = dir.join("pointer.py");
+    std::fs::write(&script, POINTER_SCRIPT).expect("write script");
+    let runtime = temp_dir("xvfb-runtime");
+    // The window opens at the screen's top left: the panel is x < 320, the view beyond.
+    let viewer = format!(
+        "{} view --seconds 40 --width 560 --height 300 & viewer=$!; python3 {} 100 150 450 150 25; wait $viewer",
+        env!("CARGO_BIN_EXE_argil"),
+        path_str(&script)
+    );
+    let o = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &viewer])
+        .env("ARGIL_VALIDATION", "1")
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .output()
+        .expect("run xvfb-run");
+    assert_clean_success(&o);
+    let err = stderr(&o);
+    let line = err
+        .lines()
+        .find(|l| l.contains("resolution while the UI was in use"))
+        .unwrap_or_else(|| panic!("no line on reduced frames in: {err}"));
+    eprintln!("{line}");
+    let reduced: u64 = line
+        .strip_prefix("argil: ")
+        .and_then(|l| l.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no count in: {line}"));
+    assert!(reduced >= 2, "{line}");
+    assert!(line.contains("the last frame at 1/1;"), "{line}");
+}
+
 /// Nothing changes, nothing is drawn: an idle viewer draws its first frames (egui lays
 /// out its grids over a few frames until their columns settle), then waits. Drawing
 /// continuously, it draws a frame every 0.1–1 s here (1 s with the whole suite running),

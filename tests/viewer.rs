@@ -476,3 +476,96 @@ fn auto_exposure_measures_the_frame_it_follows() {
     // Half-stop bins: the 95th percentile is within a quarter stop of the bin's centre.
     assert!((0.9..=0.99).contains(&below), "{below}");
 }
+
+/// The largest difference in HDR radiance between `a` and `b` over columns `columns`, and
+/// the mean one.
+fn column_difference(a: &OffscreenFrame, b: &OffscreenFrame, columns: std::ops::Range<u32>) -> (f32, f64) {
+    let (mut worst, mut sum, mut n) = (0.0f32, 0.0f64, 0u32);
+    for y in 0..a.height {
+        for x in columns.clone() {
+            let (p, q) = (pixel(a, x, y), pixel(b, x, y));
+            for c in 0..3 {
+                let d = (p[c] - q[c]).abs();
+                worst = worst.max(d);
+                sum += f64::from(d);
+                n += 1;
+            }
+        }
+    }
+    (worst, sum / f64::from(n.max(1)))
+}
+
+/// The viewer's split view draws the columns left of its divider as the scene is and the
+/// columns right of it as the other configuration is, in one frame: each part equals the
+/// same columns of the configuration's own frame, and the two configurations' frames
+/// differ on both sides (so the test would see a part drawn in the wrong one).
+///
+/// Threshold: 1e-5 in radiance (≈ 0 after tone mapping). The parts are drawn by the same
+/// pipelines from the same inputs as the whole frames, so they agree to the bit (0
+/// measured); the configurations' frames differ by 1e-4 or more on average (4e-4 to 5e-4
+/// measured for `seed` at this size, printed), 10 times the threshold.
+#[test]
+fn split_view_draws_each_half_in_its_configuration() {
+    let scene = Scene::default_scene();
+    let (w, h, x) = (160u32, 90u32, 70u32);
+    // `seed`: the report's reflection; `report`: its horizon and subsurface as well.
+    let mut seed = scene.clone();
+    seed.environment.reflection_mut().expect("an environment").mode = argil::scene::ReflectionMode::Seed;
+    let mut report = seed.clone();
+    for m in &mut report.materials {
+        (m.horizon, m.subsurface) = (argil::scene::Horizon::Seed, Subsurface::Seed);
+    }
+    let plain = render(&scene, w, h);
+    for right in [seed, report] {
+        let whole = render(&right, w, h);
+        let split = gpu().exclusive(|renderer| {
+            renderer.split = Some(argil::render::Split {
+                materials: right.materials.clone(),
+                environment: right.environment.clone(),
+                x,
+            });
+            let frame = try_render(renderer, &scene, w, h);
+            renderer.split = None;
+            frame.expect("render split")
+        });
+        let (left_worst, _) = column_difference(&split, &plain, 0..x);
+        let (right_worst, _) = column_difference(&split, &whole, x..w);
+        let (_, left_apart) = column_difference(&plain, &whole, 0..x);
+        let (_, right_apart) = column_difference(&plain, &whole, x..w);
+        eprintln!(
+            "split: left part vs the scene {left_worst:.2e}, right part vs the configuration {right_worst:.2e}; \
+             the configurations differ by {left_apart:.2e} (left), {right_apart:.2e} (right) on average"
+        );
+        assert!(left_worst <= 1e-5 && right_worst <= 1e-5, "{left_worst} {right_worst}");
+        assert!(left_apart >= 1e-4 && right_apart >= 1e-4, "{left_apart} {right_apart}");
+    }
+}
+
+/// The viewer's reference of the current view compares the real-time frame with
+/// `argil reference` of the same camera: a finite mean ꟻLIP, well below 1 for the same
+/// scene (0.5 would be a wrong picture), and a heat map of the frame's size.
+#[test]
+fn reference_of_the_view_gives_a_finite_flip() {
+    let scene = Scene::default_scene();
+    let (w, h) = (80, 45);
+    let frame = render(&scene, w, h);
+    let settings = argil::reference::Settings {
+        width: w,
+        height: h,
+        transport: argil::reference::Transport::Shadows,
+        filter: argil::reference::Filter::Box,
+        sampling: argil::reference::Sampling::Mis,
+        subsurface: argil::reference::SubsurfaceTransport::Model,
+        stop: argil::reference::Stop::Samples(16),
+        seed: 1,
+        max_depth: argil::reference::Settings::DEFAULT_MAX_DEPTH,
+    };
+    let compared = argil::viewer::reference_and_compare(&scene, &frame.hdr, &settings, 1.0, &()).expect("compare");
+    let flip = compared.comparison.metrics.flip.mean;
+    eprintln!(
+        "reference of the view: mean ꟻLIP {flip:.4}, 16 spp, noise {:.2e}",
+        compared.reference.noise
+    );
+    assert!(flip.is_finite() && flip > 0.0 && flip < 0.5, "{flip}");
+    assert_eq!(compared.comparison.heat_map.dimensions(), (w, h));
+}

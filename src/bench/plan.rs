@@ -112,25 +112,8 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
         samples: None,
         seed_strength: None,
     };
-    let sampled: Vec<String> = SAMPLED.iter().map(|n| format!("sampled-{n}")).collect();
-    let mut names = vec![
-        FLOOR,
-        "split-sum",
-        GENERIC,
-        "seed",
-        REPORT,
-        "no-subsurface",
-        "no-maps",
-        "maps-off",
-        "generic-maps-off",
-        "no-environment",
-        "generic-no-environment",
-    ];
-    names.extend(sampled.iter().map(String::as_str));
-    names.extend(SHADOW_CONFIGURATIONS);
-    names.extend(ANTIALIASING_CONFIGURATIONS);
-    names.extend(OCCLUSION_CONFIGURATIONS);
-    names.extend(BOUNCE_CONFIGURATIONS);
+    let names = configuration_names();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
     let mut scenes = vec![
         bench_scene("default", &default, &names, |c| resolutions(c, true))?,
         bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
@@ -188,6 +171,33 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
         headline,
     )?);
     Ok(scenes)
+}
+
+/// The configurations of the default and studio scenes in a full run, in order; each is
+/// the scene file as [`configured`] edits it (and the floor's and generic's flags).
+pub fn configuration_names() -> Vec<String> {
+    let base = [
+        FLOOR,
+        "split-sum",
+        GENERIC,
+        "seed",
+        REPORT,
+        "no-subsurface",
+        "no-maps",
+        "maps-off",
+        "generic-maps-off",
+        "no-environment",
+        "generic-no-environment",
+    ];
+    let mut names: Vec<String> = base.map(str::to_owned).into();
+    names.extend(SAMPLED.iter().map(|n| format!("sampled-{n}")));
+    let others = SHADOW_CONFIGURATIONS
+        .iter()
+        .chain(&ANTIALIASING_CONFIGURATIONS)
+        .chain(&OCCLUSION_CONFIGURATIONS)
+        .chain(&BOUNCE_CONFIGURATIONS);
+    names.extend(others.map(|n| (*n).to_owned()));
+    names
 }
 
 const SPHERE_TOML: &str = include_str!("../../bench/scenes/sphere.toml");
@@ -318,8 +328,8 @@ fn bench_scene(
             Ok(Configuration {
                 name: c.to_owned(),
                 text: configured(file, c)?.to_toml()?,
-                floor: c == FLOOR,
-                generic: c == GENERIC || c.starts_with("generic-"),
+                floor: is_floor(c),
+                generic: is_generic(c),
                 resolutions: sizes(c),
             })
         })
@@ -341,6 +351,16 @@ fn bench_scene(
     })
 }
 
+/// Whether configuration `name` is drawn with `floor.frag` (see [`Configuration::floor`]).
+pub fn is_floor(name: &str) -> bool {
+    name == FLOOR
+}
+
+/// Whether configuration `name` is drawn with the generic pipelines.
+pub fn is_generic(name: &str) -> bool {
+    name == GENERIC || name.starts_with("generic-")
+}
+
 /// `file` edited for configuration `name`: `split-sum` and `floor` are argil's defaults,
 /// `seed` the report's reflection alone, `report` its reflection, horizon and subsurface
 /// on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
@@ -348,7 +368,7 @@ fn bench_scene(
 /// strength 0, `smith-separable` the separable G, the shadow and anti-aliasing
 /// configurations as their constants say; `generic-NAME` is NAME drawn with the generic
 /// pipelines.
-fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
+pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     let mut file = file.clone();
     match name.strip_prefix("generic-").unwrap_or(name) {
         FLOOR | GENERIC | "split-sum" => {}

@@ -183,6 +183,11 @@ impl Reference {
 /// noise target's estimate does).
 pub trait Progress: Sync {
     fn update(&self, done: u64, total: u64);
+
+    /// Whether the image is no longer wanted: rendering stops with an error.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 impl Progress for () {
@@ -234,6 +239,9 @@ pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Re
         let count = (expected - done).min(PASS_SAMPLES.max(done));
         let rows_done = AtomicU64::new(0);
         sums.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
+            if progress.cancelled() {
+                return;
+            }
             let mut traced = 0;
             for (x, pixel) in row.iter_mut().enumerate() {
                 let index = (y * width + x) as u64;
@@ -263,6 +271,9 @@ pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Re
                 u64::from(expected) * height as u64,
             );
         });
+        if progress.cancelled() {
+            bail!("the reference was cancelled");
+        }
         done += count;
         pass += 1;
         noise = estimate_noise(&sums, done);

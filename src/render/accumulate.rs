@@ -15,6 +15,7 @@ use ash::vk;
 use super::debug_view::DebugView;
 use super::gpu_scene::GpuScene;
 use super::shaders;
+use super::split::Split;
 use super::target::{RenderTarget, HDR_FORMAT};
 use crate::scene::{Antialiasing, Camera, Environment, Material, Object, Occlusion, PointLight, ReflectionMode, Scene};
 use crate::vk::{
@@ -77,6 +78,8 @@ pub struct View {
     /// The renderer's switches: shadows, the floor pipeline, the generic pipelines, the
     /// scene's occlusion.
     switches: [bool; 4],
+    /// What a split frame's right part is drawn with.
+    split: Option<Split>,
 }
 
 impl View {
@@ -89,6 +92,7 @@ impl View {
         extent: vk::Extent2D,
         debug_view: DebugView,
         switches: [bool; 4],
+        split: Option<&Split>,
     ) -> Option<Self> {
         let sampled = scene.environment.reflection().map(|r| r.mode) == Some(ReflectionMode::Sampled);
         (sampled && debug_view.shows_environment()).then(|| Self {
@@ -105,6 +109,7 @@ impl View {
             occlusion: scene.occlusion,
             debug_view,
             switches,
+            split: split.cloned(),
         })
     }
 

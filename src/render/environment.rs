@@ -28,10 +28,11 @@ use glam::Mat4;
 use gpu_allocator::MemoryLocation;
 
 use super::shaders;
+use super::split::Split;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::brdf::environment::{map_rotation, sh_project_cube, Sh9};
 use crate::cache::DiskCache;
-use crate::scene::{Camera, DiffuseModel, Environment, ReflectionMode, Scene, SpecularModel};
+use crate::scene::{Camera, DiffuseModel, Environment, Material, ReflectionMode, Scene, SpecularModel};
 use crate::vk::{
     begin_full_rendering, transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
     DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, Pipeline, PipelineLayout, Sampler,
@@ -163,19 +164,25 @@ impl EnvironmentPass {
         &self.costs
     }
 
-    /// Builds what `scene`'s environment and materials need and is not built yet, and
-    /// points the set and uniforms at it. Waits for the device first if anything changes
+    /// Builds what `scene`'s environment and materials need (and a split frame's right
+    /// part, see split.rs) and is not built yet, and points the set and uniforms at it. Waits for the device first if anything changes
     /// (frames in flight read the set).
-    pub fn prepare(&mut self, scene: &Scene) -> Result<()> {
+    pub fn prepare(&mut self, scene: &Scene, split: Option<&Split>) -> Result<()> {
         let environment = &scene.environment;
         let source = match environment {
             Environment::Studio { .. } => Some(Source::Studio),
             Environment::Map { path, .. } => Some(Source::Map(path.clone())),
             Environment::None | Environment::Uniform { .. } => None,
         };
-        let mode = environment.reflection().map(|r| r.mode);
-        let needs_prefiltered = source.is_some() && mode == Some(ReflectionMode::SplitSum);
-        let needs_lut = mode.is_some_and(|m| m != ReflectionMode::Sampled) && needs_brdf_tables(scene);
+        // A split frame's right part reads the same set: what either part needs is built.
+        let parts = std::iter::once((environment, scene.materials.as_slice()))
+            .chain(split.map(|s| (&s.environment, s.materials.as_slice())));
+        let (mut needs_prefiltered, mut needs_lut) = (false, false);
+        for (environment, materials) in parts {
+            let mode = environment.reflection().map(|r| r.mode);
+            needs_prefiltered |= source.is_some() && mode == Some(ReflectionMode::SplitSum);
+            needs_lut |= mode.is_some_and(|m| m != ReflectionMode::Sampled) && needs_brdf_tables(materials);
+        }
         let built_source = self.cubes.as_ref().map(|c| &c.source);
         let rebuild_source = source.is_some() && built_source != source.as_ref();
         let add_prefiltered =
@@ -387,9 +394,8 @@ pub(super) fn environment_kind(environment: &Environment) -> u32 {
 }
 
 /// Split sum and seed read the tables for a specular lobe or Oren-Nayar's albedo.
-fn needs_brdf_tables(scene: &Scene) -> bool {
-    scene
-        .materials
+fn needs_brdf_tables(materials: &[Material]) -> bool {
+    materials
         .iter()
         .any(|m| m.specular != SpecularModel::None || m.diffuse == DiffuseModel::OrenNayar)
 }

@@ -22,9 +22,10 @@ use super::environment::{environment_kind, reflection_code};
 use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
 use super::occlusion::OcclusionMode;
 use super::shaders;
+use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
-use crate::scene::{DetailBlend, Environment, MapRef, Material, ReflectionMode, Scene, Vertex};
+use crate::scene::{DetailBlend, Environment, MapRef, Material, ReflectionMode, Scene, Subsurface, Vertex};
 use crate::vk::{
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
     Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
@@ -158,6 +159,8 @@ pub struct ForwardPass {
     floor: HashMap<vk::SampleCountFlags, Pipeline>,
     /// The pipeline of each material of the scene last prepared, in `Scene::materials` order.
     material_pipelines: Vec<vk::Pipeline>,
+    /// The same for the right part of a split frame (split.rs); empty without one.
+    split_pipelines: Vec<vk::Pipeline>,
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
@@ -246,6 +249,7 @@ impl ForwardPass {
             pipelines: HashMap::new(),
             floor: HashMap::new(),
             material_pipelines: Vec::new(),
+            split_pipelines: Vec::new(),
             _pool: pool,
             slots,
             subsurface: None,
@@ -341,12 +345,14 @@ impl ForwardPass {
     /// any pipeline the scene's materials need
     /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
     /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
-    /// `occlusion`: how the environment's light is occluded.
+    /// `occlusion`: how the environment's light is occluded. A `split` frame's materials
+    /// follow the scene's in the buffer, with pipelines of their own.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
         slot: usize,
         scene: &Scene,
+        split: Option<&Split>,
         aspect: f32,
         debug_view: DebugView,
         sample_set: u32,
@@ -359,23 +365,37 @@ impl ForwardPass {
         let mut frame_data = FrameData::new(scene, aspect)?;
         frame_data.counts[1] = debug_view as u32;
         frame_data.counts[2] = sample_set;
-        let materials: Vec<MaterialData> = scene.materials.iter().map(MaterialData::from).collect();
-        self.material_pipelines = scene
+        let split_materials = split.map_or(&[][..], |s| s.materials.as_slice());
+        let materials: Vec<MaterialData> = scene
             .materials
             .iter()
-            .map(|m| {
-                if floor {
-                    self.floor_pipeline(samples)
-                } else {
-                    let specular_aa = scene.antialiasing.specular;
-                    let mut constants =
-                        ForwardConstants::new(m, &scene.environment, debug_view, specialize, specular_aa);
-                    constants.occlusion = occlusion as u32;
-                    self.pipeline(samples, &constants.specialization())
-                }
-            })
-            .collect::<Result<_>>()?;
-        if scene.needs_preintegrated_table() && self.subsurface.is_none() {
+            .chain(split_materials)
+            .map(MaterialData::from)
+            .collect();
+        let mut pipelines = |materials: &[Material], environment: &Environment| {
+            materials
+                .iter()
+                .map(|m| {
+                    if floor {
+                        self.floor_pipeline(samples)
+                    } else {
+                        let specular_aa = scene.antialiasing.specular;
+                        let mut constants = ForwardConstants::new(m, environment, debug_view, specialize, specular_aa);
+                        constants.occlusion = occlusion as u32;
+                        self.pipeline(samples, &constants.specialization())
+                    }
+                })
+                .collect::<Result<Vec<_>>>()
+        };
+        let scene_pipelines = pipelines(&scene.materials, &scene.environment)?;
+        let split_pipelines = match split {
+            Some(s) => pipelines(&s.materials, &s.environment)?,
+            None => Vec::new(),
+        };
+        (self.material_pipelines, self.split_pipelines) = (scene_pipelines, split_pipelines);
+        let preintegrated = |m: &Material| m.subsurface == Subsurface::PreIntegrated;
+        let needs_table = scene.needs_preintegrated_table() || split_materials.iter().any(preintegrated);
+        if needs_table && self.subsurface.is_none() {
             self.subsurface = Some(SubsurfaceTable::upload(&self.device, one_shot)?);
         }
         let s = &mut self.slots[slot];
@@ -395,13 +415,15 @@ impl ForwardPass {
     }
 
     /// Records the pass into `target`, of the sample count `prepare` had. Its colour and
-    /// depth must be in attachment layouts; its depth is kept for the skybox.
+    /// depth must be in attachment layouts; its depth is kept for the skybox. With the
+    /// `split` that `prepare` had, each part of the target is drawn with its own pipelines.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
         slot: usize,
         scene: &Scene,
+        split: Option<&Split>,
         gpu: &GpuScene,
         target: DrawTarget,
         clear: [f32; 4],
@@ -445,14 +467,43 @@ impl ForwardPass {
                 &[],
             );
         }
+        match split {
+            None => self.draw_objects(cmd, scene, gpu, &self.material_pipelines, 0)?,
+            Some(split) => {
+                let [left, right] = split.scissors(target.extent());
+                let parts = [
+                    (left, &self.material_pipelines, 0),
+                    (right, &self.split_pipelines, scene.materials.len()),
+                ];
+                for (scissor, pipelines, first_material) in parts {
+                    unsafe { d.cmd_set_scissor(cmd, 0, &[scissor]) };
+                    self.draw_objects(cmd, scene, gpu, pipelines, first_material)?;
+                }
+            }
+        }
+        unsafe { d.cmd_end_rendering(cmd) };
+        Ok(())
+    }
+
+    /// Draws every object of `scene` with `pipelines` (one per material), reading its
+    /// material at `first_material` + its index in the materials buffer.
+    fn draw_objects(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &Scene,
+        gpu: &GpuScene,
+        pipelines: &[vk::Pipeline],
+        first_material: usize,
+    ) -> Result<()> {
+        let d = &self.device.handle;
         let mut bound = vk::Pipeline::null();
         for object in &scene.objects {
-            let pipeline = *self
-                .material_pipelines
+            let pipeline = *pipelines
                 .get(object.material)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
-            let push = ObjectPush::new(object);
+            let mut push = ObjectPush::new(object);
+            push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
@@ -478,7 +529,6 @@ impl ForwardPass {
                 d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
             }
         }
-        unsafe { d.cmd_end_rendering(cmd) };
         Ok(())
     }
 }

@@ -16,6 +16,7 @@ use super::gpu_scene::GpuScene;
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
 use super::occlusion::{OcclusionMode, OcclusionPass};
 use super::shadow::ShadowPass;
+use super::split::Split;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
 use crate::scene::{Environment, Scene};
@@ -46,7 +47,8 @@ const PASS_EXPOSURE: u32 = 7;
 
 /// Where the display transform writes (an image in use `from` before this frame), and
 /// the exposure it applies before tone mapping. The frame covers `area` of the image,
-/// which has the render target's size.
+/// which has the render target's size times `scale`: each texel is drawn as `scale`×`scale`
+/// pixels (the viewer's reduced resolution; 1 otherwise).
 pub struct DisplayOutput {
     pub image: vk::Image,
     pub view: vk::ImageView,
@@ -54,6 +56,7 @@ pub struct DisplayOutput {
     pub area: vk::Rect2D,
     pub from: ImageUse,
     pub exposure: f32,
+    pub scale: u32,
 }
 
 /// One offscreen frame read back to the CPU.
@@ -102,6 +105,9 @@ pub struct Renderer {
     /// Whether frames measure their luminance for [`Self::auto_exposure`]; the viewer's
     /// auto exposure of debug views.
     pub measure_exposure: bool,
+    /// Draws the right part of frames with other materials and reflection mode (split.rs);
+    /// the viewer's split view.
+    pub split: Option<Split>,
     /// Scenes uploaded so far: the next upload's id.
     uploads: Cell<u64>,
 }
@@ -170,6 +176,7 @@ impl Renderer {
             occlusion: true,
             accumulation: Accumulation::Off,
             measure_exposure: false,
+            split: None,
             uploads: Cell::new(0),
             device,
         })
@@ -212,8 +219,11 @@ impl Renderer {
         target: &RenderTarget,
         output_format: vk::Format,
     ) -> Result<()> {
+        if let Some(split) = &self.split {
+            split.check(scene)?;
+        }
         let start = std::time::Instant::now();
-        self.environment.prepare(scene)?;
+        self.environment.prepare(scene, self.split.as_ref())?;
         self.environment_time += start.elapsed();
         let samples = self.msaa_samples(scene);
         self.environment.prepare_skybox(sample_flag(samples))?;
@@ -224,12 +234,22 @@ impl Renderer {
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
         let switches = [self.shadows, self.floor, self.generic, self.occlusion];
         let view = (self.accumulation != Accumulation::Off)
-            .then(|| View::of(scene, gpu, target.extent, self.debug_view, switches))
+            .then(|| {
+                View::of(
+                    scene,
+                    gpu,
+                    target.extent,
+                    self.debug_view,
+                    switches,
+                    self.split.as_ref(),
+                )
+            })
             .flatten();
         let sample_set = self.accumulate.prepare(slot, view, self.accumulation, target)?;
         self.forward.prepare(
             slot,
             scene,
+            self.split.as_ref(),
             target.aspect(),
             self.debug_view,
             sample_set,
@@ -286,6 +306,7 @@ impl Renderer {
                 cmd,
                 slot,
                 scene,
+                self.split.as_ref(),
                 gpu,
                 draw,
                 background(scene),
@@ -321,8 +342,15 @@ impl Renderer {
             ImageUse::COLOR_ATTACHMENT,
         );
         self.timed(cmd, slot, PASS_TONEMAP, || {
-            self.tonemap
-                .record(cmd, slot, output.view, output.format, output.area, output.exposure)
+            self.tonemap.record(
+                cmd,
+                slot,
+                output.view,
+                output.format,
+                output.area,
+                output.exposure,
+                output.scale,
+            )
         })
     }
 
@@ -437,6 +465,7 @@ impl Renderer {
             },
             from: ImageUse::UNDEFINED,
             exposure,
+            scale: 1,
         };
         self.one_shot
             .run(|cmd| self.record(cmd, 0, scene, gpu, &offscreen.target, &output))??;

@@ -24,9 +24,9 @@ pub fn is_srgb(format: vk::Format) -> bool {
     )
 }
 
-/// `tonemap.frag`'s push constants: the frame's offset in the output (ivec2), then the
-/// exposure (f32).
-const PUSH_BYTES: u32 = 12;
+/// `tonemap.frag`'s push constants: the frame's offset in the output (ivec2), the
+/// exposure (f32), output pixels per HDR texel (i32).
+const PUSH_BYTES: u32 = 16;
 
 pub struct TonemapPass {
     /// By output format.
@@ -55,7 +55,9 @@ impl TonemapPass {
     }
 
     /// Records the pass into `area` of `output` (in colour-attachment layout), which is the
-    /// HDR target's size; the target must be readable by fragment shaders.
+    /// HDR target's size times `scale` (each texel drawn as `scale`×`scale` pixels); the
+    /// target must be readable by fragment shaders.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -64,10 +66,12 @@ impl TonemapPass {
         format: vk::Format,
         area: vk::Rect2D,
         exposure: f32,
+        scale: u32,
     ) -> Result<()> {
         let mut push = area.offset.x.to_ne_bytes().to_vec();
         push.extend(area.offset.y.to_ne_bytes());
         push.extend(exposure.to_ne_bytes());
+        push.extend((scale.max(1) as i32).to_ne_bytes());
         self.pass.record(cmd, slot, format, output, area, &push)
     }
 }

@@ -70,6 +70,15 @@ impl Environment {
             | Environment::Map { reflection, .. } => Some(reflection),
         }
     }
+
+    pub fn reflection_mut(&mut self) -> Option<&mut Reflection> {
+        match self {
+            Environment::None => None,
+            Environment::Uniform { reflection, .. }
+            | Environment::Studio { reflection, .. }
+            | Environment::Map { reflection, .. } => Some(reflection),
+        }
+    }
 }
 
 /// How the environment's light reflected by a surface is computed.

@@ -13,7 +13,7 @@ use egui::{ClippedPrimitive, TexturesDelta};
 use super::overlay::Overlay;
 use crate::atomic::write_atomically;
 use crate::render::accumulate::{Accumulation, CONVERGED_LOOKUPS};
-use crate::render::{DisplayOutput, GpuScene, RenderTarget, Renderer, PASS_NAMES};
+use crate::render::{DebugView, DisplayOutput, GpuScene, OffscreenFrame, RenderTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
 use crate::vk::{
     transition, Acquired, CommandPool, Device, Fence, ImageRegion, ImageUse, Readback, Semaphore, Swapchain, Timestamps,
@@ -66,6 +66,8 @@ struct Slot {
     ui_timestamps: Option<Timestamps>,
     /// Whether a frame was submitted with this slot, so its queries hold results.
     submitted: bool,
+    /// The output pixels per HDR texel of its last frame.
+    scale: u32,
     capture: Option<PendingCapture>,
 }
 
@@ -79,6 +81,14 @@ pub struct FrameLoop {
     wanted: vk::Extent2D,
     /// Pixels left of the frame, where the UI panel is.
     frame_left: u32,
+    /// Output pixels per HDR texel of the next frame (see [`FrameLoop::set_scale`]).
+    scale: u32,
+    /// Frames drawn at a scale above 1.
+    reduced_frames: u64,
+    /// GPU milliseconds, all passes, of the last completed frame drawn at scale 1, and of
+    /// the last drawn at a larger scale.
+    full_gpu_ms: Option<f64>,
+    reduced_gpu_ms: Option<f64>,
     stale: bool,
     /// Frames submitted so far; frame `n` uses slot `n % FRAMES_IN_FLIGHT`.
     frame: u64,
@@ -111,6 +121,7 @@ impl FrameLoop {
                     target: RenderTarget::new(&device, swapchain.extent)?,
                     ui_timestamps: Timestamps::new(&device, 1)?,
                     submitted: false,
+                    scale: 1,
                     capture: None,
                 })
             })
@@ -122,6 +133,10 @@ impl FrameLoop {
             swapchain: Some(swapchain),
             wanted: size,
             frame_left: 0,
+            scale: 1,
+            reduced_frames: 0,
+            full_gpu_ms: None,
+            reduced_gpu_ms: None,
             stale: false,
             frame: 0,
             recreations: 0,
@@ -166,6 +181,32 @@ impl FrameLoop {
         self.frame_left = left;
     }
 
+    /// Draws the next frames at 1/`scale` of the frame area's resolution, each texel shown
+    /// as `scale`×`scale` pixels: cheap frames while the UI is in use.
+    pub fn set_scale(&mut self, scale: u32) {
+        self.scale = scale.max(1);
+    }
+
+    /// The scale of the next frame.
+    pub fn scale(&self) -> u32 {
+        self.scale
+    }
+
+    /// Frames drawn so far at a scale above 1.
+    pub fn reduced_frames(&self) -> u64 {
+        self.reduced_frames
+    }
+
+    /// GPU milliseconds, every pass, of the last completed full-resolution frame.
+    pub fn full_gpu_ms(&self) -> Option<f64> {
+        self.full_gpu_ms
+    }
+
+    /// The same of the last completed frame at reduced resolution.
+    pub fn reduced_gpu_ms(&self) -> Option<f64> {
+        self.reduced_gpu_ms
+    }
+
     /// Where the frame of the next draw goes in the window, in pixels.
     pub fn frame_area(&self) -> vk::Rect2D {
         let extent = self.swapchain.as_ref().map_or(self.wanted, |s| s.extent);
@@ -183,6 +224,17 @@ impl FrameLoop {
     /// Whether the window has an area to draw into (not while minimised).
     pub fn has_area(&self) -> bool {
         self.wanted.width > 0 && self.wanted.height > 0
+    }
+
+    /// Renders the shaded `scene` offscreen at `extent` and reads it back, once the frames
+    /// in flight are done (the viewer's reference compares it): no split, no debug view.
+    pub fn render_still(&mut self, scene: &Scene, extent: vk::Extent2D, exposure: f32) -> Result<OffscreenFrame> {
+        self.device.wait_idle()?;
+        let split = self.renderer.split.take();
+        let debug_view = std::mem::replace(&mut self.renderer.debug_view, DebugView::Shaded);
+        let frame = self.renderer.render_offscreen(scene, &self.gpu, extent, exposure);
+        (self.renderer.split, self.renderer.debug_view) = (split, debug_view);
+        frame
     }
 
     /// Replaces the scene's meshes on the GPU (after a reload).
@@ -205,9 +257,13 @@ impl FrameLoop {
         Ok(())
     }
 
-    /// Makes every slot's HDR target the size of the frame area.
+    /// Makes every slot's HDR target the size of the frame area, divided by the scale.
     fn resize_targets(&mut self) -> Result<()> {
-        let extent = self.frame_area().extent;
+        let area = self.frame_area().extent;
+        let extent = vk::Extent2D {
+            width: area.width.div_ceil(self.scale),
+            height: area.height.div_ceil(self.scale),
+        };
         if self.slots.iter().all(|s| s.target.extent == extent) {
             return Ok(());
         }
@@ -225,6 +281,12 @@ impl FrameLoop {
             let passes = self.renderer.gpu_times(index)?;
             let ui = slot.ui_timestamps.as_ref().map(Timestamps::read_ms).transpose()?;
             self.gpu_ms = passes.zip(ui).map(|(p, u)| p.into_iter().chain(u).collect());
+            let last = if slot.scale == 1 {
+                &mut self.full_gpu_ms
+            } else {
+                &mut self.reduced_gpu_ms
+            };
+            *last = self.gpu_ms.as_ref().map(|ms| ms.iter().sum()).or(*last);
         }
         if let Some(capture) = slot.capture.take() {
             let written = write_screenshot(&capture);
@@ -273,6 +335,7 @@ impl FrameLoop {
             area,
             from: ImageUse::ACQUIRED,
             exposure,
+            scale: self.scale,
         };
         let region = ImageRegion {
             handle: output.image,
@@ -372,6 +435,8 @@ impl FrameLoop {
             .signal_semaphore_infos(&signals);
         self.device.submit(&[submit], slot.done.handle)?;
         slot.submitted = true;
+        slot.scale = self.scale;
+        self.reduced_frames += u64::from(self.scale > 1);
         slot.capture = readback.map(|(_, c)| c);
         if !swapchain.present(image as u32)? {
             self.stale = true;

@@ -11,10 +11,14 @@ mod legend;
 mod occlusion_panel;
 mod overlay;
 mod panels;
+mod path_completion;
 mod rebuild;
+mod reference_view;
+mod responsive;
 pub mod save;
 mod shadow_panel;
 mod soak;
+mod split_view;
 mod storm;
 mod timings;
 mod watch;
@@ -55,6 +59,8 @@ use watch::FileWatch;
 
 pub use legend::curvature_legend_color;
 pub use panels::PANEL_WIDTH;
+pub use reference_view::reference_and_compare;
+pub use split_view::parse_configuration as parse_split_configuration;
 /// Redraws the resize storm lasts; `--frames` beyond it render at the storm's last size.
 pub const RESIZE_STORM_TICKS: u64 = storm::DURATION;
 
@@ -87,6 +93,8 @@ pub struct ViewOptions {
     pub soak_log: Option<PathBuf>,
     /// The debug view shown first.
     pub debug_view: DebugView,
+    /// Start with the split view on, its right half in this bench configuration.
+    pub split: Option<String>,
 }
 
 /// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
@@ -140,6 +148,10 @@ pub fn run(scene: Scene, document: Document, options: ViewOptions) -> Result<()>
         .zip(options.frames)
         .map(|(log, frames)| Soak::new(log, frames));
     view.debug_view = options.debug_view;
+    if let Some(configuration) = &options.split {
+        view.split.on = true;
+        view.split.configuration.clone_from(configuration);
+    }
     let mut app = App {
         soak,
         view,
@@ -187,6 +199,11 @@ impl InputState {
     /// Whether the camera moves while nothing else happens: a movement key held.
     fn moving(&self) -> bool {
         movement_from_keys(|k| self.held.contains(&k)) != glam::Vec3::ZERO
+    }
+
+    /// Whether the camera is being moved: looking around, or a movement key held.
+    fn camera_moving(&self) -> bool {
+        self.looking || self.moving()
     }
 
     /// This frame's camera input; mouse motion and wheel are consumed.
@@ -322,6 +339,15 @@ impl App {
                 area.offset.x,
                 gpu.join(", ")
             );
+            eprintln!(
+                "argil: {} frames at 1/{} resolution while the UI was in use; the last frame at 1/{}; GPU time of \
+                 the last full frame {}, of the last reduced one {}",
+                state.frames.reduced_frames(),
+                responsive::REDUCED_SCALE,
+                state.frames.scale(),
+                milliseconds(state.frames.full_gpu_ms()),
+                milliseconds(state.frames.reduced_gpu_ms()),
+            );
             let source = if self.view.auto_exposed() { "auto" } else { "camera" };
             eprintln!("argil: exposure in use {} ({source})", self.view.exposure_in_use);
             if let Some(a) = state.frames.renderer.accumulated() {
@@ -369,6 +395,7 @@ impl App {
             KeyCode::KeyY if ctrl => self.pending.redo = true,
             KeyCode::KeyR if !ctrl => self.pending.reset_view = true,
             KeyCode::KeyU if !ctrl => self.view.hide_ui = !self.view.hide_ui,
+            KeyCode::KeyV if !ctrl => self.view.split.on = !self.view.split.on,
             KeyCode::Escape if self.view.question.is_some() => self.view.question = None,
             KeyCode::Escape => self.pending.quit = Some(false),
             _ => {}
@@ -576,6 +603,7 @@ impl App {
             soak.before_frame(state.frames.frame_count(), &mut self.scene);
         }
 
+        self.view.reference.poll(&self.egui, &self.scene);
         let raw = state.egui.take_egui_input(&state.window);
         let mut actions = std::mem::take(&mut self.pending);
         self.view.modified = self.history.modified(&self.scene);
@@ -604,6 +632,11 @@ impl App {
         let area = state.frames.frame_area();
         self.view.frame_size = (area.extent.width, area.extent.height);
         let aspect = area.extent.width as f32 / area.extent.height.max(1) as f32;
+        // The divider at the middle of the 3D view, as the UI draws it.
+        let middle = (self.view.view_rect.center().x * output.pixels_per_point)
+            .round()
+            .max(0.0) as u32;
+        state.frames.renderer.split = self.view.split.split(&self.scene, middle.saturating_sub(left));
 
         let last_frame = self.options.frames.is_some_and(|n| state.frames.frame_count() + 1 >= n);
         let capture = match (&self.options.screenshot, last_frame) {
@@ -632,6 +665,24 @@ impl App {
             textures: output.textures_delta,
             pixels_per_point: output.pixels_per_point,
         };
+        if self.view.reference.take_request() {
+            let r = &self.view.reference;
+            let settings = reference_view::settings((area.extent.width, area.extent.height), r.transport, r.spp);
+            let extent = reference_view::frame_extent(&settings);
+            match state
+                .frames
+                .render_still(&self.scene, extent, self.view.exposure_in_use)
+            {
+                Ok(frame) => self
+                    .view
+                    .reference
+                    .start(&self.scene, frame, settings, self.view.exposure_in_use),
+                Err(e) => self.view.error = Some(format!("{e:#}")),
+            }
+        }
+        let in_use = responsive::in_use(&self.egui, self.input.camera_moving());
+        let scale = responsive::scale(in_use, state.frames.full_gpu_ms());
+        state.frames.set_scale(scale);
         let work = now.elapsed();
         let drawn = state.frames.draw(&self.scene, self.view.exposure_in_use, ui, capture)?;
         if !drawn {
@@ -660,6 +711,10 @@ impl App {
         }
         Ok(())
     }
+}
+
+fn milliseconds(ms: Option<f64>) -> String {
+    ms.map_or_else(|| "unknown".to_owned(), |ms| format!("{ms:.1} ms"))
 }
 
 /// `argil-screenshot-N.png` in the working directory, for the first N not taken.
@@ -800,7 +855,10 @@ impl ApplicationHandler for App {
                 || renderer
                     .auto_exposure()
                     .is_some_and(|e| (e / self.view.exposure_in_use - 1.0).abs() > EXPOSURE_SETTLED));
+        // A frame reduced while the UI was in use is followed by a full one.
+        let restoring = state.frames.scale() > 1 && !responsive::in_use(&self.egui, self.input.camera_moving());
         let wanted = continuous
+            || restoring
             || refining
             || exposing
             || self.needs_redraw

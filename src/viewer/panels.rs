@@ -38,6 +38,7 @@ pub const KEYS: &[(&str, &str)] = &[
     ("F", "frame the objects (the selected one in orbit mode)"),
     ("R", "back to the camera of the scene file"),
     ("U", "hide / show all UI"),
+    ("V", "split view: the right half in another configuration"),
     ("F12", "screenshot of the frame without UI"),
     ("Ctrl+S", "save the scene to its file"),
     ("Ctrl+Z, Ctrl+Y", "undo, redo an edit"),
@@ -99,6 +100,8 @@ pub struct ViewState {
     pub exposure_in_use: f32,
     /// The Files section's path field.
     pub path: String,
+    pub split: super::split_view::SplitView,
+    pub reference: super::reference_view::ReferenceView,
 }
 
 impl ViewState {
@@ -130,6 +133,8 @@ impl ViewState {
             auto_exposure: true,
             exposure_in_use: exposure,
             path: String::new(),
+            split: Default::default(),
+            reference: Default::default(),
         }
     }
 
@@ -225,6 +230,12 @@ const SECTIONS: &[Section] = &[
     }),
     ("Environment", false, |ui, p| environment_section(ui, p.scene)),
     ("Files", false, files_section),
+    ("Split view", false, |ui, p| {
+        super::split_view::section(ui, &mut p.view.split)
+    }),
+    ("Reference", false, |ui, p| {
+        super::reference_view::section(ui, &mut p.view.reference)
+    }),
     ("Debug view", true, |ui, p| debug_section(ui, p.view)),
     ("Timings", true, |ui, p| timings_section(ui, p.view)),
 ];
@@ -270,6 +281,7 @@ pub fn show(ui: &mut Ui, scene: &mut Scene, view: &mut ViewState, camera: &mut C
             });
     }
     view.view_rect = ui.available_rect_before_wrap();
+    super::split_view::overlay(ui.ctx(), view.view_rect, &view.split);
     if view.debug_view == DebugView::Curvature {
         super::legend::show(ui.ctx(), view.view_rect, view.exposure_in_use);
     }
@@ -808,6 +820,7 @@ fn files_section(ui: &mut Ui, p: &mut Panel) {
             .desired_width(ui.available_width()),
     )
     .on_hover_text("An image (.png, .exr, .hdr …) or an .obj mesh, relative to the working directory");
+    super::path_completion::show(ui, &mut view.path);
     let path = view.path.trim().to_owned();
     let Some(material) = scene.materials.get(view.selected_material).map(|m| m.name.clone()) else {
         return;
