@@ -181,7 +181,7 @@ fn lambert_sphere_matches_the_closed_form() {
     assert!(p99 < 4e-6, "shading p99 relative error {p99:.3e}");
     assert!(max < 3e-5, "shading max relative error {max:.3e}");
     // Tessellation: the interpolated normal is off by ≈ (π/512)²/8 ≈ 4.7e-6 rad, amplified
-    // by tanθ near the terminator. Measured: p99 8.9e-5.
+    // by tanθ near the terminator. Measured: p99 7.8e-5.
     assert!(s99 < 1.5e-4, "p99 relative error vs the exact sphere {s99:.3e}");
 }
 
