@@ -57,7 +57,7 @@ const TORUS_SIDES: u32 = 48;
 /// Upper bound on either tessellation count of a torus, and on a sphere's cells along a
 /// cube edge (6 × 2 × 4096² triangles), keeping vertex counts and u32 indices far from
 /// overflow.
-pub const MAX_GRID_STEPS: u32 = 4096;
+const MAX_GRID_STEPS: u32 = 4096;
 
 impl Mesh {
     /// The builtin mesh called `name` (`builtin:sphere`, `builtin:torus`,
