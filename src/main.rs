@@ -327,7 +327,9 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     }
     let begin = Instant::now();
     let extent = vk::Extent2D { width, height };
-    let frame = renderer.render_accumulated(&scene, &gpu, extent, exposure, options.accumulate)?;
+    // An EXR is the linear frame: no display transform runs for it.
+    let display = (OutputKind::of(&options.out)? == OutputKind::Png).then_some(exposure);
+    let frame = renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)?;
     // The frame's wall time holds what its preparation built the first time.
     let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()

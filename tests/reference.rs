@@ -85,7 +85,7 @@ fn white_furnace_is_exact_in_every_transport() {
 #[test]
 fn lambert_sphere_matches_the_closed_form() {
     let mut scene = scene(LAMBERT_SPHERE);
-    scene.meshes[0] = Mesh::sphere(512, 256);
+    scene.meshes[0] = Mesh::sphere(128);
     let (width, height) = (128, 128);
     let image = render(
         &scene,

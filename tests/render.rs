@@ -49,6 +49,33 @@ fn the_floor_writes_the_interpolated_normal_and_turns_off() {
     assert_eq!(again.hdr, shaded.hdr, "the floor leaves no trace once off");
 }
 
+/// A frame kept as linear radiance (what an EXR stores) records no display transform, and
+/// its radiance is the same, bit for bit, as the one drawn with it.
+#[test]
+fn linear_frames_skip_the_tone_map() {
+    let sphere = scene(SPHERE_NO_ENVIRONMENT);
+    let extent = ash::vk::Extent2D { width: 24, height: 16 };
+    let (linear, displayed, counts) = common::gpu().exclusive(|renderer| {
+        let gpu_scene = renderer.upload(&sphere).expect("upload");
+        let before = renderer.tonemap_records();
+        let linear = renderer.render_accumulated(&sphere, &gpu_scene, extent, None, 1);
+        let after_linear = renderer.tonemap_records();
+        let displayed = renderer.render_accumulated(&sphere, &gpu_scene, extent, Some(1.0), 1);
+        let counts = [before, after_linear, renderer.tonemap_records()];
+        (
+            linear.expect("linear frame"),
+            displayed.expect("displayed frame"),
+            counts,
+        )
+    });
+    assert_eq!(counts[1], counts[0], "the linear frame ran the tone map");
+    assert_eq!(counts[2], counts[1] + 1, "the displayed frame ran it once");
+    assert!(linear.display.is_empty());
+    assert_eq!(displayed.display.len(), 4 * 24 * 16);
+    assert_eq!(linear.hdr, displayed.hdr);
+    assert!(linear.gpu_ms.is_none_or(|ms| ms.iter().all(|t| t.is_finite())));
+}
+
 #[test]
 fn default_scene_matches_golden() {
     let frame = render(&argil::scene::Scene::default_scene(), 320, 180);

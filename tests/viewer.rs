@@ -292,7 +292,7 @@ fn accumulated(scene: &Scene, frames: u32, size: u32) -> OffscreenFrame {
             height: size,
         };
         renderer
-            .render_accumulated(scene, &gpu_scene, extent, 1.0, frames)
+            .render_accumulated(scene, &gpu_scene, extent, Some(1.0), frames)
             .expect("render")
     })
 }

@@ -31,7 +31,9 @@ pub struct Configuration {
     pub resolutions: Vec<vk::Extent2D>,
 }
 
-/// A scene with its configurations; its references are of `text`, argil's defaults.
+/// A scene with its configurations; its references are of `text`: argil's defaults with
+/// every builtin sphere tessellated at [`REFERENCE_SUBDIVISIONS`], so that one reference
+/// serves every tessellation row.
 pub struct BenchScene {
     pub name: &'static str,
     pub text: String,
@@ -91,6 +93,12 @@ const LARGE: vk::Extent2D = vk::Extent2D {
 pub const QUICK: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
 /// Environment lookups per pixel of the `sampled` configurations.
 const SAMPLED: [u32; 6] = [1, 4, 16, 64, 256, 1024];
+/// Cells along a cube edge of the builtin spheres of the `sphere-N` configurations
+/// (argil's default, 32, is the scenes' own rows).
+const SPHERE_SUBDIVISIONS: [u32; 4] = [8, 16, 64, 128];
+/// The references' builtin spheres: cells π/512 across at most (1.5 M triangles), whose
+/// interpolated normals are within ≈ (π/512)²/8 ≈ 5e-6 rad of the exact sphere's.
+pub const REFERENCE_SUBDIVISIONS: u32 = 256;
 
 /// Every scene and configuration of a full run, or the `--quick` subset; `sky` is the
 /// equirectangular map of the `sphere-sky` scene, which is left out without one.
@@ -119,6 +127,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
         bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
     ];
     let headline = |_: &str| vec![HEADLINE];
+    let tessellations: Vec<String> = SPHERE_SUBDIVISIONS.iter().map(|n| format!("sphere-{n}")).collect();
     let sphere = parse(SPHERE_TOML, "bench/scenes/sphere.toml")?;
     for (name, diffuse, specular, distribution) in SPHERES {
         let mut file = sphere.clone();
@@ -132,6 +141,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
         if specular == SpecularModel::CookTorrance {
             configurations.push(SEPARABLE_G);
         }
+        configurations.extend(tessellations.iter().map(String::as_str));
         scenes.push(bench_scene(name, &file, &configurations, headline)?);
     }
     if let Some(sky) = sky {
@@ -344,9 +354,11 @@ fn bench_scene(
     if let Some(floor) = configurations.iter_mut().find(|c| c.floor) {
         floor.resolutions = floor_sizes;
     }
+    let mut reference = file.clone();
+    set_sphere_subdivisions(&mut reference, REFERENCE_SUBDIVISIONS);
     Ok(BenchScene {
         name,
-        text: file.to_toml()?,
+        text: reference.to_toml()?,
         configurations,
     })
 }
@@ -365,7 +377,8 @@ pub fn is_generic(name: &str) -> bool {
 /// `seed` the report's reflection alone, `report` its reflection, horizon and subsurface
 /// on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
 /// without subsurface scattering, material maps or environment, `maps-off` every map at
-/// strength 0, `smith-separable` the separable G, the shadow and anti-aliasing
+/// strength 0, `smith-separable` the separable G, `sphere-N` builtin spheres of N cells
+/// along each cube edge, the shadow and anti-aliasing
 /// configurations as their constants say; `generic-NAME` is NAME drawn with the generic
 /// pipelines.
 pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
@@ -414,11 +427,20 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         _ if OCCLUSION_CONFIGURATIONS.contains(&name) => occlusion_configured(&mut file, name),
         _ if BOUNCE_CONFIGURATIONS.contains(&name) => bounce_configured(&mut file, name),
         _ => {
-            let samples = name
-                .strip_prefix("sampled-")
-                .and_then(|n| n.parse().ok())
-                .with_context(|| format!("unknown bench configuration {name:?}"))?;
-            set_reflection(&mut file.environment, ReflectionMode::Sampled, Some(samples));
+            let number = |prefix: &str| {
+                name.strip_prefix(prefix)
+                    .and_then(|n| n.parse().ok())
+                    .with_context(|| format!("unknown bench configuration {name:?}"))
+            };
+            if name.starts_with("sphere-") {
+                set_sphere_subdivisions(&mut file, number("sphere-")?);
+            } else {
+                set_reflection(
+                    &mut file.environment,
+                    ReflectionMode::Sampled,
+                    Some(number("sampled-")?),
+                );
+            }
         }
     }
     Ok(file)
@@ -498,6 +520,14 @@ fn bounce_configured(file: &mut SceneFile, name: &str) {
     }
 }
 
+fn set_sphere_subdivisions(file: &mut SceneFile, n: u32) {
+    for object in &mut file.objects {
+        if object.mesh == "builtin:sphere" {
+            object.subdivisions = Some(n);
+        }
+    }
+}
+
 fn set_reflection(environment: &mut EnvironmentDef, mode: ReflectionMode, lookups: Option<u32>) {
     match environment {
         EnvironmentDef::None => {}
@@ -522,6 +552,28 @@ mod tests {
 
     fn names(scene: BenchScene) -> Vec<String> {
         scene.configurations.into_iter().map(|c| c.name).collect()
+    }
+
+    /// Every tessellation row and its scene's reference draw the scene's one sphere, at
+    /// the row's subdivisions and the reference's.
+    #[test]
+    fn tessellation_rows_vary_the_sphere_and_references_use_the_fine_one() {
+        let lambert = scenes(false, None)
+            .unwrap()
+            .into_iter()
+            .find(|s| s.name == "sphere-lambert")
+            .unwrap();
+        let spheres = |text: &str| {
+            let file: SceneFile = toml::from_str(text).unwrap();
+            file.objects.iter().map(|o| o.subdivisions).collect::<Vec<_>>()
+        };
+        assert_eq!(spheres(&lambert.text), [Some(REFERENCE_SUBDIVISIONS)]);
+        for n in SPHERE_SUBDIVISIONS {
+            let row = lambert.configurations.iter().find(|c| c.name == format!("sphere-{n}"));
+            assert_eq!(spheres(&row.unwrap().text), [Some(n)]);
+        }
+        let own = lambert.configurations.iter().find(|c| c.name == "split-sum").unwrap();
+        assert_eq!(spheres(&own.text), [None]);
     }
 
     #[test]

@@ -65,7 +65,8 @@ pub struct OffscreenFrame {
     pub height: u32,
     /// Linear radiance, RGBA, row-major from the top-left pixel.
     pub hdr: Vec<f32>,
-    /// Tone-mapped sRGB, RGBA8.
+    /// Tone-mapped sRGB, RGBA8; empty when the frame was drawn without its display
+    /// transform ([`OffscreenTarget::hdr_only`]).
     pub display: Vec<u8>,
     /// Milliseconds per pass of [`PASS_NAMES`], when the device has timestamps.
     pub gpu_ms: Option<Vec<f64>>,
@@ -116,14 +117,15 @@ pub struct Renderer {
 /// kept across frames so that repeated frames time only the rendering.
 pub struct OffscreenTarget {
     pub target: RenderTarget,
-    display: Image,
     hdr_readback: Readback,
-    display_readback: Readback,
+    /// The tone-mapped image and its readback; `None` for frames kept as linear radiance.
+    display: Option<(Image, Readback)>,
 }
 
 impl OffscreenTarget {
+    /// A target for the linear frame and its tone-mapped display image.
     pub fn new(device: &Arc<Device>, extent: vk::Extent2D) -> Result<Self> {
-        let target = RenderTarget::new(device, extent)?;
+        let mut offscreen = Self::hdr_only(device, extent)?;
         let display = Image::new_2d(
             device,
             extent,
@@ -132,11 +134,19 @@ impl OffscreenTarget {
             vk::ImageAspectFlags::COLOR,
             "display frame",
         )?;
+        let readback = Readback::new(device, &display, 4)?;
+        offscreen.display = Some((display, readback));
+        Ok(offscreen)
+    }
+
+    /// A target for the linear frame alone: frames drawn into it skip the display
+    /// transform (an EXR needs none).
+    pub fn hdr_only(device: &Arc<Device>, extent: vk::Extent2D) -> Result<Self> {
+        let target = RenderTarget::new(device, extent)?;
         Ok(Self {
             hdr_readback: Readback::new(device, &target.color, 16)?,
-            display_readback: Readback::new(device, &display, 4)?,
             target,
-            display,
+            display: None,
         })
     }
 }
@@ -264,8 +274,8 @@ impl Renderer {
     }
 
     /// Records the whole frame: forward pass and skybox into `target` (or into multisampled
-    /// images resolved into it), display transform into `output`, which is left as a colour
-    /// attachment. `target.color` is left readable by shaders.
+    /// images resolved into it), display transform into `output` (when there is one), which
+    /// is left as a colour attachment. `target.color` is left readable by shaders.
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -273,7 +283,7 @@ impl Renderer {
         scene: &Scene,
         gpu: &GpuScene,
         target: &RenderTarget,
-        output: &DisplayOutput,
+        output: Option<&DisplayOutput>,
     ) -> Result<()> {
         let d = &self.device;
         if let Some(t) = self.timestamps.get(slot) {
@@ -333,15 +343,17 @@ impl Renderer {
             self.exposure.record(cmd, slot, target);
             Ok(())
         })?;
-        transition(
-            d,
-            cmd,
-            output.image,
-            vk::ImageAspectFlags::COLOR,
-            output.from,
-            ImageUse::COLOR_ATTACHMENT,
-        );
+        // Without an output the pass is still timed (at nothing), as every query is read.
         self.timed(cmd, slot, PASS_TONEMAP, || {
+            let Some(output) = output else { return Ok(()) };
+            transition(
+                d,
+                cmd,
+                output.image,
+                vk::ImageAspectFlags::COLOR,
+                output.from,
+                ImageUse::COLOR_ATTACHMENT,
+            );
             self.tonemap.record(
                 cmd,
                 slot,
@@ -352,6 +364,11 @@ impl Renderer {
                 output.scale,
             )
         })
+    }
+
+    /// How many frames have been recorded with their display transform.
+    pub fn tonemap_records(&self) -> u64 {
+        self.tonemap.records()
     }
 
     /// Records `pass` between the two timestamps that time it, when the device has them.
@@ -417,16 +434,21 @@ impl Renderer {
     /// Renders `frames` frames of `scene` into one target, accumulating the `sampled`
     /// reflection's running mean from a fresh start (one frame is
     /// [`Self::render_offscreen`]'s image), and reads the mean back with the last frame's
-    /// GPU times.
+    /// GPU times. With `exposure`, also the display image at that exposure; without, the
+    /// linear frame alone, and the display transform does not run.
     pub fn render_accumulated(
         &mut self,
         scene: &Scene,
         gpu: &GpuScene,
         extent: vk::Extent2D,
-        exposure: f32,
+        exposure: Option<f32>,
         frames: u32,
     ) -> Result<OffscreenFrame> {
-        let offscreen = OffscreenTarget::new(&self.device, extent)?;
+        let offscreen = match exposure {
+            Some(_) => OffscreenTarget::new(&self.device, extent)?,
+            None => OffscreenTarget::hdr_only(&self.device, extent)?,
+        };
+        let exposure = exposure.unwrap_or(1.0);
         let accumulation = if frames > 1 {
             Accumulation::Unlimited
         } else {
@@ -455,9 +477,9 @@ impl Renderer {
         exposure: f32,
     ) -> Result<Option<Vec<f64>>> {
         self.prepare(0, scene, gpu, &offscreen.target, DISPLAY_FORMAT)?;
-        let output = DisplayOutput {
-            image: offscreen.display.handle,
-            view: offscreen.display.view,
+        let output = offscreen.display.as_ref().map(|(display, _)| DisplayOutput {
+            image: display.handle,
+            view: display.view,
             format: DISPLAY_FORMAT,
             area: vk::Rect2D {
                 offset: vk::Offset2D::default(),
@@ -466,29 +488,32 @@ impl Renderer {
             from: ImageUse::UNDEFINED,
             exposure,
             scale: 1,
-        };
+        });
         self.one_shot
-            .run(|cmd| self.record(cmd, 0, scene, gpu, &offscreen.target, &output))??;
+            .run(|cmd| self.record(cmd, 0, scene, gpu, &offscreen.target, output.as_ref()))??;
         self.gpu_times(0)
     }
 
     /// Reads back the frame [`Self::draw_offscreen`] last drew into `offscreen`.
     pub fn read_offscreen(&self, offscreen: &OffscreenTarget, gpu_ms: Option<Vec<f64>>) -> Result<OffscreenFrame> {
         self.one_shot.run(|cmd| {
-            let (target, display) = (&offscreen.target, &offscreen.display);
             offscreen
                 .hdr_readback
-                .record(&self.device, cmd, &target.color, ImageUse::FRAGMENT_READ);
-            offscreen
-                .display_readback
-                .record(&self.device, cmd, display, ImageUse::COLOR_ATTACHMENT);
+                .record(&self.device, cmd, &offscreen.target.color, ImageUse::FRAGMENT_READ);
+            if let Some((display, readback)) = &offscreen.display {
+                readback.record(&self.device, cmd, display, ImageUse::COLOR_ATTACHMENT);
+            }
         })?;
         let extent = offscreen.target.extent;
+        let display = match &offscreen.display {
+            Some((_, readback)) => readback.bytes()?.to_vec(),
+            None => Vec::new(),
+        };
         Ok(OffscreenFrame {
             width: extent.width,
             height: extent.height,
             hdr: bytemuck::pod_collect_to_vec(offscreen.hdr_readback.bytes()?),
-            display: offscreen.display_readback.bytes()?.to_vec(),
+            display,
             gpu_ms,
         })
     }

@@ -3,6 +3,7 @@
 //! push constants: exposure and where the frame starts in the output. One pipeline per
 //! output format.
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use anyhow::Result;
@@ -31,6 +32,8 @@ const PUSH_BYTES: u32 = 16;
 pub struct TonemapPass {
     /// By output format.
     pass: FullscreenPass<vk::Format>,
+    /// Passes recorded so far.
+    records: Cell<u64>,
 }
 
 impl TonemapPass {
@@ -43,7 +46,14 @@ impl TonemapPass {
                 "tonemap.frag",
                 PUSH_BYTES,
             )?,
+            records: Cell::new(0),
         })
+    }
+
+    /// How many times the pass has been recorded: frames written only as linear radiance
+    /// have none.
+    pub fn records(&self) -> u64 {
+        self.records.get()
     }
 
     /// Points `slot`'s set at `target` and creates the pipeline for `format` if needed.
@@ -72,6 +82,7 @@ impl TonemapPass {
         push.extend(area.offset.y.to_ne_bytes());
         push.extend(exposure.to_ne_bytes());
         push.extend((scale.max(1) as i32).to_ne_bytes());
+        self.records.set(self.records.get() + 1);
         self.pass.record(cmd, slot, format, output, area, &push)
     }
 }

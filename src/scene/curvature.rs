@@ -23,7 +23,7 @@ const MIN_EDGE_FRACTION: f64 = 1e-6;
 /// normal; `indices` must be in range.
 ///
 /// Vertices with bit-identical positions and normals are one point of the surface split
-/// only by UVs (texture seams, the poles of a UV sphere), so they pool their neighbours
+/// only by UVs (texture seams, the edges of the builtin sphere's cube faces), so they pool their neighbours
 /// and share one value; vertices at one position with different normals (hard edges) stay
 /// apart. Degenerate edges and zero normals are skipped; a vertex without a usable edge
 /// gets 0. The result is always finite.
@@ -111,9 +111,9 @@ mod tests {
     }
 
     /// The estimator is exact on a sphere, so only rounding is left: positions and normals
-    /// are f32 (relative 6e-8) and the shortest edges, next to the poles, are 0.0024 R long,
-    /// which makes a relative error of about 6e-8 / 0.0024 ≈ 2.5e-5 per edge; 1e-4 of 1/R
-    /// bounds it with room. Poles and seam included.
+    /// are f32 (relative 6e-8) and the shortest edges, at the cube sphere's corners, are
+    /// 0.046 R long, which makes a relative error of about 6e-8 / 0.046 ≈ 1.3e-6 per edge;
+    /// 1e-4 of 1/R bounds it with room. The faces' shared edges and corners included.
     #[test]
     fn sphere_is_one_over_its_radius() {
         let unit = Mesh::builtin("builtin:sphere").unwrap();

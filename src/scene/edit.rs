@@ -54,6 +54,7 @@ pub fn edit_document(scene: &Scene, document: &str, path: &Path) -> Result<Strin
         position: [0.0; 3],
         scale: 1.0,
         material: None,
+        subdivisions: None,
     })?;
     merge_list(root, "objects", &old.objects, &new.objects, Some(&object_base))?;
     for (name, def) in &new.materials {

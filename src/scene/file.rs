@@ -194,6 +194,10 @@ pub struct ObjectDef {
     /// A key of `[materials]`; absent means the built-in neutral material.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// `builtin:sphere` only: cells along each edge of its cube; absent means
+    /// `SPHERE_SUBDIVISIONS`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub subdivisions: Option<u32>,
 }
 
 fn one() -> f64 {

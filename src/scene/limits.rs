@@ -19,6 +19,9 @@ pub const MAX_LIGHTS: usize = crate::render::gpu_scene::MAX_POINT_LIGHTS;
 /// OBJ of 9,999,392 triangles (a 2237² grid) peaks at 2.1 GB of host memory in `argil
 /// render` (the text, tobj's arrays, then argil's vertices with tangents and curvature).
 pub const MAX_MESH_TRIANGLES: u64 = 10_000_000;
+/// `subdivisions` of a `builtin:sphere` object, cells along each edge of its cube: 512 makes
+/// 6 × 2 × 512² = 3.1 M triangles (82 MB of vertices), far finer than any frame resolves.
+pub const SPHERE_SUBDIVISIONS_RANGE: std::ops::RangeInclusive<u32> = 1..=512;
 /// OBJ files, read whole before parsing: 10⁷ triangles and their vertices in text.
 pub const MAX_OBJ_BYTES: u64 = 1 << 30;
 

@@ -13,8 +13,9 @@ use super::file::{
     ShadowsDef,
 };
 use super::light::{Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE};
-use super::limits::{MAX_LIGHTS, MAX_OBJECTS};
+use super::limits::{MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDIVISIONS_RANGE};
 use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
+use super::mesh::SPHERE_SUBDIVISIONS;
 use super::{
     builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, Occlusion,
     PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
@@ -205,14 +206,21 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
                 ));
             }
         };
+        // The default count is the builtin itself, so both spellings share one mesh.
+        let subdivisions = subdivisions(&check, i, object)?.filter(|&n| n != SPHERE_SUBDIVISIONS);
         // Meshes load last, so cheap mistakes are reported without waiting
         // for a large OBJ.
-        let mesh = match mesh_indices.get(object.mesh.as_str()) {
+        let key = (object.mesh.as_str(), subdivisions);
+        let mesh = match mesh_indices.get(&key) {
             Some(&index) => index,
             None => {
                 let field = format!("objects[{i}].mesh");
-                meshes.push(load_mesh(&check, &field, &object.mesh, base_dir)?);
-                mesh_indices.insert(object.mesh.as_str(), meshes.len() - 1);
+                let mesh = match subdivisions {
+                    Some(n) => Mesh::sphere(n),
+                    None => load_mesh(&check, &field, &object.mesh, base_dir)?,
+                };
+                meshes.push(mesh);
+                mesh_indices.insert(key, meshes.len() - 1);
                 meshes.len() - 1
             }
         };
@@ -253,6 +261,27 @@ fn shadows_def(scene: &Scene) -> Option<ShadowsDef> {
         bounce: scene.bounce.then_some(true),
     };
     (def != ShadowsDef::default()).then_some(def)
+}
+
+/// Object `i`'s `subdivisions`: `None` without the key, else the count, checked to be in
+/// range and on a `builtin:sphere`.
+fn subdivisions(check: &Checker, i: usize, object: &ObjectDef) -> Result<Option<u32>, SceneError> {
+    let Some(n) = object.subdivisions else {
+        return Ok(None);
+    };
+    let field = format!("objects[{i}].subdivisions");
+    if object.mesh != "builtin:sphere" {
+        let reason = format!(
+            "only a builtin:sphere has subdivisions; this object's mesh is {:?}",
+            object.mesh
+        );
+        return Err(check.invalid(&field, n, reason));
+    }
+    if !SPHERE_SUBDIVISIONS_RANGE.contains(&n) {
+        let (low, high) = (SPHERE_SUBDIVISIONS_RANGE.start(), SPHERE_SUBDIVISIONS_RANGE.end());
+        return Err(check.invalid(&field, n, format!("must be an integer in [{low}, {high}]")));
+    }
+    Ok(Some(n))
 }
 
 fn shadow_resolution(check: &Checker, def: Option<&ShadowsDef>) -> Result<u32, SceneError> {
@@ -646,6 +675,9 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
                 position: widen3(object.position),
                 scale: widen(object.scale),
                 material: Some(scene.materials[object.material].name.clone()),
+                subdivisions: scene.meshes[object.mesh]
+                    .subdivisions
+                    .filter(|&n| n != SPHERE_SUBDIVISIONS),
             })
             .collect(),
         materials: scene

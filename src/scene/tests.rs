@@ -332,10 +332,30 @@ fn out_of_range_values_name_the_field() {
         ("[[objects]]\nmesh = \"builtin:cube\"\nscale = inf", "objects[1].scale = inf: must be a finite number > 0"),
         ("[[objects]]\nmesh = \"builtin:cube\"\nposition = [0.0, 0.0, nan]", "objects[1].position = [0.0, 0.0, NaN]: every component must be a finite number"),
         ("[[objects]]\nmesh = \"builtin:cone\"", "objects[1].mesh = \"builtin:cone\": unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube"),
+        ("[[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 0", "objects[1].subdivisions = 0: must be an integer in [1, 512]"),
+        ("[[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 513", "objects[1].subdivisions = 513: must be an integer in [1, 512]"),
+        ("[[objects]]\nmesh = \"builtin:torus\"\nsubdivisions = 8", "objects[1].subdivisions = 8: only a builtin:sphere has subdivisions; this object's mesh is \"builtin:torus\""),
     ];
     for (extra, expected) in cases {
         assert_eq!(error(&format!("{CUBE}{extra}\n")), format!("scene.toml: {expected}"));
     }
+}
+
+/// Spheres of different `subdivisions` are different meshes, each object keeps its own,
+/// and the count is saved only where it is not the default.
+#[test]
+fn sphere_subdivisions_are_per_object_and_saved() {
+    let text = "[[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 4\n\
+                [[objects]]\nmesh = \"builtin:sphere\"\n\
+                [[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 4\n\
+                [[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 32\n";
+    let scene = parse(text).unwrap();
+    let meshes: Vec<usize> = scene.objects.iter().map(|o| o.mesh).collect();
+    assert_eq!(meshes, [0, 1, 0, 1]);
+    assert_eq!(scene.meshes[0].indices.len(), 6 * 6 * 4 * 4);
+    assert_eq!(scene.meshes[1], Mesh::builtin("builtin:sphere").unwrap());
+    let saved: Vec<Option<u32>> = scene.to_file().objects.iter().map(|o| o.subdivisions).collect();
+    assert_eq!(saved, [Some(4), None, Some(4), None]);
 }
 
 #[test]
@@ -380,7 +400,15 @@ fn default_scene_is_a_valid_clay_scene() {
     }
     assert_eq!(scene.lights.len(), 1);
     let light = scene.lights[0];
-    assert!(light.intensity.min_element() >= 20.0 && light.intensity.max_element() <= 40.0);
+    assert!(light.intensity.min_element() >= 30.0 && light.intensity.max_element() <= 60.0);
+    // A studio shot: the studio's light, a soft key light, contact shadows.
+    assert!(
+        matches!(scene.environment, Environment::Studio { .. }),
+        "{:?}",
+        scene.environment
+    );
+    assert!(light.radius > 0.0 && light.shadows);
+    assert!(scene.occlusion.enabled);
     // Up, left and in front of the objects.
     assert!(light.position.y > 0.0 && light.position.x < 0.0 && light.position.z > 0.0);
     let camera = scene.camera;
@@ -435,14 +463,15 @@ fn scene_file_round_trips_through_toml() {
             mesh: "builtin:plane".into(),
             position: [0.0, -1.0, 0.0],
             scale: 8.0,
-            material: Some("ground".into())
+            material: Some("ground".into()),
+            subdivisions: None,
         }
     );
     assert_eq!(file.materials["ground"].roughness, 0.8);
     assert_eq!(file.materials["ground"].base_color, [0.72, 0.68, 0.6]);
     assert_eq!(file.materials["ground"].wrap_width, MaterialDef::default().wrap_width);
-    assert!(matches!(file.lights[0], LightDef::Point { intensity, .. } if intensity == [32.0, 30.0, 27.0]));
-    assert!(matches!(file.environment, EnvironmentDef::Uniform { .. }));
+    assert!(matches!(file.lights[0], LightDef::Point { intensity, .. } if intensity == [48.0, 45.0, 40.0]));
+    assert!(matches!(file.environment, EnvironmentDef::Studio { .. }));
 }
 
 /// A light's radius and shadows and the maps' resolution are read, default to a point

@@ -378,7 +378,7 @@ impl FrameLoop {
             t.reset(cmd);
         }
         self.renderer
-            .record(cmd, index, scene, &self.gpu, &slot.target, &output)?;
+            .record(cmd, index, scene, &self.gpu, &slot.target, Some(&output))?;
 
         // The tone-mapped image is a colour attachment here; a capture leaves it a transfer source.
         let copy = |stage: CaptureStage| -> ImageUse {

@@ -101,6 +101,7 @@ pub fn rebuild(scene: &Scene, edit: &Rebuild) -> Result<Scene> {
             position: [0.0; 3],
             scale: 1.0,
             material: Some(material.clone()),
+            subdivisions: None,
         }),
     }
     let base_dir = scene.source.as_deref().and_then(Path::parent).unwrap_or(Path::new(""));
