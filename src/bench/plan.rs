@@ -112,20 +112,10 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
             |_| vec![QUICK],
         )?]);
     }
-    let mut studio = default.clone();
-    studio.environment = EnvironmentDef::Studio {
-        intensity: None,
-        rotation_degrees: None,
-        reflection: None,
-        samples: None,
-        seed_strength: None,
-    };
     let names = configuration_names();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
-    let mut scenes = vec![
-        bench_scene("default", &default, &names, |c| resolutions(c, true))?,
-        bench_scene("studio", &studio, &names, |c| resolutions(c, false))?,
-    ];
+    // The default scene is a studio shot, so it is also "the default scene under the studio".
+    let mut scenes = vec![bench_scene("default", &default, &names, |c| resolutions(c, true))?];
     let headline = |_: &str| vec![HEADLINE];
     let tessellations: Vec<String> = SPHERE_SUBDIVISIONS.iter().map(|n| format!("sphere-{n}")).collect();
     let sphere = parse(SPHERE_TOML, "bench/scenes/sphere.toml")?;
@@ -183,7 +173,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     Ok(scenes)
 }
 
-/// The configurations of the default and studio scenes in a full run, in order; each is
+/// The configurations of the default scene in a full run, in order; each is
 /// the scene file as [`configured`] edits it (and the floor's and generic's flags).
 pub fn configuration_names() -> Vec<String> {
     let base = [
