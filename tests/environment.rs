@@ -18,7 +18,7 @@ use argil::brdf::shading::{diffuse_lobe, specular_lobe};
 use argil::render::environment::{LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
 use argil::render::OffscreenFrame;
 use argil::scene::{Environment, Reflection, ReflectionMode, Scene};
-use common::{argil, argil_with, assert_matches_golden, gpu, render, scene, try_render};
+use common::{argil_with, assert_matches_golden, gpu, render, scene, try_render};
 
 /// A sphere filling most of a square frame, seen from +z.
 fn sphere_scene(environment: &str, material: &str) -> String {
@@ -656,24 +656,32 @@ fn brdf_tables_match_their_f64_twin() {
     eprintln!("BRDF tables vs f64 twin: max relative error {worst:.2e}");
 }
 
+/// `argil render` of a rough sphere under the studio into `dir/name` at 48×32, with `env`.
+fn render_studio_sphere(dir: &Path, name: &str, env: &[(&str, &str)]) -> std::process::Output {
+    let scene_path = dir.join("studio.toml");
+    std::fs::write(&scene_path, sphere_scene("kind = \"studio\"", "roughness = 0.5")).expect("write scene");
+    let out = dir.join(name);
+    argil_with(
+        &[
+            "render",
+            scene_path.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+            "--width",
+            "48",
+            "--height",
+            "32",
+        ],
+        env,
+    )
+}
+
 /// `argil render` prints what precomputing the environment cost, and leaves no validation
 /// message (leaks included).
 #[test]
 fn render_prints_precomputation_costs() {
     let dir = TempDir::new("cli");
-    let scene_path = dir.0.join("studio.toml");
-    std::fs::write(&scene_path, sphere_scene("kind = \"studio\"", "roughness = 0.5")).expect("write scene");
-    let out = dir.0.join("studio.png");
-    let o = argil(&[
-        "render",
-        scene_path.to_str().expect("utf-8"),
-        "--out",
-        out.to_str().expect("utf-8"),
-        "--width",
-        "48",
-        "--height",
-        "32",
-    ]);
+    let o = render_studio_sphere(&dir.0, "studio.png", &[]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     assert!(!stderr.contains("vulkan validation"), "{stderr}");
@@ -695,27 +703,12 @@ fn render_prints_precomputation_costs() {
 #[test]
 fn environment_tables_come_from_the_disk_cache_on_a_warm_start() {
     let dir = TempDir::new("lut-cache");
-    let scene_path = dir.0.join("sphere.toml");
-    std::fs::write(&scene_path, sphere_scene("kind = \"studio\"", "roughness = 0.5")).expect("write scene");
     let cache = dir.0.join("cache");
     let run = |name: &str| {
-        let out = dir.0.join(name);
-        let o = argil_with(
-            &[
-                "render",
-                scene_path.to_str().expect("utf-8"),
-                "--out",
-                out.to_str().expect("utf-8"),
-                "--width",
-                "48",
-                "--height",
-                "32",
-            ],
-            &[("ARGIL_CACHE_DIR", cache.to_str().expect("utf-8"))],
-        );
+        let o = render_studio_sphere(&dir.0, name, &[("ARGIL_CACHE_DIR", cache.to_str().expect("utf-8"))]);
         let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
         assert!(o.status.success(), "{stderr}");
-        (stderr, std::fs::read(out).expect("output"))
+        (stderr, std::fs::read(dir.0.join(name)).expect("output"))
     };
     let (cold, cold_image) = run("cold.exr");
     let (warm, warm_image) = run("warm.exr");
