@@ -2,13 +2,13 @@
 # Installs what argil needs to build and to run on Mesa's software Vulkan (lavapipe):
 # the Vulkan loader, lavapipe, the Khronos validation layer, the system shaderc/glslang
 # (so build.rs links them in seconds instead of compiling shaderc from C++), and Xvfb for
-# windowed tests. Idempotent: does nothing when everything is present.
+# windowed tests (with libXtst and python3, which move the pointer in one). Idempotent: does nothing when everything is present.
 set -euo pipefail
 
 packages=(
   libvulkan1 mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libshaderc-dev glslang-dev spirv-tools
-  xvfb xauth libxkbcommon-x11-0 libxcursor1 libxrandr2 libxi6 libx11-xcb1
+  xvfb xauth libxkbcommon-x11-0 libxcursor1 libxrandr2 libxi6 libx11-xcb1 libxtst6 python3
   pkg-config
 )
 
