@@ -64,14 +64,15 @@ fn level_extent(image: &Image, level: u32) -> vk::Extent2D {
     }
 }
 
+/// Bytes of mip `level` of an RGBA16F image, every layer.
+fn level_size(image: &Image, level: u32) -> u64 {
+    let extent = level_extent(image, level);
+    u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * TEXEL_BYTES
+}
+
 /// Bytes of every level and layer of an RGBA16F image, as `upload_levels` takes them.
 fn level_bytes(image: &Image) -> usize {
-    (0..image.mip_levels)
-        .map(|level| {
-            let extent = level_extent(image, level);
-            u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * TEXEL_BYTES
-        })
-        .sum::<u64>() as usize
+    (0..image.mip_levels).map(|level| level_size(image, level)).sum::<u64>() as usize
 }
 
 /// The texels of a cube map level with `side`² faces, for a dispatch.
@@ -612,9 +613,9 @@ impl Precompute {
         let mut offset = 0;
         let regions: Vec<vk::BufferImageCopy> = (0..image.mip_levels)
             .map(|level| {
-                let extent = level_extent(image, level);
-                let region = copy_region(image.aspect, level, image.layers, extent).buffer_offset(offset);
-                offset += u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * TEXEL_BYTES;
+                let region =
+                    copy_region(image.aspect, level, image.layers, level_extent(image, level)).buffer_offset(offset);
+                offset += level_size(image, level);
                 region
             })
             .collect();
@@ -661,10 +662,9 @@ impl Precompute {
     /// `read_level`'s texels as the image holds them: RGBA16F bits, native byte order.
     fn read_level_bits(&self, image: &Image, level: u32) -> Result<Vec<u8>> {
         let extent = level_extent(image, level);
-        let texels = u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers);
         let buffer = Buffer::new(
             &self.device,
-            texels * TEXEL_BYTES,
+            level_size(image, level),
             vk::BufferUsageFlags::TRANSFER_DST,
             MemoryLocation::GpuToCpu,
             "environment readback",
