@@ -1,9 +1,8 @@
 #version 460
 // `argil verify`'s harness: evaluates one function of brdf.glsl, tonemap.glsl,
 // msaa_resolve.glsl, specular_aa.glsl, normal_mapping.glsl or shading.glsl, chosen by the FUNCTION specialization constant, on
-// every input tuple. src/verify/functions.rs evaluates the f64 twins on the same f32 tuples;
-// the meaning of a tuple's six vec4 per function is documented there and next to each case
-// below.
+// every input tuple. src/verify/functions.rs and terms.rs evaluate the f64 twins on the same
+// f32 tuples; the meaning of a tuple's vec4s per function is documented there and below.
 #include "brdf.glsl"
 #include "tonemap.glsl"
 #include "normal_mapping.glsl"
@@ -14,34 +13,9 @@
 
 layout(local_size_x = 64) in;
 
-// Values of src/verify/functions.rs's `Function`.
+// Values of src/verify/functions.rs's `Function`; below FIRST_MODEL, a term's index in
+// src/verify/terms.rs's TERMS.
 layout(constant_id = 0) const uint FUNCTION = 0u;
-const uint D_GGX = 0u;
-const uint D_BECKMANN = 1u;
-const uint LAMBDA_GGX = 2u;
-const uint LAMBDA_BECKMANN = 3u;
-const uint G1_SMITH_GGX = 4u;
-const uint G2_SMITH_SEPARABLE_GGX = 5u;
-const uint G2_SMITH_CORRELATED_GGX = 6u;
-const uint G2_SMITH_SEPARABLE_BECKMANN = 7u;
-const uint G2_SMITH_CORRELATED_BECKMANN = 8u;
-const uint G2_V_CAVITY = 9u;
-const uint F_SCHLICK = 10u;
-const uint E_FON_APPROX = 11u;
-const uint TONEMAP_PBR_NEUTRAL = 12u;
-const uint SRGB_OETF = 13u;
-const uint WRAP_SEED = 14u;
-const uint WRAP_ENERGY_CONSERVING = 15u;
-const uint SPEC_BLINN_PHONG = 16u;
-const uint SHADOW_TERMINATOR = 17u;
-const uint PREINTEGRATED_LOOKUP = 18u;
-const uint WRAP_ENERGY_CONSERVING_SH_KERNEL = 19u;
-const uint RESOLVE_WEIGHT = 20u;
-const uint SPECULAR_AA_ROUGHNESS = 21u;
-const uint GTAO_SLICE_VISIBILITY = 22u;
-const uint GTAO_MULTI_BOUNCE = 23u;
-const uint SPECULAR_OCCLUSION = 24u;
-const uint PLANE_POINT_IRRADIANCE = 25u;
 // From here on, BRDF models of directions: f(n, v, l) and f(n, l, v) are both written.
 const uint FIRST_MODEL = 32u;
 const uint LAMBERT = 32u;
@@ -96,62 +70,37 @@ layout(push_constant) uniform Push {
     uint count;
 } push;
 
-// A scalar or colour term of the library.
+// A scalar or colour term of the library: case k calls TERMS[k] of src/verify/terms.rs,
+// which names its arguments (scalars in a, a colour in d), one line a term.
 vec4 term(Tuple t) {
     vec4 a = t.a;
     switch (FUNCTION) {
-    case D_GGX: // d_ggx(α, n·h, |n×h|²)
-        return vec4(d_ggx(a.x, a.y, a.z));
-    case D_BECKMANN: // d_beckmann(α, n·h, |n×h|²)
-        return vec4(d_beckmann(a.x, a.y, a.z));
-    case LAMBDA_GGX: // lambda_ggx(α, n·x)
-        return vec4(lambda_ggx(a.x, a.y));
-    case LAMBDA_BECKMANN: // lambda_beckmann(α, n·x)
-        return vec4(lambda_beckmann(a.x, a.y));
-    case G1_SMITH_GGX: // g1_smith_ggx(α, n·x)
-        return vec4(g1_smith_ggx(a.x, a.y));
-    case G2_SMITH_SEPARABLE_GGX: // g2_smith_separable_ggx(α, n·v, n·l)
-        return vec4(g2_smith_separable_ggx(a.x, a.y, a.z));
-    case G2_SMITH_CORRELATED_GGX: // g2_smith_correlated_ggx(α, n·v, n·l)
-        return vec4(g2_smith_correlated_ggx(a.x, a.y, a.z));
-    case G2_SMITH_SEPARABLE_BECKMANN: // g2_smith_separable_beckmann(α, n·v, n·l)
-        return vec4(g2_smith_separable_beckmann(a.x, a.y, a.z));
-    case G2_SMITH_CORRELATED_BECKMANN: // g2_smith_correlated_beckmann(α, n·v, n·l)
-        return vec4(g2_smith_correlated_beckmann(a.x, a.y, a.z));
-    case G2_V_CAVITY: // g2_v_cavity(n·h, n·v, n·l, v·h)
-        return vec4(g2_v_cavity(a.x, a.y, a.z, a.w));
-    case F_SCHLICK: // f_schlick(F0, v·h) in rgb, f_schlick_scalar(F0.r, v·h) in w
-        return vec4(f_schlick(t.d.rgb, a.x), f_schlick_scalar(t.d.r, a.x));
-    case E_FON_APPROX: // e_fon_approx(μ, r)
-        return vec4(e_fon_approx(a.x, a.y));
-    case TONEMAP_PBR_NEUTRAL: // tonemap_pbr_neutral(colour)
-        return vec4(tonemap_pbr_neutral(t.d.rgb), 0.0);
-    case SRGB_OETF: // srgb_oetf(vec3 colour) in rgb, srgb_oetf(float colour.r) in w
-        return vec4(srgb_oetf(t.d.rgb), srgb_oetf(t.d.r));
-    case WRAP_SEED: // wrap_seed(n·l, w₁, w₂)
-        return vec4(wrap_seed(a.x, a.y, a.z));
-    case WRAP_ENERGY_CONSERVING: // wrap_energy_conserving(n·l, w)
-        return vec4(wrap_energy_conserving(a.x, a.y));
-    case SPEC_BLINN_PHONG: // spec_blinn_phong(α, n·h, |n×h|², F0, v·h)
-        return vec4(spec_blinn_phong(a.x, a.y, a.z, t.d.rgb, a.w), 0.0);
-    case SHADOW_TERMINATOR: // shadow_terminator(n_g·l, n_s·l, n_g·n_s)
-        return vec4(shadow_terminator(a.x, a.y, a.z));
-    case PREINTEGRATED_LOOKUP: // preintegrated_lookup(n·l, σκ)
-        return preintegrated_lookup(a.x, a.y);
-    case WRAP_ENERGY_CONSERVING_SH_KERNEL: // wrap_energy_conserving_sh_kernel(w)
-        return vec4(wrap_energy_conserving_sh_kernel(a.x), 0.0);
-    case RESOLVE_WEIGHT: // resolve_weight(colour)
-        return vec4(resolve_weight(t.d.rgb));
-    case SPECULAR_AA_ROUGHNESS: // specular_aa_roughness(roughness, |∂n/∂x|² + |∂n/∂y|²)
-        return vec4(specular_aa_roughness(a.x, a.y));
-    case GTAO_SLICE_VISIBILITY: // gtao_slice_visibility(h0, h1, γ)
-        return vec4(gtao_slice_visibility(a.x, a.y, a.z));
-    case GTAO_MULTI_BOUNCE: // gtao_multi_bounce(x, ρ)
-        return vec4(gtao_multi_bounce(a.x, t.d.rgb), 0.0);
-    case SPECULAR_OCCLUSION: // specular_occlusion(n·v, x, α)
-        return vec4(specular_occlusion(a.x, a.y, a.z));
-    case PLANE_POINT_IRRADIANCE: // plane_point_irradiance(height, d²)
-        return vec4(plane_point_irradiance(a.x, a.y));
+    case 0u: return vec4(d_ggx(a.x, a.y, a.z));
+    case 1u: return vec4(d_beckmann(a.x, a.y, a.z));
+    case 2u: return vec4(lambda_ggx(a.x, a.y));
+    case 3u: return vec4(lambda_beckmann(a.x, a.y));
+    case 4u: return vec4(g1_smith_ggx(a.x, a.y));
+    case 5u: return vec4(g2_smith_separable_ggx(a.x, a.y, a.z));
+    case 6u: return vec4(g2_smith_correlated_ggx(a.x, a.y, a.z));
+    case 7u: return vec4(g2_smith_separable_beckmann(a.x, a.y, a.z));
+    case 8u: return vec4(g2_smith_correlated_beckmann(a.x, a.y, a.z));
+    case 9u: return vec4(g2_v_cavity(a.x, a.y, a.z, a.w));
+    case 10u: return vec4(f_schlick(t.d.rgb, a.x), f_schlick_scalar(t.d.r, a.x));
+    case 11u: return vec4(e_fon_approx(a.x, a.y));
+    case 12u: return vec4(tonemap_pbr_neutral(t.d.rgb), 0.0);
+    case 13u: return vec4(srgb_oetf(t.d.rgb), srgb_oetf(t.d.r));
+    case 14u: return vec4(wrap_seed(a.x, a.y, a.z));
+    case 15u: return vec4(wrap_energy_conserving(a.x, a.y));
+    case 16u: return vec4(spec_blinn_phong(a.x, a.y, a.z, t.d.rgb, a.w), 0.0);
+    case 17u: return vec4(shadow_terminator(a.x, a.y, a.z));
+    case 18u: return preintegrated_lookup(a.x, a.y);
+    case 19u: return vec4(wrap_energy_conserving_sh_kernel(a.x), 0.0);
+    case 20u: return vec4(resolve_weight(t.d.rgb));
+    case 21u: return vec4(specular_aa_roughness(a.x, a.y));
+    case 22u: return vec4(gtao_slice_visibility(a.x, a.y, a.z));
+    case 23u: return vec4(gtao_multi_bounce(a.x, t.d.rgb), 0.0);
+    case 24u: return vec4(specular_occlusion(a.x, a.y, a.z));
+    case 25u: return vec4(plane_point_irradiance(a.x, a.y));
     }
     return vec4(0.0);
 }

@@ -18,6 +18,7 @@ mod functions;
 mod gpu;
 mod normals;
 mod sweep;
+mod terms;
 
 use std::fmt::Write as _;
 use std::sync::Arc;

@@ -4,8 +4,7 @@
 
 use crate::brdf::{cross, dot, Vec3};
 
-use super::composite::terminator_continuity;
-use super::functions::{Function, Output, Term, Tuple, Values, MIN_RECIPROCAL_HALF_LEN, UNIT_TOLERANCE};
+use super::functions::{Function, Output, Tolerance, Tuple, Values, MIN_RECIPROCAL_HALF_LEN, UNIT_TOLERANCE};
 use super::{normals, Row, Status};
 
 /// Values below this are compared absolutely: |a − b| / max(|b|, floor). The functions'
@@ -16,9 +15,6 @@ use super::{normals, Row, Status};
 /// rounding of O(1) quantities, not defects, and 1/3000 of the darkest 8-bit sRGB step (3e-4).
 pub const RELATIVE_FLOOR: f64 = 1e-3;
 
-/// Check 1's tolerances, from the brief: the error of fp32 arithmetic on smooth functions.
-const P99_TOLERANCE: f64 = 1e-5;
-const MAX_TOLERANCE: f64 = 1e-4;
 /// Check 2: the f64 twin is reciprocal to rounding; the GPU rounds v·h and l·h differently.
 const RECIPROCITY_F64: f64 = 1e-12;
 const RECIPROCITY_GPU: f64 = 1e-5;
@@ -202,12 +198,16 @@ pub fn rows(
     };
     let pass = |ok: bool| if ok { Status::Pass } else { Status::Fail };
     let mut rows = Vec::new();
+    let Tolerance {
+        p99: p99_tolerance,
+        max: max_tolerance,
+    } = function.tolerance();
 
     // 1. GPU against f64 on the same inputs, where the harness's own fp32 derivation of the
     // arguments cannot spoil the tolerance; elsewhere against a bound that includes it.
     let error = |i: usize| tuple_error(function, &widen(&gpu[i])[0], &cpu[i][0]);
     let (exact, rounded): (Vec<usize>, Vec<usize>) =
-        (0..samples).partition(|&i| function.argument_rounding(&tuples[i]) <= P99_TOLERANCE);
+        (0..samples).partition(|&i| function.argument_rounding(&tuples[i]) <= p99_tolerance);
     let mut errors: Vec<f64> = exact.iter().map(|&i| error(i)).collect();
     let worst = (0..exact.len()).max_by(|&i, &j| errors[i].total_cmp(&errors[j]));
     let max = worst.map_or(0.0, |i| errors[i]);
@@ -230,33 +230,33 @@ pub fn rows(
         format!("{samples} tuples")
     } else {
         format!(
-            "{} of {samples} tuples, where argument rounding <= {P99_TOLERANCE:e}",
+            "{} of {samples} tuples, where argument rounding <= {p99_tolerance:e}",
             exact.len()
         )
     };
     rows.push(row(
         "gpu vs f64: p99 rel. error",
         sci(p99),
-        format!("<= {P99_TOLERANCE:e}"),
-        pass(p99 <= P99_TOLERANCE),
+        format!("<= {p99_tolerance:e}"),
+        pass(p99 <= p99_tolerance),
         format!("{domain}, floor {RELATIVE_FLOOR:e}"),
     ));
     rows.push(row(
         "gpu vs f64: max rel. error",
         sci(max),
-        format!("<= {MAX_TOLERANCE:e}"),
-        pass(max <= MAX_TOLERANCE),
+        format!("<= {max_tolerance:e}"),
+        pass(max <= max_tolerance),
         worst.map_or_else(String::new, |k| worst_note(exact[k])),
     ));
     if !rounded.is_empty() {
-        let ratio = |i: usize| error(i) / (MAX_TOLERANCE + function.argument_rounding(&tuples[i]));
+        let ratio = |i: usize| error(i) / (max_tolerance + function.argument_rounding(&tuples[i]));
         let worst = rounded.iter().copied().max_by(|&i, &j| ratio(i).total_cmp(&ratio(j)));
         let max_ratio = worst.map_or(0.0, ratio);
         let max_error = rounded.iter().map(|&i| error(i)).fold(0.0, f64::max);
         rows.push(row(
             "gpu vs f64, rest: error/bound",
             format!("{max_ratio:.2} (max error {})", sci(max_error)),
-            format!("<= 1, bound {MAX_TOLERANCE:e} + rounding"),
+            format!("<= 1, bound {max_tolerance:e} + rounding"),
             pass(max_ratio <= 1.0),
             format!(
                 "{} tuples; {}; {}",
@@ -283,20 +283,20 @@ pub fn rows(
         rows.push(row(
             "gpu vs f64: max angle (rad)",
             sci(max_angle),
-            format!("<= {MAX_TOLERANCE:e}, as the max rel. error allows"),
-            pass(max_angle <= MAX_TOLERANCE),
+            format!("<= {max_tolerance:e}, as the max rel. error allows"),
+            pass(max_angle <= max_tolerance),
             at.map_or_else(String::new, |i| format!("worst: {}", function.describe(&tuples[i]))),
         ));
     }
 
     // 2. Positivity and range (or unit length) on the random tuples, on both sides.
     let (check, measured, tolerance, ok) = range_row(function, &gpu[..samples], &cpu[..samples], false);
-    rows.push(row(check, measured, tolerance, pass(ok), String::new()));
+    rows.push(row(check, measured, tolerance, pass(ok), function.equation()));
 
     // What the function promises besides, on every tuple.
     match function {
         Function::UnitVector(normal) => rows.extend(normals::rows(normal, tuples, gpu, cpu)),
-        Function::Term(Term::ShadowTerminator) => rows.push(terminator_continuity(tuples, gpu, cpu)),
+        Function::Term(term) => rows.extend(term.spec().promise.map(|promise| promise(tuples, gpu, cpu))),
         _ => {}
     }
 
@@ -342,7 +342,7 @@ pub fn rows(
                 format!("v·h and l·h round differently{}", at(gpu_worst)),
             ));
         }
-        Function::Term(term) if term.is_lighting_weight() => {
+        Function::Term(term) if term.spec().lighting_weight => {
             rows.push(row(
                 "reciprocity",
                 "n/a".to_owned(),
