@@ -137,6 +137,20 @@ fn stress_colour(c: f32) -> [f32; 4] {
     [c, 1.0 - c, c * 0.5, 0.0]
 }
 
+/// Each of `xs` as the first argument under each of `STRESS_COLOURS`.
+fn each_stress_colour(xs: &[f32]) -> Vec<Tuple> {
+    STRESS_COLOURS
+        .iter()
+        .flat_map(|&c| {
+            xs.iter().map(move |&x| Tuple {
+                a: [x, 0.0, 0.0, 0.0],
+                d: stress_colour(c),
+                ..Tuple::default()
+            })
+        })
+        .collect()
+}
+
 fn sample_d(rng: &mut Rng, alpha: f64) -> Tuple {
     let (sin, cos) = sample_half_or_below(rng, alpha).sin_cos();
     scalars([alpha, cos, sin * sin, 0.0])
@@ -384,19 +398,7 @@ pub static TERMS: &[TermSpec] = &[
                 ..Tuple::default()
             }
         },
-        stress: || {
-            let mut out = Vec::new();
-            for &f0 in STRESS_COLOURS {
-                for &v_dot_h in STRESS_COSINES {
-                    out.push(Tuple {
-                        a: [v_dot_h, 0.0, 0.0, 0.0],
-                        d: stress_colour(f0),
-                        ..Tuple::default()
-                    });
-                }
-            }
-            out
-        },
+        stress: || each_stress_colour(STRESS_COSINES),
         rounding: None,
         promise: None,
     },
@@ -727,19 +729,7 @@ pub static TERMS: &[TermSpec] = &[
             d: colour(rng),
             ..Tuple::default()
         },
-        stress: || {
-            let mut out = Vec::new();
-            for &rho in STRESS_COLOURS {
-                for x in [0.0, 1e-7, 0.5, 1.0] {
-                    out.push(Tuple {
-                        a: [x, 0.0, 0.0, 0.0],
-                        d: stress_colour(rho),
-                        ..Tuple::default()
-                    });
-                }
-            }
-            out
-        },
+        stress: || each_stress_colour(&[0.0, 1e-7, 0.5, 1.0]),
         rounding: None,
         promise: None,
     },
