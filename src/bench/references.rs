@@ -10,7 +10,7 @@ use crate::compare::input::read_exr;
 use crate::compare::metrics::Rgba32;
 use crate::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use crate::render::output::write_linear;
-use crate::scene::file::{EnvironmentDef, LightDef, MaterialDef, SceneFile};
+use crate::scene::file::{LightDef, MaterialDef, SceneFile};
 use crate::scene::Scene;
 
 /// A reference image and its own estimated relative RMS noise.
@@ -67,26 +67,8 @@ pub fn key_text(text: &str) -> Result<String> {
         let LightDef::Point { shadows, .. } = light;
         *shadows = None;
     }
-    match &mut file.environment {
-        EnvironmentDef::None => {}
-        EnvironmentDef::Uniform {
-            reflection,
-            samples,
-            seed_strength,
-            ..
-        }
-        | EnvironmentDef::Studio {
-            reflection,
-            samples,
-            seed_strength,
-            ..
-        }
-        | EnvironmentDef::Map {
-            reflection,
-            samples,
-            seed_strength,
-            ..
-        } => (*reflection, *samples, *seed_strength) = (None, None, None),
+    if let Some((reflection, samples, seed_strength)) = file.environment.reflection_keys_mut() {
+        (*reflection, *samples, *seed_strength) = (None, None, None);
     }
     let defaults = toml::Table::try_from(MaterialDef::default()).context("the default material")?;
     let mut value = toml::Table::try_from(&file).context("a bench reference's scene")?;
@@ -155,15 +137,7 @@ mod tests {
             let LightDef::Point { shadows, .. } = light;
             *shadows = Some(false);
         }
-        let EnvironmentDef::Studio {
-            reflection,
-            samples,
-            seed_strength,
-            ..
-        } = &mut file.environment
-        else {
-            panic!("the default scene is lit by the studio");
-        };
+        let (reflection, samples, seed_strength) = file.environment.reflection_keys_mut().unwrap();
         (*reflection, *samples, *seed_strength) = (Some(ReflectionMode::Seed), Some(8), Some(0.5));
         file.to_toml().unwrap()
     }

@@ -66,27 +66,11 @@ pub fn rebuild(scene: &Scene, edit: &Rebuild) -> Result<Scene> {
             });
         }
         Rebuild::EnvironmentMap { path } => {
-            let (reflection, samples, seed_strength) = match &file.environment {
-                EnvironmentDef::None => (None, None, None),
-                EnvironmentDef::Uniform {
-                    reflection,
-                    samples,
-                    seed_strength,
-                    ..
-                }
-                | EnvironmentDef::Studio {
-                    reflection,
-                    samples,
-                    seed_strength,
-                    ..
-                }
-                | EnvironmentDef::Map {
-                    reflection,
-                    samples,
-                    seed_strength,
-                    ..
-                } => (*reflection, *samples, *seed_strength),
-            };
+            let (reflection, samples, seed_strength) = file
+                .environment
+                .reflection_keys_mut()
+                .map(|(reflection, samples, seed_strength)| (*reflection, *samples, *seed_strength))
+                .unwrap_or_default();
             file.environment = EnvironmentDef::Map {
                 path: typed(path)?.into(),
                 intensity: None,
