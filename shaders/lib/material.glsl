@@ -14,7 +14,7 @@ struct Material {
     float wrap;
     float wrap_width;
     float metallic;       // 0 dielectric, 1 metal (glTF 2.0 metallic-roughness)
-    float pad1;
+    float energy_compensation; // 1: the specular lobe is energy-compensated (environment.glsl)
     float pad2;
     // Material maps (material_maps.glsl): uv · scale + offset, strengths, conventions.
     vec4 base_color_uv;   // xy scale, zw offset
