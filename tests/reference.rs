@@ -598,31 +598,11 @@ fn a_white_scattering_medium_is_a_furnace() {
 #[test]
 fn energy_compensation_brings_render_and_reference_together_on_a_rough_metal() {
     use argil::compare::metrics::{compare, Rgba32};
+    // The furnace's ball turned into the metal, as the reference (no specular anti-aliasing).
     let toml = |on: bool| {
-        format!(
-            r#"
-[camera]
-position = [0.0, 0.0, 4.0]
-target = [0.0, 0.0, 0.0]
-fov_y_degrees = 35.0
-
-[antialiasing]
-specular = false
-
-[environment]
-kind = "uniform"
-radiance = [0.5, 0.5, 0.5]
-
-[[objects]]
-mesh = "builtin:sphere"
-material = "metal"
-
-[materials.metal]
-base_color = [1.0, 1.0, 1.0]
-metallic = 1.0
-roughness = 0.9
-energy_compensation = {on}
-"#
+        FURNACE.replace(
+            "diffuse = \"lambert\"\nspecular = \"none\"",
+            &format!("metallic = 1.0\nroughness = 0.9\nenergy_compensation = {on}\n[antialiasing]\nspecular = false"),
         )
     };
     let (width, height) = (64, 64);

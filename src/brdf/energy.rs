@@ -118,3 +118,44 @@ impl SpecularAlbedoTable {
         row(y) * (1.0 - fy) + row(y + 1) * fy
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::environment::lut_layer_models;
+
+    /// At a texel's parameters a lookup is the texel; halfway between four it is their mean.
+    #[test]
+    fn lookups_read_texels_and_interpolate_between_them() {
+        let (width, height) = (5, 4);
+        let table = SpecularAlbedoTable::cached(&DiskCache::at(None), width, height, 64);
+        for layer in 0..=LUT_LAYER_BLINN_PHONG {
+            let models = lut_layer_models(layer);
+            // The last column's n·v is clamped to MIN_N_DOT_V, off its lut_x by 5e-5.
+            for x in 0..width - 1 {
+                for y in 0..height {
+                    let at = table.lookup(models, lut_n_dot_v(lut_parameter(x, width)), lut_parameter(y, height));
+                    assert!((at - table.texel(layer, x, y)).abs() < 1e-12, "layer {layer} ({x}, {y})");
+                }
+            }
+            let mid = |i: u32, size: u32| (f64::from(i) + 0.5) / f64::from(size - 1);
+            let between = table.lookup(models, lut_n_dot_v(mid(1, width)), mid(2, height));
+            let mean = [(1, 2), (2, 2), (1, 3), (2, 3)]
+                .map(|(x, y)| table.texel(layer, x, y))
+                .iter()
+                .sum::<f64>()
+                / 4.0;
+            assert!((between - mean).abs() < 1e-12, "layer {layer}: {between} vs {mean}");
+        }
+    }
+
+    /// A white conductor's factor is 1/E, a non-reflecting F0 leaves the lobe alone, and E
+    /// outside [MIN_SPECULAR_ALBEDO, 1] is clamped.
+    #[test]
+    fn the_factor_makes_up_a_white_lobes_loss() {
+        let [white, black, _] = specular_energy_compensation(0.6, [1.0, 0.0, 0.5]);
+        assert!((white - 1.0 / 0.6).abs() < 1e-15 && black == 1.0);
+        assert_eq!(specular_energy_compensation(0.0, [1.0; 3])[0], 1.0 / MIN_SPECULAR_ALBEDO);
+        assert_eq!(specular_energy_compensation(1.5, [1.0; 3])[0], 1.0);
+    }
+}

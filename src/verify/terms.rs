@@ -152,6 +152,15 @@ fn each_stress_colour(xs: &[f32]) -> Vec<Tuple> {
         .collect()
 }
 
+/// A scalar uniform in [0, 1) and a random colour.
+fn sample_unit_and_colour(rng: &mut Rng, _: f64) -> Tuple {
+    Tuple {
+        a: [rng.uniform() as f32, 0.0, 0.0, 0.0],
+        d: colour(rng),
+        ..Tuple::default()
+    }
+}
+
 fn sample_d(rng: &mut Rng, alpha: f64) -> Tuple {
     let (sin, cos) = sample_half_or_below(rng, alpha).sin_cos();
     scalars([alpha, cos, sin * sin, 0.0])
@@ -725,11 +734,7 @@ pub static TERMS: &[TermSpec] = &[
         tolerance: FP32_ARITHMETIC,
         lighting_weight: false,
         eval: |t| rgb0(gtao_multi_bounce(f64::from(t.a[0]), rgb(t.d))),
-        sample: |rng, _| Tuple {
-            a: [rng.uniform() as f32, 0.0, 0.0, 0.0],
-            d: colour(rng),
-            ..Tuple::default()
-        },
+        sample: sample_unit_and_colour,
         stress: || each_stress_colour(&[0.0, 1e-7, 0.5, 1.0]),
         rounding: None,
         promise: None,
@@ -794,11 +799,7 @@ pub static TERMS: &[TermSpec] = &[
         lighting_weight: false,
         eval: |t| rgb0(specular_energy_compensation(f64::from(t.a[0]), rgb(t.d))),
         // E over the tables' range and below the clamp.
-        sample: |rng, _| Tuple {
-            a: [rng.range(0.0, 1.0) as f32, 0.0, 0.0, 0.0],
-            d: colour(rng),
-            ..Tuple::default()
-        },
+        sample: sample_unit_and_colour,
         stress: || each_stress_colour(&[-1.0, 0.0, DENORMAL, 0.05, 0.3, 0.99999994, 1.0, 2.0]),
         rounding: None,
         promise: None,
