@@ -67,6 +67,7 @@ void main() {
         vec3 dy = dFdy(n_mapped);
         m.roughness = specular_aa_roughness(m.roughness, dot(dx, dx) + dot(dy, dy));
     }
+    m.specular_color.rgb = compensated_specular_color(models, m, max(dot(n, v), MIN_N_DOT_V));
 
     float visibility = ambient_visibility(gl_FragCoord.xy);
     vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_map_uv[MAP_NOISE]),

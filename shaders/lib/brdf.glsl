@@ -49,6 +49,9 @@ const float EON_CONSTANT_2 = 2.0 / 3.0 - 28.0 / (15.0 * PI);
 const float EON_EPSILON = 1e-7;
 // Smallest wrap width w₂: keeps eq. 18's smoothstep edges apart.
 const float MIN_WRAP_WIDTH = 1e-4;
+// Smallest single-scattering albedo E specular_energy_compensation divides by: the BRDF
+// tables' least specular E is above it; it bounds the factor by 1/E = 20.
+const float MIN_SPECULAR_ALBEDO = 0.05;
 
 // Values of spec_cook_torrance's `distribution` and `geometry`.
 const int DISTRIBUTION_GGX = 0;
@@ -382,6 +385,17 @@ float wrap_seed(float n_dot_l, float w1, float w2) {
 float wrap_energy_conserving(float n_dot_l, float w) {
     float ww = clamp(w, 0.0, 1.0);
     return clamp((n_dot_l + ww) / ((1.0 + ww) * (1.0 + ww)), 0.0, 1.0);
+}
+
+// ---- Multiple-scattering energy compensation ----
+
+// Fdez-Agüera 2019 (Kulla & Conty 2017 simplified, as Filament has it): the factor
+// 1 + F0 (1/E − 1) on a single-scattering lobe whose albedo at F0 = 1 is E, so a white
+// conductor reflects all it receives. E is clamped to [MIN_SPECULAR_ALBEDO, 1] (never
+// darkening), F0 to [0, 1].
+vec3 specular_energy_compensation(float e, vec3 f0) {
+    float ee = clamp(e, MIN_SPECULAR_ALBEDO, 1.0);
+    return 1.0 + clamp(f0, 0.0, 1.0) * (1.0 / ee - 1.0);
 }
 
 #endif // ARGIL_BRDF_GLSL

@@ -81,6 +81,16 @@ vec2 brdf_table(uint layer, float n_dot_v, float y) {
     return textureLod(brdf_lut, vec3(xy, float(layer)), 0.0).rg;
 }
 
+// The material's specular tint with the lobe's multiple scattering compensated where the
+// material asks for it (energy_compensation): E = A + B, the lobe's albedo at F0 = 1, is
+// the split sum's own table (twin: SpecularAlbedoTable in src/brdf/energy.rs), so point
+// lights and the environment, which both read the tint, are compensated alike.
+vec3 compensated_specular_color(ShadingModels models, Material m, float n_dot_v) {
+    if (m.energy_compensation == 0.0 || models.specular == SPECULAR_NONE) return m.specular_color.rgb;
+    vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
+    return m.specular_color.rgb * specular_energy_compensation(ab.x + ab.y, specular_f0(m));
+}
+
 // The directional albedo of the diffuse lobe: what it reflects of a unit uniform light.
 vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
     if (model == DIFFUSE_LAMBERT) return diffuse_color(m);

@@ -130,7 +130,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
         m.diffuse_roughness = 0.5;
         let mut configurations = vec![FLOOR, "split-sum", "seed", REPORT, "sampled-64"];
         if specular == SpecularModel::CookTorrance {
-            configurations.push(SEPARABLE_G);
+            configurations.extend([SEPARABLE_G, ENERGY_COMPENSATION]);
         }
         configurations.extend(tessellations.iter().map(String::as_str));
         scenes.push(bench_scene(name, &file, &configurations, headline)?);
@@ -280,6 +280,9 @@ fn under_sky(sphere: &SceneFile, sky: &Path) -> SceneFile {
 
 /// Cook-Torrance with the separable Smith G, the approximation of the correlated one.
 const SEPARABLE_G: &str = "smith-separable";
+/// Every material's specular lobe energy-compensated: its cost is this row against
+/// `split-sum`'s (one more table read a pixel).
+const ENERGY_COMPENSATION: &str = "energy-compensation";
 
 fn parse(text: &str, origin: &str) -> Result<SceneFile> {
     toml::from_str(text).with_context(|| format!("{origin}: not a scene"))
@@ -368,7 +371,8 @@ pub fn is_generic(name: &str) -> bool {
 /// `seed` the report's reflection alone, `report` its reflection, horizon and subsurface
 /// on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
 /// without subsurface scattering, material maps or environment, `maps-off` every map at
-/// strength 0, `smith-separable` the separable G, `sphere-N` builtin spheres of N cells
+/// strength 0, `smith-separable` the separable G, `energy-compensation` every specular lobe
+/// energy-compensated, `sphere-N` builtin spheres of N cells
 /// along each cube edge, the shadow and anti-aliasing
 /// configurations as their constants say; `generic-NAME` is NAME drawn with the generic
 /// pipelines.
@@ -409,6 +413,10 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
             .materials
             .values_mut()
             .for_each(|m| m.geometry = Geometry::SmithSeparable),
+        ENERGY_COMPENSATION => file
+            .materials
+            .values_mut()
+            .for_each(|m| m.energy_compensation = true),
         _ if SHADOW_CONFIGURATIONS.contains(&name) => shadow_configured(&mut file, name),
         _ if ANTIALIASING_CONFIGURATIONS.contains(&name) => file.antialiasing = Some(antialiasing_configured(name)),
         _ if OCCLUSION_CONFIGURATIONS.contains(&name) => occlusion_configured(&mut file, name),

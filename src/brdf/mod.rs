@@ -10,6 +10,7 @@
 pub mod antialiasing;
 pub mod bounce;
 pub mod diffuse;
+pub mod energy;
 pub mod distribution;
 pub mod environment;
 pub mod fresnel;

@@ -15,6 +15,7 @@ use super::sampling::{power_heuristic, sample_sphere_light, Lobes};
 use super::world::Medium;
 use super::world::{Surface, World};
 use super::{Sampling, Settings, SubsurfaceTransport, Transport};
+use crate::brdf::energy::{specular_energy_compensation, SpecularAlbedoTable};
 use crate::brdf::environment::{sample_cosine, sample_uniform_sphere, tangent_frame};
 use crate::brdf::fresnel::f_schlick;
 use crate::brdf::shading::{
@@ -22,6 +23,7 @@ use crate::brdf::shading::{
     SpecularModel,
 };
 use crate::brdf::subsurface::Subsurface;
+use crate::brdf::MIN_N_DOT_V;
 use crate::rng::Rng;
 use crate::scene::{Camera, Scene};
 
@@ -228,6 +230,12 @@ impl<'a> Integrator<'a> {
             } else {
                 0.5
             };
+        }
+        if m.energy_compensation && models.specular != SpecularModel::None {
+            // As forward.frag: the tint scaled by the compensation at this n·v.
+            let e = SpecularAlbedoTable::get().lookup(models, v.dot(n).max(MIN_N_DOT_V), params.roughness);
+            let factor = specular_energy_compensation(e, params.specular_f0());
+            params.specular_color = std::array::from_fn(|i| params.specular_color[i] * factor[i]);
         }
         let frame = tangent_frame(n.to_array()).map(DVec3::from);
         let lobes = Lobes::new(models, &params, v.dot(n), subsurface_lights(models, &params));

@@ -54,6 +54,8 @@ pub struct WorldMaterial {
     pub models: ShadingModels,
     pub params: ShadingParams,
     pub seed_horizon: bool,
+    /// Whether the specular lobe is energy-compensated, as the forward pass compensates it.
+    pub energy_compensation: bool,
     base_color_map: Option<Map>,
     normal_map: Option<Map>,
     detail_map: Option<Map>,
@@ -66,6 +68,7 @@ impl WorldMaterial {
             models: material.shading_models(),
             params: material.shading_params(),
             seed_horizon: material.horizon == crate::scene::Horizon::Seed,
+            energy_compensation: material.energy_compensation,
             base_color_map: material.maps[MapSlot::BaseColor].as_ref().map(Map::new),
             normal_map: material.maps[MapSlot::Normal].as_ref().map(Map::new),
             detail_map: material.maps[MapSlot::Detail].as_ref().map(Map::new),

@@ -182,6 +182,10 @@ impl EnvironmentPass {
             let mode = environment.reflection().map(|r| r.mode);
             needs_prefiltered |= source.is_some() && mode == Some(ReflectionMode::SplitSum);
             needs_lut |= mode.is_some_and(|m| m != ReflectionMode::Sampled) && needs_brdf_tables(materials);
+            // Energy compensation reads E from the tables under every environment and mode.
+            needs_lut |= materials
+                .iter()
+                .any(|m| m.energy_compensation && m.specular != SpecularModel::None);
         }
         let built_source = self.cubes.as_ref().map(|c| &c.source);
         let rebuild_source = source.is_some() && built_source != source.as_ref();

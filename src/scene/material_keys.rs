@@ -211,12 +211,35 @@ where
     }
 }
 
+/// `true` or `false`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flag;
+
+impl Kind for Flag {
+    type File = bool;
+    type Value = bool;
+
+    fn check(&self, x: &bool) -> Result<bool, String> {
+        Ok(*x)
+    }
+
+    fn save(&self, v: &bool) -> bool {
+        *v
+    }
+
+    fn edit<'a>(&self, v: &'a mut bool) -> Edit<'a> {
+        Edit::Toggle(v)
+    }
+}
+
 /// What the panel edits for one key.
 pub enum Edit<'a> {
     /// A slider over the range.
     Number(&'a mut f32, RangeInclusive<f32>),
     Color(&'a mut Vec3),
     Choice(Box<dyn Choose + 'a>),
+    /// A checkbox.
+    Toggle(&'a mut bool),
 }
 
 /// A model choice with its options' file names.
@@ -255,6 +278,13 @@ trait Pack<Slot: ?Sized> {
 impl Pack<f32> for f32 {
     fn pack(&self, slot: &mut f32) {
         *slot = *self;
+    }
+}
+
+/// A flag as the shaders read it: 1 or 0.
+impl Pack<f32> for bool {
+    fn pack(&self, slot: &mut f32) {
+        *slot = f32::from(u8::from(*self));
     }
 }
 
@@ -642,6 +672,13 @@ with_map_slots!(material_keys {
         doc: "how the detail normals combine with the normal map: reoriented normal mapping \
               (Barré-Brisebois & Hill 2012), UDN, whiteout, or the report's eq. 16",
         shown: |m| m.maps[MapSlot::Detail].is_some();
+    energy_compensation: Flag = Flag,
+        default: false,
+        label: "energy compensation",
+        doc: "scales the specular lobe by 1 + F0 (1/E − 1), E its single-scattering albedo, for the \
+              light rough microfacets scatter more than once (Kulla & Conty 2017, as Fdez-Agüera 2019)",
+        shown: has_specular,
+        gpu: [energy_compensation];
 });
 
 #[cfg(test)]

@@ -97,6 +97,7 @@ fn minimal_scene_gets_the_documented_defaults() {
             scatter_radius: 0.0,
             horizon: Horizon::Smooth,
             detail_blend: DetailBlend::Rnm,
+            energy_compensation: false,
             maps: MaterialMaps::default(),
         }]
     );

@@ -4,6 +4,7 @@
 //! wrap terms' energy over the sphere.
 
 use crate::brdf::distribution::{d_beckmann, d_ggx};
+use crate::brdf::energy::{specular_energy_compensation, SpecularAlbedoTable};
 use crate::brdf::geometry::{g1_smith_ggx, g2_v_cavity, lambda_beckmann, lambda_beckmann_exact};
 use crate::brdf::quadrature::{
     d_normalisation, diffuse_albedo, directional_albedo, gauss_legendre, weak_white_furnace,
@@ -342,8 +343,82 @@ pub fn rows() -> Vec<Row> {
         ));
     }
     rows.push(metallic_blend());
+    rows.extend(energy_compensation_furnace());
 
     rows
+}
+
+/// Perceptual roughness of the compensation's furnace rows.
+const COMPENSATION_ROUGHNESS: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 1.0];
+/// How far from 1 a compensated white conductor may reflect for μo ≥ 0.1: the table's E is
+/// a 512-sample estimate read between 32 × 32 texels, so it is off the quadrature's E by up
+/// to this.
+const COMPENSATION_TOLERANCE: f64 = 2e-2;
+/// Below this roughness the lobe's E falls steeply between the tables' columns near
+/// grazing (columns n·v 0.125, 0.064, 1e-4), so linearly interpolated the compensated
+/// albedo is off by more than `COMPENSATION_TOLERANCE` at μo = 0.1, where the loss it
+/// makes up is only about 1%: those rows are reported, bounded by `COMPENSATION_SMOOTH_BOUND`.
+const COMPENSATION_CHECKED_ROUGHNESS: f64 = 0.25;
+const COMPENSATION_SMOOTH_BOUND: f64 = 0.1;
+/// The grazing view, reported: between the tables' last two columns (n·v 0.064 and 1e-4)
+/// a narrow lobe's E falls steeply, which linear interpolation follows only roughly.
+const COMPENSATION_GRAZING: f64 = 0.01;
+
+/// The white furnace of the energy compensation: a white GGX conductor (F0 = 1), whose
+/// single-scattering albedo E(μo) falls below 1 with roughness, times
+/// `specular_energy_compensation` of the table's E, must reflect 1. One row per roughness,
+/// with the loss it makes up.
+fn energy_compensation_furnace() -> Vec<Row> {
+    let model = Model::CookTorranceGgxCorrelated;
+    let models = ShadingModels {
+        diffuse: DiffuseModel::None,
+        specular: SpecularModel::CookTorrance,
+        distribution: Distribution::Ggx,
+        geometry: Geometry::SmithCorrelated,
+        subsurface: Subsurface::None,
+    };
+    let table = SpecularAlbedoTable::get();
+    // (|compensated albedo − 1|, uncompensated loss 1 − E) at roughness and μo.
+    let gap = |roughness: f64, mu: f64| {
+        let e = albedo(model, roughness * roughness, mu, RESOLUTION_ORDER_STEP);
+        let factor = specular_energy_compensation(table.lookup(models, mu, roughness), WHITE)[0];
+        ((e * factor - 1.0).abs(), 1.0 - e)
+    };
+    COMPENSATION_ROUGHNESS
+        .iter()
+        .map(|&roughness| {
+            let (mut worst, mut at, mut loss) = (0.0f64, 0.0, 0.0f64);
+            for mu in VIEW_COSINES.into_iter().filter(|&mu| mu > COMPENSATION_GRAZING) {
+                let (g, l) = gap(roughness, mu);
+                loss = loss.max(l);
+                if g >= worst {
+                    (worst, at) = (g, mu);
+                }
+            }
+            let (grazing, grazing_loss) = gap(roughness, COMPENSATION_GRAZING);
+            row(
+                model.name(),
+                &format!("energy compensation, white furnace = 1 (roughness {roughness})"),
+                format!(
+                    "max |albedo − 1| {worst:.1e} at μo {at} (loss made up: {loss:.4}); \
+                     at μo {COMPENSATION_GRAZING}: {grazing:.1e} (of {grazing_loss:.4})"
+                ),
+                if roughness >= COMPENSATION_CHECKED_ROUGHNESS {
+                    format!("<= {COMPENSATION_TOLERANCE:e} for μo >= 0.1")
+                } else {
+                    format!("reported, <= {COMPENSATION_SMOOTH_BOUND:e} for μo >= 0.1")
+                },
+                if roughness >= COMPENSATION_CHECKED_ROUGHNESS {
+                    pass(worst <= COMPENSATION_TOLERANCE)
+                } else {
+                    reported(worst <= COMPENSATION_SMOOTH_BOUND)
+                },
+                "F0 = 1; E from the BRDF tables (SpecularAlbedoTable), linear between texels, \
+                 so coarse at grazing μo for narrow lobes"
+                    .to_owned(),
+            )
+        })
+        .collect()
 }
 
 /// A white furnace of glTF's metallic-roughness blend (Filament's furnace test of

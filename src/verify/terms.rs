@@ -12,6 +12,7 @@ use crate::brdf::antialiasing::{resolve_weight, specular_aa_roughness};
 use crate::brdf::bounce::plane_point_irradiance;
 use crate::brdf::diffuse::e_fon_approx;
 use crate::brdf::distribution::{d_beckmann, d_ggx};
+use crate::brdf::energy::{specular_energy_compensation, MIN_SPECULAR_ALBEDO};
 use crate::brdf::fresnel::{f_schlick, f_schlick_scalar};
 use crate::brdf::geometry::{
     g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
@@ -27,7 +28,7 @@ use crate::brdf::{dot, safe_half_vector, MIN_N_DOT_V};
 
 use super::composite::terminator_continuity;
 use super::functions::{
-    colour, direction, rgb, sample_cosine, sample_directions, sample_half_angle, sample_signed_cosine, Cap, Tolerance,
+    colour, direction, DENORMAL, rgb, sample_cosine, sample_directions, sample_half_angle, sample_signed_cosine, Cap, Tolerance,
     Tuple, Values, FP16, FP32, FP32_ARITHMETIC, NORMAL, SH_KERNEL, SLICE, STRESS_ALPHAS, STRESS_COLOURS,
     STRESS_COSINES, STRESS_RADIANCES, UNIT,
 };
@@ -149,6 +150,15 @@ fn each_stress_colour(xs: &[f32]) -> Vec<Tuple> {
             })
         })
         .collect()
+}
+
+/// A scalar uniform in [0, 1) and a random colour.
+fn sample_unit_and_colour(rng: &mut Rng, _: f64) -> Tuple {
+    Tuple {
+        a: [rng.uniform() as f32, 0.0, 0.0, 0.0],
+        d: colour(rng),
+        ..Tuple::default()
+    }
 }
 
 fn sample_d(rng: &mut Rng, alpha: f64) -> Tuple {
@@ -724,11 +734,7 @@ pub static TERMS: &[TermSpec] = &[
         tolerance: FP32_ARITHMETIC,
         lighting_weight: false,
         eval: |t| rgb0(gtao_multi_bounce(f64::from(t.a[0]), rgb(t.d))),
-        sample: |rng, _| Tuple {
-            a: [rng.uniform() as f32, 0.0, 0.0, 0.0],
-            d: colour(rng),
-            ..Tuple::default()
-        },
+        sample: sample_unit_and_colour,
         stress: || each_stress_colour(&[0.0, 1e-7, 0.5, 1.0]),
         rounding: None,
         promise: None,
@@ -782,7 +788,30 @@ pub static TERMS: &[TermSpec] = &[
         rounding: None,
         promise: None,
     },
+    TermSpec {
+        name: "specular_energy_compensation",
+        equation: "Fdez-Agüera 2019",
+        arguments: &["E"],
+        colour: Some("F0"),
+        channels: 3,
+        cap: COMPENSATION,
+        tolerance: FP32_ARITHMETIC,
+        lighting_weight: false,
+        eval: |t| rgb0(specular_energy_compensation(f64::from(t.a[0]), rgb(t.d))),
+        // E over the tables' range and below the clamp.
+        sample: sample_unit_and_colour,
+        stress: || each_stress_colour(&[-1.0, 0.0, DENORMAL, 0.05, 0.3, 0.99999994, 1.0, 2.0]),
+        rounding: None,
+        promise: None,
+    },
 ];
+
+/// The energy compensation's largest factor, 1/MIN_SPECULAR_ALBEDO, with the few ulps
+/// fp32's reciprocal may round it up by.
+const COMPENSATION: Cap = Cap {
+    value: 1.0 / MIN_SPECULAR_ALBEDO * (1.0 + 4.0 * f32::EPSILON as f64),
+    label: "<= 1/MIN_SPECULAR_ALBEDO",
+};
 
 /// A term: its index in [`TERMS`], which is its `FUNCTION` in verify_brdf.comp.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -513,6 +513,11 @@ fn material_fields(ui: &mut Ui, m: &mut Material) {
         match edit {
             Edit::Number(value, range) => number(ui, key.label, &key.tip, value, range),
             Edit::Color(value) => color(ui, key.label, &key.tip, value),
+            Edit::Toggle(value) => {
+                ui.label(key.label).on_hover_text(&key.tip);
+                ui.checkbox(value, "").on_hover_text(&key.tip);
+                ui.end_row();
+            }
             Edit::Choice(mut chooser) => {
                 let names = chooser.names();
                 let tip = key.tip.as_str();
