@@ -185,7 +185,7 @@ pub enum EnvironmentDef {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectDef {
-    /// `builtin:<name>` or an .obj path relative to the scene file's folder.
+    /// `builtin:<name>`, or an .obj, .gltf or .glb path relative to the scene file's folder.
     pub mesh: String,
     #[serde(default)]
     pub position: [f64; 3],

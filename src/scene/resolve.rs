@@ -17,7 +17,7 @@ use super::limits::{MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDIVISIONS_RANGE};
 use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
 use super::mesh::SPHERE_SUBDIVISIONS;
 use super::{
-    builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, Occlusion,
+    builtin_texture, gltf, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, Occlusion,
     PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
     OCCLUSION_SAMPLES_RANGE,
 };
@@ -181,6 +181,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
     let mut meshes = Vec::new();
     let mut mesh_indices = HashMap::new();
     let mut objects = Vec::with_capacity(file.objects.len());
+    let mut warnings = Vec::new();
     for (i, object) in file.objects.iter().enumerate() {
         let position = check.vector(&format!("objects[{i}].position"), object.position)?;
         let scale = check.positive(&format!("objects[{i}].scale"), object.scale)?;
@@ -211,25 +212,34 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         // Meshes load last, so cheap mistakes are reported without waiting
         // for a large OBJ.
         let key = (object.mesh.as_str(), subdivisions);
-        let mesh = match mesh_indices.get(&key) {
-            Some(&index) => index,
+        let parts = match mesh_indices.get(&key) {
+            Some(parts) => std::ops::Range::clone(parts),
             None => {
                 let field = format!("objects[{i}].mesh");
-                let mesh = match subdivisions {
-                    Some(n) => Mesh::sphere(n),
-                    None => load_mesh(&check, &field, &object.mesh, base_dir)?,
+                let loaded = match subdivisions {
+                    Some(n) => vec![Mesh::sphere(n)],
+                    None => load_mesh(&check, &field, &object.mesh, base_dir, &mut warnings)?,
                 };
-                meshes.push(mesh);
-                mesh_indices.insert(key, meshes.len() - 1);
-                meshes.len() - 1
+                let parts = meshes.len()..meshes.len() + loaded.len();
+                meshes.extend(loaded);
+                mesh_indices.insert(key, parts.clone());
+                parts
             }
         };
-        objects.push(Object {
+        objects.extend(parts.enumerate().map(|(part, mesh)| Object {
             mesh,
             position,
             scale,
             material,
-        });
+            part,
+        }));
+    }
+    if objects.len() > MAX_OBJECTS {
+        let reason = format!(
+            "the models' primitives make {} objects; at most {MAX_OBJECTS} are supported",
+            objects.len()
+        );
+        return Err(check.invalid("objects", file.objects.len(), reason));
     }
 
     let textures = requests
@@ -251,6 +261,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         materials,
         textures,
         source: None,
+        warnings,
     })
 }
 
@@ -600,17 +611,35 @@ fn load_map_texture(
     })
 }
 
-fn load_mesh(check: &Checker, field: &str, name: &str, base_dir: &Path) -> Result<Mesh, SceneError> {
+/// The meshes of an object's `mesh`: one for a builtin or an OBJ file, one per primitive
+/// for a glTF model (whose warnings join `warnings`).
+fn load_mesh(
+    check: &Checker,
+    field: &str,
+    name: &str,
+    base_dir: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Mesh>, SceneError> {
     if name.starts_with(BUILTIN_PREFIX) {
-        return Mesh::builtin(name).ok_or_else(|| {
+        let mesh = Mesh::builtin(name).ok_or_else(|| {
             check.invalid(
                 field,
                 name,
                 "unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube",
             )
-        });
+        })?;
+        return Ok(vec![mesh]);
     }
-    Mesh::load_obj(&base_dir.join(name)).map_err(|error| SceneError::ObjectMesh {
+    let path = base_dir.join(name);
+    let loaded = if gltf::is_model(name) {
+        gltf::Model::load(&path).map(|model| {
+            warnings.extend(model.warnings);
+            model.parts
+        })
+    } else {
+        Mesh::load_obj(&path).map(|mesh| vec![mesh])
+    };
+    loaded.map_err(|error| SceneError::ObjectMesh {
         origin: check.origin.to_owned(),
         field: field.to_owned(),
         value: name.to_owned(),
@@ -670,6 +699,7 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
         objects: scene
             .objects
             .iter()
+            .filter(|object| object.part == 0)
             .map(|object| ObjectDef {
                 mesh: written(&scene.meshes[object.mesh].name),
                 position: widen3(object.position),

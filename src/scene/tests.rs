@@ -70,7 +70,8 @@ fn minimal_scene_gets_the_documented_defaults() {
             mesh: 0,
             position: Vec3::ZERO,
             scale: 1.0,
-            material: 0
+            material: 0,
+            part: 0
         }]
     );
     assert_eq!(
@@ -670,6 +671,7 @@ fn object_model_matrix_scales_then_translates() {
         position: Vec3::new(1.0, 2.0, 3.0),
         scale: 2.0,
         material: 0,
+        part: 0,
     };
     let p = object.model_matrix() * Vec4::new(1.0, 0.0, -1.0, 1.0);
     assert_eq!(p, Vec4::new(3.0, 2.0, 1.0, 1.0));
