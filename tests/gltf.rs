@@ -533,3 +533,132 @@ fn bad_models_are_clear_errors() {
     assert_refused(&render("huge.glb"), &out, &["huge.glb", "at most"]);
     std::fs::remove_file(&huge).expect("remove");
 }
+
+/// A model's materials are argil materials: the base colour factor and texture, the
+/// metallic and roughness factors (both glTF's roughness and argil's are perceptual, α =
+/// roughness²) and the normal texture with its scale. The model draws bit for bit as its
+/// geometry in OBJ files with those materials written as tables; what is not used yet is
+/// named once per model.
+#[test]
+fn a_model_brings_its_materials() {
+    let dir = temp_dir("materials");
+    let albedo = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([40 + 25 * x as u8, 200 - 20 * y as u8, 90, 255])
+    });
+    albedo.save(dir.join("albedo map.png")).expect("write albedo");
+    let normals = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([128 + 12 * x as u8, 128 - 10 * y as u8, 230, 255])
+    });
+    normals.save(dir.join("normals.png")).expect("write normals");
+
+    let primitives = [octahedron(), tetrahedron()];
+    let (nodes, worlds) = nodes();
+    let mut model = Model::new(&primitives, nodes, &[0, 1]);
+    model.json["images"] = json!([{"uri": "albedo%20map.png"}, {"uri": "normals.png"}]);
+    model.json["textures"] = json!([{"source": 0}, {"source": 1}]);
+    model.json["materials"] = json!([
+        {
+            "name": "glaze",
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [0.75, 0.5, 0.25, 1.0],
+                "baseColorTexture": {"index": 0},
+                "metallicFactor": 0.25,
+                "roughnessFactor": 0.375,
+                "metallicRoughnessTexture": {"index": 0},
+            },
+            "normalTexture": {"index": 1, "scale": 0.5},
+            "occlusionTexture": {"index": 0},
+        },
+        {"pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.625}},
+    ]);
+    model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
+    model.json["meshes"][1]["primitives"][0]["material"] = json!(1);
+    model.write(&dir, "model", Storage::Binary);
+    let path = dir.join("model.toml");
+    std::fs::write(
+        &path,
+        scene_text(&[]) + "\n[[objects]]\nmesh = \"model.glb\"\nposition = [0.25, 0.0, 0.0]\n",
+    )
+    .expect("write scene");
+    let scene = Scene::load(&path).expect("scene loads");
+    let shown = dir.join("model.glb").display().to_string();
+    assert_eq!(
+        scene.warnings,
+        [
+            format!(
+                "{shown}: metallicRoughnessTexture is not yet used: the metallic and roughness factors apply alone"
+            ),
+            format!("{shown}: occlusionTexture is not yet used"),
+        ]
+    );
+    let names: Vec<&str> = scene
+        .objects
+        .iter()
+        .map(|o| scene.materials[o.material].name.as_str())
+        .collect();
+    assert_eq!(names, [format!("{shown} #0 glaze"), format!("{shown} #1")]);
+    assert!(scene.objects.iter().all(|o| o.material_from_model));
+
+    for (i, (p, world)) in primitives.iter().zip(worlds).enumerate() {
+        write_obj(&dir.join(format!("part{i}.obj")), p, world);
+    }
+    let obj_text = scene_text(&[])
+        + r#"
+[[objects]]
+mesh = "part0.obj"
+position = [0.25, 0.0, 0.0]
+material = "glaze"
+[[objects]]
+mesh = "part1.obj"
+position = [0.25, 0.0, 0.0]
+material = "metal"
+[materials.glaze]
+base_color = [0.75, 0.5, 0.25]
+metallic = 0.25
+roughness = 0.375
+[materials.glaze.base_color_map]
+texture = "albedo map.png"
+[materials.glaze.normal_map]
+texture = "normals.png"
+strength = 0.5
+[materials.metal]
+base_color = [1.0, 1.0, 1.0]
+metallic = 1.0
+roughness = 0.625
+"#;
+    let obj = load(&dir, "obj.toml", &obj_text);
+    for (model_object, obj_object) in scene.objects.iter().zip(&obj.objects) {
+        let (a, b) = (
+            &scene.materials[model_object.material],
+            &obj.materials[obj_object.material],
+        );
+        assert_eq!(
+            argil::scene::Material {
+                name: b.name.clone(),
+                ..a.clone()
+            },
+            *b
+        );
+    }
+    let expected = common::render(&obj, 96, 64);
+    let frame = common::render(&scene, 96, 64);
+    assert!(
+        frame.display == expected.display,
+        "the frame differs from the OBJ files'"
+    );
+
+    // Saved, the object leaves its materials to the model.
+    let saved = scene.to_file_at(&path);
+    assert_eq!((saved.objects.len(), saved.objects[0].material.as_deref()), (1, None));
+    assert!(
+        saved.materials.keys().all(|name| name == "clay"),
+        "{:?}",
+        saved.materials.keys()
+    );
+    // An object that names a material gives it to every part.
+    let named = load(&dir, "named.toml", &scene_text(&["model.glb"]));
+    assert!(named
+        .objects
+        .iter()
+        .all(|o| named.materials[o.material].name == "clay" && !o.material_from_model));
+}

@@ -19,7 +19,9 @@ use ::gltf::{Accessor, Document, Gltf, Primitive, Semantic};
 use base64::Engine;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
+use super::file::{MapDef, MaterialDef};
 use super::limits::{check_file_size, MAX_GLTF_BYTES, MAX_MESH_TRIANGLES};
+use super::material_keys::MAP_STRENGTH;
 use super::{Mesh, SceneError};
 
 /// Whether a scene's `mesh` string names a glTF model (by its extension, in any case).
@@ -33,11 +35,23 @@ pub fn is_model(name: &str) -> bool {
 /// A loaded model.
 #[derive(Debug)]
 pub struct Model {
-    /// One mesh per triangle primitive of each node of the scene, in the order of a
-    /// depth-first walk of its nodes; each is named after the file.
-    pub parts: Vec<Mesh>,
+    /// One per triangle primitive of each node of the scene, in the order of a depth-first
+    /// walk of its nodes.
+    pub parts: Vec<Part>,
+    /// The file's materials as scene material tables, by glTF index, each named
+    /// `"<file> #<index> <name>"`.
+    pub materials: Vec<(String, MaterialDef)>,
     /// One line each, starting with the file's name.
     pub warnings: Vec<String>,
+}
+
+/// One primitive of a model.
+#[derive(Debug)]
+pub struct Part {
+    /// In world space, named after the file.
+    pub mesh: Mesh,
+    /// Its index in [`Model::materials`]; `None` for glTF's default material.
+    pub material: Option<usize>,
 }
 
 /// A primitive to draw: the node's world matrix, its mesh's index and the primitive.
@@ -118,15 +132,20 @@ impl Model {
         let mut parts = Vec::new();
         for (world, mesh, primitive) in instances.iter().filter(|(_, _, p)| p.mode() == Mode::Triangles) {
             let origin = format!("{name}: mesh {mesh} primitive {}", primitive.index());
-            let mut part = part(&origin, *world, primitive, &buffers)?;
-            part.name.clone_from(&name);
-            parts.push(part);
+            let mut mesh = part(&origin, *world, primitive, &buffers)?;
+            mesh.name.clone_from(&name);
+            parts.push(Part {
+                mesh,
+                material: primitive.material().index(),
+            });
         }
         if parts.is_empty() {
             return Err(invalid("the model's scene has no triangles to draw".to_owned()));
         }
+        let materials = materials(&document, path, &mut warnings);
         Ok(Model {
             parts,
+            materials,
             warnings: warnings.into_iter().map(|w| format!("{name}: {w}")).collect(),
         })
     }
@@ -209,6 +228,95 @@ fn unsupported_parts(document: &Document) -> Vec<String> {
         "primitive(s) have morph targets, which are ignored (the base shape is drawn)",
     ));
     warnings
+}
+
+/// The model's materials as scene materials: glTF's metallic-roughness model is argil's
+/// `metallic` blend, with the base colour factor (its alpha dropped) and map, the
+/// metallic and roughness factors and the normal map with its scale. What argil cannot
+/// draw yet is named in `warnings`, once per model.
+fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Vec<(String, MaterialDef)> {
+    let unused = std::cell::RefCell::new(BTreeSet::new());
+    let note = |warning: &str| {
+        unused.borrow_mut().insert(warning.to_owned());
+    };
+    let images = &document.as_json().images;
+    let folder = path.parent().unwrap_or(Path::new(""));
+    // A map of image `index` (a texture's source), if argil can read it: a file beside the
+    // model, named absolute so that it does not depend on the scene's folder.
+    let image = |index: usize, tex_coord: u32| -> Option<String> {
+        if tex_coord != 0 {
+            note("textures on TEXCOORD_1 or above are not supported; those maps are left out");
+            return None;
+        }
+        let uri = images.get(index)?.uri.as_deref();
+        let Some(uri) = uri.filter(|uri| !uri.starts_with("data:")) else {
+            note("images embedded in the file (a buffer view or a data: URI) are not yet loaded; their maps are left out");
+            return None;
+        };
+        let decoded = percent_encoding::percent_decode_str(uri).decode_utf8_lossy();
+        let file = folder.join(decoded.as_ref());
+        Some(std::path::absolute(&file).unwrap_or(file).display().to_string())
+    };
+    let materials = document
+        .materials()
+        .map(|material| {
+            let pbr = material.pbr_metallic_roughness();
+            let [r, g, b, _] = pbr.base_color_factor();
+            let texture = |info: ::gltf::texture::Info| info.texture().source().index();
+            let base_color_map = pbr
+                .base_color_texture()
+                .and_then(|info| image(texture(info.clone()), info.tex_coord()))
+                .map(MapDef::new);
+            let normal_map = material.normal_texture().and_then(|info| {
+                let mut map = MapDef::new(image(info.texture().source().index(), info.tex_coord())?);
+                map.strength = f64::from(
+                    info.scale()
+                        .clamp(MAP_STRENGTH.low, MAP_STRENGTH.high.unwrap_or(f32::MAX)),
+                );
+                Some(map)
+            });
+            if material
+                .normal_texture()
+                .is_some_and(|info| !MAP_STRENGTH.contains(info.scale()))
+            {
+                note("a normal texture's scale outside argil's normal map strength range is clamped to it");
+            }
+            // ---- Maps for the `maps` branch's slots (roughness_map, metallic_map,
+            // occlusion_map). Until they exist, the textures are named and left out.
+            if pbr.metallic_roughness_texture().is_some() {
+                note("metallicRoughnessTexture is not yet used: the metallic and roughness factors apply alone");
+            }
+            if material.occlusion_texture().is_some() {
+                note("occlusionTexture is not yet used");
+            }
+            // ---- end of the maps still to wire.
+            if material.emissive_factor() != [0.0; 3] || material.emissive_texture().is_some() {
+                note("emission is not supported and is ignored");
+            }
+            if material.alpha_mode() != ::gltf::material::AlphaMode::Opaque {
+                note("transparency (alphaMode MASK or BLEND) is not supported: surfaces are drawn opaque");
+            }
+            let name = format!(
+                "{} #{} {}",
+                path.display(),
+                material.index().unwrap_or_default(),
+                material.name().unwrap_or("")
+            );
+            let def = MaterialDef {
+                base_color: [r, g, b].map(f64::from),
+                // glTF's roughness is perceptual, α = roughness², as argil's `roughness` is
+                // (material_keys.rs): the factor is taken as it is.
+                roughness: f64::from(pbr.roughness_factor()),
+                metallic: f64::from(pbr.metallic_factor()),
+                base_color_map,
+                normal_map,
+                ..MaterialDef::default()
+            };
+            (name.trim_end().to_owned(), def)
+        })
+        .collect();
+    warnings.extend(unused.into_inner());
+    materials
 }
 
 /// The primitives of the default scene (else the first), each with its node's world

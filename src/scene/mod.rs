@@ -62,6 +62,9 @@ pub struct Object {
     /// Which part of its file object's mesh this is: a glTF model makes one object per
     /// primitive (0, 1, …), anything else one object, part 0. Saving writes part 0 alone.
     pub part: usize,
+    /// Whether `material` is the model's own (a glTF part of an object without a
+    /// `material` key), which saving leaves to the model.
+    pub material_from_model: bool,
 }
 
 impl Object {

@@ -186,53 +186,64 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         let position = check.vector(&format!("objects[{i}].position"), object.position)?;
         let scale = check.positive(&format!("objects[{i}].scale"), object.scale)?;
         let material_name = object.material.as_deref().unwrap_or(DEFAULT_MATERIAL);
-        let material = match materials.iter().position(|m| m.name == material_name) {
-            Some(index) => index,
-            None if material_name == DEFAULT_MATERIAL => {
-                let def = MaterialDef::default();
-                materials.push(material(&check, DEFAULT_MATERIAL, &def, &mut requests)?);
-                materials.len() - 1
-            }
-            None => {
-                let defined: Vec<&str> = file.materials.keys().map(String::as_str).collect();
-                let defined = if defined.is_empty() {
-                    "none".to_owned()
-                } else {
-                    defined.join(", ")
-                };
-                return Err(check.invalid(
-                    &format!("objects[{i}].material"),
-                    material_name,
-                    format!("no [materials.{material_name}] table is defined (defined: {defined})"),
-                ));
-            }
-        };
+        let named = materials.iter().position(|m| m.name == material_name);
+        if named.is_none() && material_name != DEFAULT_MATERIAL {
+            let defined: Vec<&str> = file.materials.keys().map(String::as_str).collect();
+            let defined = if defined.is_empty() {
+                "none".to_owned()
+            } else {
+                defined.join(", ")
+            };
+            return Err(check.invalid(
+                &format!("objects[{i}].material"),
+                material_name,
+                format!("no [materials.{material_name}] table is defined (defined: {defined})"),
+            ));
+        }
         // The default count is the builtin itself, so both spellings share one mesh.
         let subdivisions = subdivisions(&check, i, object)?.filter(|&n| n != SPHERE_SUBDIVISIONS);
         // Meshes load last, so cheap mistakes are reported without waiting
         // for a large OBJ.
         let key = (object.mesh.as_str(), subdivisions);
         let parts = match mesh_indices.get(&key) {
-            Some(parts) => std::ops::Range::clone(parts),
+            Some(parts) => Vec::clone(parts),
             None => {
                 let field = format!("objects[{i}].mesh");
                 let loaded = match subdivisions {
-                    Some(n) => vec![Mesh::sphere(n)],
+                    Some(n) => Loaded::one(Mesh::sphere(n)),
                     None => load_mesh(&check, &field, &object.mesh, base_dir, &mut warnings)?,
                 };
-                let parts = meshes.len()..meshes.len() + loaded.len();
-                meshes.extend(loaded);
+                let first_material = materials.len();
+                for (name, def) in &loaded.materials {
+                    materials.push(material(&check, name, def, &mut requests)?);
+                }
+                let mut parts = Vec::with_capacity(loaded.parts.len());
+                for (mesh, model_material) in loaded.parts {
+                    parts.push((meshes.len(), model_material.map(|m| first_material + m)));
+                    meshes.push(mesh);
+                }
                 mesh_indices.insert(key, parts.clone());
                 parts
             }
         };
-        objects.extend(parts.enumerate().map(|(part, mesh)| Object {
-            mesh,
-            position,
-            scale,
-            material,
-            part,
-        }));
+        for (part, (mesh, model_material)) in parts.into_iter().enumerate() {
+            // A model's parts keep their own materials unless the object names one.
+            let (material, material_from_model) = match (object.material.is_none(), model_material) {
+                (true, Some(m)) => (m, true),
+                _ => match named {
+                    Some(m) => (m, false),
+                    None => (default_material(&check, &mut materials, &mut requests)?, false),
+                },
+            };
+            objects.push(Object {
+                mesh,
+                position,
+                scale,
+                material,
+                part,
+                material_from_model,
+            });
+        }
     }
     if objects.len() > MAX_OBJECTS {
         let reason = format!(
@@ -611,6 +622,36 @@ fn load_map_texture(
     })
 }
 
+/// The index of the built-in `default` material (or the file's `[materials.default]`),
+/// added on first use.
+fn default_material(
+    check: &Checker,
+    materials: &mut Vec<Material>,
+    requests: &mut TextureRequests,
+) -> Result<usize, SceneError> {
+    if let Some(index) = materials.iter().position(|m| m.name == DEFAULT_MATERIAL) {
+        return Ok(index);
+    }
+    materials.push(material(check, DEFAULT_MATERIAL, &MaterialDef::default(), requests)?);
+    Ok(materials.len() - 1)
+}
+
+/// What an object's `mesh` loads: its parts, each with its index in `materials` if it has
+/// a material of its own, and those materials (a glTF model's).
+struct Loaded {
+    parts: Vec<(Mesh, Option<usize>)>,
+    materials: Vec<(String, MaterialDef)>,
+}
+
+impl Loaded {
+    fn one(mesh: Mesh) -> Loaded {
+        Loaded {
+            parts: vec![(mesh, None)],
+            materials: Vec::new(),
+        }
+    }
+}
+
 /// The meshes of an object's `mesh`: one for a builtin or an OBJ file, one per primitive
 /// for a glTF model (whose warnings join `warnings`).
 fn load_mesh(
@@ -619,7 +660,7 @@ fn load_mesh(
     name: &str,
     base_dir: &Path,
     warnings: &mut Vec<String>,
-) -> Result<Vec<Mesh>, SceneError> {
+) -> Result<Loaded, SceneError> {
     if name.starts_with(BUILTIN_PREFIX) {
         let mesh = Mesh::builtin(name).ok_or_else(|| {
             check.invalid(
@@ -628,16 +669,19 @@ fn load_mesh(
                 "unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube",
             )
         })?;
-        return Ok(vec![mesh]);
+        return Ok(Loaded::one(mesh));
     }
     let path = base_dir.join(name);
     let loaded = if gltf::is_model(name) {
         gltf::Model::load(&path).map(|model| {
             warnings.extend(model.warnings);
-            model.parts
+            Loaded {
+                parts: model.parts.into_iter().map(|p| (p.mesh, p.material)).collect(),
+                materials: model.materials,
+            }
         })
     } else {
-        Mesh::load_obj(&path).map(|mesh| vec![mesh])
+        Mesh::load_obj(&path).map(Loaded::one)
     };
     loaded.map_err(|error| SceneError::ObjectMesh {
         origin: check.origin.to_owned(),
@@ -704,16 +748,22 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
                 mesh: written(&scene.meshes[object.mesh].name),
                 position: widen3(object.position),
                 scale: widen(object.scale),
-                material: Some(scene.materials[object.material].name.clone()),
+                material: (!object.material_from_model).then(|| scene.materials[object.material].name.clone()),
                 subdivisions: scene.meshes[object.mesh]
                     .subdivisions
                     .filter(|&n| n != SPHERE_SUBDIVISIONS),
             })
             .collect(),
+        // A model's own materials come from the model when the file loads again.
         materials: scene
             .materials
             .iter()
-            .map(|m| {
+            .enumerate()
+            .filter(|&(i, _)| {
+                let users = || scene.objects.iter().filter(|o| o.material == i);
+                !(users().any(|o| o.material_from_model) && users().all(|o| o.material_from_model))
+            })
+            .map(|(_, m)| {
                 let def = m.to_def(map);
                 (m.name.clone(), def)
             })

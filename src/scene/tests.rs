@@ -71,7 +71,8 @@ fn minimal_scene_gets_the_documented_defaults() {
             position: Vec3::ZERO,
             scale: 1.0,
             material: 0,
-            part: 0
+            part: 0,
+            material_from_model: false
         }]
     );
     assert_eq!(
@@ -672,6 +673,7 @@ fn object_model_matrix_scales_then_translates() {
         scale: 2.0,
         material: 0,
         part: 0,
+        material_from_model: false,
     };
     let p = object.model_matrix() * Vec4::new(1.0, 0.0, -1.0, 1.0);
     assert_eq!(p, Vec4::new(3.0, 2.0, 1.0, 1.0));
