@@ -250,10 +250,12 @@ enum Command {
 }
 
 fn load_scene(path: Option<&Path>) -> Result<Scene> {
-    match path {
-        Some(p) => Ok(Scene::load(p)?),
-        None => Ok(Scene::default_scene()),
-    }
+    let scene = match path {
+        Some(p) => Scene::load(p)?,
+        None => Scene::default_scene(),
+    };
+    scene.print_warnings();
+    Ok(scene)
 }
 
 /// A sample count of `--msaa`: one of `[antialiasing] msaa`'s.
@@ -554,6 +556,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 Some(path) => argil::viewer::load_document(path)?,
                 None => (Scene::default_scene(), argil::viewer::save::Document::default_scene()),
             };
+            loaded.print_warnings();
             let options = argil::viewer::ViewOptions {
                 device: choice,
                 validation,

@@ -38,6 +38,11 @@ pub enum SceneError {
     #[error("{}: invalid OBJ: {error}", path.display())]
     Obj { path: PathBuf, error: tobj::LoadError },
 
+    /// A glTF model that cannot be read: corrupt or truncated, a buffer missing or short,
+    /// an accessor that does not fit, an extension it requires.
+    #[error("{}: invalid glTF: {problem}", path.display())]
+    Gltf { path: PathBuf, problem: String },
+
     /// Geometry that cannot be rendered: no triangles, an index out of range,
     /// a non-finite coordinate. `origin` is the mesh name (its file for OBJ).
     #[error("{origin}: {problem}")]

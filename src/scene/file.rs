@@ -213,7 +213,7 @@ impl EnvironmentDef {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectDef {
-    /// `builtin:<name>` or an .obj path relative to the scene file's folder.
+    /// `builtin:<name>`, or an .obj, .gltf or .glb path relative to the scene file's folder.
     pub mesh: String,
     #[serde(default)]
     pub position: [f64; 3],

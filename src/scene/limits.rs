@@ -15,15 +15,19 @@ pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 pub const MAX_OBJECTS: usize = 10_000;
 /// Point lights: the shader's fixed array (`MAX_POINT_LIGHTS` in scene_data.glsl).
 pub const MAX_LIGHTS: usize = crate::render::gpu_scene::MAX_POINT_LIGHTS;
-/// Triangles of one OBJ file, counted from its `f` lines before tobj parses it: a 391 MB
-/// OBJ of 9,999,392 triangles (a 2237² grid) peaks at 2.1 GB of host memory in `argil
-/// render` (the text, tobj's arrays, then argil's vertices with tangents and curvature).
+/// Triangles of one OBJ file (counted from its `f` lines before tobj parses it) or glTF
+/// model (from its accessors' counts): a 391 MB OBJ of 9,999,392 triangles (a 2237² grid)
+/// peaks at 2.1 GB of host memory in `argil render` (the text, tobj's arrays, then argil's
+/// vertices with tangents and curvature).
 pub const MAX_MESH_TRIANGLES: u64 = 10_000_000;
 /// `subdivisions` of a `builtin:sphere` object, cells along each edge of its cube: 512 makes
 /// 6 × 2 × 512² = 3.1 M triangles (82 MB of vertices), far finer than any frame resolves.
 pub const SPHERE_SUBDIVISIONS_RANGE: std::ops::RangeInclusive<u32> = 1..=512;
 /// OBJ files, read whole before parsing: 10⁷ triangles and their vertices in text.
 pub const MAX_OBJ_BYTES: u64 = 1 << 30;
+/// glTF models (.gltf, .glb) and each of their buffer files, read whole: 10⁷ indexed
+/// triangles with positions, normals, UVs and tangents are about 600 MB of binary.
+pub const MAX_GLTF_BYTES: u64 = 1 << 30;
 
 /// Refuses `path` when it is larger than `limit` bytes, before it is read.
 pub fn check_file_size(path: &Path, limit: u64, what: &str) -> Result<(), SceneError> {

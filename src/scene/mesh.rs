@@ -209,6 +209,20 @@ impl Mesh {
         uvs: Option<&[[f32; 2]]>,
         indices: &[u32],
     ) -> Result<Mesh, SceneError> {
+        Mesh::from_triangles_with_tangents(name, positions, normals, uvs, None, indices)
+    }
+
+    /// [`Mesh::from_triangles`] with the file's tangents where it has them (glTF's, whose
+    /// bitangent `w · cross(n, t)` follows the same convention): each is made orthogonal to
+    /// its normal; one that has no direction left, or is not finite, is computed instead.
+    pub fn from_triangles_with_tangents(
+        name: &str,
+        positions: &[[f32; 3]],
+        normals: Option<&[[f32; 3]]>,
+        uvs: Option<&[[f32; 2]]>,
+        given_tangents: Option<&[[f32; 4]]>,
+        indices: &[u32],
+    ) -> Result<Mesh, SceneError> {
         let invalid = |problem: String| SceneError::InvalidMesh {
             origin: name.to_owned(),
             problem,
@@ -244,7 +258,18 @@ impl Mesh {
         }
 
         let normals = tangents::vertex_normals(positions, normals, indices);
-        let tangents = tangents::vertex_tangents(positions, &normals, uvs, indices);
+        let mut tangents = tangents::vertex_tangents(positions, &normals, uvs, indices);
+        if let Some(given) = given_tangents {
+            check_len("tangent", given.len(), positions.len()).map_err(&invalid)?;
+            for ((tangent, given), normal) in tangents.iter_mut().zip(given).zip(&normals) {
+                let t = Vec3::new(given[0], given[1], given[2]);
+                let orthogonal = t - *normal * normal.dot(t);
+                // What is left of a tangent (nearly) along the normal is rounding noise.
+                if orthogonal.length() > 1e-3 * t.length() {
+                    *tangent = orthogonal.normalize().extend(if given[3] < 0.0 { -1.0 } else { 1.0 });
+                }
+            }
+        }
         let vertices = (0..positions.len())
             .map(|i| Vertex {
                 position: positions[i],

@@ -8,6 +8,7 @@ mod curvature;
 mod edit;
 mod error;
 pub mod file;
+mod gltf;
 mod light;
 pub mod limits;
 pub mod map_slots;
@@ -59,6 +60,12 @@ pub struct Object {
     pub scale: f32,
     /// Index into [`Scene::materials`].
     pub material: usize,
+    /// Which part of its file object's mesh this is: a glTF model makes one object per
+    /// primitive (0, 1, …), anything else one object, part 0. Saving writes part 0 alone.
+    pub part: usize,
+    /// Whether `material` is the model's own (a glTF part of an object without a
+    /// `material` key), which saving leaves to the model.
+    pub material_from_model: bool,
 }
 
 impl Object {
@@ -92,6 +99,9 @@ pub struct Scene {
     pub textures: Vec<TextureData>,
     /// The file this scene was loaded from, if any.
     pub source: Option<PathBuf>,
+    /// What loading left out or changed (a glTF model's unsupported parts), one line each,
+    /// starting with the file concerned; the command line prints them.
+    pub warnings: Vec<String>,
 }
 
 impl Scene {
@@ -110,6 +120,13 @@ impl Scene {
             .iter()
             .filter(|o| self.meshes[o.mesh].name == "builtin:plane")
             .max_by(|a, b| a.scale.total_cmp(&b.scale))
+    }
+
+    /// Prints [`Scene::warnings`] to stderr, one line each.
+    pub fn print_warnings(&self) {
+        for warning in &self.warnings {
+            eprintln!("argil: warning: {warning}");
+        }
     }
 
     /// Reads, parses and validates a scene file; relative paths in it are

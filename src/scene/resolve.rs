@@ -17,7 +17,7 @@ use super::limits::{MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDIVISIONS_RANGE};
 use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
 use super::mesh::SPHERE_SUBDIVISIONS;
 use super::{
-    builtin_texture, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, Occlusion,
+    builtin_texture, gltf, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, Occlusion,
     PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
     OCCLUSION_SAMPLES_RANGE,
 };
@@ -181,55 +181,76 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
     let mut meshes = Vec::new();
     let mut mesh_indices = HashMap::new();
     let mut objects = Vec::with_capacity(file.objects.len());
+    let mut warnings = Vec::new();
     for (i, object) in file.objects.iter().enumerate() {
         let position = check.vector(&format!("objects[{i}].position"), object.position)?;
         let scale = check.positive(&format!("objects[{i}].scale"), object.scale)?;
         let material_name = object.material.as_deref().unwrap_or(DEFAULT_MATERIAL);
-        let material = match materials.iter().position(|m| m.name == material_name) {
-            Some(index) => index,
-            None if material_name == DEFAULT_MATERIAL => {
-                let def = MaterialDef::default();
-                materials.push(material(&check, DEFAULT_MATERIAL, &def, &mut requests)?);
-                materials.len() - 1
-            }
-            None => {
-                let defined: Vec<&str> = file.materials.keys().map(String::as_str).collect();
-                let defined = if defined.is_empty() {
-                    "none".to_owned()
-                } else {
-                    defined.join(", ")
-                };
-                return Err(check.invalid(
-                    &format!("objects[{i}].material"),
-                    material_name,
-                    format!("no [materials.{material_name}] table is defined (defined: {defined})"),
-                ));
-            }
-        };
+        let named = materials.iter().position(|m| m.name == material_name);
+        if named.is_none() && material_name != DEFAULT_MATERIAL {
+            let defined: Vec<&str> = file.materials.keys().map(String::as_str).collect();
+            let defined = if defined.is_empty() {
+                "none".to_owned()
+            } else {
+                defined.join(", ")
+            };
+            return Err(check.invalid(
+                &format!("objects[{i}].material"),
+                material_name,
+                format!("no [materials.{material_name}] table is defined (defined: {defined})"),
+            ));
+        }
         // The default count is the builtin itself, so both spellings share one mesh.
         let subdivisions = subdivisions(&check, i, object)?.filter(|&n| n != SPHERE_SUBDIVISIONS);
         // Meshes load last, so cheap mistakes are reported without waiting
         // for a large OBJ.
         let key = (object.mesh.as_str(), subdivisions);
-        let mesh = match mesh_indices.get(&key) {
-            Some(&index) => index,
+        let parts = match mesh_indices.get(&key) {
+            Some(parts) => Vec::clone(parts),
             None => {
                 let field = format!("objects[{i}].mesh");
-                let mesh = match subdivisions {
-                    Some(n) => Mesh::sphere(n),
-                    None => load_mesh(&check, &field, &object.mesh, base_dir)?,
+                let loaded = match subdivisions {
+                    Some(n) => Loaded::one(Mesh::sphere(n)),
+                    None => load_mesh(&check, &field, &object.mesh, base_dir, &mut warnings)?,
                 };
-                meshes.push(mesh);
-                mesh_indices.insert(key, meshes.len() - 1);
-                meshes.len() - 1
+                let first_material = materials.len();
+                for (name, def) in &loaded.materials {
+                    materials.push(material(&check, name, def, &mut requests)?);
+                }
+                let mut parts = Vec::with_capacity(loaded.parts.len());
+                for (mesh, model_material) in loaded.parts {
+                    parts.push((meshes.len(), model_material.map(|m| first_material + m)));
+                    meshes.push(mesh);
+                }
+                mesh_indices.insert(key, parts.clone());
+                parts
             }
         };
-        objects.push(Object {
-            mesh,
-            position,
-            scale,
-            material,
-        });
+        for (part, (mesh, model_material)) in parts.into_iter().enumerate() {
+            // A model's parts keep their own materials unless the object names one.
+            let (material, material_from_model) = match (object.material.is_none(), model_material) {
+                (true, Some(m)) => (m, true),
+                _ => match named {
+                    Some(m) => (m, false),
+                    None => (default_material(&check, &mut materials, &mut requests)?, false),
+                },
+            };
+            objects.push(Object {
+                mesh,
+                position,
+                scale,
+                material,
+                part,
+                material_from_model,
+            });
+        }
+    }
+    if objects.len() > MAX_OBJECTS {
+        let reason = format!(
+            "the models' primitives make {} objects; at most {MAX_OBJECTS} are supported",
+            objects.len()
+        );
+        return Err(check.invalid("objects", file.objects.len(), reason));
     }
 
     let textures = requests
@@ -251,6 +272,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         materials,
         textures,
         source: None,
+        warnings,
     })
 }
 
@@ -599,17 +621,68 @@ fn load_map_texture(
     })
 }
 
-fn load_mesh(check: &Checker, field: &str, name: &str, base_dir: &Path) -> Result<Mesh, SceneError> {
+/// The index of the built-in `default` material (or the file's `[materials.default]`),
+/// added on first use.
+fn default_material(
+    check: &Checker,
+    materials: &mut Vec<Material>,
+    requests: &mut TextureRequests,
+) -> Result<usize, SceneError> {
+    if let Some(index) = materials.iter().position(|m| m.name == DEFAULT_MATERIAL) {
+        return Ok(index);
+    }
+    materials.push(material(check, DEFAULT_MATERIAL, &MaterialDef::default(), requests)?);
+    Ok(materials.len() - 1)
+}
+
+/// What an object's `mesh` loads: its parts, each with its index in `materials` if it has
+/// a material of its own, and those materials (a glTF model's).
+struct Loaded {
+    parts: Vec<(Mesh, Option<usize>)>,
+    materials: Vec<(String, MaterialDef)>,
+}
+
+impl Loaded {
+    fn one(mesh: Mesh) -> Loaded {
+        Loaded {
+            parts: vec![(mesh, None)],
+            materials: Vec::new(),
+        }
+    }
+}
+
+/// The meshes of an object's `mesh`: one for a builtin or an OBJ file, one per primitive
+/// for a glTF model (whose warnings join `warnings`).
+fn load_mesh(
+    check: &Checker,
+    field: &str,
+    name: &str,
+    base_dir: &Path,
+    warnings: &mut Vec<String>,
+) -> Result<Loaded, SceneError> {
     if name.starts_with(BUILTIN_PREFIX) {
-        return Mesh::builtin(name).ok_or_else(|| {
+        let mesh = Mesh::builtin(name).ok_or_else(|| {
             check.invalid(
                 field,
                 name,
                 "unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube",
             )
-        });
+        })?;
+        return Ok(Loaded::one(mesh));
     }
-    Mesh::load_obj(&base_dir.join(name)).map_err(|error| SceneError::ObjectMesh {
+    let path = base_dir.join(name);
+    let loaded = if gltf::is_model(name) {
+        gltf::Model::load(&path).map(|model| {
+            warnings.extend(model.warnings);
+            Loaded {
+                parts: model.parts.into_iter().map(|p| (p.mesh, p.material)).collect(),
+                materials: model.materials,
+            }
+        })
+    } else {
+        Mesh::load_obj(&path).map(Loaded::one)
+    };
+    loaded.map_err(|error| SceneError::ObjectMesh {
         origin: check.origin.to_owned(),
         field: field.to_owned(),
         value: name.to_owned(),
@@ -669,20 +742,27 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
         objects: scene
             .objects
             .iter()
+            .filter(|object| object.part == 0)
             .map(|object| ObjectDef {
                 mesh: written(&scene.meshes[object.mesh].name),
                 position: widen3(object.position),
                 scale: widen(object.scale),
-                material: Some(scene.materials[object.material].name.clone()),
+                material: (!object.material_from_model).then(|| scene.materials[object.material].name.clone()),
                 subdivisions: scene.meshes[object.mesh]
                     .subdivisions
                     .filter(|&n| n != SPHERE_SUBDIVISIONS),
             })
             .collect(),
+        // A model's own materials come from the model when the file loads again.
         materials: scene
             .materials
             .iter()
-            .map(|m| {
+            .enumerate()
+            .filter(|&(i, _)| {
+                let users = || scene.objects.iter().filter(|o| o.material == i);
+                !(users().any(|o| o.material_from_model) && users().all(|o| o.material_from_model))
+            })
+            .map(|(_, m)| {
                 let def = m.to_def(map);
                 (m.name.clone(), def)
             })

@@ -70,7 +70,9 @@ fn minimal_scene_gets_the_documented_defaults() {
             mesh: 0,
             position: Vec3::ZERO,
             scale: 1.0,
-            material: 0
+            material: 0,
+            part: 0,
+            material_from_model: false
         }]
     );
     assert_eq!(
@@ -671,6 +673,8 @@ fn object_model_matrix_scales_then_translates() {
         position: Vec3::new(1.0, 2.0, 3.0),
         scale: 2.0,
         material: 0,
+        part: 0,
+        material_from_model: false,
     };
     let p = object.model_matrix() * Vec4::new(1.0, 0.0, -1.0, 1.0);
     assert_eq!(p, Vec4::new(3.0, 2.0, 1.0, 1.0));

@@ -423,6 +423,7 @@ impl App {
                 self.view.clamp_selection(&self.scene);
                 self.view.error = None;
                 eprintln!("argil: reloaded {}", path.display());
+                self.scene.print_warnings();
                 self.view.notice = Some(if camera_edited {
                     format!("reloaded {}, with the file's new camera", path.display())
                 } else {

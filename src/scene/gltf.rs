@@ -1,0 +1,534 @@
+//! glTF 2.0 models (.gltf with external or `data:` buffers, and .glb): every triangle
+//! primitive of the model's scene becomes a part, a [`Mesh`] in world space with the node
+//! transforms baked in. What argil does not draw (other primitive modes, skins,
+//! animations, morph targets, extensions) is named in one warning each.
+//!
+//! The `gltf` crate parses and validates the JSON (the indices between its objects
+//! included); this module reads the buffers itself, within [`MAX_GLTF_BYTES`], and checks
+//! every accessor it reads against its buffer, so that a bad file is an error, never a
+//! panic in the crate's readers.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use ::gltf::accessor::{DataType, Dimensions};
+use ::gltf::buffer::Source;
+use ::gltf::mesh::util::ReadTexCoords;
+use ::gltf::mesh::Mode;
+use ::gltf::{Accessor, Document, Gltf, Primitive, Semantic};
+use base64::Engine;
+use glam::{Mat3, Mat4, Vec3, Vec4};
+
+use super::file::{MapDef, MaterialDef};
+use super::limits::{check_file_size, MAX_GLTF_BYTES, MAX_MESH_TRIANGLES};
+use super::material_keys::MAP_STRENGTH;
+use super::{Mesh, SceneError};
+
+/// Whether a scene's `mesh` string names a glTF model (by its extension, in any case).
+pub fn is_model(name: &str) -> bool {
+    Path::new(name)
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
+}
+
+/// A loaded model.
+#[derive(Debug)]
+pub struct Model {
+    /// One per triangle primitive of each node of the scene, in the order of a depth-first
+    /// walk of its nodes.
+    pub parts: Vec<Part>,
+    /// The file's materials as scene material tables, by glTF index, each named
+    /// `"<file> #<index> <name>"`.
+    pub materials: Vec<(String, MaterialDef)>,
+    /// One line each, starting with the file's name.
+    pub warnings: Vec<String>,
+}
+
+/// One primitive of a model.
+#[derive(Debug)]
+pub struct Part {
+    /// In world space, named after the file.
+    pub mesh: Mesh,
+    /// Its index in [`Model::materials`]; `None` for glTF's default material.
+    pub material: Option<usize>,
+}
+
+/// A primitive to draw: the node's world matrix, its mesh's index and the primitive.
+type Instance<'a> = (Mat4, usize, Primitive<'a>);
+
+impl Model {
+    /// Reads the model at `path`, its buffers relative to its folder.
+    pub fn load(path: &Path) -> Result<Model, SceneError> {
+        let invalid = |problem: String| SceneError::Gltf {
+            path: path.to_path_buf(),
+            problem,
+        };
+        check_file_size(path, MAX_GLTF_BYTES, "glTF files")?;
+        let bytes = std::fs::read(path).map_err(|error| SceneError::Io {
+            path: path.to_path_buf(),
+            error,
+        })?;
+        check_glb_header(&bytes).map_err(invalid)?;
+        let Gltf { document, blob } = Gltf::from_slice_without_validation(&bytes).map_err(|e| invalid(message(e)))?;
+        // Before validation, which reports an extension the crate does not know less plainly.
+        if let Some(extension) = document.extensions_required().next() {
+            return Err(invalid(format!(
+                "the model requires the extension {extension}, which argil does not support"
+            )));
+        }
+        let document = Document::from_json(document.into_json()).map_err(|e| invalid(message(e)))?;
+        let folder = path.parent().unwrap_or(Path::new(""));
+        let buffers = document
+            .buffers()
+            .map(|buffer| {
+                let data = match buffer.source() {
+                    Source::Bin => blob.clone().ok_or_else(|| "the file has no binary chunk".to_owned()),
+                    Source::Uri(uri) => read_uri(uri, folder),
+                };
+                let data = data.map_err(|problem| format!("buffer {}: {problem}", buffer.index()))?;
+                if data.len() < buffer.length() {
+                    return Err(format!(
+                        "buffer {}: {} bytes of data where the file declares {}",
+                        buffer.index(),
+                        data.len(),
+                        buffer.length()
+                    ));
+                }
+                Ok(data)
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(invalid)?;
+        let name = path.display().to_string();
+        let mut warnings = unsupported_parts(&document);
+        let instances = instances(&document).map_err(invalid)?;
+
+        // Triangles counted from the accessors' counts, before any is read.
+        let mut triangles = 0u64;
+        let mut skipped_modes = BTreeSet::new();
+        for (_, _, primitive) in &instances {
+            match primitive.mode() {
+                Mode::Triangles => {
+                    let corners = primitive.indices().or_else(|| primitive.get(&Semantic::Positions));
+                    triangles += corners.map_or(0, |a| a.count() as u64 / 3);
+                }
+                other => {
+                    skipped_modes.insert(mode_name(other));
+                }
+            }
+        }
+        if triangles > MAX_MESH_TRIANGLES {
+            return Err(SceneError::TooLarge {
+                path: path.to_path_buf(),
+                problem: format!("the model has {triangles} triangles; at most {MAX_MESH_TRIANGLES} are accepted"),
+            });
+        }
+        warnings.extend(
+            skipped_modes
+                .iter()
+                .map(|mode| format!("primitives of mode {mode} are not drawn")),
+        );
+
+        let mut parts = Vec::new();
+        for (world, mesh, primitive) in instances.iter().filter(|(_, _, p)| p.mode() == Mode::Triangles) {
+            let origin = format!("{name}: mesh {mesh} primitive {}", primitive.index());
+            let mut mesh = part(&origin, *world, primitive, &buffers)?;
+            mesh.name.clone_from(&name);
+            parts.push(Part {
+                mesh,
+                material: primitive.material().index(),
+            });
+        }
+        if parts.is_empty() {
+            return Err(invalid("the model's scene has no triangles to draw".to_owned()));
+        }
+        let materials = materials(&document, path, &mut warnings);
+        Ok(Model {
+            parts,
+            materials,
+            warnings: warnings.into_iter().map(|w| format!("{name}: {w}")).collect(),
+        })
+    }
+}
+
+/// The `gltf` crate's error without its own "invalid glTF:" prefix, which
+/// [`SceneError::Gltf`] has already.
+fn message(error: ::gltf::Error) -> String {
+    match error {
+        ::gltf::Error::Validation(errors) => errors
+            .iter()
+            .map(|(path, error)| format!("{path}: {error}"))
+            .collect::<Vec<_>>()
+            .join("; "),
+        other => other.to_string(),
+    }
+}
+
+/// A .glb file's header against the file's length: the `gltf` crate subtracts the header's
+/// size from the declared length unchecked.
+fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
+    if !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let declared = bytes
+        .get(8..12)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
+        .ok_or("truncated: the .glb header is incomplete")?;
+    if declared < 12 || declared > bytes.len() {
+        return Err(format!(
+            "truncated or corrupt .glb: its header declares {declared} bytes and the file has {}",
+            bytes.len()
+        ));
+    }
+    Ok(())
+}
+
+/// The bytes a buffer's URI names: a base64 `data:` URI, or a file relative to `folder`.
+fn read_uri(uri: &str, folder: &Path) -> Result<Vec<u8>, String> {
+    if let Some(data) = uri.strip_prefix("data:") {
+        let (_, encoded) = data
+            .split_once(";base64,")
+            .ok_or("a data: URI that is not base64-encoded")?;
+        return base64::engine::general_purpose::STANDARD
+            .decode(encoded)
+            .map_err(|e| format!("its data: URI is not valid base64: {e}"));
+    }
+    if uri.contains("://") {
+        return Err(format!(
+            "{uri:?} is not a relative file URI; argil reads only local files"
+        ));
+    }
+    let decoded = percent_encoding::percent_decode_str(uri)
+        .decode_utf8()
+        .map_err(|_| format!("{uri:?} is not UTF-8 once percent-decoded"))?;
+    let file = folder.join(decoded.as_ref());
+    check_file_size(&file, MAX_GLTF_BYTES, "glTF buffers").map_err(|e| e.to_string())?;
+    std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
+}
+
+/// The warnings for what the model has and argil does not draw.
+fn unsupported_parts(document: &Document) -> Vec<String> {
+    let mut warnings: Vec<String> = document
+        .extensions_used()
+        .map(|e| format!("the extension {e} is not supported and is ignored"))
+        .collect();
+    let count = |n: usize, what: &str| (n > 0).then(|| format!("{n} {what}"));
+    warnings.extend(count(document.animations().count(), "animation(s) are not played"));
+    warnings.extend(count(
+        document.skins().count(),
+        "skin(s) are ignored: meshes are drawn in their bind pose",
+    ));
+    let morphed = document
+        .meshes()
+        .flat_map(|m| m.primitives())
+        .filter(|p| p.morph_targets().next().is_some())
+        .count();
+    warnings.extend(count(
+        morphed,
+        "primitive(s) have morph targets, which are ignored (the base shape is drawn)",
+    ));
+    warnings
+}
+
+/// The model's materials as scene materials: glTF's metallic-roughness model is argil's
+/// `metallic` blend, with the base colour factor (its alpha dropped) and map, the
+/// metallic and roughness factors and the normal map with its scale. What argil cannot
+/// draw yet is named in `warnings`, once per model.
+fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Vec<(String, MaterialDef)> {
+    let unused = std::cell::RefCell::new(BTreeSet::new());
+    let note = |warning: &str| {
+        unused.borrow_mut().insert(warning.to_owned());
+    };
+    let images = &document.as_json().images;
+    let folder = path.parent().unwrap_or(Path::new(""));
+    // A map of image `index` (a texture's source), if argil can read it: a file beside the
+    // model, named absolute so that it does not depend on the scene's folder.
+    let image = |index: usize, tex_coord: u32| -> Option<String> {
+        if tex_coord != 0 {
+            note("textures on TEXCOORD_1 or above are not supported; those maps are left out");
+            return None;
+        }
+        let uri = images.get(index)?.uri.as_deref();
+        let Some(uri) = uri.filter(|uri| !uri.starts_with("data:")) else {
+            note("images embedded in the file (a buffer view or a data: URI) are not yet loaded; their maps are left out");
+            return None;
+        };
+        let decoded = percent_encoding::percent_decode_str(uri).decode_utf8_lossy();
+        let file = folder.join(decoded.as_ref());
+        Some(std::path::absolute(&file).unwrap_or(file).display().to_string())
+    };
+    let materials = document
+        .materials()
+        .map(|material| {
+            let pbr = material.pbr_metallic_roughness();
+            let [r, g, b, _] = pbr.base_color_factor();
+            let texture = |info: ::gltf::texture::Info| info.texture().source().index();
+            let base_color_map = pbr
+                .base_color_texture()
+                .and_then(|info| image(texture(info.clone()), info.tex_coord()))
+                .map(MapDef::new);
+            let normal_map = material.normal_texture().and_then(|info| {
+                let mut map = MapDef::new(image(info.texture().source().index(), info.tex_coord())?);
+                map.strength = f64::from(
+                    info.scale()
+                        .clamp(MAP_STRENGTH.low, MAP_STRENGTH.high.unwrap_or(f32::MAX)),
+                );
+                Some(map)
+            });
+            if material
+                .normal_texture()
+                .is_some_and(|info| !MAP_STRENGTH.contains(info.scale()))
+            {
+                note("a normal texture's scale outside argil's normal map strength range is clamped to it");
+            }
+            // ---- Maps for the `maps` branch's slots (roughness_map, metallic_map,
+            // occlusion_map). Until they exist, the textures are named and left out.
+            if pbr.metallic_roughness_texture().is_some() {
+                note("metallicRoughnessTexture is not yet used: the metallic and roughness factors apply alone");
+            }
+            if material.occlusion_texture().is_some() {
+                note("occlusionTexture is not yet used");
+            }
+            // ---- end of the maps still to wire.
+            if material.emissive_factor() != [0.0; 3] || material.emissive_texture().is_some() {
+                note("emission is not supported and is ignored");
+            }
+            if material.alpha_mode() != ::gltf::material::AlphaMode::Opaque {
+                note("transparency (alphaMode MASK or BLEND) is not supported: surfaces are drawn opaque");
+            }
+            let name = format!(
+                "{} #{} {}",
+                path.display(),
+                material.index().unwrap_or_default(),
+                material.name().unwrap_or("")
+            );
+            let def = MaterialDef {
+                base_color: [r, g, b].map(f64::from),
+                // glTF's roughness is perceptual, α = roughness², as argil's `roughness` is
+                // (material_keys.rs): the factor is taken as it is.
+                roughness: f64::from(pbr.roughness_factor()),
+                metallic: f64::from(pbr.metallic_factor()),
+                base_color_map,
+                normal_map,
+                ..MaterialDef::default()
+            };
+            (name.trim_end().to_owned(), def)
+        })
+        .collect();
+    warnings.extend(unused.into_inner());
+    materials
+}
+
+/// The primitives of the default scene (else the first), each with its node's world
+/// matrix, depth first. glTF's nodes form trees; a node reached twice (a cycle, or a
+/// node shared by two parents) is an error rather than endless recursion.
+fn instances(document: &Document) -> Result<Vec<Instance<'_>>, String> {
+    let scene = document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+        .ok_or("the file has no scene to draw")?;
+    let mut seen = vec![false; document.nodes().count()];
+    let mut stack: Vec<_> = scene.nodes().map(|node| (Mat4::IDENTITY, node)).collect();
+    stack.reverse();
+    let mut instances = Vec::new();
+    while let Some((parent, node)) = stack.pop() {
+        if std::mem::replace(&mut seen[node.index()], true) {
+            return Err(format!(
+                "node {} is reached twice: the nodes of a scene must form trees",
+                node.index()
+            ));
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(mesh) = node.mesh() {
+            instances.extend(mesh.primitives().map(|p| (world, mesh.index(), p)));
+        }
+        let children: Vec<_> = node.children().map(|child| (world, child)).collect();
+        stack.extend(children.into_iter().rev());
+    }
+    Ok(instances)
+}
+
+/// glTF's name of a primitive mode.
+fn mode_name(mode: Mode) -> &'static str {
+    match mode {
+        Mode::Points => "POINTS",
+        Mode::Lines => "LINES",
+        Mode::LineLoop => "LINE_LOOP",
+        Mode::LineStrip => "LINE_STRIP",
+        Mode::Triangles => "TRIANGLES",
+        Mode::TriangleStrip => "TRIANGLE_STRIP",
+        Mode::TriangleFan => "TRIANGLE_FAN",
+    }
+}
+
+/// One primitive in world space: `world` applied to positions and tangents, its inverse
+/// transpose to normals, and the winding reversed where `world` mirrors (det < 0), so that
+/// front faces stay counter-clockwise seen from outside. Errors name `origin`.
+fn part(origin: &str, world: Mat4, primitive: &Primitive, buffers: &[Vec<u8>]) -> Result<Mesh, SceneError> {
+    let invalid = |problem: String| SceneError::InvalidMesh {
+        origin: origin.to_owned(),
+        problem,
+    };
+    let read = |accessor: Accessor, semantic: &str, types: &[DataType], dimensions: Dimensions| {
+        check_accessor(&accessor, types, dimensions, buffers)
+            .map_err(|problem| invalid(format!("{semantic} (accessor {}): {problem}", accessor.index())))
+    };
+    let reader = primitive.reader(|buffer| buffers.get(buffer.index()).map(Vec::as_slice));
+    let positions = primitive
+        .get(&Semantic::Positions)
+        .ok_or_else(|| invalid("no POSITION attribute".into()))?;
+    read(positions, "POSITION", &[DataType::F32], Dimensions::Vec3)?;
+    let mut positions: Vec<[f32; 3]> = reader.read_positions().map(Iterator::collect).unwrap_or_default();
+    let mut normals: Option<Vec<[f32; 3]>> = match primitive.get(&Semantic::Normals) {
+        Some(accessor) => {
+            read(accessor, "NORMAL", &[DataType::F32], Dimensions::Vec3)?;
+            reader.read_normals().map(Iterator::collect)
+        }
+        None => None,
+    };
+    let mut tangents: Option<Vec<[f32; 4]>> = match primitive.get(&Semantic::Tangents) {
+        Some(accessor) => {
+            read(accessor, "TANGENT", &[DataType::F32], Dimensions::Vec4)?;
+            reader.read_tangents().map(Iterator::collect)
+        }
+        None => None,
+    };
+    // glTF's v runs down the image and argil's up it (as OBJ's): v' = 1 - v.
+    let mut uvs: Option<Vec<[f32; 2]>> = match primitive.get(&Semantic::TexCoords(0)) {
+        Some(accessor) => {
+            let types = [DataType::F32, DataType::U8, DataType::U16];
+            read(accessor, "TEXCOORD_0", &types, Dimensions::Vec2)?;
+            reader
+                .read_tex_coords(0)
+                .map(ReadTexCoords::into_f32)
+                .map(|uvs| uvs.map(|[u, v]| [u, 1.0 - v]).collect())
+        }
+        None => None,
+    };
+    let mut indices: Vec<u32> = match primitive.indices() {
+        Some(accessor) => {
+            let types = [DataType::U8, DataType::U16, DataType::U32];
+            read(accessor, "indices", &types, Dimensions::Scalar)?;
+            reader
+                .read_indices()
+                .map(|i| i.into_u32().collect())
+                .unwrap_or_default()
+        }
+        None => (0..positions.len() as u32).collect(),
+    };
+    if let Some(t) = &tangents {
+        if t.len() != positions.len() {
+            return Err(invalid(format!(
+                "{} tangents for {} vertices",
+                t.len(),
+                positions.len()
+            )));
+        }
+    }
+
+    let linear = Mat3::from_mat4(world);
+    let normal_matrix = linear.inverse().transpose();
+    let mirrors = linear.determinant() < 0.0;
+    for p in &mut positions {
+        *p = world.transform_point3(Vec3::from(*p)).to_array();
+    }
+    for n in normals.iter_mut().flatten() {
+        *n = (normal_matrix * Vec3::from(*n)).to_array();
+    }
+    // The bitangent w · cross(n, t) turns with the frame; a mirror flips its handedness.
+    let handedness = if mirrors { -1.0 } else { 1.0 };
+    for t in tangents.iter_mut().flatten() {
+        let v = Vec4::from(*t);
+        *t = (linear * v.truncate()).extend(v.w * handedness).to_array();
+    }
+    if mirrors {
+        for triangle in indices.chunks_exact_mut(3) {
+            triangle.swap(1, 2);
+        }
+    }
+    if normals.is_none() {
+        // glTF's rule: without normals a primitive is flat shaded and its tangents are
+        // ignored. Unshared corners get their own triangle's normal from `from_triangles`.
+        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+            return Err(invalid(format!(
+                "index {bad} is out of range: there are {} vertices",
+                positions.len()
+            )));
+        }
+        positions = indices.iter().map(|&i| positions[i as usize]).collect();
+        uvs = uvs.map(|uvs| indices.iter().map(|&i| uvs[i as usize]).collect());
+        tangents = None;
+        indices = (0..positions.len() as u32).collect();
+    }
+    Mesh::from_triangles_with_tangents(
+        origin,
+        &positions,
+        normals.as_deref(),
+        uvs.as_deref(),
+        tangents.as_deref(),
+        &indices,
+    )
+}
+
+/// Checks that the `gltf` crate's reader can read `accessor` as the type argil asks of it
+/// (its readers index slices and assume the types unchecked): one of `types` (integers
+/// normalized, except indices), `dimensions`, dense, and within its view and buffer.
+fn check_accessor(
+    accessor: &Accessor,
+    types: &[DataType],
+    dimensions: Dimensions,
+    buffers: &[Vec<u8>],
+) -> Result<(), String> {
+    let data_type = accessor.data_type();
+    let integer = data_type != DataType::F32;
+    let indices = dimensions == Dimensions::Scalar;
+    if !types.contains(&data_type)
+        || accessor.dimensions() != dimensions
+        || (integer && !indices && !accessor.normalized())
+    {
+        return Err(format!(
+            "{:?} {:?}{} is not a supported type",
+            accessor.dimensions(),
+            data_type,
+            if accessor.normalized() { " (normalized)" } else { "" }
+        ));
+    }
+    if accessor.sparse().is_some() {
+        return Err("sparse accessors are not supported".into());
+    }
+    let view = accessor
+        .view()
+        .ok_or("an accessor without a buffer view is not supported")?;
+    if accessor.count() == 0 {
+        return Err("no elements".into());
+    }
+    let size = accessor.size();
+    let stride = view.stride().unwrap_or(size);
+    if stride < size {
+        return Err(format!("a byte stride of {stride} for elements of {size} bytes"));
+    }
+    let accessor_end = (accessor.count() - 1)
+        .checked_mul(stride)
+        .and_then(|n| n.checked_add(size))
+        .and_then(|n| n.checked_add(accessor.offset()));
+    if accessor_end.is_none_or(|end| end > view.length()) {
+        return Err(format!(
+            "{} elements from byte {} do not fit in buffer view {} ({} bytes)",
+            accessor.count(),
+            accessor.offset(),
+            view.index(),
+            view.length()
+        ));
+    }
+    let buffer = buffers.get(view.buffer().index()).map_or(0, Vec::len);
+    if view.offset().checked_add(view.length()).is_none_or(|end| end > buffer) {
+        return Err(format!(
+            "buffer view {} (bytes {}..+{}) is outside buffer {} ({buffer} bytes)",
+            view.index(),
+            view.offset(),
+            view.length(),
+            view.buffer().index()
+        ));
+    }
+    Ok(())
+}

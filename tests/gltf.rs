@@ -1,0 +1,664 @@
+//! glTF 2.0 models, written by the tests (JSON and a binary buffer, as .gltf with an
+//! external or a `data:` buffer, or as .glb): their geometry in world space as OBJ files
+//! give it, and bad files refused with exit code 2 and a message naming the file.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use argil::scene::Scene;
+use base64::Engine;
+use glam::{Mat3, Mat4, Vec3, Vec4};
+use serde_json::{json, Value};
+
+use common::argil;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("argil-gltf-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// One primitive's vertex data, in argil's UV convention (v up; the file gets 1 - v).
+#[derive(Clone)]
+struct Primitive {
+    positions: Vec<[f32; 3]>,
+    normals: Option<Vec<[f32; 3]>>,
+    uvs: Vec<[f32; 2]>,
+    tangents: Option<Vec<[f32; 4]>>,
+    indices: Vec<u32>,
+}
+
+/// How the buffer is stored.
+#[derive(Clone, Copy, Debug)]
+enum Storage {
+    /// `.gltf` beside `NAME.bin`.
+    External,
+    /// `.gltf` with the buffer in a `data:` URI.
+    DataUri,
+    /// `.glb`.
+    Binary,
+}
+
+/// A model: its JSON (without `buffers`) and the one buffer's bytes.
+struct Model {
+    json: Value,
+    bin: Vec<u8>,
+}
+
+/// The buffer being laid out, with its views and accessors.
+#[derive(Default)]
+struct Layout {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Layout {
+    /// Appends `bytes` (4-byte aligned) as a view with one accessor; its index.
+    fn push(&mut self, bytes: Vec<u8>, count: usize, component: u32, kind: &str) -> usize {
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        let view = json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()});
+        self.views.push(view);
+        self.bin.extend(bytes);
+        let accessor =
+            json!({"bufferView": self.views.len() - 1, "componentType": component, "count": count, "type": kind});
+        self.accessors.push(accessor);
+        self.accessors.len() - 1
+    }
+
+    fn floats<const N: usize>(&mut self, values: &[[f32; N]], kind: &str) -> usize {
+        let bytes = values.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        self.push(bytes, values.len(), 5126, kind)
+    }
+}
+
+impl Model {
+    /// One mesh per primitive (mesh i holds primitive i), and `nodes` as given with a
+    /// scene of `roots`.
+    fn new(primitives: &[Primitive], nodes: Value, roots: &[usize]) -> Model {
+        let mut layout = Layout::default();
+        let mut meshes = Vec::new();
+        for p in primitives {
+            let mut attributes = serde_json::Map::new();
+            let position = layout.floats(&p.positions, "VEC3");
+            // glTF requires the bounds of POSITION.
+            let (min, max) = p.positions.iter().fold(([f32::MAX; 3], [f32::MIN; 3]), |(lo, hi), q| {
+                ([0, 1, 2].map(|i| lo[i].min(q[i])), [0, 1, 2].map(|i| hi[i].max(q[i])))
+            });
+            layout.accessors[position]["min"] = json!(min);
+            layout.accessors[position]["max"] = json!(max);
+            attributes.insert("POSITION".into(), json!(position));
+            if let Some(normals) = &p.normals {
+                attributes.insert("NORMAL".into(), json!(layout.floats(normals, "VEC3")));
+            }
+            let uvs: Vec<[f32; 2]> = p.uvs.iter().map(|&[u, v]| [u, 1.0 - v]).collect();
+            attributes.insert("TEXCOORD_0".into(), json!(layout.floats(&uvs, "VEC2")));
+            if let Some(tangents) = &p.tangents {
+                attributes.insert("TANGENT".into(), json!(layout.floats(tangents, "VEC4")));
+            }
+            let indices = p.indices.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect();
+            let indices = layout.push(indices, p.indices.len(), 5123, "SCALAR");
+            meshes.push(json!({"primitives": [{"attributes": attributes, "indices": indices}]}));
+        }
+        let Layout { bin, views, accessors } = layout;
+        let json = json!({
+            "asset": {"version": "2.0"},
+            "scene": 0,
+            "scenes": [{"nodes": roots}],
+            "nodes": nodes,
+            "meshes": meshes,
+            "accessors": accessors,
+            "bufferViews": views,
+        });
+        Model { json, bin }
+    }
+
+    /// Writes the model as `dir/NAME.gltf` (or `.glb`) and returns its path.
+    fn write(&self, dir: &Path, name: &str, storage: Storage) -> PathBuf {
+        let mut json = self.json.clone();
+        let length = self.bin.len();
+        let path = match storage {
+            Storage::External => {
+                std::fs::write(dir.join(format!("{name} data.bin")), &self.bin).expect("write bin");
+                // A space in the name, percent-encoded as URIs are.
+                json["buffers"] = json!([{"uri": format!("{name}%20data.bin"), "byteLength": length}]);
+                dir.join(format!("{name}.gltf"))
+            }
+            Storage::DataUri => {
+                let data = base64::engine::general_purpose::STANDARD.encode(&self.bin);
+                json["buffers"] =
+                    json!([{"uri": format!("data:application/octet-stream;base64,{data}"), "byteLength": length}]);
+                dir.join(format!("{name}.gltf"))
+            }
+            Storage::Binary => {
+                json["buffers"] = json!([{"byteLength": length}]);
+                let path = dir.join(format!("{name}.glb"));
+                std::fs::write(&path, glb(&serde_json::to_vec(&json).expect("json"), &self.bin)).expect("write glb");
+                return path;
+            }
+        };
+        std::fs::write(&path, serde_json::to_vec_pretty(&json).expect("json")).expect("write gltf");
+        path
+    }
+}
+
+/// A .glb file: the header, the JSON chunk (padded with spaces) and the BIN chunk.
+fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let pad = |bytes: &[u8], with: u8| {
+        let mut padded = bytes.to_vec();
+        while padded.len() % 4 != 0 {
+            padded.push(with);
+        }
+        padded
+    };
+    let (json, bin) = (pad(json, b' '), pad(bin, 0));
+    let length = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(length);
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend((length as u32).to_le_bytes());
+    out.extend((json.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(&json);
+    out.extend((bin.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(&bin);
+    out
+}
+
+/// The same primitive in world space as an OBJ file: `world` applied as the loader
+/// documents it (positions, inverse-transpose normals, winding reversed by a mirror).
+fn write_obj(path: &Path, p: &Primitive, world: Mat4) {
+    let linear = Mat3::from_mat4(world);
+    let normal_matrix = linear.inverse().transpose();
+    let mut text = String::new();
+    for q in &p.positions {
+        let q = world.transform_point3(Vec3::from(*q));
+        text += &format!("v {} {} {}\n", q.x, q.y, q.z);
+    }
+    for n in p.normals.iter().flatten() {
+        let n = normal_matrix * Vec3::from(*n);
+        text += &format!("vn {} {} {}\n", n.x, n.y, n.z);
+    }
+    for [u, v] in &p.uvs {
+        text += &format!("vt {u} {v}\n");
+    }
+    for t in p.indices.chunks_exact(3) {
+        let mut t = [t[0] + 1, t[1] + 1, t[2] + 1];
+        if linear.determinant() < 0.0 {
+            t.swap(1, 2);
+        }
+        let corner = |i: u32| match p.normals {
+            Some(_) => format!("{i}/{i}/{i}"),
+            None => format!("{i}/{i}"),
+        };
+        text += &format!("f {} {} {}\n", corner(t[0]), corner(t[1]), corner(t[2]));
+    }
+    std::fs::write(path, text).expect("write obj");
+}
+
+/// A smooth-shaded octahedron (normals given) of radius 1.
+fn octahedron() -> Primitive {
+    // Numbered in the order the triangles first use them, as an OBJ file's loader numbers them.
+    let positions = vec![
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 0.0, -1.0],
+        [0.0, -1.0, 0.0],
+    ];
+    let uvs = vec![
+        [0.0, 0.5],
+        [0.25, 1.0],
+        [0.25, 0.5],
+        [0.5, 0.5],
+        [0.75, 0.5],
+        [0.75, 0.0],
+    ];
+    let indices = vec![0, 1, 2, 2, 1, 3, 3, 1, 4, 4, 1, 0, 0, 2, 5, 2, 3, 5, 3, 4, 5, 4, 0, 5];
+    Primitive {
+        normals: Some(positions.clone()),
+        positions,
+        uvs,
+        tangents: None,
+        indices,
+    }
+}
+
+/// A flat-shaded (no normals) tetrahedron whose corners are unshared, as glTF's flat
+/// shading makes them.
+fn tetrahedron() -> Primitive {
+    let corners = [[1.0, 1.0, 1.0], [-1.0, -1.0, 1.0], [-1.0, 1.0, -1.0], [1.0, -1.0, -1.0]];
+    let faces = [[0, 1, 3], [0, 2, 1], [0, 3, 2], [1, 2, 3]];
+    let positions: Vec<[f32; 3]> = faces.iter().flatten().map(|&i| corners[i]).collect();
+    let uvs = (0..12).map(|i| [(i % 3) as f32 * 0.5, (i / 3) as f32 * 0.25]).collect();
+    Primitive {
+        indices: (0..12).collect(),
+        positions,
+        normals: None,
+        uvs,
+        tangents: None,
+    }
+}
+
+/// The test model's nodes, with transforms whose arithmetic is exact in f32 so that the
+/// OBJ files can hold the same world-space numbers: the octahedron translated and scaled;
+/// the tetrahedron under a parent turning it 90° about y (an exact `matrix`) and mirrored
+/// (scale x -1) beneath it.
+fn nodes() -> (Value, [Mat4; 2]) {
+    let nodes = json!([
+        {"mesh": 0, "translation": [-1.25, 0.0, 0.5], "scale": [0.75, 0.75, 0.75]},
+        {"matrix": [0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.25, 0.0, 1.0], "children": [2]},
+        {"mesh": 1, "scale": [-0.5, 0.5, 0.5]},
+    ]);
+    let octahedron = Mat4::from_translation(Vec3::new(-1.25, 0.0, 0.5)) * Mat4::from_scale(Vec3::splat(0.75));
+    let parent = Mat4::from_cols_array(&[
+        0.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.25, 0.0, 1.0,
+    ]);
+    (
+        nodes,
+        [octahedron, parent * Mat4::from_scale(Vec3::new(-0.5, 0.5, 0.5))],
+    )
+}
+
+fn scene_text(objects: &[&str]) -> String {
+    let mut text = String::from(
+        r#"
+[camera]
+position = [0.5, 1.5, 4.0]
+target = [0.0, 0.0, 0.0]
+fov_y_degrees = 40.0
+
+[[lights]]
+kind = "point"
+position = [2.0, 3.0, 3.0]
+intensity = [20.0, 18.0, 16.0]
+
+[environment]
+kind = "uniform"
+radiance = [0.2, 0.2, 0.25]
+
+[materials.clay]
+base_color = [0.7, 0.45, 0.3]
+roughness = 0.5
+[materials.clay.normal_map]
+texture = "builtin:clay-lumps"
+"#,
+    );
+    for mesh in objects {
+        text += &format!("\n[[objects]]\nmesh = {mesh:?}\nposition = [0.25, 0.0, 0.0]\nmaterial = \"clay\"\n");
+    }
+    text
+}
+
+fn load(dir: &Path, name: &str, text: &str) -> Scene {
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write scene");
+    Scene::load(&path).expect("scene loads")
+}
+
+/// Each primitive of the model's scene is a part in world space, with its node's transform
+/// baked in: the frames of a .gltf with an external buffer, one with a `data:` buffer and a
+/// .glb equal, bit for bit, the frame of the same geometry as two OBJ files.
+#[test]
+fn a_model_renders_as_its_geometry_written_as_obj() {
+    let dir = temp_dir("geometry");
+    let primitives = [octahedron(), tetrahedron()];
+    let (nodes, worlds) = nodes();
+    let model = Model::new(&primitives, nodes, &[0, 1]);
+    for (i, (p, world)) in primitives.iter().zip(worlds).enumerate() {
+        write_obj(&dir.join(format!("part{i}.obj")), p, world);
+    }
+    let obj = load(&dir, "obj.toml", &scene_text(&["part0.obj", "part1.obj"]));
+    assert!(obj.warnings.is_empty());
+    let expected = common::render(&obj, 96, 64);
+    for storage in [Storage::External, Storage::DataUri, Storage::Binary] {
+        let path = model.write(&dir, "model", storage);
+        let name = path.file_name().and_then(|n| n.to_str()).expect("name");
+        let scene = load(&dir, "model.toml", &scene_text(&[name]));
+        assert_eq!(scene.warnings, Vec::<String>::new(), "{storage:?}");
+        assert_eq!((scene.meshes.len(), scene.objects.len()), (2, 2), "{storage:?}");
+        for (part, (mesh, obj_mesh)) in scene.meshes.iter().zip(&obj.meshes).enumerate() {
+            assert_eq!(scene.objects[part].part, part);
+            assert_eq!(mesh.indices, obj_mesh.indices, "{storage:?} part {part}");
+            assert_eq!(mesh.vertices, obj_mesh.vertices, "{storage:?} part {part}");
+        }
+        let frame = common::render(&scene, 96, 64);
+        assert!(
+            frame.display == expected.display,
+            "{storage:?}: the frame differs from the OBJ files'"
+        );
+
+        // Saved, the model is one object again.
+        let saved = scene.to_file_at(&dir.join("saved.toml"));
+        assert_eq!(saved.objects.len(), 1);
+        assert_eq!(saved.objects[0].mesh, name);
+    }
+}
+
+/// Tangents given by the file are kept (made orthogonal to the normal), turned with the
+/// node and their handedness flipped by a mirror; without them they are computed as an OBJ
+/// file's are, as the test above shows.
+#[test]
+fn tangents_from_the_file_are_kept_and_mirrored() {
+    let dir = temp_dir("tangents");
+    let mut quad = Primitive {
+        positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+        normals: Some(vec![[0.0, 0.0, 1.0]; 4]),
+        uvs: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]],
+        // Deliberately not the UVs' direction (+x), and not orthogonal to the normal.
+        tangents: Some(vec![[0.0, 2.0, 1.0, -1.0]; 4]),
+        indices: vec![0, 1, 2, 0, 2, 3],
+    };
+    let nodes = json!([{"mesh": 0}, {"mesh": 0, "scale": [-1.0, 1.0, 1.0]}]);
+    let path = Model::new(&[quad.clone()], nodes, &[0, 1]).write(&dir, "quad", Storage::Binary);
+    let scene = load(
+        &dir,
+        "quad.toml",
+        &scene_text(&[path.file_name().and_then(|n| n.to_str()).expect("name")]),
+    );
+    let [plain, mirrored] = [0, 1].map(|i| &scene.meshes[scene.objects[i].mesh]);
+    for v in &plain.vertices {
+        assert_eq!(Vec4::from(v.tangent), Vec4::new(0.0, 1.0, 0.0, -1.0));
+    }
+    for v in &mirrored.vertices {
+        assert_eq!(Vec4::from(v.tangent), Vec4::new(0.0, 1.0, 0.0, 1.0));
+    }
+    // The mirror reverses the winding, so the quad still faces its (unchanged) normal.
+    assert_eq!(mirrored.indices, [0, 2, 1, 0, 3, 2]);
+
+    quad.tangents = None;
+    let computed = Model::new(&[quad], json!([{"mesh": 0}]), &[0]).write(&dir, "computed", Storage::Binary);
+    let scene = load(&dir, "computed.toml", &scene_text(&["computed.glb"]));
+    assert!(computed.exists());
+    for v in &scene.meshes[0].vertices {
+        assert_eq!(Vec4::from(v.tangent), Vec4::new(1.0, 0.0, 0.0, 1.0));
+    }
+}
+
+/// What argil does not draw is named in one warning each: primitives of another mode,
+/// extensions it ignores, animations.
+#[test]
+fn unsupported_parts_are_named_in_warnings() {
+    let dir = temp_dir("warnings");
+    let mut model = Model::new(
+        &[octahedron(), tetrahedron()],
+        json!([{"mesh": 0}, {"mesh": 1}]),
+        &[0, 1],
+    );
+    model.json["meshes"][1]["primitives"][0]["mode"] = json!(1);
+    model.json["meshes"][0]["primitives"]
+        .as_array_mut()
+        .expect("primitives")
+        .push(json!({"attributes": {"POSITION": 0}, "mode": 0}));
+    model.json["extensionsUsed"] = json!(["KHR_materials_clearcoat"]);
+    let path = model.write(&dir, "mixed", Storage::Binary);
+    let scene = load(&dir, "mixed.toml", &scene_text(&["mixed.glb"]));
+    assert_eq!(scene.objects.len(), 1, "only the triangles are drawn");
+    let shown = path.display().to_string();
+    assert_eq!(
+        scene.warnings,
+        [
+            format!("{shown}: the extension KHR_materials_clearcoat is not supported and is ignored"),
+            format!("{shown}: primitives of mode LINES are not drawn"),
+            format!("{shown}: primitives of mode POINTS are not drawn"),
+        ]
+    );
+    let out = dir.join("x.png");
+    let o = argil(&[
+        "render",
+        &dir.join("mixed.toml").display().to_string(),
+        "--out",
+        &out.display().to_string(),
+        "--width",
+        "32",
+        "--height",
+        "32",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert_eq!(err.matches("argil: warning: ").count(), 3, "{err}");
+}
+
+fn assert_refused(o: &Output, out: &Path, mentions: &[&str]) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "exit code: {err}");
+    assert!(!err.contains("panicked"), "argil panicked: {err}");
+    for m in mentions {
+        assert!(err.contains(m), "the error does not mention {m:?}: {err}");
+    }
+    assert!(!out.exists(), "{} was written", out.display());
+}
+
+/// A bad model is refused with exit code 2 and a message naming the file and the problem,
+/// and nothing is written.
+#[test]
+fn bad_models_are_clear_errors() {
+    let dir = temp_dir("bad");
+    let good = Model::new(&[octahedron()], json!([{"mesh": 0}]), &[0]);
+    let glb_bytes = std::fs::read(good.write(&dir, "good", Storage::Binary)).expect("read");
+    let out = dir.join("x.png");
+    let render = |model: &str| {
+        let scene = dir.join(format!("{model}.toml"));
+        std::fs::write(&scene, scene_text(&[model])).expect("write scene");
+        argil(&[
+            "render",
+            &scene.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+            "--width",
+            "16",
+            "--height",
+            "16",
+        ])
+    };
+    let mut cases: Vec<(&str, Vec<u8>, &[&str])> = vec![
+        (
+            "truncated.glb",
+            glb_bytes[..glb_bytes.len() / 2].to_vec(),
+            &["truncated.glb", "truncated"],
+        ),
+        ("header.glb", glb_bytes[..6].to_vec(), &["header.glb", "truncated"]),
+        (
+            "json.gltf",
+            b"{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [".to_vec(),
+            &["json.gltf", "invalid glTF"],
+        ),
+    ];
+    let variant = |change: &dyn Fn(&mut Value)| {
+        let mut json = good.json.clone();
+        json["buffers"] = json!([{"byteLength": good.bin.len()}]);
+        change(&mut json);
+        glb(&serde_json::to_vec(&json).expect("json"), &good.bin)
+    };
+    cases.push((
+        "missing.gltf",
+        {
+            let mut json = good.json.clone();
+            json["buffers"] = json!([{"uri": "nowhere.bin", "byteLength": good.bin.len()}]);
+            serde_json::to_vec(&json).expect("json")
+        },
+        &["missing.gltf", "buffer 0", "nowhere.bin"],
+    ));
+    cases.push((
+        "index.glb",
+        variant(&|json| json["meshes"][0]["primitives"][0]["indices"] = json!(99)),
+        &["index.glb", "invalid glTF"],
+    ));
+    // Indices past the vertices: the accessor is valid, its values are not.
+    let mut far = good.bin.clone();
+    let view = good.json["bufferViews"][3]["byteOffset"].as_u64().expect("offset") as usize;
+    far[view..view + 2].copy_from_slice(&77u16.to_le_bytes());
+    cases.push((
+        "vertex.glb",
+        {
+            let mut json = good.json.clone();
+            json["buffers"] = json!([{"byteLength": far.len()}]);
+            glb(&serde_json::to_vec(&json).expect("json"), &far)
+        },
+        &["vertex.glb", "index 77", "out of range"],
+    ));
+    cases.push((
+        "overrun.glb",
+        variant(&|json| json["accessors"][0]["count"] = json!(600)),
+        &["overrun.glb", "POSITION", "do not fit"],
+    ));
+    cases.push((
+        "required.glb",
+        variant(&|json| {
+            json["extensionsUsed"] = json!(["KHR_draco_mesh_compression"]);
+            json["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
+        }),
+        &["required.glb", "KHR_draco_mesh_compression", "not support"],
+    ));
+    cases.push((
+        "cycle.glb",
+        variant(&|json| json["nodes"] = json!([{"mesh": 0, "children": [0]}])),
+        &["cycle.glb", "node 0"],
+    ));
+    for (name, bytes, mentions) in cases {
+        std::fs::write(dir.join(name), bytes).expect("write model");
+        assert_refused(&render(name), &out, mentions);
+    }
+
+    // Over the size limit: a sparse file, so nothing is really written.
+    let huge = dir.join("huge.glb");
+    let file = std::fs::File::create(&huge).expect("create");
+    file.set_len(argil::scene::limits::MAX_GLTF_BYTES + 1).expect("set_len");
+    assert_refused(&render("huge.glb"), &out, &["huge.glb", "at most"]);
+    std::fs::remove_file(&huge).expect("remove");
+}
+
+/// A model's materials are argil materials: the base colour factor and texture, the
+/// metallic and roughness factors (both glTF's roughness and argil's are perceptual, α =
+/// roughness²) and the normal texture with its scale. The model draws bit for bit as its
+/// geometry in OBJ files with those materials written as tables; what is not used yet is
+/// named once per model.
+#[test]
+fn a_model_brings_its_materials() {
+    let dir = temp_dir("materials");
+    let albedo = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([40 + 25 * x as u8, 200 - 20 * y as u8, 90, 255])
+    });
+    albedo.save(dir.join("albedo map.png")).expect("write albedo");
+    let normals = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([128 + 12 * x as u8, 128 - 10 * y as u8, 230, 255])
+    });
+    normals.save(dir.join("normals.png")).expect("write normals");
+
+    let primitives = [octahedron(), tetrahedron()];
+    let (nodes, worlds) = nodes();
+    let mut model = Model::new(&primitives, nodes, &[0, 1]);
+    model.json["images"] = json!([{"uri": "albedo%20map.png"}, {"uri": "normals.png"}]);
+    model.json["textures"] = json!([{"source": 0}, {"source": 1}]);
+    model.json["materials"] = json!([
+        {
+            "name": "glaze",
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [0.75, 0.5, 0.25, 1.0],
+                "baseColorTexture": {"index": 0},
+                "metallicFactor": 0.25,
+                "roughnessFactor": 0.375,
+                "metallicRoughnessTexture": {"index": 0},
+            },
+            "normalTexture": {"index": 1, "scale": 0.5},
+            "occlusionTexture": {"index": 0},
+        },
+        {"pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.625}},
+    ]);
+    model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
+    model.json["meshes"][1]["primitives"][0]["material"] = json!(1);
+    model.write(&dir, "model", Storage::Binary);
+    let path = dir.join("model.toml");
+    std::fs::write(
+        &path,
+        scene_text(&[]) + "\n[[objects]]\nmesh = \"model.glb\"\nposition = [0.25, 0.0, 0.0]\n",
+    )
+    .expect("write scene");
+    let scene = Scene::load(&path).expect("scene loads");
+    let shown = dir.join("model.glb").display().to_string();
+    assert_eq!(
+        scene.warnings,
+        [
+            format!(
+                "{shown}: metallicRoughnessTexture is not yet used: the metallic and roughness factors apply alone"
+            ),
+            format!("{shown}: occlusionTexture is not yet used"),
+        ]
+    );
+    let names: Vec<&str> = scene
+        .objects
+        .iter()
+        .map(|o| scene.materials[o.material].name.as_str())
+        .collect();
+    assert_eq!(names, [format!("{shown} #0 glaze"), format!("{shown} #1")]);
+    assert!(scene.objects.iter().all(|o| o.material_from_model));
+
+    for (i, (p, world)) in primitives.iter().zip(worlds).enumerate() {
+        write_obj(&dir.join(format!("part{i}.obj")), p, world);
+    }
+    let obj_text = scene_text(&[])
+        + r#"
+[[objects]]
+mesh = "part0.obj"
+position = [0.25, 0.0, 0.0]
+material = "glaze"
+[[objects]]
+mesh = "part1.obj"
+position = [0.25, 0.0, 0.0]
+material = "metal"
+[materials.glaze]
+base_color = [0.75, 0.5, 0.25]
+metallic = 0.25
+roughness = 0.375
+[materials.glaze.base_color_map]
+texture = "albedo map.png"
+[materials.glaze.normal_map]
+texture = "normals.png"
+strength = 0.5
+[materials.metal]
+base_color = [1.0, 1.0, 1.0]
+metallic = 1.0
+roughness = 0.625
+"#;
+    let obj = load(&dir, "obj.toml", &obj_text);
+    for (model_object, obj_object) in scene.objects.iter().zip(&obj.objects) {
+        let (a, b) = (
+            &scene.materials[model_object.material],
+            &obj.materials[obj_object.material],
+        );
+        assert_eq!(
+            argil::scene::Material {
+                name: b.name.clone(),
+                ..a.clone()
+            },
+            *b
+        );
+    }
+    let expected = common::render(&obj, 96, 64);
+    let frame = common::render(&scene, 96, 64);
+    assert!(
+        frame.display == expected.display,
+        "the frame differs from the OBJ files'"
+    );
+
+    // Saved, the object leaves its materials to the model.
+    let saved = scene.to_file_at(&path);
+    assert_eq!((saved.objects.len(), saved.objects[0].material.as_deref()), (1, None));
+    assert!(
+        saved.materials.keys().all(|name| name == "clay"),
+        "{:?}",
+        saved.materials.keys()
+    );
+    // An object that names a material gives it to every part.
+    let named = load(&dir, "named.toml", &scene_text(&["model.glb"]));
+    assert!(named
+        .objects
+        .iter()
+        .all(|o| named.materials[o.material].name == "clay" && !o.material_from_model));
+}
