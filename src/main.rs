@@ -83,6 +83,10 @@ enum Command {
         /// reflection modes give the single frame's image.
         #[arg(long, value_name = "FRAMES", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65536))]
         accumulate: u32,
+        /// Render this debug view instead of the shaded image (the names of `argil view
+        /// --debug-view`); `shadow-map` needs a light that casts shadows.
+        #[arg(long, value_name = "VIEW", default_value = "shaded", value_parser = DebugView::from_name)]
+        debug_view: DebugView,
     },
     /// Open a window on a scene.
     View {
@@ -116,7 +120,7 @@ enum Command {
         soak_log: Option<PathBuf>,
         /// Start in this debug view (the panel's Debug view): shaded, normals, tangents,
         /// bitangents, uvs, n-dot-l, diffuse, specular, subsurface, environment, nan, curvature,
-        /// occlusion, shadows, bounce.
+        /// occlusion, shadows, bounce, shadow-map.
         #[arg(long, value_name = "VIEW", default_value = "shaded", value_parser = DebugView::from_name)]
         debug_view: DebugView,
         /// Start with the split view on, its right half in this configuration of
@@ -293,6 +297,7 @@ struct RenderOptions {
     timings: Option<PathBuf>,
     msaa: Option<u32>,
     accumulate: u32,
+    debug_view: DebugView,
 }
 
 fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
@@ -308,6 +313,13 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     if let Some(msaa) = options.msaa {
         scene.antialiasing.msaa = msaa;
     }
+    if options.debug_view == DebugView::ShadowMap && scene.shadow_casting_light().is_none() {
+        return Err(InputError(format!(
+            "--debug-view shadow-map: no light of {} casts shadows (a [[lights]] entry with shadows = true)",
+            options.scene.as_deref().map_or("the default scene".into(), |p| p.display().to_string())
+        ))
+        .into());
+    }
     let device = startup.step("instance and device", || {
         Device::new(
             DeviceOptions {
@@ -319,6 +331,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
         .map(Arc::new)
     })?;
     let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
+    renderer.debug_view = options.debug_view;
     let gpu = startup.step("upload", || renderer.upload(&scene))?;
     let samples = renderer.msaa_samples(&scene);
     if samples != scene.antialiasing.msaa {
@@ -523,6 +536,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             timings,
             msaa,
             accumulate,
+            debug_view,
         } => render(
             RenderOptions {
                 choice,
@@ -535,6 +549,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 timings,
                 msaa,
                 accumulate,
+                debug_view,
             },
             process_start,
         ),

@@ -283,6 +283,41 @@ fn bad_input_is_a_clear_error() {
     );
 }
 
+/// `render --debug-view shadow-map` draws the view of a scene whose light casts shadows,
+/// and refuses one where no light does: exit 2, the file and the reason named, nothing
+/// written.
+#[test]
+fn the_shadow_map_view_needs_a_light_that_casts_shadows() {
+    let dir = temp_dir("shadow-map");
+    let out = dir.join("view.png");
+    let view = |scene: &Path| {
+        argil(&[
+            "render",
+            path_str(scene),
+            "--out",
+            path_str(&out),
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--debug-view",
+            "shadow-map",
+        ])
+    };
+    let lit = dir.join("lit.toml");
+    std::fs::write(&lit, SPHERE).expect("write");
+    assert_clean_success(&view(&lit));
+    std::fs::remove_file(&out).expect("rendered");
+    let unshadowed = dir.join("unshadowed.toml");
+    std::fs::write(
+        &unshadowed,
+        SPHERE.replace("intensity = [40.0, 40.0, 40.0]", "intensity = [40.0, 40.0, 40.0]\nshadows = false"),
+    )
+    .expect("write");
+    assert_clean_failure(&view(&unshadowed), &["unshadowed.toml", "shadow-map", "casts shadows"]);
+    assert!(!out.exists(), "nothing is written for bad input");
+}
+
 /// The window path: a real X server (Xvfb), a swapchain, a few frames, a clean exit.
 #[test]
 fn view_opens_a_window_under_xvfb() {

@@ -268,6 +268,52 @@ fn the_shadow_debug_view_shows_the_shadow_factor() {
     );
 }
 
+/// The shadow-map view of a lit plane alone passes the test on every covered pixel: each
+/// shows 1 or the checker's darker texel, both in large numbers; at 16 texels a face the
+/// checker's squares span several pixels (the map's resolution shows). With the sphere
+/// above, umbra pixels show the sphere's distance over the ground's, well below the
+/// checker's grey, and lit pixels still pass.
+#[test]
+fn the_shadow_map_view_passes_on_a_lit_plane_and_shows_the_blocker_in_the_umbra() {
+    use argil::render::debug_view::SHADOW_MAP_VIEW_CHECKER;
+    let checker = SHADOW_MAP_VIEW_CHECKER as f32;
+    let view = |toml: &str| {
+        gpu().exclusive(|renderer| {
+            renderer.debug_view = argil::render::DebugView::ShadowMap;
+            let frame = common::try_render(renderer, &scene(toml), SIZE.0, SIZE.1);
+            renderer.debug_view = argil::render::DebugView::Shaded;
+            frame.expect("render").hdr
+        })
+    };
+    let coarse = view(&plane_scene("", "").replace("resolution = 2048", "resolution = 16"));
+    let covered: Vec<f32> = coarse.chunks_exact(4).filter(|p| p[3] > 0.0).map(|p| p[0]).collect();
+    let white = covered.iter().filter(|&&v| v == 1.0).count();
+    let grey = covered.iter().filter(|&&v| v == checker).count();
+    assert_eq!(white + grey, covered.len(), "pixels failing the test on a lit plane alone");
+    assert!(white.min(grey) * 5 > covered.len(), "checker {white} white, {grey} grey");
+    let row_changes = (0..SIZE.1 as usize)
+        .flat_map(|y| (1..SIZE.0 as usize).map(move |x| 4 * (y * SIZE.0 as usize + x)))
+        .filter(|&i| coarse[i + 3] > 0.0 && coarse[i - 1] > 0.0 && coarse[i] != coarse[i - 4])
+        .count();
+    assert!(row_changes * 4 < covered.len(), "{row_changes} changes over {} pixels", covered.len());
+
+    let shadowed = view(&plane_scene("", SPHERE));
+    let sides = ground_sides();
+    let wrong: Vec<_> = sides
+        .iter()
+        .filter(|&&(i, inside)| {
+            let v = shadowed[i];
+            if inside {
+                !(v > 0.3 && v < checker - 0.05)
+            } else {
+                v != 1.0 && v != checker
+            }
+        })
+        .map(|&(i, inside)| (i / 4, inside, shadowed[i]))
+        .collect();
+    assert!(wrong.is_empty(), "{} pixels off: {:?}", wrong.len(), &wrong[..wrong.len().min(8)]);
+}
+
 /// `[shadows] bounce` leaves the ground as it was, bit for bit (nothing is gathered on it),
 /// and brightens the sphere's underside over the lit ground.
 #[test]

@@ -8,6 +8,7 @@
 #include "shading.glsl"
 #include "lights.glsl"
 #include "bounce.glsl"
+#include "shadows.glsl"
 
 const uint DEBUG_VIEW_SHADED = 0u;
 const uint DEBUG_VIEW_NORMALS = 1u;
@@ -24,11 +25,15 @@ const uint DEBUG_VIEW_CURVATURE = 11u;
 const uint DEBUG_VIEW_OCCLUSION = 12u;
 const uint DEBUG_VIEW_SHADOWS = 13u;
 const uint DEBUG_VIEW_BOUNCE = 14u;
+const uint DEBUG_VIEW_SHADOW_MAP = 15u;
 
 // The curvature view's brightness is 1 - exp(-|κ| · CURVATURE_VIEW_SCALE): a sphere of
 // radius 1 shows at 0.39, of radius 0.35 (the builtin torus's tube) at 0.76, of radius
 // 0.1 at 0.99; a plane is black.
 const float CURVATURE_VIEW_SCALE = 0.5;
+
+// The shadow-map view darkens every other texel of the map by this factor.
+const float SHADOW_MAP_VIEW_CHECKER = 0.8;
 
 // The model value that turns a lobe off (DiffuseModel::None, SpecularModel::None).
 const uint MODEL_NONE = 3u;
@@ -39,6 +44,27 @@ vec3 direction_color(vec3 d) {
     return (len2 > MIN_NORMAL_LENGTH2 ? d * inversesqrt(len2) : vec3(0.0)) * 0.5 + 0.5;
 }
 
+// The first shadowed light's cube map projected onto p, grey: at the map's texel nearest
+// to p's direction, the distance it stores over p's (< 1 in front of p), 1 where its
+// comparison passes; × SHADOW_MAP_VIEW_CHECKER on every other texel, so the map's
+// resolution shows. 1 where the map says nothing (shadow_receiver) or without a map.
+// `face_normal` is cross(dFdx(p), dFdy(p)), taken in uniform control flow.
+vec3 shadow_map_view(vec3 p, vec3 face_normal) {
+    for (uint i = 0u; i < frame.counts.x; ++i) {
+        if (shadow_data.lights[i].map.x < 0.0) continue;
+        ShadowReceiver r;
+        vec3 w;
+        if (!shadow_receiver(i, p, face_normal, r, w)) return vec3(1.0);
+        uint face;
+        ivec2 texel = shadow_nearest_texel(w, face);
+        float blocker = shadow_texel_blocker(r, face, texel);
+        float ratio = blocker > 0.0 ? min(blocker / r.distance, 1.0) : 1.0;
+        bool odd = ((texel.x + texel.y + int(face)) & 1) == 1;
+        return vec3(ratio * (odd ? SHADOW_MAP_VIEW_CHECKER : 1.0));
+    }
+    return vec3(1.0);
+}
+
 // What debug view `view` shows at a surface point; `shaded` is the normal result there.
 // `n` is the shading normal, `n_geometric` the surface's, `normal`, `tangent` and
 // `curvature` the interpolated vertex attributes (curvature in 1/world length),
@@ -46,6 +72,7 @@ vec3 direction_color(vec3 d) {
 vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
                          vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 environment,
                          vec3 shaded, float curvature, float visibility) {
+    vec3 face_normal = cross(dFdx(p), dFdy(p));
     if (view == DEBUG_VIEW_NORMALS) return direction_color(n);
     if (view == DEBUG_VIEW_TANGENTS) return direction_color(tangent.xyz);
     if (view == DEBUG_VIEW_BITANGENTS) {
@@ -110,6 +137,7 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         float taken = max(-dot(bounce, vec3(0.2126, 0.7152, 0.0722)), 0.0);
         return max(bounce, vec3(0.0)) + vec3(taken, 0.0, 0.0);
     }
+    if (view == DEBUG_VIEW_SHADOW_MAP) return shadow_map_view(p, face_normal);
     if (view == DEBUG_VIEW_NAN) {
         return any(isnan(shaded)) || any(isinf(shaded)) ? vec3(1.0, 0.0, 1.0) : shaded;
     }

@@ -130,6 +130,35 @@ float interleaved_gradient_noise(vec2 pixel) {
     return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
 }
 
+// What light i's comparisons at p share, and w the unit direction from the light to p;
+// false where its map says nothing: without a map, outside the faces' depth range, or
+// with the light behind the triangle seen from the eye (then only the subsurface term
+// lights p, through its own object, which does not shadow it, as `argil reference` has
+// it: the map, which cannot tell that object from others, is not read). `face_normal` is
+// the receiver's triangle's, from derivatives taken before any branch.
+bool shadow_receiver(uint i, vec3 p, vec3 face_normal, out ShadowReceiver r, out vec3 w) {
+    ShadowLight s = shadow_data.lights[i];
+    if (s.map.x < 0.0) return false;
+    vec3 q = p - frame.lights[i].position.xyz;
+    vec3 m = abs(q);
+    float q_major = max(max(m.x, m.y), m.z);
+    if (q_major <= s.map.z || q_major >= s.map.w) return false;
+    float d = length(q);
+    w = q / d;
+    float n2 = dot(face_normal, face_normal);
+    vec3 n = n2 > 0.0 ? face_normal * inversesqrt(n2) : w;
+    if (n2 > 0.0 && dot(n, q) * dot(n, frame.camera_position.xyz - p) >= 0.0) return false;
+    r = ShadowReceiver(int(s.map.x), s.map.z, s.map.w, n, dot(q, n), d);
+    return true;
+}
+
+// The texel of the map nearest to direction w, on face `face`.
+ivec2 shadow_nearest_texel(vec3 w, out uint face) {
+    vec2 f;
+    ivec2 texel = shadow_texel(w, face, f);
+    return clamp(texel + ivec2(greaterThan(f, vec2(0.5))), ivec2(0), ivec2(int(shadow_data.settings.x) - 1));
+}
+
 // The fraction of point light i that reaches p, 1 without a map: PCSS, the blockers'
 // mean distance searched in the cone from p towards the light's sphere, then the
 // comparisons filtered over the penumbra they give. A light of radius 0 has the hard
@@ -137,23 +166,11 @@ float interleaved_gradient_noise(vec2 pixel) {
 float point_light_shadow(uint i, vec3 p, vec2 pixel) {
     // The receiver's triangle, which is what the map stores (derivatives before any branch).
     vec3 face_normal = cross(dFdx(p), dFdy(p));
-    ShadowLight s = shadow_data.lights[i];
-    if (s.map.x < 0.0) return 1.0;
-    vec3 q = p - frame.lights[i].position.xyz;
-    vec3 m = abs(q);
-    float q_major = max(max(m.x, m.y), m.z);
-    // Outside the faces' depth range nothing is mapped.
-    if (q_major <= s.map.z || q_major >= s.map.w) return 1.0;
-    float d = length(q);
-    vec3 w = q / d;
-    float n2 = dot(face_normal, face_normal);
-    vec3 n = n2 > 0.0 ? face_normal * inversesqrt(n2) : w;
-    // With the light behind the triangle seen from the eye, only the subsurface term
-    // lights p, through its own object, which does not shadow it (as `argil reference`
-    // has it): the map, which cannot tell that object from others, is not read.
-    if (n2 > 0.0 && dot(n, q) * dot(n, frame.camera_position.xyz - p) >= 0.0) return 1.0;
-    ShadowReceiver r = ShadowReceiver(int(s.map.x), s.map.z, s.map.w, n, dot(q, n), d);
-    float radius = s.map.y;
+    ShadowReceiver r;
+    vec3 w;
+    if (!shadow_receiver(i, p, face_normal, r, w)) return 1.0;
+    float d = r.distance;
+    float radius = shadow_data.lights[i].map.y;
     if (radius <= 0.0) return shadow_bilinear(r, w);
 
     mat3 tangent = tangent_frame(w);
@@ -167,10 +184,7 @@ float point_light_shadow(uint i, vec3 p, vec2 pixel) {
     for (uint k = 0u; k < SHADOW_TAPS; ++k) {
         vec2 o = vogel_disk(k, SHADOW_TAPS, rotation) * search;
         uint face;
-        vec2 f;
-        ivec2 texel = shadow_texel(normalize(w + tangent[0] * o.x + tangent[1] * o.y), face, f);
-        ivec2 nearest = clamp(texel + ivec2(greaterThan(f, vec2(0.5))), ivec2(0),
-                              ivec2(int(shadow_data.settings.x) - 1));
+        ivec2 nearest = shadow_nearest_texel(normalize(w + tangent[0] * o.x + tangent[1] * o.y), face);
         float blocker = shadow_texel_blocker(r, face, nearest);
         blockers += blocker;
         count += blocker > 0.0 ? 1.0 : 0.0;

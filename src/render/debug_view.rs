@@ -22,6 +22,10 @@ pub fn curvature_at_brightness(brightness: f64) -> f64 {
     -(1.0 - brightness).ln() / CURVATURE_VIEW_SCALE
 }
 
+/// `SHADOW_MAP_VIEW_CHECKER` in debug_views.glsl: the shadow-map view multiplies every
+/// other texel of the map by it.
+pub const SHADOW_MAP_VIEW_CHECKER: f64 = 0.8;
+
 /// What the forward pass writes into the HDR target. Every view goes through the same
 /// display transform as the shaded image.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -64,10 +68,15 @@ pub enum DebugView {
     /// The light bounced off the ground alone (`[shadows] bounce`); red by the luminance it
     /// takes where the ground is darker than the sky; black with bounce off.
     Bounce = 14,
+    /// The first shadow-casting light's cube shadow map projected onto the scene, grey: at
+    /// the map's texel nearest to the point's direction, the distance it stores over the
+    /// point's, 1 (white) where the shadow test passes; every other texel times
+    /// [`SHADOW_MAP_VIEW_CHECKER`], so that the map's resolution shows.
+    ShadowMap = 15,
 }
 
 impl DebugView {
-    pub const ALL: [DebugView; 15] = [
+    pub const ALL: [DebugView; 16] = [
         DebugView::Shaded,
         DebugView::Normals,
         DebugView::Tangents,
@@ -83,6 +92,7 @@ impl DebugView {
         DebugView::Occlusion,
         DebugView::Shadows,
         DebugView::Bounce,
+        DebugView::ShadowMap,
     ];
 
     /// Whether the view's values are radiance (one term of the shading alone), so that an
@@ -125,6 +135,7 @@ impl DebugView {
             DebugView::Occlusion => "occlusion",
             DebugView::Shadows => "shadows",
             DebugView::Bounce => "bounce",
+            DebugView::ShadowMap => "shadow-map",
         }
     }
 
@@ -153,6 +164,7 @@ impl DebugView {
             DebugView::Occlusion => "ambient occlusion",
             DebugView::Shadows => "shadow factor",
             DebugView::Bounce => "bounced light",
+            DebugView::ShadowMap => "shadow map",
         }
     }
 }
@@ -179,6 +191,13 @@ mod tests {
             assert_eq!(DebugView::from_name(view.name()), Ok(view));
         }
         assert!(DebugView::from_name("specular lobe").is_err_and(|e| e.contains("specular, subsurface")));
+    }
+
+    #[test]
+    fn the_shadow_map_views_checker_is_the_shaders() {
+        let shader = include_str!("../../shaders/lib/debug_views.glsl");
+        let declared = format!("const float SHADOW_MAP_VIEW_CHECKER = {SHADOW_MAP_VIEW_CHECKER:?};");
+        assert!(shader.contains(&declared), "debug_views.glsl does not declare {declared}");
     }
 
     #[test]

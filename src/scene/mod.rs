@@ -110,6 +110,12 @@ impl Scene {
         self.materials.iter().any(|m| m.subsurface == Subsurface::PreIntegrated)
     }
 
+    /// The first light that casts shadows (one of the first [`limits::MAX_LIGHTS`], which
+    /// the shaders see): the one the shadow-map debug view shows.
+    pub fn shadow_casting_light(&self) -> Option<usize> {
+        self.lights.iter().take(limits::MAX_LIGHTS).position(|l| l.shadows)
+    }
+
     /// The ground that bounces the lights' light when `bounce` is on: the largest
     /// `builtin:plane` (a 2 × 2 square facing +y, scaled).
     pub fn bounce_ground(&self) -> Option<&Object> {
