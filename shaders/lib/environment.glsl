@@ -118,10 +118,8 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
     }
     float alpha = clamp_alpha(m.roughness * m.roughness);
     float specular_visibility = 1.0;
-    if (occlusion.a < 1.0) {
-        radiance *= occlusion.rgb;
-        specular_visibility = specular_occlusion(n_dot_v, occlusion.a, alpha);
-    }
+    radiance *= occlusion.rgb;
+    if (occlusion.a < 1.0) specular_visibility = specular_occlusion(n_dot_v, occlusion.a, alpha);
     if (models.specular == SPECULAR_NONE) return radiance;
     vec3 r = seed_reflection(n, v);
     if (reflection_mode() == REFLECTION_SEED) {
@@ -200,7 +198,7 @@ vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometri
     if (reflection_mode() != REFLECTION_SAMPLED) {
         return environment_split_sum(models, m, n, v, curvature, noise, occlusion);
     }
-    if (occlusion.a >= 1.0) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel, sample_set);
+    if (occlusion == vec4(1.0)) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel, sample_set);
     ShadingModels diffuse_only = models;
     diffuse_only.specular = SPECULAR_NONE;
     ShadingModels specular_only = models;

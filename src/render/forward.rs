@@ -60,11 +60,12 @@ pub struct ForwardConstants {
     pub reflection_mode: u32,
     pub specular_aa: u32,
     pub occlusion: u32,
+    pub object_occlusion: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 16] = [
+    pub const NAMES: [&'static str; 17] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -81,6 +82,7 @@ impl ForwardConstants {
         "REFLECTION_MODE",
         "SPECULAR_AA",
         "OCCLUSION",
+        "OBJECT_OCCLUSION",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -127,6 +129,7 @@ impl ForwardConstants {
             reflection_mode: specialized(reflection.map_or(0, reflection_code)),
             specular_aa: u32::from(specular_aa),
             occlusion: 0,
+            object_occlusion: 0,
         }
     }
 
@@ -345,7 +348,8 @@ impl ForwardPass {
     /// any pipeline the scene's materials need
     /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
     /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
-    /// `occlusion`: how the environment's light is occluded. A `split` frame's materials
+    /// `occlusion`: how the environment's light is occluded, `objects` whether by the
+    /// scene's objects as spheres (`[occlusion] objects`) too. A `split` frame's materials
     /// follow the scene's in the buffer, with pipelines of their own.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
@@ -360,9 +364,15 @@ impl ForwardPass {
         specialize: bool,
         samples: vk::SampleCountFlags,
         occlusion: OcclusionMode,
+        objects: bool,
         one_shot: &OneShot,
     ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, aspect)?;
+        // Without spheres to read, the pipelines hold no object occlusion.
+        let objects = objects && frame_data.counts[3] > 0;
+        if !objects {
+            frame_data.counts[3] = 0;
+        }
         frame_data.counts[1] = debug_view as u32;
         frame_data.counts[2] = sample_set;
         let split_materials = split.map_or(&[][..], |s| s.materials.as_slice());
@@ -382,6 +392,7 @@ impl ForwardPass {
                         let specular_aa = scene.antialiasing.specular;
                         let mut constants = ForwardConstants::new(m, environment, debug_view, specialize, specular_aa);
                         constants.occlusion = occlusion as u32;
+                        constants.object_occlusion = u32::from(objects);
                         self.pipeline(samples, &constants.specialization())
                     }
                 })
@@ -497,12 +508,12 @@ impl ForwardPass {
     ) -> Result<()> {
         let d = &self.device.handle;
         let mut bound = vk::Pipeline::null();
-        for object in &scene.objects {
+        for (index, object) in scene.objects.iter().enumerate() {
             let pipeline = *pipelines
                 .get(object.material)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
-            let mut push = ObjectPush::new(object);
+            let mut push = ObjectPush::new(object, index);
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {
@@ -544,6 +555,7 @@ mod tests {
             include_str!("../../shaders/lib/material_maps.glsl"),
             include_str!("../../shaders/lib/environment.glsl"),
             include_str!("../../shaders/lib/occlusion_map.glsl"),
+            include_str!("../../shaders/lib/object_occlusion.glsl"),
         ];
         sources
             .iter()

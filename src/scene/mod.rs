@@ -10,6 +10,7 @@ mod error;
 pub mod file;
 mod light;
 pub mod limits;
+pub mod occluders;
 mod material;
 pub mod material_keys;
 mod mesh;
