@@ -13,6 +13,7 @@
 #include "specular_aa.glsl"
 #include "occlusion_map.glsl"
 #include "bounce.glsl"
+#include "object_occlusion.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
@@ -70,8 +71,10 @@ void main() {
     m.specular_color.rgb = compensated_specular_color(models, m, max(dot(n, v), MIN_N_DOT_V));
 
     float visibility = ambient_visibility(gl_FragCoord.xy);
+    vec4 occlusion = environment_occlusion(visibility, m.base_color.rgb);
+    if (OBJECT_OCCLUSION) occlusion.rgb *= object_occlusion(in_world_position, n, object.object_index);
     vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_map_uv[MAP_NOISE]),
-                                         gl_FragCoord.xy, frame.counts.z, environment_occlusion(visibility, m.base_color.rgb));
+                                         gl_FragCoord.xy, frame.counts.z, occlusion);
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;
     if (models.diffuse != DIFFUSE_NONE) {

@@ -102,6 +102,7 @@ vec4 term(Tuple t) {
     case 24u: return vec4(specular_occlusion(a.x, a.y, a.z));
     case 25u: return vec4(plane_point_irradiance(a.x, a.y));
     case 26u: return vec4(specular_energy_compensation(a.x, t.d.rgb), 0.0);
+    case 27u: return vec4(sphere_cap_irradiance(a.x, a.y));
     }
     return vec4(0.0);
 }

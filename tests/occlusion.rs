@@ -200,3 +200,63 @@ fn switching_on_off_and_resizing_stays_valid_and_consistent() {
         }
     });
 }
+
+const OBJECTS: &str = "[occlusion]\nobjects = true";
+
+/// A second ball beside the first, 2.4 from it (0.4 between their surfaces).
+const SECOND_BALL: &str = "\n[[objects]]\nmesh = \"builtin:sphere\"\nposition = [2.4, 1.0, 0.0]\nmaterial = \"clay\"\n";
+
+/// The white furnace with `[occlusion] objects`: a white ball alone under a uniform white
+/// environment, and two white balls on a white ground, render as without it, bit for bit.
+/// Exactly, not within a tolerance: a sphere of albedo 1 under a uniform radiance L sends
+/// back ρ L = L, which is what it hides, so every factor is 1 − π F · 0 / E = 1 (and the
+/// uniform environment's SH irradiance over π is L times 1.0, no rounding); the ground is
+/// no occluder and each ball skips its own sphere.
+#[test]
+fn objects_keep_the_white_furnace() {
+    for (ground, extra) in [(false, ""), (true, SECOND_BALL)] {
+        let off = hdr(&(ball_scene(ground, 1.0, "") + extra));
+        let on = hdr(&(ball_scene(ground, 1.0, OBJECTS) + extra));
+        let (differing, max) = differences(&on, &off);
+        assert_eq!(differing, 0, "ground {ground}: {differing} channels differ, by up to {max}");
+        let covered: Vec<f32> = on.chunks_exact(4).filter(|p| p[3] > 0.0).map(|p| p[0]).collect();
+        assert!(covered.iter().all(|&r| (r - 1.0).abs() < 1e-5), "ground {ground}: not white");
+    }
+}
+
+/// A grey ball does not occlude itself: alone, it renders as without object occlusion,
+/// bit for bit (points on its surface lie on its own sphere, which would hide half their
+/// sky), while a second ball beside it does darken it.
+#[test]
+fn a_ball_does_not_occlude_itself() {
+    let off = hdr(&ball_scene(false, 0.5, ""));
+    let on = hdr(&ball_scene(false, 0.5, OBJECTS));
+    assert_eq!(differences(&on, &off).0, 0);
+    let pair_off = hdr(&(ball_scene(false, 0.5, "") + SECOND_BALL));
+    let pair_on = hdr(&(ball_scene(false, 0.5, OBJECTS) + SECOND_BALL));
+    let darker = pair_on.chunks_exact(4).zip(pair_off.chunks_exact(4)).filter(|(a, b)| a[0] < b[0]).count();
+    assert!(darker > 100, "{darker} pixels darkened by the other ball");
+}
+
+/// The ground beside a grey ball darkens with `[occlusion] objects` (GTAO off), more the
+/// nearer the contact: 0.25 from the ball's surface the sphere's cap (half-angle 53°, its
+/// axis 37° from the normal) takes the form factor cos 37° sin² 53° = 0.512 of the sky
+/// and sends back half of it (albedo 0.5), so the ground keeps 1 − 0.512 · 0.5 = 0.744
+/// of its light; further away less is taken, and without the key both are the same.
+#[test]
+fn objects_darken_the_ground_beside_a_ball_more_nearer_it() {
+    let grey = |occlusion: &str| ball_scene(true, 0.5, occlusion);
+    let s = scene(&grey(OBJECTS));
+    let (near, further, open) = ground_pixels(&s);
+    let off = hdr(&grey(""));
+    let on = hdr(&grey(OBJECTS));
+    assert_eq!(red(&off, near), red(&off, further), "without occlusion the ground is uniform");
+    let kept = |p| red(&on, p) / red(&off, p);
+    let (near_kept, further_kept, open_kept) = (kept(near), kept(further), kept(open));
+    // The pixel's centre is within a few hundredths of the point the figure is for.
+    assert!((near_kept - 0.744).abs() < 0.03, "near the ball the ground keeps {near_kept}");
+    assert!(
+        near_kept < further_kept && further_kept < open_kept && open_kept < 1.0,
+        "kept: near {near_kept}, further {further_kept}, open {open_kept}"
+    );
+}

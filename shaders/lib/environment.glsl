@@ -106,8 +106,9 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // dominant direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
 // by the report's eq. 17: one lookup along the mirror direction × seed_strength × noise.
 // `noise` modulates the seed mode's lookup: the material's noise map, or 1. `occlusion`
-// (occlusion_map.glsl; a = 1: none) scales the diffuse and subsurface terms by its rgb,
-// and the specular one by the specular occlusion of its visibility a.
+// (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb; all 1: none) scales
+// the diffuse and subsurface terms by its rgb, and the specular one by the specular
+// occlusion of its visibility a (none at a = 1).
 vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float curvature, float noise,
                            vec4 occlusion) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
@@ -128,10 +129,8 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
     }
     float alpha = clamp_alpha(m.roughness * m.roughness);
     float specular_visibility = 1.0;
-    if (occlusion.a < 1.0) {
-        radiance *= occlusion.rgb;
-        specular_visibility = specular_occlusion(n_dot_v, occlusion.a, alpha);
-    }
+    radiance *= occlusion.rgb;
+    if (occlusion.a < 1.0) specular_visibility = specular_occlusion(n_dot_v, occlusion.a, alpha);
     if (models.specular == SPECULAR_NONE) return radiance;
     vec3 r = seed_reflection(n, v);
     if (reflection_mode() == REFLECTION_SEED) {
@@ -210,7 +209,7 @@ vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometri
     if (reflection_mode() != REFLECTION_SAMPLED) {
         return environment_split_sum(models, m, n, v, curvature, noise, occlusion);
     }
-    if (occlusion.a >= 1.0) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel, sample_set);
+    if (occlusion == vec4(1.0)) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel, sample_set);
     ShadingModels diffuse_only = models;
     diffuse_only.specular = SPECULAR_NONE;
     ShadingModels specular_only = models;

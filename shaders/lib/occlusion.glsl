@@ -28,4 +28,21 @@ float specular_occlusion(float n_dot_v, float x, float alpha) {
     return clamp(pow(max(n_dot_v, 0.0) + x, exponent) - 1.0 + x, 0.0, 1.0);
 }
 
+// Snyder 1996, the sphere's form factor with the horizon: (1/π) ∫ max(n·l, 0) dω over the
+// cap towards a sphere of angular radius α whose centre is at angle θ from the normal
+// (src/brdf/object_occlusion.rs derives the branches).
+float sphere_cap_irradiance(float cos_theta, float sin_alpha) {
+    const float INV_PI = 0.318309886183791;
+    cos_theta = clamp(cos_theta, -1.0, 1.0);
+    sin_alpha = clamp(sin_alpha, 0.0, 1.0);
+    if (cos_theta >= sin_alpha) return cos_theta * sin_alpha * sin_alpha;
+    if (cos_theta <= -sin_alpha) return 0.0;
+    float sin_theta = sqrt(1.0 - cos_theta * cos_theta);
+    float x = sqrt(1.0 - sin_alpha * sin_alpha) / sin_alpha;
+    float y = clamp(-x * cos_theta / sin_theta, -1.0, 1.0);
+    float s = sqrt(1.0 - y * y);
+    float f = (cos_theta * acos(y) - x * sin_theta * s) * sin_alpha * sin_alpha * INV_PI + atan(sin_theta * s, x) * INV_PI;
+    return clamp(f, 0.0, 1.0);
+}
+
 #endif

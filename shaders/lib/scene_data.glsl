@@ -6,6 +6,14 @@
 #include "specialization.glsl"
 
 #define MAX_POINT_LIGHTS 16
+// src/scene/limits.rs's MAX_OCCLUDERS.
+#define MAX_OCCLUDERS 64
+
+// A sphere of an object that hides the environment's light (object_occlusion.glsl).
+struct Occluder {
+    vec4 sphere;  // xyz centre, w radius
+    vec4 albedo;  // rgb the light it reflects of what it receives, w the object's index
+};
 
 struct PointLight {
     vec4 position;   // xyz world position
@@ -16,11 +24,13 @@ layout(set = 0, binding = 0, std140) uniform FrameData {
     mat4 view_proj;
     vec4 camera_position;
     uvec4 counts;           // x = number of point lights, y = debug view (debug_views.glsl),
-                            // z = the sampled reflection's sample set (environment.glsl)
+                            // z = the sampled reflection's sample set (environment.glsl),
+                            // w = occluders in use (object_occlusion.glsl)
     PointLight lights[MAX_POINT_LIGHTS];
     vec4 ground;         // the ground that bounces light (bounce.glsl): xyz its centre,
                          // w its half side, 0 without a bounce
     vec4 ground_albedo;  // rgb its albedo
+    Occluder occluders[MAX_OCCLUDERS];
 } frame;
 
 layout(set = 0, binding = 1, std430) readonly buffer Materials {
@@ -31,6 +41,7 @@ layout(push_constant) uniform ObjectPush {
     mat4 model;
     vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3
     uint material_index;
+    uint object_index;  // in the scene's objects
 } object;
 
 #endif

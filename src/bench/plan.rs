@@ -161,6 +161,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     let mut ground_names = vec![FLOOR, "split-sum", REPORT];
     ground_names.extend(OCCLUSION_CONFIGURATIONS);
     ground_names.extend(BOUNCE_CONFIGURATIONS);
+    ground_names.extend(OBJECT_CONFIGURATIONS);
     scenes.push(bench_scene("ball-on-ground", &ground, &ground_names, headline)?);
     let ball = parse(SUBSURFACE_BALL_TOML, "bench/scenes/subsurface-ball.toml")?;
     let subsurface = [FLOOR, "split-sum", "no-subsurface", REPORT];
@@ -196,7 +197,8 @@ pub fn configuration_names() -> Vec<String> {
         .iter()
         .chain(&ANTIALIASING_CONFIGURATIONS)
         .chain(&OCCLUSION_CONFIGURATIONS)
-        .chain(&BOUNCE_CONFIGURATIONS);
+        .chain(&BOUNCE_CONFIGURATIONS)
+        .chain(&OBJECT_CONFIGURATIONS);
     names.extend(others.map(|n| (*n).to_owned()));
     names
 }
@@ -421,6 +423,7 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         _ if ANTIALIASING_CONFIGURATIONS.contains(&name) => file.antialiasing = Some(antialiasing_configured(name)),
         _ if OCCLUSION_CONFIGURATIONS.contains(&name) => occlusion_configured(&mut file, name),
         _ if BOUNCE_CONFIGURATIONS.contains(&name) => bounce_configured(&mut file, name),
+        _ if OBJECT_CONFIGURATIONS.contains(&name) => objects_configured(&mut file, name),
         _ => {
             let number = |prefix: &str| {
                 name.strip_prefix(prefix)
@@ -513,6 +516,20 @@ fn bounce_configured(file: &mut SceneFile, name: &str) {
     if name == "bounce-occlusion" {
         occlusion_configured(file, "occlusion");
     }
+}
+
+/// What occlusion by the objects as spheres (`[occlusion] objects`) costs and changes:
+/// alone, with the ground's bounce, and with GTAO and the bounce as well.
+const OBJECT_CONFIGURATIONS: [&str; 3] = ["objects", "objects-bounce", "objects-occlusion-bounce"];
+
+fn objects_configured(file: &mut SceneFile, name: &str) {
+    if name != "objects" {
+        file.shadows.get_or_insert_with(Default::default).bounce = Some(true);
+    }
+    if name == "objects-occlusion-bounce" {
+        occlusion_configured(file, "occlusion");
+    }
+    file.occlusion.get_or_insert_with(Default::default).objects = Some(true);
 }
 
 fn set_sphere_subdivisions(file: &mut SceneFile, n: u32) {

@@ -16,6 +16,7 @@ pub mod environment;
 pub mod fresnel;
 pub mod geometry;
 pub mod normal_mapping;
+pub mod object_occlusion;
 pub mod occlusion;
 pub mod quadrature;
 pub mod shading;

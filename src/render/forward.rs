@@ -42,7 +42,7 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// subsurface model, the debug view (debug_views.glsl), the environment's kind and
 /// reflection mode (environment.glsl), specular anti-aliasing (specular_aa.glsl), and how
 /// the environment's light is occluded (`OcclusionMode`, occlusion_map.glsl; always
-/// specialised).
+/// specialised) and whether the objects occlude it (object_occlusion.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -59,11 +59,12 @@ pub struct ForwardConstants {
     pub reflection_mode: u32,
     pub specular_aa: u32,
     pub occlusion: u32,
+    pub object_occlusion: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 13] = [
+    pub const NAMES: [&'static str; 14] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -77,6 +78,7 @@ impl ForwardConstants {
         "REFLECTION_MODE",
         "SPECULAR_AA",
         "OCCLUSION",
+        "OBJECT_OCCLUSION",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -126,6 +128,7 @@ impl ForwardConstants {
             reflection_mode: specialized(reflection.map_or(0, reflection_code)),
             specular_aa: u32::from(specular_aa),
             occlusion: 0,
+            object_occlusion: 0,
         }
     }
 
@@ -349,7 +352,8 @@ impl ForwardPass {
     /// any pipeline the scene's materials need
     /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
     /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
-    /// `occlusion`: how the environment's light is occluded. A `split` frame's materials
+    /// `occlusion`: how the environment's light is occluded, `objects` whether by the
+    /// scene's objects as spheres (`[occlusion] objects`) too. A `split` frame's materials
     /// follow the scene's in the buffer, with pipelines of their own.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
@@ -364,9 +368,15 @@ impl ForwardPass {
         specialize: bool,
         samples: vk::SampleCountFlags,
         occlusion: OcclusionMode,
+        objects: bool,
         one_shot: &OneShot,
     ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, aspect)?;
+        // Without spheres to read, the pipelines hold no object occlusion.
+        let objects = objects && frame_data.counts[3] > 0;
+        if !objects {
+            frame_data.counts[3] = 0;
+        }
         frame_data.counts[1] = debug_view as u32;
         frame_data.counts[2] = sample_set;
         let split_materials = split.map_or(&[][..], |s| s.materials.as_slice());
@@ -386,6 +396,7 @@ impl ForwardPass {
                         let specular_aa = scene.antialiasing.specular;
                         let mut constants = ForwardConstants::new(m, environment, debug_view, specialize, specular_aa);
                         constants.occlusion = occlusion as u32;
+                        constants.object_occlusion = u32::from(objects);
                         self.pipeline(samples, &constants.specialization())
                     }
                 })
@@ -501,12 +512,12 @@ impl ForwardPass {
     ) -> Result<()> {
         let d = &self.device.handle;
         let mut bound = vk::Pipeline::null();
-        for object in &scene.objects {
+        for (index, object) in scene.objects.iter().enumerate() {
             let pipeline = *pipelines
                 .get(object.material)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
-            let mut push = ObjectPush::new(object);
+            let mut push = ObjectPush::new(object, index);
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {
@@ -548,6 +559,7 @@ mod tests {
             include_str!("../../shaders/lib/material_maps.glsl"),
             include_str!("../../shaders/lib/environment.glsl"),
             include_str!("../../shaders/lib/occlusion_map.glsl"),
+            include_str!("../../shaders/lib/object_occlusion.glsl"),
         ];
         sources
             .iter()

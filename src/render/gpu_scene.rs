@@ -9,6 +9,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Mat4};
 
 use super::textures::{placeholder, GpuTexture};
+use crate::scene::limits::MAX_OCCLUDERS;
 use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::{MapRef, MapSlot, Material, Mesh, Object, Scene, TexelFormat, TextureData, TextureRole};
 use crate::vk::{Buffer, DescriptorPool, DescriptorSetLayout, DescriptorWriter, Device, OneShot, Sampler};
@@ -36,6 +37,9 @@ pub struct FrameData {
     pub ground: [f32; 4],
     /// rgb the ground's albedo.
     pub ground_albedo: [f32; 4],
+    /// The spheres of `[occlusion] objects` (`counts[3]` of them): centre and radius, then
+    /// albedo and the object's index.
+    pub occluders: [[[f32; 4]; 2]; MAX_OCCLUDERS],
 }
 
 impl FrameData {
@@ -58,13 +62,19 @@ impl FrameData {
             ),
             None => ([0.0; 4], [0.0; 4]),
         };
+        let mut occluders = [[[0.0; 4]; 2]; MAX_OCCLUDERS];
+        let spheres = scene.occluders();
+        for (slot, s) in occluders.iter_mut().zip(&spheres) {
+            *slot = [s.centre.extend(s.radius).to_array(), s.albedo.extend(s.object as f32).to_array()];
+        }
         Ok(Self {
             view_proj: view_proj.to_cols_array_2d(),
             camera_position: scene.camera.position.extend(1.0).to_array(),
-            counts: [scene.lights.len() as u32, 0, 0, 0],
+            counts: [scene.lights.len() as u32, 0, 0, spheres.len() as u32],
             lights,
             ground,
             ground_albedo,
+            occluders,
         })
     }
 }
@@ -145,11 +155,13 @@ pub struct ObjectPush {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 3],
     pub material_index: u32,
-    pub pad: [u32; 3],
+    /// Its index in the scene's objects: its own occluders do not occlude it.
+    pub object_index: u32,
+    pub pad: [u32; 2],
 }
 
 impl ObjectPush {
-    pub fn new(object: &Object) -> Self {
+    pub fn new(object: &Object, index: usize) -> Self {
         let model: Mat4 = object.model_matrix();
         // Normals transform by the inverse transpose; with a degenerate matrix, which the
         // scene loader rejects, this would be non-finite.
@@ -162,7 +174,8 @@ impl ObjectPush {
                 normal.z_axis.extend(0.0).to_array(),
             ],
             material_index: object.material as u32,
-            pad: [0; 3],
+            object_index: index as u32,
+            pad: [0; 2],
         }
     }
 }
@@ -286,6 +299,21 @@ impl GpuScene {
 mod tests {
     use super::*;
     use crate::scene::material_keys::GPU_SLOTS;
+
+    /// The shaders' limits are the Rust ones, and FrameData's occluders lie where std140
+    /// puts them: after the ground's two vec4s, 32 bytes each.
+    #[test]
+    fn limits_and_occluders_match_scene_data_glsl() {
+        let glsl = include_str!("../../shaders/lib/scene_data.glsl");
+        assert!(glsl.contains(&format!("#define MAX_POINT_LIGHTS {MAX_POINT_LIGHTS}\n")));
+        assert!(glsl.contains(&format!("#define MAX_OCCLUDERS {MAX_OCCLUDERS}\n")));
+        assert!(glsl.contains("    vec4 ground_albedo;  // rgb its albedo\n    Occluder occluders[MAX_OCCLUDERS];\n} frame;"));
+        assert_eq!(
+            std::mem::offset_of!(FrameData, occluders),
+            std::mem::offset_of!(FrameData, ground_albedo) + 16
+        );
+        assert_eq!(std::mem::size_of::<FrameData>() - std::mem::offset_of!(FrameData, occluders), 32 * MAX_OCCLUDERS);
+    }
 
     /// The members of `struct Material` in material.glsl: (type, name).
     fn glsl_members() -> Vec<(String, String)> {

@@ -267,6 +267,7 @@ impl Renderer {
             !self.generic,
             sample_flag(samples),
             occlusion,
+            self.occlusion && !self.floor && scene.occlusion.objects,
             &self.one_shot,
         )?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;

@@ -62,35 +62,6 @@ pub fn face_projection(face: usize, near: f32, far: f32) -> Mat4 {
     .transpose()
 }
 
-/// Each object's bounding sphere in world space: (centre, radius).
-fn object_bounds(scene: &Scene) -> Vec<(Vec3, f32)> {
-    let meshes: Vec<(Vec3, f32)> = scene
-        .meshes
-        .iter()
-        .map(|mesh| {
-            let (lo, hi) = mesh.vertices.iter().fold(
-                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-                |(lo, hi), v: &Vertex| (lo.min(Vec3::from(v.position)), hi.max(Vec3::from(v.position))),
-            );
-            let centre = (lo + hi) * 0.5;
-            let radius = mesh
-                .vertices
-                .iter()
-                .map(|v| (Vec3::from(v.position) - centre).length())
-                .fold(0.0, f32::max);
-            (centre, radius)
-        })
-        .collect();
-    scene
-        .objects
-        .iter()
-        .map(|o| {
-            let (centre, radius) = meshes[o.mesh];
-            (o.position + centre * o.scale, radius * o.scale)
-        })
-        .collect()
-}
-
 /// The near and far planes of a light's faces: the far plane just beyond every object.
 fn depth_range(light: Vec3, bounds: &[(Vec3, f32)]) -> (f32, f32) {
     let furthest = bounds
@@ -218,7 +189,7 @@ impl ShadowPass {
         data.settings[0] = resolution;
         data.lights.iter_mut().for_each(|l| l.map[0] = -1.0);
         if key != self.key {
-            let bounds = object_bounds(scene);
+            let bounds = scene.bounding_spheres();
             self.faces = shadowed
                 .iter()
                 .enumerate()

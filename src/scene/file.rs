@@ -133,6 +133,9 @@ pub struct OcclusionDef {
     /// GTAO's multi-bounce fit on the diffuse visibility (absent: true).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub multi_bounce: Option<bool>,
+    /// Occlusion by the objects as spheres (absent: false).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub objects: Option<bool>,
 }
 
 /// `[environment]`, selected by `kind`. Optional keys are `None` when absent

@@ -15,6 +15,9 @@ pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 pub const MAX_OBJECTS: usize = 10_000;
 /// Point lights: the shader's fixed array (`MAX_POINT_LIGHTS` in scene_data.glsl).
 pub const MAX_LIGHTS: usize = crate::render::gpu_scene::MAX_POINT_LIGHTS;
+/// Spheres of `[occlusion] objects` the forward pass reads (`MAX_OCCLUDERS` in
+/// shaders/lib/scene_data.glsl, 2 KiB of its uniforms); a scene with more keeps the largest.
+pub const MAX_OCCLUDERS: usize = 64;
 /// Triangles of one OBJ file (counted from its `f` lines before tobj parses it) or glTF
 /// model (from its accessors' counts): a 391 MB OBJ of 9,999,392 triangles (a 2237² grid)
 /// peaks at 2.1 GB of host memory in `argil render` (the text, tobj's arrays, then argil's

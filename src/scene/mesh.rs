@@ -51,6 +51,8 @@ pub const BUILTIN_PREFIX: &str = "builtin:";
 /// equator) and `builtin:torus`: fine enough that silhouettes stay smooth at 1080p when the
 /// object fills the view.
 pub const SPHERE_SUBDIVISIONS: u32 = 32;
+/// `builtin:torus`'s ring and tube radii.
+pub const TORUS_RADII: (f32, f32) = (1.0, 0.35);
 const TORUS_SEGMENTS: u32 = 128;
 const TORUS_SIDES: u32 = 48;
 
@@ -65,7 +67,7 @@ impl Mesh {
     pub fn builtin(name: &str) -> Option<Mesh> {
         match name.strip_prefix(BUILTIN_PREFIX)? {
             "sphere" => Some(Mesh::sphere(SPHERE_SUBDIVISIONS)),
-            "torus" => Some(Mesh::torus(1.0, 0.35, TORUS_SEGMENTS, TORUS_SIDES)),
+            "torus" => Some(Mesh::torus(TORUS_RADII.0, TORUS_RADII.1, TORUS_SEGMENTS, TORUS_SIDES)),
             "plane" => Some(Mesh::plane()),
             "cube" => Some(Mesh::cube()),
             _ => None,

@@ -12,6 +12,7 @@ mod gltf;
 mod light;
 pub mod limits;
 pub mod map_slots;
+pub mod occluders;
 mod material;
 pub mod material_keys;
 mod mesh;

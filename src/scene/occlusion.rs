@@ -14,6 +14,9 @@ pub struct Occlusion {
     /// Whether the diffuse visibility is raised by GTAO's multi-bounce fit of the albedo
     /// (the light the occluders reflect); off, the plain visibility scales it.
     pub multi_bounce: bool,
+    /// Whether the objects, seen as spheres, hide the environment's light beyond the
+    /// screen-space radius (shaders/lib/object_occlusion.glsl); independent of `enabled`.
+    pub objects: bool,
 }
 
 impl Default for Occlusion {
@@ -24,6 +27,7 @@ impl Default for Occlusion {
             slices: 4,
             steps: 8,
             multi_bounce: true,
+            objects: false,
         }
     }
 }

@@ -357,6 +357,7 @@ fn occlusion(check: &Checker, def: Option<&OcclusionDef>) -> Result<Occlusion, S
         slices: samples("occlusion.slices", def.slices, defaults.slices)?,
         steps: samples("occlusion.steps", def.steps, defaults.steps)?,
         multi_bounce: def.multi_bounce.unwrap_or(defaults.multi_bounce),
+        objects: def.objects.unwrap_or(defaults.objects),
     })
 }
 
@@ -370,6 +371,7 @@ fn occlusion_def(occlusion: &Occlusion) -> Option<OcclusionDef> {
         slices: (occlusion.slices != defaults.slices).then_some(occlusion.slices),
         steps: (occlusion.steps != defaults.steps).then_some(occlusion.steps),
         multi_bounce: (occlusion.multi_bounce != defaults.multi_bounce).then_some(occlusion.multi_bounce),
+        objects: (occlusion.objects != defaults.objects).then_some(occlusion.objects),
     };
     (def != OcclusionDef::default()).then_some(def)
 }

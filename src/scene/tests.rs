@@ -542,16 +542,18 @@ fn antialiasing_keys_are_read_defaulted_validated_and_saved() {
     assert!(error.contains("fxaa"), "{error}");
 }
 
-/// `[occlusion]` is read, defaults to off (radius 0.5, 4 × 8, multi-bounce), and only the
+/// `[occlusion]` is read, defaults to off (radius 0.5, 4 × 8, multi-bounce, no object
+/// occlusion), and only the
 /// keys that differ from the defaults are saved.
 #[test]
 fn occlusion_keys_are_read_defaulted_and_saved() {
-    let text = format!("{CUBE}[occlusion]\nenabled = true\nsteps = 12\nmulti_bounce = false\n");
+    let text = format!("{CUBE}[occlusion]\nenabled = true\nsteps = 12\nmulti_bounce = false\nobjects = true\n");
     let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
     let expected = crate::scene::Occlusion {
         enabled: true,
         steps: 12,
         multi_bounce: false,
+        objects: true,
         ..Default::default()
     };
     assert_eq!(scene.occlusion, expected);
@@ -561,7 +563,7 @@ fn occlusion_keys_are_read_defaulted_and_saved() {
     let reread = Scene::from_toml(&saved, "saved.toml", Path::new("")).unwrap();
     assert_eq!(reread.occlusion, expected);
     let defaults = Scene::from_toml(CUBE, "scene.toml", Path::new("")).unwrap();
-    assert!(!defaults.occlusion.enabled);
+    assert!(!defaults.occlusion.enabled && !defaults.occlusion.objects);
     assert!(!defaults.to_file().to_toml().unwrap().contains("[occlusion]"));
 }
 

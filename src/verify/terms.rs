@@ -18,6 +18,7 @@ use crate::brdf::geometry::{
     g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
     g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann, lambda_ggx,
 };
+use crate::brdf::object_occlusion::{sphere_cap_irradiance, sphere_cap_partial_terms};
 use crate::brdf::occlusion::{gtao_multi_bounce, gtao_slice_visibility, specular_occlusion};
 use crate::brdf::shading::shadow_terminator;
 use crate::brdf::specular::spec_blinn_phong;
@@ -207,6 +208,20 @@ fn specular_occlusion_rounding(t: &Tuple) -> f64 {
     let power = (n_dot_v.max(0.0) + x).powf(k);
     let value = specular_occlusion(n_dot_v, x, alpha);
     8.0 * f64::from(f32::EPSILON) * 0.5 * (power + 1.0 + x.abs()) / value.abs().max(super::sweep::RELATIVE_FLOOR)
+}
+
+const SPHERE_CAP_ROUNDING: &str = "rounding: the horizon-cut cap's cos θ acos y sin²α and \
+    atan terms cancel where little of the cap is above the horizon; bound 4096 ulp (Vulkan's \
+    precision of acos and atan) of the terms' magnitude, relative to the value";
+
+/// Where sphere_cap_irradiance's partial branch cancels, the GPU's acos and atan, good to
+/// 4096 ulp in Vulkan (2⁻¹¹ relative), bound the error by that of the terms' magnitude.
+fn sphere_cap_rounding(t: &Tuple) -> f64 {
+    let (cos_theta, sin_alpha) = (f64::from(t.a[0]).clamp(-1.0, 1.0), f64::from(t.a[1]).clamp(0.0, 1.0));
+    let Some(terms) = sphere_cap_partial_terms(cos_theta, sin_alpha) else { return 0.0 };
+    let magnitude = terms.iter().map(|v| v.abs()).sum::<f64>() / PI;
+    let value = sphere_cap_irradiance(cos_theta, sin_alpha);
+    4096.0 * f64::from(f32::EPSILON) * magnitude / value.abs().max(super::sweep::RELATIVE_FLOOR)
 }
 
 /// Every term, in the order of verify_brdf.comp's `case` lines and of the table.
@@ -802,6 +817,34 @@ pub static TERMS: &[TermSpec] = &[
         sample: sample_unit_and_colour,
         stress: || each_stress_colour(&[-1.0, 0.0, DENORMAL, 0.05, 0.3, 0.99999994, 1.0, 2.0]),
         rounding: None,
+        promise: None,
+    },
+    TermSpec {
+        name: "sphere_cap_irradiance",
+        equation: "Snyder 1996",
+        arguments: &["cos θ", "sin α"],
+        colour: None,
+        channels: 1,
+        cap: UNIT,
+        tolerance: FP32_ARITHMETIC,
+        lighting_weight: false,
+        eval: |t| scalar(sphere_cap_irradiance(f64::from(t.a[0]), f64::from(t.a[1]))),
+        // Spheres from touching the point (sin α = 1) to 50 radii away, at any angle.
+        sample: |rng, _| scalars([rng.range(-1.0, 1.0), rng.range(0.02, 1.0), 0.0, 0.0]),
+        // On the horizon, at the branches' edges (cos θ = ±sin α), straight above and below.
+        stress: || {
+            let mut out = Vec::new();
+            for sin_alpha in [0.02f32, 0.1, 0.5, 0.9, 1.0] {
+                for cos_theta in [-1.0, -sin_alpha, 0.0, sin_alpha, 1.0] {
+                    out.extend(grid(&[&[cos_theta], &[sin_alpha]]));
+                }
+            }
+            out
+        },
+        rounding: Some(Rounding {
+            bound: sphere_cap_rounding,
+            reason: SPHERE_CAP_ROUNDING,
+        }),
         promise: None,
     },
 ];

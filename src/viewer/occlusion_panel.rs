@@ -33,5 +33,9 @@ pub fn occlusion_section(ui: &mut Ui, scene: &mut Scene, allowed: &mut bool) {
             ui.label("bounce");
             ui.checkbox(&mut occlusion.multi_bounce, "multi-bounce fit");
             ui.end_row();
+            ui.label("objects")
+                .on_hover_text("[occlusion] objects: each object, as spheres, hides the environment's light it subtends (Snyder 1996's clipped cap) and reflects its own");
+            ui.checkbox(&mut occlusion.objects, "occlude as spheres");
+            ui.end_row();
         });
 }

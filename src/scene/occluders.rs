@@ -1,0 +1,145 @@
+//! The objects as spheres that hide the environment's light (`[occlusion] objects`,
+//! shaders/lib/object_occlusion.glsl): the builtin sphere exactly, the builtin torus as
+//! spheres along its ring, any other mesh its bounding sphere. The builtin plane, the
+//! ground, is none: what it hides is below every surface above it.
+
+use glam::Vec3;
+
+use super::limits::MAX_OCCLUDERS;
+use super::mesh::TORUS_RADII;
+use super::{Scene, Vertex};
+
+/// Spheres a builtin torus becomes: with 9 along the ring, each of the tube's volume share
+/// (radius ∛(π R r² / 6) = 0.40 for R = 1, r = 0.35), neighbours overlap slightly, so the
+/// ring has no gaps a ray passes through between them.
+pub const TORUS_SPHERES: usize = 9;
+
+/// One sphere of an object, in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Occluder {
+    pub centre: Vec3,
+    pub radius: f32,
+    /// The object's material's base colour: what the sphere reflects of the light it receives.
+    pub albedo: Vec3,
+    /// The object it stands for, which it does not occlude.
+    pub object: usize,
+}
+
+impl Scene {
+    /// Each object's bounding sphere in world space: (centre, radius).
+    pub fn bounding_spheres(&self) -> Vec<(Vec3, f32)> {
+        let meshes: Vec<(Vec3, f32)> = self
+            .meshes
+            .iter()
+            .map(|mesh| {
+                let (lo, hi) = mesh.vertices.iter().fold(
+                    (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                    |(lo, hi), v: &Vertex| (lo.min(Vec3::from(v.position)), hi.max(Vec3::from(v.position))),
+                );
+                let centre = (lo + hi) * 0.5;
+                let radius = mesh
+                    .vertices
+                    .iter()
+                    .map(|v| (Vec3::from(v.position) - centre).length())
+                    .fold(0.0, f32::max);
+                (centre, radius)
+            })
+            .collect();
+        self.objects
+            .iter()
+            .map(|o| {
+                let (centre, radius) = meshes[o.mesh];
+                (o.position + centre * o.scale, radius * o.scale)
+            })
+            .collect()
+    }
+
+    /// The spheres of every object with `[occlusion] objects` on (none off), at most
+    /// [`MAX_OCCLUDERS`], the largest first.
+    pub fn occluders(&self) -> Vec<Occluder> {
+        if !self.occlusion.objects {
+            return Vec::new();
+        }
+        let bounds = self.bounding_spheres();
+        let mut spheres: Vec<Occluder> = self
+            .objects
+            .iter()
+            .enumerate()
+            .flat_map(|(i, o)| {
+                let albedo = self.materials[o.material].base_color;
+                let sphere = |centre: Vec3, radius: f32| Occluder {
+                    centre,
+                    radius,
+                    albedo,
+                    object: i,
+                };
+                match self.meshes[o.mesh].name.as_str() {
+                    "builtin:plane" => Vec::new(),
+                    "builtin:sphere" => vec![sphere(o.position, o.scale)],
+                    "builtin:torus" => {
+                        let (ring, tube) = TORUS_RADII;
+                        let radius = (std::f32::consts::PI * ring * tube * tube / 6.0).cbrt();
+                        (0..TORUS_SPHERES)
+                            .map(|k| {
+                                let phi = std::f32::consts::TAU * k as f32 / TORUS_SPHERES as f32;
+                                let on_ring = Vec3::new(phi.sin(), 0.0, phi.cos()) * ring;
+                                sphere(o.position + on_ring * o.scale, radius * o.scale)
+                            })
+                            .collect()
+                    }
+                    _ => vec![sphere(bounds[i].0, bounds[i].1)],
+                }
+            })
+            .collect();
+        spheres.sort_by(|a, b| b.radius.total_cmp(&a.radius));
+        spheres.truncate(MAX_OCCLUDERS);
+        spheres
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+
+    #[test]
+    fn objects_become_spheres_and_the_ground_none() {
+        let text = r#"
+[camera]
+position = [0.0, 2.0, 6.0]
+target = [0.0, 0.0, 0.0]
+[occlusion]
+objects = true
+[[objects]]
+mesh = "builtin:plane"
+scale = 5.0
+[[objects]]
+mesh = "builtin:sphere"
+position = [1.0, 0.5, 0.0]
+scale = 0.5
+[[objects]]
+mesh = "builtin:torus"
+position = [-1.0, 0.35, 0.0]
+scale = 0.5
+[[objects]]
+mesh = "builtin:cube"
+position = [0.0, 1.0, -2.0]
+"#;
+        let scene = Scene::from_toml(text, "scene.toml", Path::new("")).expect("scene");
+        let spheres = scene.occluders();
+        assert_eq!(spheres.len(), 1 + TORUS_SPHERES + 1);
+        assert!(spheres.iter().all(|s| s.object != 0), "the ground is no occluder");
+        let ball: Vec<_> = spheres.iter().filter(|s| s.object == 1).collect();
+        assert_eq!((ball[0].centre, ball[0].radius), (Vec3::new(1.0, 0.5, 0.0), 0.5));
+        let cube = spheres.iter().find(|s| s.object == 3).expect("the cube's sphere");
+        assert!((cube.radius - 3f32.sqrt()).abs() < 1e-5, "{}", cube.radius);
+        for ring in spheres.iter().filter(|s| s.object == 2) {
+            let offset = ring.centre - Vec3::new(-1.0, 0.35, 0.0);
+            assert!((offset.length() - 0.5).abs() < 1e-5 && offset.y == 0.0, "{offset}");
+            assert!((ring.radius - 0.2).abs() < 0.005, "{}", ring.radius);
+        }
+        let off = Scene::from_toml(&text.replace("objects = true", "objects = false"), "s", Path::new(""));
+        assert!(off.expect("scene").occluders().is_empty());
+    }
+}
