@@ -57,6 +57,7 @@ void main() {
     ShadingModels models = ShadingModels(DIFFUSE_MODEL, SPECULAR_MODEL, DISTRIBUTION, GEOMETRY, SUBSURFACE);
     vec3 v = normalize(frame.camera_position.xyz - in_world_position);
     m.base_color.rgb = mapped_base_color(m, in_map_uv[MAP_BASE_COLOR]);
+    m = mapped_properties(m, in_map_uv);
     vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
     // The tangent frame follows the normal to the viewer's side.
     vec4 tangent = gl_FrontFacing ? in_tangent : vec4(in_tangent.xyz, -in_tangent.w);
@@ -73,8 +74,11 @@ void main() {
     float visibility = ambient_visibility(gl_FragCoord.xy);
     vec4 occlusion = environment_occlusion(visibility, m.base_color.rgb);
     if (OBJECT_OCCLUSION) occlusion.rgb *= object_occlusion(in_world_position, n, object.object_index);
+    // The occlusion map's baked visibility multiplies the environment's light, occluded by
+    // the screen-space visibility already, as glTF 2.0 applies it (not the point lights').
     vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_map_uv[MAP_NOISE]),
-                                         gl_FragCoord.xy, frame.counts.z, occlusion);
+                                         gl_FragCoord.xy, frame.counts.z, occlusion)
+                       * mapped_occlusion(m, in_map_uv[MAP_OCCLUSION]);
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;
     if (models.diffuse != DIFFUSE_NONE) {

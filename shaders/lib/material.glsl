@@ -4,7 +4,7 @@
 #define ARGIL_MATERIAL_GLSL
 
 // The material map slots of src/scene/map_slots.rs.
-const int MAP_COUNT = 4;
+const int MAP_COUNT = 8;
 
 struct Material {
     vec4 base_color;      // rgb linear albedo

@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use ash::vk;
 
-use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, SceneFile};
+use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, MapDef, SceneFile};
 use crate::scene::{
     DiffuseModel, Distribution, Geometry, Horizon, MapSlot, ReflectionMode, SpecularModel, Subsurface,
     DEFAULT_SCENE_TOML,
@@ -14,6 +14,8 @@ use crate::scene::{
 
 /// The configuration whose name marks the report's composition in the table and plot.
 pub const REPORT: &str = "report";
+/// The close-up with every property map (roughness, metallic, occlusion, scatter).
+const PROPERTY_MAPS: &str = "property-maps";
 /// The trivial-shader floor every time is divided by.
 pub const FLOOR: &str = "floor";
 /// argil's defaults through the generic pipeline: what specialising to the frame saves.
@@ -151,6 +153,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
         "no-maps",
         "maps-off",
         "generic-maps-off",
+        PROPERTY_MAPS,
         "seed",
         REPORT,
         "no-antialiasing",
@@ -403,6 +406,21 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
             }
         }),
         "no-environment" => file.environment = EnvironmentDef::None,
+        // A feature added: every property map, the builtin noise's channels as one packed
+        // occlusion-roughness-metallic texture and as the scatter map.
+        PROPERTY_MAPS => file.materials.values_mut().for_each(|m| {
+            for slot in [
+                MapSlot::Roughness,
+                MapSlot::Metallic,
+                MapSlot::Occlusion,
+                MapSlot::Scatter,
+            ] {
+                *m.map_mut(slot) = Some(MapDef {
+                    uv_scale: [2.0, 1.0],
+                    ..MapDef::new("builtin:noise")
+                });
+            }
+        }),
         // Present but doing nothing: the documented way to switch off a preset's map.
         "maps-off" => file.materials.values_mut().for_each(|m| {
             for slot in MapSlot::ALL {

@@ -366,7 +366,10 @@ impl<'a> Integrator<'a> {
         let mut exit = false;
         for depth in 0..self.max_depth {
             let s = self.shading(&surface, v, exit);
-            radiance += throughput * self.direct_light(&s, rng, &mut rays);
+            // The occlusion map scales the environment's light at the first surface, as
+            // the forward pass applies it.
+            let ambient = if depth == 0 { surface.occlusion } else { 1.0 };
+            radiance += throughput * self.direct_light(&s, ambient, rng, &mut rays);
 
             if let Some(medium) = s.medium.filter(|_| rng.uniform() < s.enter) {
                 // Into the clay, cosine-weighted about the triangle's inward normal (always
@@ -405,7 +408,7 @@ impl<'a> Integrator<'a> {
             let weight = f / pdf;
             let escaped = |radiance: &mut DVec3| {
                 if let Some(e) = self.environment {
-                    *radiance += throughput * weight * e.radiance(l) * self.material_weight(pdf, l);
+                    *radiance += throughput * weight * e.radiance(l) * (ambient * self.material_weight(pdf, l));
                 }
             };
             if self.transport == Transport::Direct {
@@ -442,8 +445,8 @@ impl<'a> Integrator<'a> {
     }
 
     /// Light arriving straight from the point lights and, by light sampling weighted
-    /// against the material's sampling, from the environment.
-    fn direct_light(&self, s: &Shading, rng: &mut Rng, rays: &mut u64) -> DVec3 {
+    /// against the material's sampling, from the environment, that scaled by `ambient`.
+    fn direct_light(&self, s: &Shading, ambient: f64, rng: &mut Rng, rays: &mut u64) -> DVec3 {
         let mut radiance = DVec3::ZERO;
         let p = s.surface.position;
         for light in &self.lights {
@@ -471,7 +474,7 @@ impl<'a> Integrator<'a> {
             if pdf > 0.0 {
                 let f = self.brdf_cos(s, l);
                 if f != DVec3::ZERO && self.visible(s.surface, l, f64::INFINITY, rays) {
-                    radiance += f * e.radiance(l) * (self.light_weight(s, pdf, l) / pdf);
+                    radiance += f * e.radiance(l) * (ambient * self.light_weight(s, pdf, l) / pdf);
                 }
             }
         }

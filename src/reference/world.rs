@@ -8,6 +8,7 @@ use super::bvh::{Bvh, Hit, Triangle};
 use super::texture::Texture;
 use crate::brdf::normal_mapping::{blend_rnm, blend_seed, blend_udn, blend_whiteout, decode_normal, tangent_to_world};
 use crate::brdf::shading::{ShadingModels, ShadingParams};
+use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::{DetailBlend, MapRef, MapSlot, Material, Scene};
 
 /// Below this squared length an interpolated normal has no direction (`MIN_NORMAL_LENGTH2`
@@ -50,15 +51,19 @@ impl Map {
     }
 }
 
+/// `map_factor` of material_maps.glsl: mix(1, the texel's channel, strength).
+fn map_factor(map: &Map, texel: [f64; 4], channel: usize) -> f64 {
+    1.0 + (texel[channel] - 1.0) * map.strength
+}
+
 pub struct WorldMaterial {
     pub models: ShadingModels,
     pub params: ShadingParams,
     pub seed_horizon: bool,
     /// Whether the specular lobe is energy-compensated, as the forward pass compensates it.
     pub energy_compensation: bool,
-    base_color_map: Option<Map>,
-    normal_map: Option<Map>,
-    detail_map: Option<Map>,
+    /// By slot.
+    maps: [Option<Map>; MAP_COUNT],
     detail_blend: DetailBlend,
 }
 
@@ -69,9 +74,7 @@ impl WorldMaterial {
             params: material.shading_params(),
             seed_horizon: material.horizon == crate::scene::Horizon::Seed,
             energy_compensation: material.energy_compensation,
-            base_color_map: material.maps[MapSlot::BaseColor].as_ref().map(Map::new),
-            normal_map: material.maps[MapSlot::Normal].as_ref().map(Map::new),
-            detail_map: material.maps[MapSlot::Detail].as_ref().map(Map::new),
+            maps: material.maps.0.map(|map| map.as_ref().map(Map::new)),
             detail_blend: material.detail_blend,
         }
     }
@@ -129,8 +132,10 @@ pub struct Surface {
     /// The normal after the normal and detail maps (not yet turned towards the viewer).
     pub mapped_normal: DVec3,
     pub curvature: f64,
-    /// The material's parameters with its base colour map applied.
+    /// The material's parameters with its base colour and property maps applied.
     pub params: ShadingParams,
+    /// The occlusion map's visibility of the environment's light (1 without one).
+    pub occlusion: f64,
     pub material: usize,
     pub object: usize,
     /// The position moved onto the vertices' tangent planes, where rays leave from on the
@@ -242,11 +247,26 @@ impl World {
         let material_index = self.objects[object as usize];
         let material = &self.materials[material_index];
         let mut params = material.params;
-        if let Some(map) = &material.base_color_map {
-            let texel = self.textures[map.texture].sample(map.uv(uv));
+        let sample = |slot: MapSlot| {
+            let map = material.maps[slot.index()].as_ref()?;
+            Some((map, self.textures[map.texture].sample(map.uv(uv))))
+        };
+        if let Some((map, texel)) = sample(MapSlot::BaseColor) {
             // base_color · mix(1, map, strength), as mapped_base_color does.
-            params.base_color = std::array::from_fn(|c| params.base_color[c] * (1.0 + (texel[c] - 1.0) * map.strength));
+            params.base_color = std::array::from_fn(|c| params.base_color[c] * map_factor(map, texel, c));
         }
+        // The property maps, as mapped_properties and mapped_occlusion do.
+        let factor = |slot: MapSlot| {
+            sample(slot).map_or(1.0, |(map, texel)| {
+                map_factor(map, texel, slot.info().channel.index().unwrap_or(0))
+            })
+        };
+        params.roughness *= factor(MapSlot::Roughness);
+        params.metallic *= factor(MapSlot::Metallic);
+        let scatter = factor(MapSlot::Scatter);
+        params.scatter_color = params.scatter_color.map(|c| c * scatter);
+        params.wrap *= scatter;
+        let occlusion = factor(MapSlot::Occlusion);
         let mapped_normal = self.mapped_normal(material, normal, tangent, uv);
 
         // Hanika's shift: onto each vertex's tangent plane where the point lies below it.
@@ -263,6 +283,7 @@ impl World {
             mapped_normal,
             curvature,
             params,
+            occlusion,
             material: material_index,
             object: object as usize,
             ray_origin,
@@ -275,8 +296,8 @@ impl World {
             let t = self.textures[map.texture].sample(map.uv(uv));
             decode_normal([t[0], t[1], t[2]], map.green_down, map.strength)
         };
-        let base = m.normal_map.as_ref().map(decode);
-        let detail = m.detail_map.as_ref().map(decode);
+        let base = m.maps[MapSlot::Normal.index()].as_ref().map(decode);
+        let detail = m.maps[MapSlot::Detail.index()].as_ref().map(decode);
         let n = match (base, detail) {
             (Some(base), Some(detail)) => match m.detail_blend {
                 DetailBlend::Rnm => blend_rnm(base, detail),

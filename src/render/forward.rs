@@ -26,7 +26,9 @@ use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::scene::map_slots::MAP_COUNT;
-use crate::scene::{DetailBlend, Environment, MapRef, MapSlot, Material, ReflectionMode, Scene, Subsurface, Vertex};
+use crate::scene::{
+    DetailBlend, Environment, MapRef, MapSlot, Material, ReflectionMode, Scene, SpecularModel, Subsurface, Vertex,
+};
 use crate::vk::{
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
     Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
@@ -108,7 +110,11 @@ impl ForwardConstants {
             MapSlot::Normal => maps[slot].is_some_and(|n| !specialize || n.strength != 0.0 || !flat_base_is_none),
             MapSlot::Detail => detail,
             MapSlot::Noise => sampled(&maps[slot], reflection == Some(ReflectionMode::Seed)),
-            MapSlot::BaseColor => sampled(&maps[slot], true),
+            MapSlot::BaseColor | MapSlot::Metallic => sampled(&maps[slot], true),
+            MapSlot::Roughness => sampled(&maps[slot], models.specular != SpecularModel::None),
+            // The environment's light is all it occludes.
+            MapSlot::Occlusion => sampled(&maps[slot], !matches!(environment, Environment::None)),
+            MapSlot::Scatter => sampled(&maps[slot], models.subsurface != Subsurface::None),
         });
         Self {
             diffuse_model: models.diffuse as u32,
@@ -603,7 +609,7 @@ mod tests {
     }
 
     /// The default scene's plasticine (normal, detail and noise maps) with a base colour
-    /// map too, every map at `strength`.
+    /// map and the property maps too, every map at `strength`.
     fn mapped_material(strength: f32) -> Material {
         let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
             .expect("the default scene");
@@ -613,8 +619,10 @@ mod tests {
             .find(|m| m.maps[MapSlot::Noise].is_some())
             .expect("plasticine");
         m.maps[MapSlot::BaseColor] = m.maps[MapSlot::Normal];
+        let noise = m.maps[MapSlot::Noise];
         for (_, map) in m.maps.iter_mut() {
-            map.as_mut().expect("a map").strength = strength;
+            // The property maps: the noise texture.
+            map.get_or_insert(noise.expect("a noise map")).strength = strength;
         }
         m
     }

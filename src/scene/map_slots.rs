@@ -104,6 +104,31 @@ macro_rules! with_map_slots {
                     summary: "noise modulating reflections",
                     doc: "reflections are weighted by `mix(1, noise, strength)` (the report's eq. 17 noise texture)"
                 },
+                Roughness {
+                    key: roughness_map, label: "roughness map", glsl: "MAP_ROUGHNESS",
+                    role: Data, channel: G,
+                    summary: "texture multiplying `roughness` (glTF 2.0's metallic-roughness green channel)",
+                    doc: "`roughness · mix(1, map, strength)`"
+                },
+                Metallic {
+                    key: metallic_map, label: "metallic map", glsl: "MAP_METALLIC",
+                    role: Data, channel: B,
+                    summary: "texture multiplying `metallic` (glTF 2.0's metallic-roughness blue channel)",
+                    doc: "`metallic · mix(1, map, strength)`"
+                },
+                Occlusion {
+                    key: occlusion_map, label: "occlusion map", glsl: "MAP_OCCLUSION",
+                    role: Data, channel: R,
+                    summary: "baked ambient occlusion of the environment's light (glTF 2.0's occlusion, red channel)",
+                    doc: "the environment's light is multiplied by `mix(1, map, strength)`, with the screen-space \
+                          occlusion's visibility; point lights are not"
+                },
+                Scatter {
+                    key: scatter_map, label: "scatter map", glsl: "MAP_SCATTER",
+                    role: Data, channel: R,
+                    summary: "texture scaling the subsurface scattering",
+                    doc: "`scatter_color` and `wrap` are multiplied by `mix(1, map, strength)`"
+                },
             ]
             $($args)*
         }
@@ -218,7 +243,11 @@ mod tests {
             let index = slot.index();
             let constant = format!("const uint {} = {index}u;", info.glsl);
             assert!(MAPS_GLSL.contains(&constant), "material_maps.glsl: {constant}");
-            let binding = format!("layout(set = 1, binding = {index}) uniform sampler2D {};", info.key);
+            // `_texture`: the ambient occlusion's own `occlusion_map` is another sampler.
+            let binding = format!(
+                "layout(set = 1, binding = {index}) uniform sampler2D {}_texture;",
+                info.key
+            );
             assert!(MAPS_GLSL.contains(&binding), "material_maps.glsl: {binding}");
             if let Some(c) = info.channel.index() {
                 let channel = format!("const uint {}_CHANNEL = {c}u;", info.glsl);

@@ -843,8 +843,8 @@ fn map_errors_name_the_field() {
             && message.contains("missing field `texture` in `normal_map` (no preset supplies this map)"),
         "{message}"
     );
-    let message = error(&format!("{CUBE}[materials.m]\nroughness_map = \"x.png\"\n"));
-    assert!(message.contains("unknown field `roughness_map`"), "{message}");
+    let message = error(&format!("{CUBE}[materials.m]\nsheen_map = \"x.png\"\n"));
+    assert!(message.contains("unknown field `sheen_map`"), "{message}");
 }
 
 #[test]
