@@ -56,7 +56,8 @@ struct Cli {
 enum Command {
     /// Render one frame offscreen to a PNG (tone-mapped sRGB) or an EXR (linear radiance).
     Render {
-        /// Scene file (TOML); without one, the embedded default clay scene.
+        /// Scene file (TOML), or a glTF model (.glb, .gltf) to open alone in the studio; without
+        /// one, the embedded default clay scene.
         scene: Option<PathBuf>,
         /// Output file: .png (tone-mapped, 8-bit sRGB) or .exr (linear radiance, RGBA32F,
         /// no tone mapping, no exposure).
@@ -90,7 +91,8 @@ enum Command {
     },
     /// Open a window on a scene.
     View {
-        /// Scene file (TOML); without one, the embedded default clay scene.
+        /// Scene file (TOML), or a glTF model (.glb, .gltf) to open alone in the studio; without
+        /// one, the embedded default clay scene.
         scene: Option<PathBuf>,
         /// Close after this many frames.
         #[arg(long)]
@@ -133,7 +135,8 @@ enum Command {
     /// Writes an EXR (linear radiance, alpha = coverage, the settings and the noise in its
     /// header) or a PNG (the display transform of `render`).
     Reference {
-        /// Scene file (TOML); without one, the embedded default clay scene.
+        /// Scene file (TOML), or a glTF model (.glb, .gltf) to open alone in the studio; without
+        /// one, the embedded default clay scene.
         scene: Option<PathBuf>,
         /// Output file: .exr (linear radiance, RGBA32F) or .png (tone-mapped, 8-bit sRGB).
         #[arg(long, short)]

@@ -525,6 +525,10 @@ fn bad_models_are_clear_errors() {
         std::fs::write(dir.join(name), bytes).expect("write model");
         assert_refused(&render(name), &out, mentions);
     }
+    // Opened alone, as a scene of its own.
+    let model = dir.join("truncated.glb").display().to_string();
+    let o = argil(&["render", &model, "--out", &out.display().to_string()]);
+    assert_refused(&o, &out, &["truncated.glb", "truncated"]);
 
     // Over the size limit: a sparse file, so nothing is really written.
     let huge = dir.join("huge.glb");
@@ -661,4 +665,98 @@ roughness = 0.625
         .objects
         .iter()
         .all(|o| named.materials[o.material].name == "clay" && !o.material_from_model));
+}
+
+/// The octahedron and tetrahedron model with `scale` on a root node above both, and the
+/// node `camera` (a perspective camera's node, as JSON) if given.
+fn opened_model(dir: &Path, name: &str, scale: f32, camera: Option<Value>) -> PathBuf {
+    let (mut nodes, _) = nodes();
+    let list = nodes.as_array_mut().expect("nodes");
+    list.push(json!({"scale": [scale, scale, scale], "children": [0, 1]}));
+    let mut roots = vec![3];
+    if let Some(camera) = camera {
+        list.push(camera);
+        roots.push(4);
+    }
+    let mut model = Model::new(&[octahedron(), tetrahedron()], nodes, &roots);
+    model.json["cameras"] = json!([{"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}}]);
+    model.write(dir, name, Storage::Binary)
+}
+
+/// A model opened alone gets the default scene's studio around it, framed from the default
+/// camera's direction, its lights and clipping distances following its size: a model
+/// 1000 times larger (far past the 200 units a scene file's camera sees) draws as the
+/// small one does.
+#[test]
+fn a_model_opens_alone_framed_in_the_studio() {
+    let dir = temp_dir("open");
+    let small = Scene::load(&opened_model(&dir, "small", 1.0, None)).expect("small model opens");
+    let large = Scene::load(&opened_model(&dir, "large", 1000.0, None)).expect("large model opens");
+    let default = Scene::default_scene();
+    assert_eq!(small.environment, default.environment);
+    assert_eq!(small.lights.len(), default.lights.len());
+    assert_eq!(small.objects.len(), 2);
+    for scene in [&small, &large] {
+        // Every vertex lies between the clipping planes, in front of the camera.
+        let forward = (scene.camera.target - scene.camera.position).normalize();
+        for v in scene.meshes.iter().flat_map(|m| &m.vertices) {
+            let depth = (Vec3::from(v.position) - scene.camera.position).dot(forward);
+            assert!(
+                depth > scene.camera.near && depth < scene.camera.far,
+                "{depth} {:?}",
+                scene.camera
+            );
+        }
+    }
+    assert!(large.camera.far > 5.0 * argil::scene::Camera::FAR, "{:?}", large.camera);
+    let (a, b) = (common::render(&small, 96, 64), common::render(&large, 96, 64));
+    let (rmse, max) = common::rgb_difference(&a.display, &b.display);
+    // Coordinates 1000 times larger round differently: pixels on the silhouettes flip.
+    let flipped = a.display.chunks_exact(4).zip(b.display.chunks_exact(4));
+    let flipped = flipped.filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 8)).count();
+    println!("small against large: RMSE {rmse:.3}, max {max}, {flipped} pixels differ by more than 8");
+    assert!(
+        rmse < 3.0 && flipped < 96 * 64 / 100,
+        "RMSE {rmse} (max {max}), {flipped} pixels"
+    );
+    let background = common::rgb_difference(&a.display, &common::render(&default, 96, 64).display).0;
+    assert!(
+        background > 5.0,
+        "the model is not in view: RMSE {background} from the default scene"
+    );
+
+    // The command line opens it too: render, reference and the viewer's loading.
+    let model = dir.join("small.glb");
+    for (command, out) in [("render", "small.png"), ("reference", "small.exr")] {
+        let out = dir.join(out);
+        let mut args = vec![
+            command,
+            model.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+        ];
+        args.extend(["--width", "24", "--height", "16"]);
+        if command == "reference" {
+            args.extend(["--spp", "2"]);
+        }
+        let o = argil(&args);
+        assert!(o.status.success(), "{command}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(out.exists());
+    }
+    let (viewed, _) = argil::viewer::load_document(&model).expect("the viewer opens it");
+    assert_eq!(viewed, small);
+}
+
+/// The model's first camera, when it has one, is the view: its node's position and -z
+/// direction, and its vertical field of view.
+#[test]
+fn a_model_opens_through_its_camera() {
+    let dir = temp_dir("camera");
+    let camera = json!({"camera": 0, "translation": [0.5, 0.25, 6.0]});
+    let scene = Scene::load(&opened_model(&dir, "model", 1.0, Some(camera))).expect("opens");
+    assert_eq!(scene.camera.position, Vec3::new(0.5, 0.25, 6.0));
+    let forward = (scene.camera.target - scene.camera.position).normalize();
+    assert!(forward.abs_diff_eq(Vec3::NEG_Z, 1e-6), "{forward}");
+    assert!((scene.camera.fov_y_degrees - 0.5f32.to_degrees()).abs() < 1e-4);
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
 }

@@ -30,7 +30,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::rng::Rng;
-use crate::scene::{Camera, Scene};
+use crate::scene::Scene;
 use environment::EnvironmentLight;
 use integrator::{CameraRays, Integrator};
 use world::World;
@@ -252,8 +252,8 @@ pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Re
                         Filter::Center => (0.5, 0.5),
                     };
                     let (origin, dir) = camera.ray(x as f64 + sx, y as f64 + sy, settings.width, settings.height);
-                    let near = f64::from(Camera::NEAR);
-                    let sample = integrator.trace(origin, dir, near, f64::from(Camera::FAR), &mut rng);
+                    let (near, far) = (f64::from(scene.camera.near), f64::from(scene.camera.far));
+                    let sample = integrator.trace(origin, dir, near, far, &mut rng);
                     traced += sample.rays;
                     let half = (k % 2) as usize;
                     // A non-finite sample would poison the pixel for good: it counts as

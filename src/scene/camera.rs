@@ -7,12 +7,16 @@ pub struct Camera {
     pub target: Vec3,
     /// Vertical field of view, in degrees, in (0, 180).
     pub fov_y_degrees: f32,
+    /// Clipping distances in world units, 0 < near < far: [`Camera::NEAR`] and
+    /// [`Camera::FAR`] for scene files, from its bounds for a model opened alone.
+    pub near: f32,
+    pub far: f32,
 }
 
 impl Camera {
-    /// Near clipping distance in world units.
+    /// Near clipping distance of scene files, in world units.
     pub const NEAR: f32 = 0.05;
-    /// Far clipping distance in world units.
+    /// Far clipping distance of scene files, in world units.
     pub const FAR: f32 = 200.0;
 
     /// World-to-view matrix (right-handed look-at, +y up; the camera looks
@@ -36,8 +40,7 @@ impl Camera {
         self.projection(aspect) * self.view()
     }
 
-    /// View-to-clip matrix for Vulkan: depth 0 at [`Camera::NEAR`] and 1 at
-    /// [`Camera::FAR`], and y negated because Vulkan's NDC +y points down the
+    /// View-to-clip matrix for Vulkan: depth 0 at `near` and 1 at `far`, and y negated because Vulkan's NDC +y points down the
     /// screen, so world-up stays up on screen.
     ///
     /// `aspect` is width / height; a non-positive or non-finite aspect (a
@@ -48,7 +51,7 @@ impl Camera {
         } else {
             1.0
         };
-        let mut projection = Mat4::perspective_rh(self.fov_y_degrees.to_radians(), aspect, Self::NEAR, Self::FAR);
+        let mut projection = Mat4::perspective_rh(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
         projection.y_axis.y = -projection.y_axis.y;
         projection
     }
@@ -70,6 +73,8 @@ mod tests {
         position: Vec3::new(1.0, 2.0, 6.0),
         target: Vec3::new(0.0, 0.5, 0.0),
         fov_y_degrees: 30.0,
+        near: Camera::NEAR,
+        far: Camera::FAR,
     };
 
     #[test]
@@ -95,6 +100,8 @@ mod tests {
             position: Vec3::ZERO,
             target: Vec3::NEG_Z,
             fov_y_degrees: 90.0,
+            near: Camera::NEAR,
+            far: Camera::FAR,
         };
         // At 90°, a point 45° up is on the top edge whatever the aspect.
         let top = ndc(&camera, 2.0, Vec3::new(0.0, 1.0, -1.0));
@@ -109,6 +116,8 @@ mod tests {
             position: Vec3::ZERO,
             target: Vec3::NEG_Z,
             fov_y_degrees: 45.0,
+            near: Camera::NEAR,
+            far: Camera::FAR,
         };
         assert!(ndc(&camera, 1.0, Vec3::new(0.0, 0.0, -Camera::NEAR)).z.abs() < 1e-5);
         assert!((ndc(&camera, 1.0, Vec3::new(0.0, 0.0, -Camera::FAR)).z - 1.0).abs() < 1e-5);
@@ -124,6 +133,8 @@ mod tests {
                 position,
                 target: Vec3::ZERO,
                 fov_y_degrees: 30.0,
+                near: Camera::NEAR,
+                far: Camera::FAR,
             };
             assert!(camera.view().is_finite());
             let centre = ndc(&camera, 1.0, Vec3::ZERO);

@@ -9,25 +9,26 @@
 //! panic in the crate's readers.
 
 use std::collections::BTreeSet;
+use std::io::Read;
 use std::path::Path;
 
 use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::buffer::Source;
 use ::gltf::mesh::util::ReadTexCoords;
 use ::gltf::mesh::Mode;
-use ::gltf::{Accessor, Document, Gltf, Primitive, Semantic};
+use ::gltf::{Accessor, Document, Gltf, Node, Primitive, Semantic};
 use base64::Engine;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
-use super::file::{MapDef, MaterialDef};
+use super::file::{MapDef, MaterialDef, ObjectDef, SceneFile};
 use super::limits::{check_file_size, MAX_GLTF_BYTES, MAX_MESH_TRIANGLES};
 use super::material_keys::MAP_STRENGTH;
-use super::{Mesh, SceneError};
+use super::{Camera, Mesh, Scene, SceneError, DEFAULT_SCENE_TOML};
 
-/// Whether a scene's `mesh` string names a glTF model (by its extension, in any case).
-pub fn is_model(name: &str) -> bool {
-    Path::new(name)
-        .extension()
+/// Whether a path (or a scene's `mesh` string) names a glTF model, by its extension in
+/// any case.
+pub fn is_model(path: &Path) -> bool {
+    path.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
 }
@@ -319,10 +320,10 @@ fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Ve
     materials
 }
 
-/// The primitives of the default scene (else the first), each with its node's world
-/// matrix, depth first. glTF's nodes form trees; a node reached twice (a cycle, or a
-/// node shared by two parents) is an error rather than endless recursion.
-fn instances(document: &Document) -> Result<Vec<Instance<'_>>, String> {
+/// The nodes of the default scene (else the first), each with its world matrix, depth
+/// first. glTF's nodes form trees; a node reached twice (a cycle, or a node shared by two
+/// parents) is an error rather than endless recursion.
+fn walk(document: &Document) -> Result<Vec<(Mat4, Node<'_>)>, String> {
     let scene = document
         .default_scene()
         .or_else(|| document.scenes().next())
@@ -330,7 +331,7 @@ fn instances(document: &Document) -> Result<Vec<Instance<'_>>, String> {
     let mut seen = vec![false; document.nodes().count()];
     let mut stack: Vec<_> = scene.nodes().map(|node| (Mat4::IDENTITY, node)).collect();
     stack.reverse();
-    let mut instances = Vec::new();
+    let mut nodes = Vec::new();
     while let Some((parent, node)) = stack.pop() {
         if std::mem::replace(&mut seen[node.index()], true) {
             return Err(format!(
@@ -339,13 +340,20 @@ fn instances(document: &Document) -> Result<Vec<Instance<'_>>, String> {
             ));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if let Some(mesh) = node.mesh() {
-            instances.extend(mesh.primitives().map(|p| (world, mesh.index(), p)));
-        }
         let children: Vec<_> = node.children().map(|child| (world, child)).collect();
         stack.extend(children.into_iter().rev());
+        nodes.push((world, node));
     }
-    Ok(instances)
+    Ok(nodes)
+}
+
+/// The primitives of the scene's nodes, each with its node's world matrix.
+fn instances(document: &Document) -> Result<Vec<Instance<'_>>, String> {
+    Ok(walk(document)?
+        .into_iter()
+        .filter_map(|(world, node)| node.mesh().map(|mesh| (world, mesh)))
+        .flat_map(|(world, mesh)| mesh.primitives().map(move |p| (world, mesh.index(), p)))
+        .collect())
 }
 
 /// glTF's name of a primitive mode.
@@ -531,4 +539,135 @@ fn check_accessor(
         ));
     }
     Ok(())
+}
+
+/// A model opened on its own (`argil view model.glb`): the default scene's studio
+/// environment and lights around the model alone, seen through the model's first camera
+/// if it has one, otherwise framing its bounding sphere from the default camera's
+/// direction. The default scene is lit for objects of about unit size, so its lights are
+/// placed, sized and brightened for the model's size (positions about the model's centre
+/// and radii times its radius, intensities times its square, so the light falling on it
+/// is the default scene's); so is the occlusion radius. The clipping distances enclose
+/// the model, however large.
+pub(super) fn open(path: &Path) -> Result<Scene, SceneError> {
+    let origin = path.display().to_string();
+    let mut file: SceneFile = toml::from_str(DEFAULT_SCENE_TOML).map_err(|error| SceneError::Toml {
+        origin: "<default scene>".to_owned(),
+        error,
+    })?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    file.objects = vec![ObjectDef {
+        mesh: name,
+        position: [0.0; 3],
+        scale: 1.0,
+        material: None,
+        subdivisions: None,
+    }];
+    file.materials.clear();
+    let mut scene = Scene::from_file(&file, &origin, path.parent().unwrap_or(Path::new("")))?;
+    scene.source = Some(path.to_path_buf());
+
+    let (centre, radius) = bounds(&scene.meshes);
+    for light in &mut scene.lights {
+        light.position = centre + light.position * radius;
+        light.radius *= radius;
+        light.intensity *= radius * radius;
+    }
+    scene.occlusion.radius *= radius;
+    let camera = match first_camera(path, &mut scene.warnings)? {
+        Some((world, fov_y_degrees)) => {
+            let position = world.transform_point3(Vec3::ZERO);
+            let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or(Vec3::NEG_Z);
+            Camera {
+                position,
+                target: position + forward * position.distance(centre).max(radius),
+                fov_y_degrees,
+                ..scene.camera
+            }
+        }
+        None => {
+            let forward = (scene.camera.target - scene.camera.position).normalize_or(Vec3::NEG_Z);
+            let half_y = scene.camera.fov_y_degrees.to_radians() * 0.5;
+            Camera {
+                position: centre - forward * (radius / half_y.sin()),
+                target: centre,
+                ..scene.camera
+            }
+        }
+    };
+    // The model lies within [distance - radius, distance + radius] of the camera; the
+    // near plane stays a small fraction of the far one, for the depth buffer's precision.
+    let distance = camera.position.distance(centre);
+    let far = (distance + radius) * 1.01;
+    scene.camera = Camera {
+        near: ((distance - radius) * 0.99).max(far * 1e-4),
+        far,
+        ..camera
+    };
+    Ok(scene)
+}
+
+/// The centre of the meshes' bounding box and the radius about it that encloses every
+/// vertex (at least a little above 0, so that a point still makes a view).
+fn bounds(meshes: &[Mesh]) -> (Vec3, f32) {
+    let points = || meshes.iter().flat_map(|m| &m.vertices).map(|v| Vec3::from(v.position));
+    let (min, max) = points().fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| {
+        (lo.min(p), hi.max(p))
+    });
+    let centre = (min + max) * 0.5;
+    let radius = points().map(|p| p.distance(centre)).fold(0.0, f32::max);
+    (centre, radius.max(1e-3))
+}
+
+/// The world matrix and vertical field of view (degrees) of the first camera in a walk of
+/// the model's scene, if it is a perspective one; an orthographic one is named in
+/// `warnings`. Only the JSON is read again (the model itself loaded already).
+fn first_camera(path: &Path, warnings: &mut Vec<String>) -> Result<Option<(Mat4, f32)>, SceneError> {
+    let invalid = |problem: String| SceneError::Gltf {
+        path: path.to_path_buf(),
+        problem,
+    };
+    let io = |error| SceneError::Io {
+        path: path.to_path_buf(),
+        error,
+    };
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    let mut head = [0; 20];
+    let glb = file.read_exact(&mut head).is_ok() && head.starts_with(b"glTF");
+    let json = if glb {
+        // The JSON chunk follows the 12-byte header and its own 8-byte header.
+        let length = u32::from_le_bytes([head[12], head[13], head[14], head[15]]);
+        let mut json = Vec::new();
+        file.take(u64::from(length)).read_to_end(&mut json).map_err(io)?;
+        json
+    } else {
+        std::fs::read(path).map_err(io)?
+    };
+    let root = ::gltf::json::deserialize::from_slice(&json).map_err(|e| invalid(e.to_string()))?;
+    let document = Document::from_json(root).map_err(|e| invalid(message(e)))?;
+    let Some((world, camera)) = walk(&document)
+        .map_err(invalid)?
+        .into_iter()
+        .find_map(|(world, node)| node.camera().map(|camera| (world, camera.index())))
+    else {
+        return Ok(None);
+    };
+    match document
+        .as_json()
+        .cameras
+        .get(camera)
+        .and_then(|c| c.perspective.as_ref())
+    {
+        Some(perspective) => Ok(Some((world, perspective.yfov.to_degrees().clamp(1.0, 179.0)))),
+        None => {
+            warnings.push(format!(
+                "{}: camera {camera} is orthographic, which argil does not draw; the view frames the model",
+                path.display()
+            ));
+            Ok(None)
+        }
+    }
 }

@@ -35,6 +35,7 @@ pub use antialiasing::{Antialiasing, MSAA_COUNTS};
 pub use camera::Camera;
 pub use error::SceneError;
 pub use file::SceneFile;
+pub use gltf::is_model;
 pub use light::{
     Environment, PointLight, Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE,
 };
@@ -138,7 +139,13 @@ impl Scene {
 
     /// Reads, parses and validates a scene file; relative paths in it are
     /// resolved against the file's folder.
+    ///
+    /// A glTF model (`.gltf`, `.glb`) opens alone in the default scene's studio, framed
+    /// (see `gltf::open`).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        if gltf::is_model(path) {
+            return gltf::open(path);
+        }
         limits::check_file_size(path, limits::MAX_SCENE_BYTES, "scene files")?;
         let text = std::fs::read_to_string(path).map_err(|error| SceneError::Io {
             path: path.to_path_buf(),

@@ -397,6 +397,8 @@ fn camera(check: &Checker, def: &CameraDef) -> Result<Camera, SceneError> {
         position,
         target,
         fov_y_degrees,
+        near: Camera::NEAR,
+        far: Camera::FAR,
     })
 }
 
@@ -673,7 +675,7 @@ fn load_mesh(
         return Ok(Loaded::one(mesh));
     }
     let path = base_dir.join(name);
-    let loaded = if gltf::is_model(name) {
+    let loaded = if gltf::is_model(Path::new(name)) {
         gltf::Model::load(&path).map(|model| {
             warnings.extend(model.warnings);
             Loaded {

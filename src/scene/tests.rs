@@ -57,7 +57,9 @@ fn minimal_scene_gets_the_documented_defaults() {
         Camera {
             position: Vec3::new(0.0, 0.0, 5.0),
             target: Vec3::ZERO,
-            fov_y_degrees: 30.0
+            fov_y_degrees: 30.0,
+            near: Camera::NEAR,
+            far: Camera::FAR
         }
     );
     assert!(scene.lights.is_empty());

@@ -220,7 +220,7 @@ pub fn frame_sphere(camera: &Camera, centre: Vec3, radius: f32, aspect: f32) -> 
     Camera {
         position: centre - forward * distance,
         target: centre,
-        fov_y_degrees: camera.fov_y_degrees,
+        ..*camera
     }
 }
 
@@ -233,6 +233,8 @@ mod tests {
             position: Vec3::new(0.0, 1.0, 5.0),
             target: Vec3::new(0.0, 1.0, 0.0),
             fov_y_degrees: 30.0,
+            near: Camera::NEAR,
+            far: Camera::FAR,
         }
     }
 

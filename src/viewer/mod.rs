@@ -106,6 +106,12 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 
 /// [`load_scene`], with the text it was read from, which Save edits.
 pub fn load_document(path: &Path) -> Result<(Scene, Document)> {
+    if crate::scene::is_model(path) {
+        // A model opens in the default scene's studio, whose text Save As starts from.
+        let scene = Scene::load(path)?;
+        check_viewable(&scene)?;
+        return Ok((scene, Document::default_scene()));
+    }
     let document = Document::read(path)?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
     let mut scene = Scene::from_toml(&document.text, &path.display().to_string(), base_dir)?;
