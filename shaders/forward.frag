@@ -19,24 +19,21 @@ layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
 layout(constant_id = 2) const uint DISTRIBUTION = 0;
 layout(constant_id = 3) const uint GEOMETRY = 0;
 // Horizon of the shading normal: 0 smooth (brdf_cos), 1 the report's cutoff (brdf_cos_seed).
-layout(constant_id = 9) const uint HORIZON = 0;
+layout(constant_id = 6) const uint HORIZON = 0;
 const uint HORIZON_SEED = 1u;
-layout(constant_id = 10) const uint SUBSURFACE = 0;
+layout(constant_id = 7) const uint SUBSURFACE = 0;
 // The debug view (debug_views.glsl), or FROM_UNIFORM for FrameData.counts.y.
-layout(constant_id = 11) const uint DEBUG_VIEW = FROM_UNIFORM;
+layout(constant_id = 8) const uint DEBUG_VIEW = FROM_UNIFORM;
 // Whether the lobes' roughness is widened by the shading normal's change across the pixel
 // (specular_aa.glsl): the scene's [antialiasing] specular.
-layout(constant_id = 14) const bool SPECULAR_AA = false;
+layout(constant_id = 11) const bool SPECULAR_AA = false;
 
 layout(location = 0) in vec3 in_world_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
 layout(location = 4) in float in_curvature;
-layout(location = 5) in vec2 in_base_color_uv;
-layout(location = 6) in vec2 in_normal_uv;
-layout(location = 7) in vec2 in_detail_uv;
-layout(location = 8) in vec2 in_noise_uv;
+layout(location = 5) in vec2 in_map_uv[MAP_COUNT];
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -58,11 +55,11 @@ void main() {
     Material m = materials[object.material_index];
     ShadingModels models = ShadingModels(DIFFUSE_MODEL, SPECULAR_MODEL, DISTRIBUTION, GEOMETRY, SUBSURFACE);
     vec3 v = normalize(frame.camera_position.xyz - in_world_position);
-    m.base_color.rgb = mapped_base_color(m, in_base_color_uv);
+    m.base_color.rgb = mapped_base_color(m, in_map_uv[MAP_BASE_COLOR]);
     vec3 n_geometric = surface_normal(in_normal, in_world_position, gl_FrontFacing);
     // The tangent frame follows the normal to the viewer's side.
     vec4 tangent = gl_FrontFacing ? in_tangent : vec4(in_tangent.xyz, -in_tangent.w);
-    vec3 n_mapped = mapped_normal(m, n_geometric, tangent, in_normal_uv, in_detail_uv);
+    vec3 n_mapped = mapped_normal(m, n_geometric, tangent, in_map_uv[MAP_NORMAL], in_map_uv[MAP_DETAIL]);
     bool seed_horizon = HORIZON == HORIZON_SEED;
     vec3 n = seed_horizon ? n_mapped : view_facing_normal(n_mapped, v);
     if (SPECULAR_AA) {
@@ -73,7 +70,7 @@ void main() {
     m.specular_color.rgb = compensated_specular_color(models, m, max(dot(n, v), MIN_N_DOT_V));
 
     float visibility = ambient_visibility(gl_FragCoord.xy);
-    vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_noise_uv),
+    vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_map_uv[MAP_NOISE]),
                                          gl_FragCoord.xy, frame.counts.z, environment_occlusion(visibility, m.base_color.rgb));
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon) + environment;

@@ -15,10 +15,7 @@ layout(location = 4) out float out_curvature;
 // Each map's uv (material_maps.glsl), transformed here rather than per fragment: the result
 // interpolates the same, and lavapipe's helper invocations read storage buffers as zero,
 // which gave fragment-side uvs wrong derivatives, so wrong mip levels, along triangle edges.
-layout(location = 5) out vec2 out_base_color_uv;
-layout(location = 6) out vec2 out_normal_uv;
-layout(location = 7) out vec2 out_detail_uv;
-layout(location = 8) out vec2 out_noise_uv;
+layout(location = 5) out vec2 out_map_uv[MAP_COUNT];
 
 void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
@@ -27,10 +24,9 @@ void main() {
     out_normal = normal_matrix * in_normal;
     out_uv = in_uv;
     Material m = materials[object.material_index];
-    out_base_color_uv = map_uv(m.base_color_uv, in_uv);
-    out_normal_uv = map_uv(m.normal_uv, in_uv);
-    out_detail_uv = map_uv(m.detail_uv, in_uv);
-    out_noise_uv = map_uv(m.noise_uv, in_uv);
+    for (int i = 0; i < MAP_COUNT; i++) {
+        out_map_uv[i] = map_uv(m.map_uv[i], in_uv);
+    }
     out_tangent = vec4(mat3(object.model) * in_tangent.xyz, in_tangent.w);
     // Curvature is 1/length, so it shrinks as the object grows: divide by the model's
     // scale, the cube root of its volume scale. Exact for a uniform scale (all objects

@@ -34,8 +34,8 @@ layout(set = ENV_SET, binding = 0, std140) uniform EnvironmentData {
 } env;
 // The forward pass specialises the kind and reflection mode; FROM_UNIFORM (the skybox, the
 // generic pipeline) reads them from env.mode.
-layout(constant_id = 12) const uint ENVIRONMENT_KIND = FROM_UNIFORM;
-layout(constant_id = 13) const uint REFLECTION_MODE = FROM_UNIFORM;
+layout(constant_id = 9) const uint ENVIRONMENT_KIND = FROM_UNIFORM;
+layout(constant_id = 10) const uint REFLECTION_MODE = FROM_UNIFORM;
 
 uint env_kind() {
     return ENVIRONMENT_KIND == FROM_UNIFORM ? env.mode.x : ENVIRONMENT_KIND;

@@ -3,6 +3,9 @@
 #ifndef ARGIL_MATERIAL_GLSL
 #define ARGIL_MATERIAL_GLSL
 
+// The material map slots of src/scene/map_slots.rs.
+const int MAP_COUNT = 4;
+
 struct Material {
     vec4 base_color;      // rgb linear albedo
     vec4 specular_color;  // rgb tint of the specular lobe
@@ -16,12 +19,9 @@ struct Material {
     float metallic;       // 0 dielectric, 1 metal (glTF 2.0 metallic-roughness)
     float energy_compensation; // 1: the specular lobe is energy-compensated (environment.glsl)
     float pad2;
-    // Material maps (material_maps.glsl): uv · scale + offset, strengths, conventions.
-    vec4 base_color_uv;   // xy scale, zw offset
-    vec4 normal_uv;
-    vec4 detail_uv;
-    vec4 noise_uv;
-    vec4 map_strength;    // base colour, normal, detail, noise
+    // Material maps (material_maps.glsl), by the slot indices of src/scene/map_slots.rs.
+    vec4 map_uv[MAP_COUNT];          // xy scale, zw offset: uv · scale + offset
+    float map_strength[MAP_COUNT];
     uvec4 green_down;     // x normal map, y detail map: 1 for DirectX-style maps
 };
 
@@ -37,7 +37,7 @@ vec3 specular_f0(Material m) {
     return mix(vec3(m.f0), m.base_color.rgb, m.metallic);
 }
 
-// A map's uv from the mesh's: uv · scale + offset (`transform` is one of the *_uv fields).
+// A map's uv from the mesh's: uv · scale + offset (`transform` is one of map_uv).
 vec2 map_uv(vec4 transform, vec2 uv) {
     return uv * transform.xy + transform.zw;
 }

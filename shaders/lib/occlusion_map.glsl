@@ -6,7 +6,7 @@
 
 layout(set = 4, binding = 0) uniform sampler2D occlusion_map;
 // OcclusionMode of src/render/occlusion.rs; always specialised.
-layout(constant_id = 15) const uint OCCLUSION = 0;
+layout(constant_id = 12) const uint OCCLUSION = 0;
 const uint OCCLUSION_OFF = 0u;
 const uint OCCLUSION_MULTI_BOUNCE = 1u;
 const uint OCCLUSION_PLAIN = 2u;

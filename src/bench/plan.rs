@@ -8,7 +8,8 @@ use ash::vk;
 
 use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, SceneFile};
 use crate::scene::{
-    DiffuseModel, Distribution, Geometry, Horizon, ReflectionMode, SpecularModel, Subsurface, DEFAULT_SCENE_TOML,
+    DiffuseModel, Distribution, Geometry, Horizon, MapSlot, ReflectionMode, SpecularModel, Subsurface,
+    DEFAULT_SCENE_TOML,
 };
 
 /// The configuration whose name marks the report's composition in the table and plot.
@@ -395,21 +396,17 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         "no-maps" => file.materials.values_mut().for_each(|m| {
             // Without the preset, parsing the text back cannot restore the maps.
             m.preset = None;
-            (m.base_color_map, m.normal_map, m.detail_map, m.noise_map) = (None, None, None, None);
+            for slot in MapSlot::ALL {
+                *m.map_mut(slot) = None;
+            }
         }),
         "no-environment" => file.environment = EnvironmentDef::None,
         // Present but doing nothing: the documented way to switch off a preset's map.
         "maps-off" => file.materials.values_mut().for_each(|m| {
-            for map in [
-                &mut m.base_color_map,
-                &mut m.normal_map,
-                &mut m.detail_map,
-                &mut m.noise_map,
-            ]
-            .into_iter()
-            .flatten()
-            {
-                map.strength = 0.0;
+            for slot in MapSlot::ALL {
+                if let Some(map) = m.map_mut(slot) {
+                    map.strength = 0.0;
+                }
             }
         }),
         SEPARABLE_G => file

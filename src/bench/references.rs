@@ -10,6 +10,7 @@ use crate::compare::input::read_exr;
 use crate::compare::metrics::Rgba32;
 use crate::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use crate::render::output::write_linear;
+use crate::scene::file::{LightDef, MaterialDef, SceneFile};
 use crate::scene::Scene;
 
 /// A reference image and its own estimated relative RMS noise.
@@ -36,20 +37,54 @@ pub fn settings(width: u32, height: u32, transport: Transport, stop: Stop) -> Se
     }
 }
 
-/// `dir/NAME-TRANSPORT-HASH.exr`, the hash over the scene text and the settings (which
-/// hold the size); a change of either names another file.
-pub fn path(dir: &Path, name: &str, text: &str, settings: &Settings) -> PathBuf {
-    let key = format!("{text}\n{settings:?}");
-    dir.join(format!(
+/// `dir/NAME-TRANSPORT-HASH.exr`, the hash over the scene as the reference sees it
+/// ([`key_text`]) and the settings (which hold the size); a change of either names another
+/// file.
+pub fn path(dir: &Path, name: &str, text: &str, settings: &Settings) -> Result<PathBuf> {
+    let key = format!("{}\n{settings:?}", key_text(text)?);
+    Ok(dir.join(format!(
         "{name}-{}-{:016x}.exr",
         settings.transport,
         fnv1a(key.as_bytes())
-    ))
+    )))
+}
+
+/// The scene file `text` with only what `argil reference` reads of it, so that a reference
+/// is keyed by its image. Left out:
+/// - what only the rasterizer reads, the approximations the reference measures: `[shadows]`
+///   (map resolution, bounce), `[antialiasing]`, `[occlusion]`, a light's `shadows` switch
+///   (the reference always shadows), and the environment's `reflection`, `samples` and
+///   `seed_strength`;
+/// - material keys at their defaults, so that a new key, whose default keeps the material
+///   as it was, renames no reference. The price: a change of a default must rename the
+///   references of the scenes that rely on it.
+pub fn key_text(text: &str) -> Result<String> {
+    let mut file: SceneFile = toml::from_str(text).context("a bench reference's scene")?;
+    file.shadows = None;
+    file.antialiasing = None;
+    file.occlusion = None;
+    for light in &mut file.lights {
+        let LightDef::Point { shadows, .. } = light;
+        *shadows = None;
+    }
+    if let Some((reflection, samples, seed_strength)) = file.environment.reflection_keys_mut() {
+        (*reflection, *samples, *seed_strength) = (None, None, None);
+    }
+    let defaults = toml::Table::try_from(MaterialDef::default()).context("the default material")?;
+    let mut value = toml::Table::try_from(&file).context("a bench reference's scene")?;
+    if let Some(toml::Value::Table(materials)) = value.get_mut("materials") {
+        for (_, material) in materials.iter_mut() {
+            if let toml::Value::Table(keys) = material {
+                keys.retain(|key, v| defaults.get(key) != Some(v));
+            }
+        }
+    }
+    Ok(toml::to_string(&value)?)
 }
 
 /// The cached reference of the scene `text`, rendered and written first if it is not cached.
 pub fn get(dir: &Path, name: &str, text: &str, settings: &Settings) -> Result<CachedReference> {
-    let path = path(dir, name, text, settings);
+    let path = path(dir, name, text, settings)?;
     if !path.is_file() {
         let scene = Scene::from_toml(text, name, Path::new(""))?;
         eprintln!(
@@ -85,3 +120,64 @@ pub fn get(dir: &Path, name: &str, text: &str, settings: &Settings) -> Result<Ca
         path,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::ReflectionMode;
+    use crate::scene::DEFAULT_SCENE_TOML;
+
+    /// The default scene with every key [`key_text`] leaves out set away from its value.
+    fn rasterizer_edited(text: &str) -> String {
+        let mut file: SceneFile = toml::from_str(text).unwrap();
+        file.shadows = Some(toml::from_str("resolution = 64\nbounce = true").unwrap());
+        file.antialiasing = Some(toml::from_str("msaa = 4\nspecular = false").unwrap());
+        file.occlusion = Some(toml::from_str("enabled = false\nradius = 2.0").unwrap());
+        for light in &mut file.lights {
+            let LightDef::Point { shadows, .. } = light;
+            *shadows = Some(false);
+        }
+        let (reflection, samples, seed_strength) = file.environment.reflection_keys_mut().unwrap();
+        (*reflection, *samples, *seed_strength) = (Some(ReflectionMode::Seed), Some(8), Some(0.5));
+        file.to_toml().unwrap()
+    }
+
+    #[test]
+    fn what_the_key_leaves_out_does_not_change_the_reference() {
+        let edited = rasterizer_edited(DEFAULT_SCENE_TOML);
+        assert_ne!(edited, DEFAULT_SCENE_TOML);
+        assert_eq!(key_text(&edited).unwrap(), key_text(DEFAULT_SCENE_TOML).unwrap());
+        let settings = settings(24, 14, Transport::Full, Stop::Samples(2));
+        let render = |text: &str| {
+            let scene = Scene::from_toml(text, "default", Path::new("")).unwrap();
+            crate::reference::render(&scene, &settings, &()).unwrap().rgba
+        };
+        assert!(render(DEFAULT_SCENE_TOML) == render(&edited), "the reference read a key its cache key leaves out");
+    }
+
+    /// A key added to the materials comes with a default that keeps them as they were;
+    /// the scenes' references must keep their names.
+    #[test]
+    fn a_material_key_at_its_default_is_not_in_the_key() {
+        let mut file: SceneFile = toml::from_str(DEFAULT_SCENE_TOML).unwrap();
+        let key = |file: &SceneFile| key_text(&file.to_toml().unwrap()).unwrap();
+        let defaults = MaterialDef::default();
+        assert!(file.materials.values().all(|m| m.metallic == defaults.metallic));
+        assert!(file.to_toml().unwrap().contains("metallic"));
+        let written = key(&file);
+        assert!(!written.contains("metallic"), "{written}");
+        fn first(file: &mut SceneFile) -> &mut MaterialDef {
+            file.materials.values_mut().next().unwrap()
+        }
+        first(&mut file).metallic = 0.5;
+        assert!(key(&file).contains("metallic = 0.5"));
+        first(&mut file).metallic = defaults.metallic;
+        assert_eq!(key(&file), written);
+        first(&mut file).roughness += 0.125;
+        assert_ne!(key(&file), written);
+        let mut file: SceneFile = toml::from_str(DEFAULT_SCENE_TOML).unwrap();
+        file.camera.fov_y_degrees += 1.0;
+        assert_ne!(key(&file), written);
+    }
+}
+

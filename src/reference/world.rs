@@ -8,7 +8,7 @@ use super::bvh::{Bvh, Hit, Triangle};
 use super::texture::Texture;
 use crate::brdf::normal_mapping::{blend_rnm, blend_seed, blend_udn, blend_whiteout, decode_normal, tangent_to_world};
 use crate::brdf::shading::{ShadingModels, ShadingParams};
-use crate::scene::{DetailBlend, MapRef, Material, Scene};
+use crate::scene::{DetailBlend, MapRef, MapSlot, Material, Scene};
 
 /// Below this squared length an interpolated normal has no direction (`MIN_NORMAL_LENGTH2`
 /// of shading.glsl).
@@ -69,9 +69,9 @@ impl WorldMaterial {
             params: material.shading_params(),
             seed_horizon: material.horizon == crate::scene::Horizon::Seed,
             energy_compensation: material.energy_compensation,
-            base_color_map: material.maps.base_color.as_ref().map(Map::new),
-            normal_map: material.maps.normal.as_ref().map(Map::new),
-            detail_map: material.maps.detail.as_ref().map(Map::new),
+            base_color_map: material.maps[MapSlot::BaseColor].as_ref().map(Map::new),
+            normal_map: material.maps[MapSlot::Normal].as_ref().map(Map::new),
+            detail_map: material.maps[MapSlot::Detail].as_ref().map(Map::new),
             detail_blend: material.detail_blend,
         }
     }

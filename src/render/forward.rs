@@ -25,7 +25,8 @@ use super::shaders;
 use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
-use crate::scene::{DetailBlend, Environment, MapRef, Material, ReflectionMode, Scene, Subsurface, Vertex};
+use crate::scene::map_slots::MAP_COUNT;
+use crate::scene::{DetailBlend, Environment, MapRef, MapSlot, Material, ReflectionMode, Scene, Subsurface, Vertex};
 use crate::vk::{
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
     Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
@@ -36,7 +37,8 @@ use crate::vk::{
 pub const FROM_UNIFORM: u32 = u32::MAX;
 
 /// The specialization constants of `forward.frag`, in `constant_id` order: a material's
-/// models (shading.glsl), which maps it samples (material_maps.glsl), its horizon and
+/// models (shading.glsl), which maps it samples (`maps`: bit `MapSlot::bit` per slot,
+/// material_maps.glsl) and how the detail map blends, its horizon and
 /// subsurface model, the debug view (debug_views.glsl), the environment's kind and
 /// reflection mode (environment.glsl), specular anti-aliasing (specular_aa.glsl), and how
 /// the environment's light is occluded (`OcclusionMode`, occlusion_map.glsl; always
@@ -48,10 +50,7 @@ pub struct ForwardConstants {
     pub specular_model: u32,
     pub distribution: u32,
     pub geometry: u32,
-    pub has_base_color_map: u32,
-    pub has_normal_map: u32,
-    pub has_detail_map: u32,
-    pub has_noise_map: u32,
+    pub maps: u32,
     pub detail_blend: u32,
     pub horizon: u32,
     pub subsurface: u32,
@@ -64,15 +63,12 @@ pub struct ForwardConstants {
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 16] = [
+    pub const NAMES: [&'static str; 13] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
         "GEOMETRY",
-        "HAS_BASE_COLOR_MAP",
-        "HAS_NORMAL_MAP",
-        "HAS_DETAIL_MAP",
-        "HAS_NOISE_MAP",
+        "MAPS",
         "DETAIL_BLEND",
         "HORIZON",
         "SUBSURFACE",
@@ -99,26 +95,29 @@ impl ForwardConstants {
         let models = m.shading_models();
         let maps = &m.maps;
         let reflection = environment.reflection().map(|r| r.mode);
-        let sampled = |map: &Option<MapRef>, used: bool| {
-            u32::from(map.is_some_and(|map| !specialize || (used && map.strength != 0.0)))
-        };
+        let sampled =
+            |map: &Option<MapRef>, used: bool| map.is_some_and(|map| !specialize || (used && map.strength != 0.0));
         let specialized = |value: u32| if specialize { value } else { FROM_UNIFORM };
-        let detail = sampled(&maps.detail, true);
+        let detail = sampled(&maps[MapSlot::Detail], true);
         // A normal map at strength 0 decodes to +z, which only RNM and whiteout blend a
         // detail map over as they would over no normal map.
-        let flat_base_is_none = detail == 0 || matches!(m.detail_blend, DetailBlend::Rnm | DetailBlend::Whiteout);
+        let flat_base_is_none = !detail || matches!(m.detail_blend, DetailBlend::Rnm | DetailBlend::Whiteout);
+        let used = MapSlot::ALL.map(|slot| match slot {
+            MapSlot::Normal => maps[slot].is_some_and(|n| !specialize || n.strength != 0.0 || !flat_base_is_none),
+            MapSlot::Detail => detail,
+            MapSlot::Noise => sampled(&maps[slot], reflection == Some(ReflectionMode::Seed)),
+            MapSlot::BaseColor => sampled(&maps[slot], true),
+        });
         Self {
             diffuse_model: models.diffuse as u32,
             specular_model: models.specular as u32,
             distribution: models.distribution as u32,
             geometry: models.geometry as u32,
-            has_base_color_map: sampled(&maps.base_color, true),
-            has_normal_map: u32::from(
-                maps.normal
-                    .is_some_and(|n| !specialize || n.strength != 0.0 || !flat_base_is_none),
-            ),
-            has_detail_map: detail,
-            has_noise_map: sampled(&maps.noise, reflection == Some(ReflectionMode::Seed)),
+            maps: MapSlot::ALL
+                .into_iter()
+                .zip(used)
+                .filter(|&(_, used)| used)
+                .fold(0, |bits, (slot, _)| bits | slot.bit()),
             detail_blend: m.detail_blend as u32,
             horizon: m.horizon as u32,
             subsurface: models.subsurface as u32,
@@ -128,6 +127,11 @@ impl ForwardConstants {
             specular_aa: u32::from(specular_aa),
             occlusion: 0,
         }
+    }
+
+    /// Whether the pipeline samples `slot`.
+    pub fn samples(&self, slot: MapSlot) -> bool {
+        self.maps & slot.bit() != 0
     }
 
     pub fn specialization(&self) -> Specialization {
@@ -196,7 +200,7 @@ impl ForwardPass {
             )
             .build(device, "forward set")?;
         let placeholder = SubsurfaceTable::placeholder(device, one_shot)?;
-        let material_layout = (0..4)
+        let material_layout = (0..MAP_COUNT)
             .fold(DescriptorSetLayoutBuilder::default(), |b, _| {
                 b.binding(
                     vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
@@ -594,16 +598,10 @@ mod tests {
         let mut m = scene
             .materials
             .into_iter()
-            .find(|m| m.maps.noise.is_some())
+            .find(|m| m.maps[MapSlot::Noise].is_some())
             .expect("plasticine");
-        m.maps.base_color = m.maps.normal;
-        let maps = &mut m.maps;
-        for map in [
-            &mut maps.base_color,
-            &mut maps.normal,
-            &mut maps.detail,
-            &mut maps.noise,
-        ] {
+        m.maps[MapSlot::BaseColor] = m.maps[MapSlot::Normal];
+        for (_, map) in m.maps.iter_mut() {
             map.as_mut().expect("a map").strength = strength;
         }
         m
@@ -628,9 +626,9 @@ mod tests {
             true,
             true,
         );
-        assert_eq!((shown.has_base_color_map, shown.has_normal_map), (1, 1));
-        assert_eq!(
-            shown.has_noise_map, 0,
+        assert!(shown.samples(MapSlot::BaseColor) && shown.samples(MapSlot::Normal));
+        assert!(
+            !shown.samples(MapSlot::Noise),
             "the noise map modulates only the seed reflection"
         );
         let seed = ForwardConstants::new(
@@ -640,7 +638,7 @@ mod tests {
             true,
             true,
         );
-        assert_eq!(seed.has_noise_map, 1);
+        assert!(seed.samples(MapSlot::Noise));
         let off = ForwardConstants::new(
             &mapped_material(0.0),
             &uniform(ReflectionMode::Seed),
@@ -648,20 +646,17 @@ mod tests {
             true,
             true,
         );
-        assert_eq!(
-            (off.has_base_color_map, off.has_normal_map, off.has_noise_map),
-            (0, 0, 0)
-        );
+        assert_eq!(off.maps, 0);
         assert_eq!((off.debug_view, off.environment_kind, off.reflection_mode), (0, 1, 1));
         // A detail map over a normal map at strength 0: UDN and the report's blend see the
         // base's +z, so the normal map stays; RNM and whiteout do not.
         let mut detailed = mapped_material(0.0);
-        detailed.maps.detail.as_mut().expect("a detail map").strength = 1.0;
+        detailed.maps[MapSlot::Detail].as_mut().expect("a detail map").strength = 1.0;
         for (blend, normal) in [
-            (DetailBlend::Rnm, 0),
-            (DetailBlend::Whiteout, 0),
-            (DetailBlend::Udn, 1),
-            (DetailBlend::Seed, 1),
+            (DetailBlend::Rnm, false),
+            (DetailBlend::Whiteout, false),
+            (DetailBlend::Udn, true),
+            (DetailBlend::Seed, true),
         ] {
             detailed.detail_blend = blend;
             let c = ForwardConstants::new(
@@ -671,7 +666,11 @@ mod tests {
                 true,
                 true,
             );
-            assert_eq!((c.has_normal_map, c.has_detail_map), (normal, 1), "{blend:?}");
+            assert_eq!(
+                (c.samples(MapSlot::Normal), c.samples(MapSlot::Detail)),
+                (normal, true),
+                "{blend:?}"
+            );
         }
     }
 
@@ -684,14 +683,7 @@ mod tests {
             false,
             true,
         );
-        assert_eq!(
-            (
-                generic.has_base_color_map,
-                generic.has_normal_map,
-                generic.has_noise_map
-            ),
-            (1, 1, 1)
-        );
+        assert_eq!(generic.maps, (1 << MAP_COUNT) - 1);
         assert_eq!(
             (generic.debug_view, generic.environment_kind, generic.reflection_mode),
             (FROM_UNIFORM, FROM_UNIFORM, FROM_UNIFORM)

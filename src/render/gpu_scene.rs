@@ -9,7 +9,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Mat4};
 
 use super::textures::{placeholder, GpuTexture};
-use crate::scene::{MapRef, Material, Mesh, Object, Scene, TexelFormat};
+use crate::scene::map_slots::MAP_COUNT;
+use crate::scene::{MapRef, MapSlot, Material, Mesh, Object, Scene, TexelFormat, TextureData, TextureRole};
 use crate::vk::{Buffer, DescriptorPool, DescriptorSetLayout, DescriptorWriter, Device, OneShot, Sampler};
 
 /// `MAX_POINT_LIGHTS` in scene_data.glsl.
@@ -103,11 +104,8 @@ gpu_struct! {
         pub metallic: f32,
         pub energy_compensation: f32,
         pub pad2: f32,
-        pub base_color_uv: [f32; 4],
-        pub normal_uv: [f32; 4],
-        pub detail_uv: [f32; 4],
-        pub noise_uv: [f32; 4],
-        pub map_strength: [f32; 4],
+        pub map_uv: [[f32; 4]; MAP_COUNT],
+        pub map_strength: [f32; MAP_COUNT],
         pub green_down: [u32; 4],
     }
 }
@@ -123,17 +121,13 @@ impl From<&Material> for MaterialData {
     /// The keys where `material_keys` packs them, then the maps.
     fn from(m: &Material) -> Self {
         let maps = &m.maps;
-        let (base_color, normal) = (map_terms(maps.base_color.as_ref()), map_terms(maps.normal.as_ref()));
-        let (detail, noise) = (map_terms(maps.detail.as_ref()), map_terms(maps.noise.as_ref()));
+        let terms = maps.0.map(|map| map_terms(map.as_ref()));
         let mut data = Self {
-            base_color_uv: base_color.0,
-            normal_uv: normal.0,
-            detail_uv: detail.0,
-            noise_uv: noise.0,
-            map_strength: [base_color.1, normal.1, detail.1, noise.1],
+            map_uv: terms.map(|t| t.0),
+            map_strength: terms.map(|t| t.1),
             green_down: [
-                u32::from(maps.normal.is_some_and(|m| m.green_down)),
-                u32::from(maps.detail.is_some_and(|m| m.green_down)),
+                u32::from(maps[MapSlot::Normal].is_some_and(|m| m.green_down)),
+                u32::from(maps[MapSlot::Detail].is_some_and(|m| m.green_down)),
                 0,
                 0,
             ],
@@ -218,14 +212,17 @@ pub struct GpuScene {
     _sampler: Sampler,
 }
 
-/// The placeholders, in binding order: white base colour, flat normal and detail maps,
-/// white noise. The shader never samples them (the maps' specialization constants are off).
-const PLACEHOLDERS: [(&str, TexelFormat, [u8; 4]); 4] = [
-    ("no base colour map", TexelFormat::Rgba8Srgb, [255; 4]),
-    ("no normal map", TexelFormat::Rgba8Unorm, [128, 128, 255, 255]),
-    ("no detail map", TexelFormat::Rgba8Unorm, [128, 128, 255, 255]),
-    ("no noise map", TexelFormat::Rgba8Unorm, [255; 4]),
-];
+/// The placeholder bound where a material has no map of a slot: white colour or data, a
+/// flat normal. The shader never samples it (the slot's bit of `MAPS` is off).
+fn placeholder_of(slot: MapSlot) -> TextureData {
+    let info = slot.info();
+    let (format, texel) = match info.role {
+        TextureRole::BaseColor => (TexelFormat::Rgba8Srgb, [255; 4]),
+        TextureRole::Normal => (TexelFormat::Rgba8Unorm, [128, 128, 255, 255]),
+        TextureRole::Data => (TexelFormat::Rgba8Unorm, [255; 4]),
+    };
+    placeholder(&format!("no {}", info.label), format, texel)
+}
 
 impl GpuScene {
     pub fn upload(
@@ -245,9 +242,9 @@ impl GpuScene {
             .iter()
             .map(|t| GpuTexture::upload(device, one_shot, t))
             .collect::<Result<_>>()?;
-        let placeholders: Vec<GpuTexture> = PLACEHOLDERS
+        let placeholders: Vec<GpuTexture> = MapSlot::ALL
             .iter()
-            .map(|&(name, format, texel)| GpuTexture::upload(device, one_shot, &placeholder(name, format, texel)))
+            .map(|&slot| GpuTexture::upload(device, one_shot, &placeholder_of(slot)))
             .collect::<Result<_>>()?;
         let sampler = Sampler::material(device)?;
         let pool = DescriptorPool::for_layout(device, material_layout, scene.materials.len().max(1) as u32)?;
@@ -256,13 +253,12 @@ impl GpuScene {
             .iter()
             .map(|m| {
                 let set = pool.allocate(material_layout)?;
-                let maps = [&m.maps.base_color, &m.maps.normal, &m.maps.detail, &m.maps.noise];
-                let writer = maps.iter().zip(&placeholders).enumerate().fold(
+                let writer = m.maps.iter().zip(&placeholders).fold(
                     DescriptorWriter::default(),
-                    |writer, (binding, (map, placeholder))| {
+                    |writer, ((slot, map), placeholder)| {
                         let texture = map.as_ref().map_or(placeholder, |m| &textures[m.texture]);
                         writer.image(
-                            binding as u32,
+                            slot.index() as u32,
                             vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                             texture.image.view,
                             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
@@ -310,13 +306,19 @@ mod tests {
             .collect()
     }
 
-    /// std430 (size, alignment) of the member types material.glsl uses.
-    fn std430(ty: &str) -> (usize, usize) {
-        match ty {
+    /// std430 (size, alignment) of the member types material.glsl uses; `name[MAP_COUNT]`
+    /// is an array of one element per map slot (std430: stride the element's size).
+    fn std430(ty: &str, name: &str) -> (usize, usize) {
+        let (size, align) = match ty {
             "float" | "uint" | "int" => (4, 4),
             "vec2" => (8, 8),
             "vec4" | "uvec4" => (16, 16),
             other => panic!("material.glsl: no std430 rule here for {other}"),
+        };
+        match name.split_once('[') {
+            Some((_, "MAP_COUNT]")) => (size * MAP_COUNT, align),
+            Some((_, other)) => panic!("material.glsl: no array size {other}"),
+            None => (size, align),
         }
     }
 
@@ -326,8 +328,9 @@ mod tests {
         let glsl: Vec<(String, usize, usize)> = glsl_members()
             .into_iter()
             .map(|(ty, name)| {
-                let (size, align) = std430(&ty);
+                let (size, align) = std430(&ty, &name);
                 offset = offset.next_multiple_of(align);
+                let name = name.split('[').next().unwrap_or(&name).to_owned();
                 let member = (name, offset, size);
                 offset += size;
                 member

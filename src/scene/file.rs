@@ -181,6 +181,34 @@ pub enum EnvironmentDef {
     },
 }
 
+impl EnvironmentDef {
+    /// The keys of its reflection (`reflection`, `samples`, `seed_strength`), which every
+    /// kind but `none` has.
+    pub fn reflection_keys_mut(&mut self) -> Option<(&mut Option<ReflectionMode>, &mut Option<u32>, &mut Option<f64>)> {
+        match self {
+            EnvironmentDef::None => None,
+            EnvironmentDef::Uniform {
+                reflection,
+                samples,
+                seed_strength,
+                ..
+            }
+            | EnvironmentDef::Studio {
+                reflection,
+                samples,
+                seed_strength,
+                ..
+            }
+            | EnvironmentDef::Map {
+                reflection,
+                samples,
+                seed_strength,
+                ..
+            } => Some((reflection, samples, seed_strength)),
+        }
+    }
+}
+
 /// One `[[objects]]` entry.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -1,6 +1,7 @@
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
+pub use super::map_slots::{MapSlot, MaterialMaps};
 pub use super::material_keys::Material;
 pub use crate::brdf::shading::{DiffuseModel, Horizon, ShadingModels, SpecularModel};
 pub use crate::brdf::specular::{Distribution, Geometry};
@@ -17,19 +18,6 @@ impl Material {
             subsurface: self.subsurface,
         }
     }
-}
-
-/// The textures a material samples; see docs/scene-format.md.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct MaterialMaps {
-    /// Multiplies `base_color`: `base_color · mix(1, map, strength)`.
-    pub base_color: Option<MapRef>,
-    /// Tangent-space surface normals; `strength` scales their xy.
-    pub normal: Option<MapRef>,
-    /// A second normal map (fingerprints) blended over `normal`.
-    pub detail: Option<MapRef>,
-    /// Modulates reflections.
-    pub noise: Option<MapRef>,
 }
 
 /// One map of a material: a texture and how it is applied.

@@ -13,6 +13,7 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use super::file::{MapDef, MapKeys};
+use super::map_slots::{with_map_slots, MapSlot};
 use super::preset::Preset;
 use super::resolve::widen;
 use super::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, MaterialMaps, SceneError};
@@ -299,7 +300,8 @@ impl Pack<[f32]> for Vec3 {
 /// `twin` (the key is a field of the f64 models' `ShadingParams`) for the numbers the
 /// shaders read. Order is the file's order (saving, errors) and the panel's.
 macro_rules! material_keys {
-    ($(
+    (maps: [$($map_slot:ident { key: $map:ident, $($map_info:tt)* },)+]
+    $(
         $name:ident: $kind:ty = $kind_value:expr,
         default: $default:expr,
         label: $label:literal,
@@ -343,14 +345,25 @@ macro_rules! material_keys {
                 pub $name: <$kind as Kind>::File,
             )+
             // Tables last: TOML writes them after the plain keys.
-            #[serde(skip_serializing_if = "Option::is_none")]
-            pub base_color_map: Option<MapDef>,
-            #[serde(skip_serializing_if = "Option::is_none")]
-            pub normal_map: Option<MapDef>,
-            #[serde(skip_serializing_if = "Option::is_none")]
-            pub detail_map: Option<MapDef>,
-            #[serde(skip_serializing_if = "Option::is_none")]
-            pub noise_map: Option<MapDef>,
+            $(
+                #[serde(skip_serializing_if = "Option::is_none")]
+                pub $map: Option<MapDef>,
+            )+
+        }
+
+        impl MaterialDef {
+            /// The table of one map slot.
+            pub fn map_mut(&mut self, slot: MapSlot) -> &mut Option<MapDef> {
+                match slot {
+                    $(MapSlot::$map_slot => &mut self.$map,)+
+                }
+            }
+
+            pub fn map(&self, slot: MapSlot) -> &Option<MapDef> {
+                match slot {
+                    $(MapSlot::$map_slot => &self.$map,)+
+                }
+            }
         }
 
         impl Default for MaterialDef {
@@ -359,10 +372,7 @@ macro_rules! material_keys {
                 Self {
                     preset: None,
                     $($name: $default,)+
-                    base_color_map: None,
-                    normal_map: None,
-                    detail_map: None,
-                    noise_map: None,
+                    $($map: None,)+
                 }
             }
         }
@@ -375,10 +385,7 @@ macro_rules! material_keys {
         struct MaterialKeys {
             preset: Option<Preset>,
             $($name: Option<<$kind as Kind>::File>,)+
-            base_color_map: Option<MapKeys>,
-            normal_map: Option<MapKeys>,
-            detail_map: Option<MapKeys>,
-            noise_map: Option<MapKeys>,
+            $($map: Option<MapKeys>,)+
         }
 
         impl TryFrom<MaterialKeys> for MaterialDef {
@@ -392,10 +399,7 @@ macro_rules! material_keys {
                         def.$name = value;
                     }
                 )+
-                def.base_color_map = MapDef::merge("base_color_map", def.base_color_map, keys.base_color_map)?;
-                def.normal_map = MapDef::merge("normal_map", def.normal_map, keys.normal_map)?;
-                def.detail_map = MapDef::merge("detail_map", def.detail_map, keys.detail_map)?;
-                def.noise_map = MapDef::merge("noise_map", def.noise_map, keys.noise_map)?;
+                $(def.$map = MapDef::merge(stringify!($map), def.$map, keys.$map)?;)+
                 Ok(def)
             }
         }
@@ -442,10 +446,7 @@ macro_rules! material_keys {
                 MaterialDef {
                     preset: self.preset,
                     $($name: keys::$name.kind.save(&self.$name),)+
-                    base_color_map: map(&self.maps.base_color),
-                    normal_map: map(&self.maps.normal),
-                    detail_map: map(&self.maps.detail),
-                    noise_map: map(&self.maps.noise),
+                    $($map: map(&self.maps[MapSlot::$map_slot]),)+
                 }
             }
 
@@ -541,7 +542,7 @@ fn seed_wrap(m: &Material) -> bool {
     m.subsurface == Subsurface::Seed
 }
 
-material_keys! {
+with_map_slots!(material_keys {
     base_color: Rgb = Rgb { unit: false },
         default: [0.8; 3],
         label: "base colour",
@@ -670,7 +671,7 @@ material_keys! {
         label: "detail blend",
         doc: "how the detail normals combine with the normal map: reoriented normal mapping \
               (Barré-Brisebois & Hill 2012), UDN, whiteout, or the report's eq. 16",
-        shown: |m| m.maps.detail.is_some();
+        shown: |m| m.maps[MapSlot::Detail].is_some();
     energy_compensation: Flag = Flag,
         default: false,
         label: "energy compensation",
@@ -678,7 +679,7 @@ material_keys! {
               light rough microfacets scatter more than once (Kulla & Conty 2017, as Fdez-Agüera 2019)",
         shown: has_specular,
         gpu: [energy_compensation];
-}
+});
 
 #[cfg(test)]
 mod tests {

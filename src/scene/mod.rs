@@ -10,6 +10,7 @@ mod error;
 pub mod file;
 mod light;
 pub mod limits;
+pub mod map_slots;
 mod material;
 pub mod material_keys;
 mod mesh;
@@ -36,7 +37,7 @@ pub use light::{
     Environment, PointLight, Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE,
 };
 pub use material::{
-    DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, Material, MaterialMaps, SpecularModel,
+    DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, MapSlot, Material, MaterialMaps, SpecularModel,
     Subsurface,
 };
 pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};

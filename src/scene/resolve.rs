@@ -498,22 +498,21 @@ fn material(
     textures: &mut TextureRequests,
 ) -> Result<Material, SceneError> {
     let field = |key: &str| format!("materials.{name}.{key}");
-    let mut map = |key: &str, def: &Option<MapDef>, role: TextureRole| {
-        def.as_ref()
-            .map(|def| check_map(check, &field(key), def, role, textures))
-            .transpose()
-    };
     Material::resolve(
         name,
         def,
         |key, value, reason| check.invalid(&field(key), value, reason),
         || {
-            Ok(MaterialMaps {
-                base_color: map("base_color_map", &def.base_color_map, TextureRole::BaseColor)?,
-                normal: map("normal_map", &def.normal_map, TextureRole::Normal)?,
-                detail: map("detail_map", &def.detail_map, TextureRole::Normal)?,
-                noise: map("noise_map", &def.noise_map, TextureRole::Noise)?,
-            })
+            let mut maps = MaterialMaps::default();
+            for (slot, map) in maps.iter_mut() {
+                let info = slot.info();
+                *map = def
+                    .map(slot)
+                    .as_ref()
+                    .map(|def| check_map(check, &field(info.key), def, info.role, textures))
+                    .transpose()?;
+            }
+            Ok(maps)
         },
     )
 }

@@ -392,8 +392,8 @@ fn default_scene_is_a_valid_clay_scene() {
     assert_eq!(file.materials[&plasticine.name].preset, Some(Preset::Plasticine));
     assert_eq!(file.materials[&terracotta.name].preset, Some(Preset::Terracotta));
     assert_eq!(ground.maps, MaterialMaps::default());
-    assert_eq!(terracotta.maps.detail, None);
-    let detail = plasticine.maps.detail.unwrap();
+    assert_eq!(terracotta.maps[MapSlot::Detail], None);
+    let detail = plasticine.maps[MapSlot::Detail].unwrap();
     assert_eq!(scene.textures[detail.texture].name, "builtin:fingerprints");
     assert!(scene.textures.iter().all(|t| t.name.starts_with("builtin:")));
     for material in &scene.materials {
@@ -735,7 +735,7 @@ texture = "builtin:clay-lumps"
     );
     let a = &scene.materials[0].maps;
     assert_eq!(
-        a.base_color,
+        a[MapSlot::BaseColor],
         Some(MapRef {
             texture: 0,
             strength: 0.5,
@@ -752,19 +752,19 @@ texture = "builtin:clay-lumps"
         green_down: false,
     };
     assert_eq!(
-        a.normal,
+        a[MapSlot::Normal],
         Some(MapRef {
             green_down: true,
             ..defaults(1)
         })
     );
-    assert_eq!(a.detail, Some(defaults(2)));
-    assert_eq!(a.noise, Some(defaults(3)));
+    assert_eq!(a[MapSlot::Detail], Some(defaults(2)));
+    assert_eq!(a[MapSlot::Noise], Some(defaults(3)));
     assert_eq!(scene.materials[0].detail_blend, DetailBlend::Whiteout);
     let b = &scene.materials[1].maps;
-    assert_eq!(b.normal.map(|m| (m.texture, m.strength)), Some((1, 8.0)));
-    assert_eq!(b.detail.map(|m| m.texture), Some(1));
-    assert_eq!((b.base_color, b.noise), (None, None));
+    assert_eq!(b[MapSlot::Normal].map(|m| (m.texture, m.strength)), Some((1, 8.0)));
+    assert_eq!(b[MapSlot::Detail].map(|m| m.texture), Some(1));
+    assert_eq!((b[MapSlot::BaseColor], b[MapSlot::Noise]), (None, None));
     assert_eq!(scene.materials[1].detail_blend, DetailBlend::Rnm);
 }
 
@@ -920,11 +920,15 @@ fn presets_supply_every_field() {
         assert_eq!(file.materials["m"], def, "{preset:?}");
         assert_eq!(material.roughness, def.roughness as f32, "{preset:?}");
         assert_eq!(material.diffuse, def.diffuse, "{preset:?}");
-        assert!(material.maps.normal.is_some(), "{preset:?}");
-        assert!(material.maps.noise.is_some(), "{preset:?}");
-        for map in [material.maps.normal, material.maps.detail, material.maps.noise]
-            .into_iter()
-            .flatten()
+        assert!(material.maps[MapSlot::Normal].is_some(), "{preset:?}");
+        assert!(material.maps[MapSlot::Noise].is_some(), "{preset:?}");
+        for map in [
+            material.maps[MapSlot::Normal],
+            material.maps[MapSlot::Detail],
+            material.maps[MapSlot::Noise],
+        ]
+        .into_iter()
+        .flatten()
         {
             assert!(scene.textures[map.texture].name.starts_with("builtin:"));
         }
@@ -984,12 +988,12 @@ fn keys_written_in_a_table_override_its_preset() {
     assert_eq!(material.f0, preset.f0 as f32);
     assert_eq!(material.diffuse, preset.diffuse);
     let preset_detail = preset.detail_map.unwrap();
-    let detail = material.maps.detail.unwrap();
+    let detail = material.maps[MapSlot::Detail].unwrap();
     assert_eq!(detail.strength, 0.25);
     assert_eq!(detail.uv_scale.to_array().map(f64::from), preset_detail.uv_scale);
-    let normal = material.maps.normal.unwrap();
+    let normal = material.maps[MapSlot::Normal].unwrap();
     assert_eq!(normal.strength, preset.normal_map.unwrap().strength as f32);
-    assert_eq!(material.maps.base_color.unwrap().strength, 1.0);
+    assert_eq!(material.maps[MapSlot::BaseColor].unwrap().strength, 1.0);
 
     // Without a preset the same keys start from the defaults.
     let scene = parse(&format!("{CUBE}material = \"m\"\n[materials.m]\nroughness = 0.2\n")).unwrap();

@@ -48,8 +48,8 @@ pub enum TextureRole {
     BaseColor,
     /// Tangent-space normals: linear data, 8 or 16 bits.
     Normal,
-    /// Scalar noise: linear data.
-    Noise,
+    /// Linear data: noise and the property maps.
+    Data,
 }
 
 /// A decoded 2D texture: tightly packed rows, top row first, RGBA.
@@ -298,7 +298,7 @@ mod tests {
         // Grey without alpha gets alpha 1.
         let grey = dir.0.join("grey.png");
         ImageBuffer::from_pixel(2, 2, image::Luma([77u8])).save(&grey).unwrap();
-        let noise = load_texture(&grey, TextureRole::Noise).unwrap();
+        let noise = load_texture(&grey, TextureRole::Data).unwrap();
         assert_eq!(noise.pixels, [77, 77, 77, 255].repeat(4));
     }
 
@@ -372,7 +372,7 @@ mod tests {
         let rgba: ImageBuffer<Rgba<f32>, Vec<f32>> =
             ImageBuffer::from_fn(4, 4, |x, y| Rgba([x as f32, y as f32, 1e4, 0.5]));
         rgba.save(&exr).unwrap();
-        let texture = load_texture(&exr, TextureRole::Noise).unwrap();
+        let texture = load_texture(&exr, TextureRole::Data).unwrap();
         assert_eq!(texture.format, TexelFormat::Rgba32Float);
         let texels: Vec<f32> = bytemuck::pod_collect_to_vec(&texture.pixels);
         assert_eq!(texels, *rgba.as_raw());
@@ -422,7 +422,7 @@ mod tests {
         );
         let empty = dir.0.join("empty.jpg");
         std::fs::write(&empty, "").unwrap();
-        assert!(message(&empty, TextureRole::Noise).starts_with("not an image"));
+        assert!(message(&empty, TextureRole::Data).starts_with("not an image"));
     }
 
     #[test]
@@ -547,7 +547,7 @@ mod tests {
             for length in [1, 16, 100, 4000] {
                 variants.push((0..length).map(|_| next() as u8).collect());
             }
-            let roles = [TextureRole::BaseColor, TextureRole::Normal, TextureRole::Noise];
+            let roles = [TextureRole::BaseColor, TextureRole::Normal, TextureRole::Data];
             for (variant, role) in variants.iter().zip(roles.iter().cycle()) {
                 std::fs::write(&path, variant).unwrap();
                 match load_texture(&path, *role) {

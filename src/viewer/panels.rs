@@ -17,8 +17,9 @@ use crate::render::exposure::PERCENTILE;
 use crate::render::gpu_scene::MAX_POINT_LIGHTS;
 use crate::render::DebugView;
 pub use crate::scene::file::file_name;
+use crate::scene::map_slots::{SlotInfo, SLOTS};
 use crate::scene::material_keys::{Edit, MAP_STRENGTH, MAX_UV_SCALE};
-use crate::scene::{Environment, MapRef, Material, PointLight, Preset, Reflection, ReflectionMode, Scene};
+use crate::scene::{Environment, MapRef, Material, PointLight, Preset, Reflection, ReflectionMode, Scene, TextureRole};
 
 /// Width of the left panel in points when the viewer opens; it can be dragged wider or
 /// narrower, or collapsed.
@@ -541,22 +542,16 @@ fn material_fields(ui: &mut Ui, m: &mut Material) {
         }
     }
     // A map's texture is fixed by the scene file; its parameters are live.
-    let maps = &mut m.maps;
-    let slots = [
-        &mut maps.base_color,
-        &mut maps.normal,
-        &mut maps.detail,
-        &mut maps.noise,
-    ];
-    for ((name, words), map) in MAPS.into_iter().zip(slots) {
+    for (slot, map) in m.maps.iter_mut() {
         if let Some(map) = map {
-            map_fields(ui, name, words, map);
+            map_fields(ui, slot.info(), map);
         }
     }
 }
 
-/// A map's live parameters; `name` is the file's table (`normal_map`), `words` the label.
-fn map_fields(ui: &mut Ui, name: &str, words: &str, map: &mut MapRef) {
+/// A map's live parameters.
+fn map_fields(ui: &mut Ui, slot: &SlotInfo, map: &mut MapRef) {
+    let (name, words) = (slot.key, slot.label);
     number(
         ui,
         &format!("{words} strength"),
@@ -588,7 +583,7 @@ fn map_fields(ui: &mut Ui, name: &str, words: &str, map: &mut MapRef) {
         ui.add(egui::DragValue::new(&mut map.uv_offset.y).speed(0.01));
     });
     ui.end_row();
-    if name != "base_color_map" && name != "noise_map" {
+    if slot.role == TextureRole::Normal {
         ui.label(format!("{words} green")).on_hover_text(format!(
             "{name}.green: which way the map's green channel points (up: OpenGL, down: DirectX)"
         ));
@@ -807,14 +802,6 @@ fn environment_section(ui: &mut Ui, scene: &mut Scene) {
     });
 }
 
-/// The maps a material can take an image for: the file's key and the label.
-const MAPS: [(&str, &str); 4] = [
-    ("base_color_map", "colour map"),
-    ("normal_map", "normal map"),
-    ("detail_map", "detail map"),
-    ("noise_map", "noise map"),
-];
-
 /// A file for the selected material's maps, the environment, or a new object. A path field:
 /// no native file dialog works under Xvfb without a desktop portal.
 fn files_section(ui: &mut Ui, p: &mut Panel) {
@@ -833,11 +820,11 @@ fn files_section(ui: &mut Ui, p: &mut Panel) {
     ui.add_enabled_ui(!path.is_empty(), |ui| {
         ui.label(format!("use it for {material}'s"));
         ui.horizontal_wrapped(|ui| {
-            for (map, words) in MAPS {
-                if ui.button(words).clicked() {
+            for slot in SLOTS {
+                if ui.button(slot.label).clicked() {
                     actions.rebuild = Some(Rebuild::Texture {
                         material: material.clone(),
-                        map,
+                        map: slot.key,
                         path: path.clone(),
                     });
                 }

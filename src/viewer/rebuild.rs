@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 
 use crate::scene::file::{EnvironmentDef, MapDef, MaterialDef, ObjectDef, SceneFile};
-use crate::scene::{Preset, Scene};
+use crate::scene::{MapSlot, Preset, Scene};
 
 /// A file-level edit the panel asks for.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -52,13 +52,7 @@ pub fn rebuild(scene: &Scene, edit: &Rebuild) -> Result<Scene> {
                 .materials
                 .get_mut(name)
                 .with_context(|| format!("no material {name}"))?;
-            let slot = match *map {
-                "base_color_map" => &mut def.base_color_map,
-                "normal_map" => &mut def.normal_map,
-                "detail_map" => &mut def.detail_map,
-                "noise_map" => &mut def.noise_map,
-                other => anyhow::bail!("no map {other}"),
-            };
+            let slot = def.map_mut(MapSlot::from_key(map).with_context(|| format!("no map {map}"))?);
             let texture = typed(path)?;
             *slot = Some(match slot.take() {
                 Some(old) => MapDef { texture, ..old },
@@ -66,27 +60,11 @@ pub fn rebuild(scene: &Scene, edit: &Rebuild) -> Result<Scene> {
             });
         }
         Rebuild::EnvironmentMap { path } => {
-            let (reflection, samples, seed_strength) = match &file.environment {
-                EnvironmentDef::None => (None, None, None),
-                EnvironmentDef::Uniform {
-                    reflection,
-                    samples,
-                    seed_strength,
-                    ..
-                }
-                | EnvironmentDef::Studio {
-                    reflection,
-                    samples,
-                    seed_strength,
-                    ..
-                }
-                | EnvironmentDef::Map {
-                    reflection,
-                    samples,
-                    seed_strength,
-                    ..
-                } => (*reflection, *samples, *seed_strength),
-            };
+            let (reflection, samples, seed_strength) = file
+                .environment
+                .reflection_keys_mut()
+                .map(|(reflection, samples, seed_strength)| (*reflection, *samples, *seed_strength))
+                .unwrap_or_default();
             file.environment = EnvironmentDef::Map {
                 path: typed(path)?.into(),
                 intensity: None,
@@ -124,7 +102,7 @@ mod tests {
     fn a_preset_brings_its_maps_and_a_bad_file_is_an_error_naming_it() {
         let scene = Scene::default_scene();
         let ring = scene.materials.iter().position(|m| m.name == "terracotta").unwrap();
-        assert!(scene.materials[ring].maps.detail.is_none());
+        assert!(scene.materials[ring].maps[MapSlot::Detail].is_none());
         let edit = Rebuild::Preset {
             material: "terracotta".into(),
             preset: Some(Preset::Plasticine),
@@ -132,7 +110,10 @@ mod tests {
         let rebuilt = rebuild(&scene, &edit).unwrap();
         let m = &rebuilt.materials[ring];
         assert_eq!((m.preset, m.roughness), (Some(Preset::Plasticine), 0.6));
-        assert!(m.maps.detail.is_some(), "the plasticine's fingerprints come with it");
+        assert!(
+            m.maps[MapSlot::Detail].is_some(),
+            "the plasticine's fingerprints come with it"
+        );
         assert_eq!(rebuilt.camera, scene.camera);
 
         let dir = std::env::temp_dir().join(format!("argil-rebuild-{}", std::process::id()));

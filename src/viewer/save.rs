@@ -112,7 +112,7 @@ pub fn save(scene: &Scene, document: &Document, to: &Path, overwrite: bool) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Environment, PointLight, Reflection};
+    use crate::scene::{Environment, MapSlot, PointLight, Reflection};
     use glam::{Vec2, Vec3};
 
     use crate::scene::tests::TempDir as Folder;
@@ -175,7 +175,7 @@ mod tests {
         let ball = material(&mut scene, "plasticine");
         ball.base_color = Vec3::from_array(preset.base_color.map(|c| c as f32));
         let ring = material(&mut scene, "terracotta");
-        ring.maps.normal.as_mut().unwrap().uv_scale = Vec2::new(8.0, 4.0);
+        ring.maps[MapSlot::Normal].as_mut().unwrap().uv_scale = Vec2::new(8.0, 4.0);
         // Not in the file, and equal to the preset: not written either.
         ring.roughness = 0.9;
         save(&scene, &document, &path, false).unwrap();
