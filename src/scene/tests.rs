@@ -798,6 +798,17 @@ fn detail_blend_names() {
 }
 
 #[test]
+fn energy_compensation_is_a_flag_off_by_default_and_saved() {
+    let read = |keys: &str| parse(&format!("{CUBE}material = \"m\"\n[materials.m]\n{keys}\n")).unwrap();
+    assert!(!read("").materials[0].energy_compensation);
+    let on = read("energy_compensation = true");
+    assert!(on.materials[0].energy_compensation);
+    assert!(on.to_file().materials["m"].energy_compensation);
+    let message = error(&format!("{CUBE}[materials.m]\nenergy_compensation = \"yes\"\n"));
+    assert!(message.contains("line 4") && message.contains("boolean"), "{message}");
+}
+
+#[test]
 fn map_errors_name_the_field() {
     let normal = |keys: &str| {
         error(&format!(
