@@ -16,9 +16,9 @@ fn with_antialiasing(text: &str, msaa: u32, specular: bool) -> Scene {
     ))
 }
 
-/// Without anti-aliasing the default scene is the frame from before it: the golden
-/// `default-scene-no-antialiasing.png` is `default-scene.png` as it was rendered then,
-/// compared with the goldens' tolerance (tests/common/mod.rs).
+/// Without anti-aliasing the default scene is drawn with one sample and no roughness
+/// widening: the golden `default-scene-no-antialiasing.png`, compared with the goldens'
+/// tolerance (tests/common/mod.rs).
 #[test]
 fn without_antialiasing_the_frame_is_the_one_from_before() {
     let mut scene = Scene::default_scene();

@@ -29,8 +29,10 @@ vec3 env_cone_radiance(vec3 d, float sin_alpha) {
 // light on that side, reflected by its albedo; what lights that side is not occluded in
 // turn). Spheres combine by multiplying their visibilities, 1 − π F ΔL / E(n): exact for
 // disjoint caps of a uniform environment taking little each, and overlapping caps (the
-// torus's neighbouring spheres) count their overlap twice. Spheres of the object p is on,
-// or that p is inside, take nothing: the object's own occlusion is GTAO's.
+// torus's neighbouring spheres) count their overlap twice. Spheres of the object p is on
+// take nothing: the object's own occlusion is GTAO's. A point inside another object's
+// sphere (the ground under the torus's spheres, which reach below its tube) sees it as
+// touching, as on its surface, so that the occlusion is continuous there.
 vec3 object_occlusion(vec3 p, vec3 n, uint self_index) {
     vec3 factor = vec3(1.0);
     if (!OBJECT_OCCLUSION || env_kind() == ENV_NONE) return factor;
@@ -39,10 +41,10 @@ vec3 object_occlusion(vec3 p, vec3 n, uint self_index) {
         Occluder o = frame.occluders[j];
         vec3 to_centre = o.sphere.xyz - p;
         float d2 = dot(to_centre, to_centre);
-        if (uint(o.albedo.w) == self_index || d2 <= o.sphere.w * o.sphere.w) continue;
+        if (uint(o.albedo.w) == self_index || d2 == 0.0) continue;
         float inv_d = inversesqrt(d2);
         vec3 w = to_centre * inv_d;
-        float sin_alpha = o.sphere.w * inv_d;
+        float sin_alpha = min(o.sphere.w * inv_d, 1.0);
         float f = sphere_cap_irradiance(dot(n, w), sin_alpha);
         if (f <= 0.0) continue;
         vec3 hidden = env_cone_radiance(w, sin_alpha) - o.albedo.rgb * env_convolve(-w, SH_IRRADIANCE_OVER_PI);

@@ -155,7 +155,8 @@ pub struct ObjectPush {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 3],
     pub material_index: u32,
-    /// Its index in the scene's objects: its own occluders do not occlude it.
+    /// The index of its file object's first part (`Object::first_part`): the occluders of
+    /// its own file object do not occlude it.
     pub object_index: u32,
     pub pad: [u32; 2],
 }
@@ -174,7 +175,7 @@ impl ObjectPush {
                 normal.z_axis.extend(0.0).to_array(),
             ],
             material_index: object.material as u32,
-            object_index: index as u32,
+            object_index: object.first_part(index) as u32,
             pad: [0; 2],
         }
     }

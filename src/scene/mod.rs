@@ -75,6 +75,13 @@ impl Object {
     pub fn model_matrix(&self) -> Mat4 {
         Mat4::from_translation(self.position) * Mat4::from_scale(Vec3::splat(self.scale))
     }
+
+    /// The index in `Scene::objects` of the first part of its file object, object `index`
+    /// being this one (a model's parts follow each other): the parts of one file object
+    /// do not occlude each other's environment light, as one object does not.
+    pub fn first_part(&self, index: usize) -> usize {
+        index - self.part
+    }
 }
 
 /// A validated scene with its meshes loaded.

@@ -21,7 +21,8 @@ pub struct Occluder {
     pub radius: f32,
     /// The object's material's base colour: what the sphere reflects of the light it receives.
     pub albedo: Vec3,
-    /// The object it stands for, which it does not occlude.
+    /// The first part of the file object it stands for (`Object::first_part`), whose
+    /// parts it does not occlude.
     pub object: usize,
 }
 
@@ -71,7 +72,7 @@ impl Scene {
                     centre,
                     radius,
                     albedo,
-                    object: i,
+                    object: o.first_part(i),
                 };
                 match self.meshes[o.mesh].name.as_str() {
                     "builtin:plane" => Vec::new(),
@@ -141,5 +142,14 @@ position = [0.0, 1.0, -2.0]
         }
         let off = Scene::from_toml(&text.replace("objects = true", "objects = false"), "s", Path::new(""));
         assert!(off.expect("scene").occluders().is_empty());
+
+        // The torus and the cube as the two parts of one model: the cube's sphere is the
+        // model's, and does not occlude the torus.
+        let mut model = scene;
+        model.objects[3].part = 1;
+        let spheres = model.occluders();
+        assert!(spheres.iter().all(|s| s.object != 3));
+        assert_eq!(spheres.iter().filter(|s| s.object == 2).count(), TORUS_SPHERES + 1);
+        assert_eq!(crate::render::gpu_scene::ObjectPush::new(&model.objects[3], 3).object_index, 2);
     }
 }
