@@ -103,6 +103,7 @@ vec4 term(Tuple t) {
     case 25u: return vec4(plane_point_irradiance(a.x, a.y));
     case 26u: return vec4(specular_energy_compensation(a.x, t.d.rgb), 0.0);
     case 27u: return vec4(sphere_cap_irradiance(a.x, a.y));
+    case 28u: return vec4(micro_shadowing(a.x, a.y));
     }
     return vec4(0.0);
 }

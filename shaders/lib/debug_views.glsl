@@ -68,10 +68,11 @@ vec3 shadow_map_view(vec3 p, vec3 face_normal) {
 // What debug view `view` shows at a surface point; `shaded` is the normal result there.
 // `n` is the shading normal, `n_geometric` the surface's, `normal`, `tangent` and
 // `curvature` the interpolated vertex attributes (curvature in 1/world length),
-// `environment` the environment's term, `visibility` the ambient occlusion's.
+// `environment` the environment's term, `visibility` the ambient occlusion's, `ao` the
+// occlusion map's (point_lights_radiance).
 vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
                          vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 environment,
-                         vec3 shaded, float curvature, float visibility) {
+                         vec3 shaded, float curvature, float visibility, float ao) {
     vec3 face_normal = cross(dFdx(p), dFdy(p));
     if (view == DEBUG_VIEW_NORMALS) return direction_color(n);
     if (view == DEBUG_VIEW_TANGENTS) return direction_color(tangent.xyz);
@@ -97,22 +98,22 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         ShadingModels diffuse_only = models;
         diffuse_only.specular = MODEL_NONE;
         diffuse_only.subsurface = SUBSURFACE_NONE;
-        return point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false);
+        return point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false, ao);
     }
     if (view == DEBUG_VIEW_SPECULAR) {
         ShadingModels specular_only = models;
         specular_only.diffuse = MODEL_NONE;
         specular_only.subsurface = SUBSURFACE_NONE;
-        return point_lights_radiance(specular_only, m, n, n_geometric, v, p, curvature, false);
+        return point_lights_radiance(specular_only, m, n, n_geometric, v, p, curvature, false, ao);
     }
     if (view == DEBUG_VIEW_SUBSURFACE) {
         // The subsurface term alone: the report's wrap, or what a redistributing model adds
         // to the diffuse lobe, negative (black) where it takes light away.
         ShadingModels diffuse_only = models;
         diffuse_only.specular = MODEL_NONE;
-        vec3 with_subsurface = point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false);
+        vec3 with_subsurface = point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false, ao);
         diffuse_only.subsurface = SUBSURFACE_NONE;
-        return with_subsurface - point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false);
+        return with_subsurface - point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false, ao);
     }
     if (view == DEBUG_VIEW_ENVIRONMENT) return environment;
     if (view == DEBUG_VIEW_OCCLUSION) return vec3(visibility);

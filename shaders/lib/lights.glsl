@@ -4,6 +4,7 @@
 #include "scene_data.glsl"
 #include "shading.glsl"
 #include "shadows.glsl"
+#include "occlusion.glsl"
 
 // Unit direction l from p towards point light i, and its irradiance on a surface facing
 // it, E⊥ = I / d² (the scene format's radiant intensity I).
@@ -15,13 +16,15 @@ vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
 }
 
 // Radiance from the point lights through brdf_cos with the given models and material, or
-// through the report's composition (brdf_cos_seed) when `seed_horizon`.
+// through the report's composition (brdf_cos_seed) when `seed_horizon`; each light
+// micro-shadowed by the occlusion map's visibility `ao` (1 without the map: unchanged).
 vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec3 p,
-                           float curvature, bool seed_horizon) {
+                           float curvature, bool seed_horizon, float ao) {
     vec3 radiance = vec3(0.0);
     for (uint i = 0; i < frame.counts.x; ++i) {
         vec3 l;
-        vec3 irradiance = point_light_irradiance(i, p, l) * point_light_shadow(i, p, gl_FragCoord.xy);
+        vec3 irradiance = point_light_irradiance(i, p, l) * point_light_shadow(i, p, gl_FragCoord.xy)
+                        * micro_shadowing(dot(n, l), ao);
         radiance += irradiance * (seed_horizon ? brdf_cos_seed(models, m, n, v, l, curvature)
                                                : brdf_cos(models, m, n, n_geometric, v, l, curvature));
     }

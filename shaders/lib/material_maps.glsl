@@ -97,7 +97,8 @@ Material mapped_properties(Material m, vec2 uv[MAP_COUNT]) {
     return m;
 }
 
-// The occlusion map's visibility of the environment's light; 1 without the map.
+// The occlusion map's visibility: of the environment's light, and the point lights'
+// micro-shadowing (lights.glsl); 1 without the map.
 float mapped_occlusion(Material m, vec2 uv) {
     if (!HAS_OCCLUSION_MAP) return 1.0;
     return map_factor(occlusion_map_texture, MAP_OCCLUSION_CHANNEL, m.map_strength[MAP_OCCLUSION], uv);

@@ -1,5 +1,6 @@
 // Ambient occlusion of the environment's light: GTAO's slice integral and multi-bounce
-// fit, and the specular occlusion derived from the visibility. Pure functions, shared by
+// fit, and the specular occlusion derived from the visibility; the micro-shadowing of a
+// light by the occlusion map's visibility. Pure functions, shared by
 // shaders/gtao.comp, the forward pass and the verify harness; the f64 twins are in
 // src/brdf/occlusion.rs.
 #ifndef ARGIL_OCCLUSION_GLSL
@@ -26,6 +27,17 @@ vec3 gtao_multi_bounce(float x, vec3 albedo) {
 float specular_occlusion(float n_dot_v, float x, float alpha) {
     float exponent = exp2(-16.0 * clamp(alpha, 0.0, 1.0) - 1.0);
     return clamp(pow(max(n_dot_v, 0.0) + x, exponent) - 1.0 + x, 0.0, 1.0);
+}
+
+// Micro-shadowing (Filament, after Chan 2018 "Material advances in Call of Duty: WWII"):
+// the map's visibility ao read as a cone of cos² = 1 − ao around n, so a light at n·l is
+// weighted saturate(n·l / √(1 − ao))². ao ≥ 1 (no cavity, an infinite aperture) leaves the
+// light as it is, past the terminator too, so a map of 1 is no map.
+float micro_shadowing(float n_dot_l, float ao) {
+    float closed = 1.0 - ao;
+    if (closed <= 0.0) return 1.0;
+    float s = clamp(n_dot_l * inversesqrt(closed), 0.0, 1.0);
+    return s * s;
 }
 
 // Snyder 1996, the sphere's form factor with the horizon: (1/π) ∫ max(n·l, 0) dω over the

@@ -1,6 +1,7 @@
 //! Ambient occlusion of the environment's light in f64: the twins of
 //! `shaders/lib/occlusion.glsl` (GTAO's slice integral and multi-bounce fit, and the
-//! specular occlusion derived from it).
+//! specular occlusion derived from it, and the micro-shadowing of lights by the occlusion
+//! map).
 
 /// GTAO's inner integral over one slice (Jimenez et al. 2016, "Practical Realtime
 /// Strategies for Accurate Indirect Occlusion", eq. 7): ∫ cos(θ − γ) |sin θ| dθ from the
@@ -30,6 +31,20 @@ pub fn gtao_multi_bounce(x: f64, albedo: [f64; 3]) -> [f64; 3] {
 pub fn specular_occlusion(n_dot_v: f64, x: f64, alpha: f64) -> f64 {
     let exponent = (-16.0 * alpha.clamp(0.0, 1.0) - 1.0).exp2();
     ((n_dot_v.max(0.0) + x).powf(exponent) - 1.0 + x).clamp(0.0, 1.0)
+}
+
+/// Micro-shadowing (Filament, after Chan 2018, "Material advances in Call of Duty: WWII"):
+/// the occlusion map's visibility `ao` taken as a cone around the normal of cos² = 1 − ao
+/// (aperture 1/√(1 − ao)), a light at `n_dot_l` weighted saturate(n·l · aperture)². At
+/// ao ≥ 1 the aperture is infinite and the light is left as it is (1, past the terminator
+/// too: a map of 1 is no map); at ao = 0, (n·l)².
+pub fn micro_shadowing(n_dot_l: f64, ao: f64) -> f64 {
+    let closed = 1.0 - ao;
+    if closed <= 0.0 {
+        return 1.0;
+    }
+    let s = (n_dot_l / closed.sqrt()).clamp(0.0, 1.0);
+    s * s
 }
 
 #[cfg(test)]
@@ -82,6 +97,28 @@ mod tests {
                 let so = specular_occlusion(n_dot_v, 0.4, alpha);
                 assert!((0.0..=1.0).contains(&so));
             }
+        }
+    }
+
+    /// Micro-shadowing is (n·l)² with nothing open, 1 where the light is inside the open
+    /// cone, grows with n·l and ao, and tends to 1 as ao → 1, where it is exactly 1.
+    #[test]
+    fn micro_shadowing_opens_with_visibility() {
+        for n_dot_l in [0.0, 0.1, 0.5, 1.0] {
+            assert_eq!(micro_shadowing(n_dot_l, 0.0), n_dot_l * n_dot_l);
+            assert_eq!(micro_shadowing(n_dot_l, 1.0), 1.0);
+        }
+        assert_eq!(micro_shadowing(-0.2, 0.5), 0.0);
+        // cos² of the cone is 1 − ao: at ao = 0.75 the light is unshadowed above n·l = 0.5.
+        assert_eq!(micro_shadowing(0.6, 0.75), 1.0);
+        assert!((micro_shadowing(0.25, 0.75) - 0.25).abs() < 1e-15);
+        assert!((micro_shadowing(0.3, 1.0 - 1e-12) - 1.0).abs() < 1e-15);
+        let mut previous = 0.0;
+        for i in 0..=100 {
+            let ao = f64::from(i) / 100.0;
+            let value = micro_shadowing(0.3, ao);
+            assert!(value >= previous && value <= micro_shadowing(0.4, ao), "{ao}");
+            previous = value;
         }
     }
 }

@@ -367,7 +367,9 @@ impl<'a> Integrator<'a> {
         for depth in 0..self.max_depth {
             let s = self.shading(&surface, v, exit);
             // The occlusion map scales the environment's light at the first surface, as
-            // the forward pass applies it.
+            // the forward pass applies it. Not the point lights': the forward pass's
+            // micro-shadowing stands for geometry finer than a texel, which the reference
+            // does not have, so the ground truth leaves it out.
             let ambient = if depth == 0 { surface.occlusion } else { 1.0 };
             radiance += throughput * self.direct_light(&s, ambient, rng, &mut rays);
 

@@ -112,8 +112,8 @@ impl ForwardConstants {
             MapSlot::Noise => sampled(&maps[slot], reflection == Some(ReflectionMode::Seed)),
             MapSlot::BaseColor | MapSlot::Metallic => sampled(&maps[slot], true),
             MapSlot::Roughness => sampled(&maps[slot], models.specular != SpecularModel::None),
-            // The environment's light is all it occludes.
-            MapSlot::Occlusion => sampled(&maps[slot], !matches!(environment, Environment::None)),
+            // It occludes the environment's light and micro-shadows the point lights.
+            MapSlot::Occlusion => sampled(&maps[slot], true),
             MapSlot::Scatter => sampled(&maps[slot], models.subsurface != Subsurface::None),
         });
         Self {

@@ -19,7 +19,7 @@ use crate::brdf::geometry::{
     g2_smith_separable_ggx, g2_v_cavity, lambda_beckmann, lambda_ggx,
 };
 use crate::brdf::object_occlusion::{sphere_cap_irradiance, sphere_cap_partial_terms};
-use crate::brdf::occlusion::{gtao_multi_bounce, gtao_slice_visibility, specular_occlusion};
+use crate::brdf::occlusion::{gtao_multi_bounce, gtao_slice_visibility, micro_shadowing, specular_occlusion};
 use crate::brdf::shading::shadow_terminator;
 use crate::brdf::specular::spec_blinn_phong;
 use crate::brdf::subsurface::{wrap_energy_conserving_sh_kernel, PreintegratedTable};
@@ -845,6 +845,29 @@ pub static TERMS: &[TermSpec] = &[
             bound: sphere_cap_rounding,
             reason: SPHERE_CAP_ROUNDING,
         }),
+        promise: None,
+    },
+    TermSpec {
+        name: "micro_shadowing",
+        equation: "Filament, after Chan 2018",
+        arguments: &["n·l", "ao"],
+        colour: None,
+        channels: 1,
+        cap: UNIT,
+        tolerance: FP32_ARITHMETIC,
+        lighting_weight: false,
+        eval: |t| scalar(micro_shadowing(f64::from(t.a[0]), f64::from(t.a[1]))),
+        sample: |rng, _| scalars([sample_signed_cosine(rng), rng.uniform(), 0.0, 0.0]),
+        // Nothing open (ao = 0), nearly and fully open (the infinite aperture), outside
+        // [0, 1], at the cone's edge n·l = √(1 − ao) and on both sides of the horizon.
+        stress: || {
+            let mut out = grid(&[STRESS_COSINES, &[-0.5, 0.0, DENORMAL, 1e-7, 0.5, 0.75, 0.99999994, 1.0, 1.5]]);
+            for ao in [0.0f32, 0.19, 0.75, 0.96] {
+                out.extend(grid(&[&[(1.0 - ao).sqrt()], &[ao]]));
+            }
+            out
+        },
+        rounding: None,
         promise: None,
     },
 ];
