@@ -76,13 +76,14 @@ void main() {
     if (OBJECT_OCCLUSION) occlusion.rgb *= object_occlusion(in_world_position, n, object.object_index);
     // The occlusion map's baked visibility multiplies the environment's light, occluded by
     // the screen-space visibility already, as glTF 2.0 applies it; the point lights it
-    // micro-shadows (lights.glsl).
+    // micro-shadows (lights.glsl) where the material asks.
     float map_visibility = mapped_occlusion(m, in_map_uv[MAP_OCCLUSION]);
+    float light_visibility = m.micro_shadowing != 0.0 ? map_visibility : 1.0;
     vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_map_uv[MAP_NOISE]),
                                          gl_FragCoord.xy, frame.counts.z, occlusion)
                        * map_visibility;
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
-                                          seed_horizon, map_visibility) + environment;
+                                          seed_horizon, light_visibility) + environment;
     if (models.diffuse != DIFFUSE_NONE) {
         // The bounced light, gathered by a Lambertian lobe.
         radiance += m.base_color.rgb / PI * ground_bounce_irradiance(in_world_position, n);
@@ -92,6 +93,6 @@ void main() {
     if (debug_view != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(debug_view, models, m, n, n_geometric, v, in_world_position,
                                                in_normal, in_uv, in_tangent, environment, radiance, in_curvature,
-                                               visibility, map_visibility);
+                                               visibility, light_visibility);
     }
 }

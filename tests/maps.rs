@@ -336,18 +336,22 @@ roughness = 0.4
 /// of the GPU's n·l from its interpolated f32 position and adds a few ulp of inversesqrt
 /// (measured: 1.5e-6); a factor not squared, or the cone's edge misplaced, is off by
 /// percents.
-/// A map of 1 leaves the frame bit for bit as without a map.
+/// A map of 1 leaves the frame bit for bit as without a map, and so does any map with
+/// `micro_shadowing` off, the default (no environment here).
 #[test]
 fn the_occlusion_map_micro_shadows_the_point_lights() {
     let dir = temp_dir("micro");
     write_png(&dir.join("grey.png"), |_| [128; 3]);
     write_png(&dir.join("white.png"), |_| [255; 3]);
-    let map = |texture: &str| format!("[materials.m.occlusion_map]\ntexture = \"{texture}\"\n");
+    let unflagged = |texture: &str| format!("[materials.m.occlusion_map]\ntexture = \"{texture}\"\n");
+    let map = |texture: &str| format!("micro_shadowing = true\n{}", unflagged(texture));
     let (width, height) = MICRO_SIZE;
     let plain = common::render(&micro_plane("", &dir), width, height);
-    let white = common::render(&micro_plane(&map("white.png"), &dir), width, height);
-    let differing = white.hdr.iter().zip(&plain.hdr).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
-    assert_eq!(differing, 0, "an occlusion map of 1 changed {differing} channels");
+    for (name, text) in [("a map of 1", map("white.png")), ("micro_shadowing off", unflagged("grey.png"))] {
+        let frame = common::render(&micro_plane(&text, &dir), width, height);
+        let differing = frame.hdr.iter().zip(&plain.hdr).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+        assert_eq!(differing, 0, "{name} changed {differing} channels");
+    }
 
     let scene = micro_plane(&map("grey.png"), &dir);
     let grey = common::render(&scene, width, height);

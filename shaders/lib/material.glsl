@@ -18,7 +18,7 @@ struct Material {
     float wrap_width;
     float metallic;       // 0 dielectric, 1 metal (glTF 2.0 metallic-roughness)
     float energy_compensation; // 1: the specular lobe is energy-compensated (environment.glsl)
-    float pad2;
+    float micro_shadowing; // 1: the occlusion map micro-shadows the point lights (lights.glsl)
     // Material maps (material_maps.glsl), by the slot indices of src/scene/map_slots.rs.
     vec4 map_uv[MAP_COUNT];          // xy scale, zw offset: uv · scale + offset
     float map_strength[MAP_COUNT];

@@ -113,7 +113,7 @@ gpu_struct! {
         pub wrap_width: f32,
         pub metallic: f32,
         pub energy_compensation: f32,
-        pub pad2: f32,
+        pub micro_shadowing: f32,
         pub map_uv: [[f32; 4]; MAP_COUNT],
         pub map_strength: [f32; MAP_COUNT],
         pub green_down: [u32; 4],

@@ -119,11 +119,12 @@ macro_rules! with_map_slots {
                 Occlusion {
                     key: occlusion_map, label: "occlusion map", glsl: "MAP_OCCLUSION",
                     role: Data, channel: R,
-                    summary: "baked ambient occlusion of the environment's light, micro-shadowing the point \
-                              lights (glTF 2.0's occlusion, red channel)",
+                    summary: "baked ambient occlusion of the environment's light, and of the point lights \
+                              with `micro_shadowing` (glTF 2.0's occlusion, red channel)",
                     doc: "the environment's light is multiplied by `ao = mix(1, map, strength)`, with the \
-                          screen-space occlusion's visibility; each point light is micro-shadowed (Filament's \
-                          form of Chan 2018): multiplied by `saturate(n·l / √(1 − ao))²`, 1 at `ao = 1`. \
+                          screen-space occlusion's visibility; with `micro_shadowing`, each point light is \
+                          micro-shadowed (Filament's form of Chan 2018): multiplied by \
+                          `saturate(n·l / √(1 − ao))²`, 1 at `ao = 1`. \
                           `argil reference` applies `ao` to the environment's light only: micro-shadowing \
                           approximates geometry finer than a texel, which the reference does not have, so it \
                           stays out of the ground truth"

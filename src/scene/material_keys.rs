@@ -679,6 +679,13 @@ with_map_slots!(material_keys {
               light rough microfacets scatter more than once (Kulla & Conty 2017, as Fdez-Agüera 2019)",
         shown: has_specular,
         gpu: [energy_compensation];
+    micro_shadowing: Flag = Flag,
+        default: false,
+        label: "micro-shadowing",
+        doc: "the occlusion map also shadows the point lights: each is multiplied by \
+              saturate(n·l / √(1 − ao))² (Filament, after Chan 2018), for cavities finer than a texel",
+        shown: |m| m.maps[MapSlot::Occlusion].is_some(),
+        gpu: [micro_shadowing];
 });
 
 #[cfg(test)]

@@ -102,6 +102,7 @@ fn minimal_scene_gets_the_documented_defaults() {
             horizon: Horizon::Smooth,
             detail_blend: DetailBlend::Rnm,
             energy_compensation: false,
+            micro_shadowing: false,
             maps: MaterialMaps::default(),
         }]
     );
