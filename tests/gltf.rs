@@ -540,9 +540,10 @@ fn bad_models_are_clear_errors() {
 
 /// A model's materials are argil materials: the base colour factor and texture, the
 /// metallic and roughness factors (both glTF's roughness and argil's are perceptual, α =
-/// roughness²) and the normal texture with its scale. The model draws bit for bit as its
-/// geometry in OBJ files with those materials written as tables; what is not used yet is
-/// named once per model.
+/// roughness²) and their one texture as `roughness_map` and `metallic_map`, the normal
+/// texture with its scale and the occlusion texture with its strength (clamped to argil's
+/// range, and named in a warning). The model draws bit for bit as its geometry in OBJ
+/// files with those materials written as tables.
 #[test]
 fn a_model_brings_its_materials() {
     let dir = temp_dir("materials");
@@ -554,12 +555,17 @@ fn a_model_brings_its_materials() {
         image::Rgba([128 + 12 * x as u8, 128 - 10 * y as u8, 230, 255])
     });
     normals.save(dir.join("normals.png")).expect("write normals");
+    // Occlusion in red, roughness in green, metallic in blue, each varying on its own.
+    let orm = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([255 - 20 * y as u8, 60 + 24 * x as u8, 30 * ((x + y) % 8) as u8, 255])
+    });
+    orm.save(dir.join("orm.png")).expect("write orm");
 
     let primitives = [octahedron(), tetrahedron()];
     let (nodes, worlds) = nodes();
     let mut model = Model::new(&primitives, nodes, &[0, 1]);
-    model.json["images"] = json!([{"uri": "albedo%20map.png"}, {"uri": "normals.png"}]);
-    model.json["textures"] = json!([{"source": 0}, {"source": 1}]);
+    model.json["images"] = json!([{"uri": "albedo%20map.png"}, {"uri": "normals.png"}, {"uri": "orm.png"}]);
+    model.json["textures"] = json!([{"source": 0}, {"source": 1}, {"source": 2}]);
     model.json["materials"] = json!([
         {
             "name": "glaze",
@@ -568,12 +574,19 @@ fn a_model_brings_its_materials() {
                 "baseColorTexture": {"index": 0},
                 "metallicFactor": 0.25,
                 "roughnessFactor": 0.375,
-                "metallicRoughnessTexture": {"index": 0},
+                "metallicRoughnessTexture": {"index": 2},
             },
             "normalTexture": {"index": 1, "scale": 0.5},
-            "occlusionTexture": {"index": 0},
+            "occlusionTexture": {"index": 2, "strength": 0.75},
         },
-        {"pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.625}},
+        {
+            "pbrMetallicRoughness": {
+                "metallicFactor": 1.0,
+                "roughnessFactor": 0.625,
+                "metallicRoughnessTexture": {"index": 2},
+            },
+            "occlusionTexture": {"index": 2, "strength": 9.0},
+        },
     ]);
     model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
     model.json["meshes"][1]["primitives"][0]["material"] = json!(1);
@@ -588,12 +601,9 @@ fn a_model_brings_its_materials() {
     let shown = dir.join("model.glb").display().to_string();
     assert_eq!(
         scene.warnings,
-        [
-            format!(
-                "{shown}: metallicRoughnessTexture is not yet used: the metallic and roughness factors apply alone"
-            ),
-            format!("{shown}: occlusionTexture is not yet used"),
-        ]
+        [format!(
+            "{shown}: an occlusion texture's strength outside argil's map strength range is clamped to it"
+        )]
     );
     let names: Vec<&str> = scene
         .objects
@@ -625,10 +635,24 @@ texture = "albedo map.png"
 [materials.glaze.normal_map]
 texture = "normals.png"
 strength = 0.5
+[materials.glaze.roughness_map]
+texture = "orm.png"
+[materials.glaze.metallic_map]
+texture = "orm.png"
+[materials.glaze.occlusion_map]
+texture = "orm.png"
+strength = 0.75
 [materials.metal]
 base_color = [1.0, 1.0, 1.0]
 metallic = 1.0
 roughness = 0.625
+[materials.metal.roughness_map]
+texture = "orm.png"
+[materials.metal.metallic_map]
+texture = "orm.png"
+[materials.metal.occlusion_map]
+texture = "orm.png"
+strength = 8.0
 "#;
     let obj = load(&dir, "obj.toml", &obj_text);
     for (model_object, obj_object) in scene.objects.iter().zip(&obj.objects) {

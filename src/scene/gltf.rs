@@ -233,7 +233,8 @@ fn unsupported_parts(document: &Document) -> Vec<String> {
 
 /// The model's materials as scene materials: glTF's metallic-roughness model is argil's
 /// `metallic` blend, with the base colour factor (its alpha dropped) and map, the
-/// metallic and roughness factors and the normal map with its scale. What argil cannot
+/// metallic and roughness factors and their map, the normal map with its scale and the
+/// occlusion map with its strength. What argil cannot
 /// draw yet is named in `warnings`, once per model.
 fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Vec<(String, MaterialDef)> {
     let unused = std::cell::RefCell::new(BTreeSet::new());
@@ -258,39 +259,36 @@ fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Ve
         let file = folder.join(decoded.as_ref());
         Some(std::path::absolute(&file).unwrap_or(file).display().to_string())
     };
+    let map = |index: usize, tex_coord: u32| image(index, tex_coord).map(MapDef::new);
+    // A map with the strength the file gives (`what`), clamped to argil's range.
+    let scaled = |index: usize, tex_coord: u32, strength: f32, what: &str| {
+        if !MAP_STRENGTH.contains(strength) {
+            note(&format!("{what} outside argil's map strength range is clamped to it"));
+        }
+        let strength = strength.clamp(MAP_STRENGTH.low, MAP_STRENGTH.high.unwrap_or(f32::MAX));
+        map(index, tex_coord).map(|m| MapDef {
+            strength: f64::from(strength),
+            ..m
+        })
+    };
     let materials = document
         .materials()
         .map(|material| {
             let pbr = material.pbr_metallic_roughness();
             let [r, g, b, _] = pbr.base_color_factor();
-            let texture = |info: ::gltf::texture::Info| info.texture().source().index();
-            let base_color_map = pbr
-                .base_color_texture()
-                .and_then(|info| image(texture(info.clone()), info.tex_coord()))
-                .map(MapDef::new);
+            let info_map = |info: ::gltf::texture::Info| map(info.texture().source().index(), info.tex_coord());
+            let base_color_map = pbr.base_color_texture().and_then(info_map);
+            // One metallic-roughness texture serves both slots, which read its G and B
+            // channels (map_slots.rs); the factors are the values it multiplies.
+            let metallic_roughness = pbr.metallic_roughness_texture().and_then(info_map);
             let normal_map = material.normal_texture().and_then(|info| {
-                let mut map = MapDef::new(image(info.texture().source().index(), info.tex_coord())?);
-                map.strength = f64::from(
-                    info.scale()
-                        .clamp(MAP_STRENGTH.low, MAP_STRENGTH.high.unwrap_or(f32::MAX)),
-                );
-                Some(map)
+                let index = info.texture().source().index();
+                scaled(index, info.tex_coord(), info.scale(), "a normal texture's scale")
             });
-            if material
-                .normal_texture()
-                .is_some_and(|info| !MAP_STRENGTH.contains(info.scale()))
-            {
-                note("a normal texture's scale outside argil's normal map strength range is clamped to it");
-            }
-            // ---- Maps for the `maps` branch's slots (roughness_map, metallic_map,
-            // occlusion_map). Until they exist, the textures are named and left out.
-            if pbr.metallic_roughness_texture().is_some() {
-                note("metallicRoughnessTexture is not yet used: the metallic and roughness factors apply alone");
-            }
-            if material.occlusion_texture().is_some() {
-                note("occlusionTexture is not yet used");
-            }
-            // ---- end of the maps still to wire.
+            let occlusion_map = material.occlusion_texture().and_then(|info| {
+                let index = info.texture().source().index();
+                scaled(index, info.tex_coord(), info.strength(), "an occlusion texture's strength")
+            });
             if material.emissive_factor() != [0.0; 3] || material.emissive_texture().is_some() {
                 note("emission is not supported and is ignored");
             }
@@ -311,6 +309,9 @@ fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Ve
                 metallic: f64::from(pbr.metallic_factor()),
                 base_color_map,
                 normal_map,
+                roughness_map: metallic_roughness.clone(),
+                metallic_map: metallic_roughness,
+                occlusion_map,
                 ..MaterialDef::default()
             };
             (name.trim_end().to_owned(), def)
