@@ -425,6 +425,20 @@ fn unsupported_parts_are_named_in_warnings() {
     assert_eq!(err.matches("argil: warning: ").count(), 3, "{err}");
 }
 
+/// `argil render` of `scene` to `out`, 16 × 16.
+fn render_16(scene: &Path, out: &Path) -> Output {
+    argil(&[
+        "render",
+        &scene.display().to_string(),
+        "--out",
+        &out.display().to_string(),
+        "--width",
+        "16",
+        "--height",
+        "16",
+    ])
+}
+
 fn assert_refused(o: &Output, out: &Path, mentions: &[&str]) {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "exit code: {err}");
@@ -446,16 +460,7 @@ fn bad_models_are_clear_errors() {
     let render = |model: &str| {
         let scene = dir.join(format!("{model}.toml"));
         std::fs::write(&scene, scene_text(&[model])).expect("write scene");
-        argil(&[
-            "render",
-            &scene.display().to_string(),
-            "--out",
-            &out.display().to_string(),
-            "--width",
-            "16",
-            "--height",
-            "16",
-        ])
+        render_16(&scene, &out)
     };
     let mut cases: Vec<(&str, Vec<u8>, &[&str])> = vec![
         (
@@ -918,16 +923,6 @@ fn bad_embedded_images_are_clear_errors() {
             scene_text(&[]) + &format!("\n[[objects]]\nmesh = \"{name}.glb\"\n"),
         )
         .expect("write");
-        let o = argil(&[
-            "render",
-            &scene.display().to_string(),
-            "--out",
-            &out.display().to_string(),
-            "--width",
-            "16",
-            "--height",
-            "16",
-        ]);
-        assert_refused(&o, &out, &mentions);
+        assert_refused(&render_16(&scene, &out), &out, &mentions);
     }
 }
