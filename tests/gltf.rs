@@ -425,6 +425,20 @@ fn unsupported_parts_are_named_in_warnings() {
     assert_eq!(err.matches("argil: warning: ").count(), 3, "{err}");
 }
 
+/// `argil render` of `scene` to `out`, 16 × 16.
+fn render_16(scene: &Path, out: &Path) -> Output {
+    argil(&[
+        "render",
+        &scene.display().to_string(),
+        "--out",
+        &out.display().to_string(),
+        "--width",
+        "16",
+        "--height",
+        "16",
+    ])
+}
+
 fn assert_refused(o: &Output, out: &Path, mentions: &[&str]) {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "exit code: {err}");
@@ -446,16 +460,7 @@ fn bad_models_are_clear_errors() {
     let render = |model: &str| {
         let scene = dir.join(format!("{model}.toml"));
         std::fs::write(&scene, scene_text(&[model])).expect("write scene");
-        argil(&[
-            "render",
-            &scene.display().to_string(),
-            "--out",
-            &out.display().to_string(),
-            "--width",
-            "16",
-            "--height",
-            "16",
-        ])
+        render_16(&scene, &out)
     };
     let mut cases: Vec<(&str, Vec<u8>, &[&str])> = vec![
         (
@@ -540,9 +545,10 @@ fn bad_models_are_clear_errors() {
 
 /// A model's materials are argil materials: the base colour factor and texture, the
 /// metallic and roughness factors (both glTF's roughness and argil's are perceptual, α =
-/// roughness²) and the normal texture with its scale. The model draws bit for bit as its
-/// geometry in OBJ files with those materials written as tables; what is not used yet is
-/// named once per model.
+/// roughness²) and their one texture as `roughness_map` and `metallic_map`, the normal
+/// texture with its scale and the occlusion texture with its strength (clamped to argil's
+/// range, and named in a warning). The model draws bit for bit as its geometry in OBJ
+/// files with those materials written as tables.
 #[test]
 fn a_model_brings_its_materials() {
     let dir = temp_dir("materials");
@@ -554,12 +560,17 @@ fn a_model_brings_its_materials() {
         image::Rgba([128 + 12 * x as u8, 128 - 10 * y as u8, 230, 255])
     });
     normals.save(dir.join("normals.png")).expect("write normals");
+    // Occlusion in red, roughness in green, metallic in blue, each varying on its own.
+    let orm = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([255 - 20 * y as u8, 60 + 24 * x as u8, 30 * ((x + y) % 8) as u8, 255])
+    });
+    orm.save(dir.join("orm.png")).expect("write orm");
 
     let primitives = [octahedron(), tetrahedron()];
     let (nodes, worlds) = nodes();
     let mut model = Model::new(&primitives, nodes, &[0, 1]);
-    model.json["images"] = json!([{"uri": "albedo%20map.png"}, {"uri": "normals.png"}]);
-    model.json["textures"] = json!([{"source": 0}, {"source": 1}]);
+    model.json["images"] = json!([{"uri": "albedo%20map.png"}, {"uri": "normals.png"}, {"uri": "orm.png"}]);
+    model.json["textures"] = json!([{"source": 0}, {"source": 1}, {"source": 2}]);
     model.json["materials"] = json!([
         {
             "name": "glaze",
@@ -568,12 +579,19 @@ fn a_model_brings_its_materials() {
                 "baseColorTexture": {"index": 0},
                 "metallicFactor": 0.25,
                 "roughnessFactor": 0.375,
-                "metallicRoughnessTexture": {"index": 0},
+                "metallicRoughnessTexture": {"index": 2},
             },
             "normalTexture": {"index": 1, "scale": 0.5},
-            "occlusionTexture": {"index": 0},
+            "occlusionTexture": {"index": 2, "strength": 0.75},
         },
-        {"pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.625}},
+        {
+            "pbrMetallicRoughness": {
+                "metallicFactor": 1.0,
+                "roughnessFactor": 0.625,
+                "metallicRoughnessTexture": {"index": 2},
+            },
+            "occlusionTexture": {"index": 2, "strength": 9.0},
+        },
     ]);
     model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
     model.json["meshes"][1]["primitives"][0]["material"] = json!(1);
@@ -588,12 +606,9 @@ fn a_model_brings_its_materials() {
     let shown = dir.join("model.glb").display().to_string();
     assert_eq!(
         scene.warnings,
-        [
-            format!(
-                "{shown}: metallicRoughnessTexture is not yet used: the metallic and roughness factors apply alone"
-            ),
-            format!("{shown}: occlusionTexture is not yet used"),
-        ]
+        [format!(
+            "{shown}: an occlusion texture's strength outside argil's map strength range is clamped to it"
+        )]
     );
     let names: Vec<&str> = scene
         .objects
@@ -625,10 +640,24 @@ texture = "albedo map.png"
 [materials.glaze.normal_map]
 texture = "normals.png"
 strength = 0.5
+[materials.glaze.roughness_map]
+texture = "orm.png"
+[materials.glaze.metallic_map]
+texture = "orm.png"
+[materials.glaze.occlusion_map]
+texture = "orm.png"
+strength = 0.75
 [materials.metal]
 base_color = [1.0, 1.0, 1.0]
 metallic = 1.0
 roughness = 0.625
+[materials.metal.roughness_map]
+texture = "orm.png"
+[materials.metal.metallic_map]
+texture = "orm.png"
+[materials.metal.occlusion_map]
+texture = "orm.png"
+strength = 8.0
 "#;
     let obj = load(&dir, "obj.toml", &obj_text);
     for (model_object, obj_object) in scene.objects.iter().zip(&obj.objects) {
@@ -759,4 +788,141 @@ fn a_model_opens_through_its_camera() {
     assert!(forward.abs_diff_eq(Vec3::NEG_Z, 1e-6), "{forward}");
     assert!((scene.camera.fov_y_degrees - 0.5f32.to_degrees()).abs() < 1e-4);
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+}
+
+/// The octahedron and tetrahedron with one material whose base colour texture is image 0
+/// and whose metallic-roughness and occlusion textures are image 1 (`images` as JSON).
+fn textured_model(images: Value) -> Model {
+    let (nodes, _) = nodes();
+    let mut model = Model::new(&[octahedron(), tetrahedron()], nodes, &[0, 1]);
+    model.json["images"] = images;
+    model.json["textures"] = json!([{"source": 0}, {"source": 1}]);
+    model.json["materials"] = json!([{
+        "pbrMetallicRoughness": {
+            "baseColorTexture": {"index": 0},
+            "roughnessFactor": 0.5,
+            "metallicFactor": 0.5,
+            "metallicRoughnessTexture": {"index": 1},
+        },
+        "occlusionTexture": {"index": 1},
+    }]);
+    for mesh in 0..2 {
+        model.json["meshes"][mesh]["primitives"][0]["material"] = json!(0);
+    }
+    model
+}
+
+/// Appends `bytes` to the model's buffer as a view of its own; the view's index.
+fn push_view(model: &mut Model, bytes: &[u8]) -> usize {
+    while model.bin.len() % 4 != 0 {
+        model.bin.push(0);
+    }
+    let views = model.json["bufferViews"].as_array_mut().expect("views");
+    views.push(json!({"buffer": 0, "byteOffset": model.bin.len(), "byteLength": bytes.len()}));
+    model.bin.extend(bytes);
+    views.len() - 1
+}
+
+fn png(image: &image::RgbaImage) -> Vec<u8> {
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image.write_to(&mut bytes, image::ImageFormat::Png).expect("encode png");
+    bytes.into_inner()
+}
+
+/// Images embedded in the model, by a buffer view (a .glb's usual way) or a `data:` URI,
+/// load as the same PNG files beside the model do: the frames are equal bit for bit, the
+/// image serving three maps is one texture, and saving writes no texture path for them.
+#[test]
+fn embedded_images_draw_as_files_beside_the_model() {
+    let dir = temp_dir("embedded");
+    let albedo = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([30 + 25 * x as u8, 220 - 25 * y as u8, 120, 255])
+    });
+    let orm = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([255 - 24 * x as u8, 40 + 26 * y as u8, 28 * ((x + 2 * y) % 8) as u8, 255])
+    });
+    let (albedo, orm) = (png(&albedo), png(&orm));
+    std::fs::write(dir.join("albedo.png"), &albedo).expect("write albedo");
+    std::fs::write(dir.join("orm.png"), &orm).expect("write orm");
+    textured_model(json!([{"uri": "albedo.png"}, {"uri": "orm.png"}])).write(&dir, "files", Storage::Binary);
+    let mut views = textured_model(json!([]));
+    let images =
+        [&albedo, &orm].map(|bytes| json!({"bufferView": push_view(&mut views, bytes), "mimeType": "image/png"}));
+    views.json["images"] = json!(images);
+    views.write(&dir, "views", Storage::Binary);
+    let uri = |bytes: &[u8]| {
+        let data = base64::engine::general_purpose::STANDARD.encode(bytes);
+        json!({"uri": format!("data:image/png;base64,{data}")})
+    };
+    textured_model(json!([uri(&albedo), uri(&orm)])).write(&dir, "uris", Storage::External);
+
+    let scene_of = |model: &str| {
+        let text = scene_text(&[]) + &format!("\n[[objects]]\nmesh = {model:?}\nposition = [0.25, 0.0, 0.0]\n");
+        load(&dir, &format!("{model}.toml"), &text)
+    };
+    let files = scene_of("files.glb");
+    assert_eq!(files.warnings, Vec::<String>::new());
+    // clay-lumps, the colour map and the one ORM texture.
+    assert_eq!(files.textures.len(), 3);
+    let expected = common::render(&files, 96, 64);
+    for model in ["views.glb", "uris.gltf"] {
+        let scene = scene_of(model);
+        assert_eq!(scene.warnings, Vec::<String>::new(), "{model}");
+        assert_eq!(scene.textures.len(), 3, "{model}");
+        let shown = dir.join(model).display().to_string();
+        let names: Vec<&str> = scene.textures.iter().map(|t| t.name.as_str()).collect();
+        assert_eq!(
+            names[1..],
+            [format!("{shown}#image0"), format!("{shown}#image1")],
+            "{model}"
+        );
+        for (a, b) in scene.textures.iter().zip(&files.textures) {
+            assert_eq!(
+                (a.width, a.height, a.format, &a.pixels),
+                (b.width, b.height, b.format, &b.pixels)
+            );
+        }
+        let frame = common::render(&scene, 96, 64);
+        assert!(
+            frame.display == expected.display,
+            "{model}: the frame differs from the files'"
+        );
+        let saved = scene.to_file_at(&dir.join("saved.toml"));
+        assert!(
+            saved.materials.keys().all(|name| name == "clay"),
+            "{:?}",
+            saved.materials.keys()
+        );
+    }
+}
+
+/// An embedded image that does not decode, or whose buffer view is outside the buffer, is
+/// refused with exit code 2 naming the model and the image, and nothing is written.
+#[test]
+fn bad_embedded_images_are_clear_errors() {
+    let dir = temp_dir("bad-embedded");
+    let out = dir.join("x.png");
+    let good = png(&image::RgbaImage::from_pixel(4, 4, image::Rgba([200, 100, 50, 255])));
+    let mut corrupt = good.clone();
+    corrupt.truncate(good.len() / 2);
+    let mut model = textured_model(json!([]));
+    let images =
+        [&good, &corrupt].map(|bytes| json!({"bufferView": push_view(&mut model, bytes), "mimeType": "image/png"}));
+    model.json["images"] = json!(images);
+    model.write(&dir, "corrupt", Storage::Binary);
+    let outside = model.json["bufferViews"].as_array().expect("views").len() - 1;
+    model.json["bufferViews"][outside]["byteOffset"] = json!(model.bin.len() + 64);
+    model.write(&dir, "outside", Storage::Binary);
+    for (name, mentions) in [
+        ("corrupt", vec!["corrupt.glb#image1", "PNG"]),
+        ("outside", vec!["outside.glb", "image 1", "buffer view"]),
+    ] {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &scene,
+            scene_text(&[]) + &format!("\n[[objects]]\nmesh = \"{name}.glb\"\n"),
+        )
+        .expect("write");
+        assert_refused(&render_16(&scene, &out), &out, &mentions);
+    }
 }

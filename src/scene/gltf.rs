@@ -1,4 +1,4 @@
-//! glTF 2.0 models (.gltf with external or `data:` buffers, and .glb): every triangle
+//! glTF 2.0 models (.gltf with external or `data:` buffers and images, and .glb): every triangle
 //! primitive of the model's scene becomes a part, a [`Mesh`] in world space with the node
 //! transforms baked in. What argil does not draw (other primitive modes, skins,
 //! animations, morph targets, extensions) is named in one warning each.
@@ -22,6 +22,7 @@ use glam::{Mat3, Mat4, Vec3, Vec4};
 
 use super::file::{MapDef, MaterialDef, ObjectDef, SceneFile};
 use super::limits::{check_file_size, MAX_GLTF_BYTES, MAX_MESH_TRIANGLES};
+use super::map_slots::MapSlot;
 use super::material_keys::MAP_STRENGTH;
 use super::{Camera, Mesh, Scene, SceneError, DEFAULT_SCENE_TOML};
 
@@ -42,6 +43,11 @@ pub struct Model {
     /// The file's materials as scene material tables, by glTF index, each named
     /// `"<file> #<index> <name>"`.
     pub materials: Vec<(String, MaterialDef)>,
+    /// The images embedded in the file (by a buffer view or a `data:` URI) that the
+    /// materials' maps name, each as (texture name, encoded bytes); the name,
+    /// `"<absolute model path>#image<index>"`, is no file: these are decoded from the
+    /// bytes, once per texture name and role as files are.
+    pub images: Vec<Embedded>,
     /// One line each, starting with the file's name.
     pub warnings: Vec<String>,
 }
@@ -54,6 +60,9 @@ pub struct Part {
     /// Its index in [`Model::materials`]; `None` for glTF's default material.
     pub material: Option<usize>,
 }
+
+/// An image embedded in the model: its texture name and its encoded bytes.
+type Embedded = (String, Vec<u8>);
 
 /// A primitive to draw: the node's world matrix, its mesh's index and the primitive.
 type Instance<'a> = (Mat4, usize, Primitive<'a>);
@@ -143,10 +152,23 @@ impl Model {
         if parts.is_empty() {
             return Err(invalid("the model's scene has no triangles to draw".to_owned()));
         }
-        let materials = materials(&document, path, &mut warnings);
+        let embedded = embedded_images(&document, &buffers, folder, path).map_err(invalid)?;
+        let materials = materials(&document, path, &embedded, &mut warnings);
+        let named: BTreeSet<&str> = materials
+            .iter()
+            .flat_map(|(_, def)| MapSlot::ALL.map(|slot| def.map(slot)))
+            .flatten()
+            .map(|map| map.texture.as_str())
+            .collect();
+        let images = embedded
+            .into_iter()
+            .flatten()
+            .filter(|(texture, _)| named.contains(texture.as_str()))
+            .collect();
         Ok(Model {
             parts,
             materials,
+            images,
             warnings: warnings.into_iter().map(|w| format!("{name}: {w}")).collect(),
         })
     }
@@ -233,9 +255,15 @@ fn unsupported_parts(document: &Document) -> Vec<String> {
 
 /// The model's materials as scene materials: glTF's metallic-roughness model is argil's
 /// `metallic` blend, with the base colour factor (its alpha dropped) and map, the
-/// metallic and roughness factors and the normal map with its scale. What argil cannot
+/// metallic and roughness factors and their map, the normal map with its scale and the
+/// occlusion map with its strength. What argil cannot
 /// draw yet is named in `warnings`, once per model.
-fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Vec<(String, MaterialDef)> {
+fn materials(
+    document: &Document,
+    path: &Path,
+    embedded: &[Option<Embedded>],
+    warnings: &mut Vec<String>,
+) -> Vec<(String, MaterialDef)> {
     let unused = std::cell::RefCell::new(BTreeSet::new());
     let note = |warning: &str| {
         unused.borrow_mut().insert(warning.to_owned());
@@ -249,48 +277,49 @@ fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Ve
             note("textures on TEXCOORD_1 or above are not supported; those maps are left out");
             return None;
         }
-        let uri = images.get(index)?.uri.as_deref();
-        let Some(uri) = uri.filter(|uri| !uri.starts_with("data:")) else {
-            note("images embedded in the file (a buffer view or a data: URI) are not yet loaded; their maps are left out");
-            return None;
-        };
+        if let Some((texture, _)) = embedded.get(index).and_then(Option::as_ref) {
+            return Some(texture.clone());
+        }
+        let uri = images.get(index)?.uri.as_deref()?;
         let decoded = percent_encoding::percent_decode_str(uri).decode_utf8_lossy();
         let file = folder.join(decoded.as_ref());
         Some(std::path::absolute(&file).unwrap_or(file).display().to_string())
+    };
+    let map = |index: usize, tex_coord: u32| image(index, tex_coord).map(MapDef::new);
+    // A map with the strength the file gives (`what`), clamped to argil's range.
+    let scaled = |index: usize, tex_coord: u32, strength: f32, what: &str| {
+        if !MAP_STRENGTH.contains(strength) {
+            note(&format!("{what} outside argil's map strength range is clamped to it"));
+        }
+        let strength = strength.clamp(MAP_STRENGTH.low, MAP_STRENGTH.high.unwrap_or(f32::MAX));
+        map(index, tex_coord).map(|m| MapDef {
+            strength: f64::from(strength),
+            ..m
+        })
     };
     let materials = document
         .materials()
         .map(|material| {
             let pbr = material.pbr_metallic_roughness();
             let [r, g, b, _] = pbr.base_color_factor();
-            let texture = |info: ::gltf::texture::Info| info.texture().source().index();
-            let base_color_map = pbr
-                .base_color_texture()
-                .and_then(|info| image(texture(info.clone()), info.tex_coord()))
-                .map(MapDef::new);
+            let info_map = |info: ::gltf::texture::Info| map(info.texture().source().index(), info.tex_coord());
+            let base_color_map = pbr.base_color_texture().and_then(info_map);
+            // One metallic-roughness texture serves both slots, which read its G and B
+            // channels (map_slots.rs); the factors are the values it multiplies.
+            let metallic_roughness = pbr.metallic_roughness_texture().and_then(info_map);
             let normal_map = material.normal_texture().and_then(|info| {
-                let mut map = MapDef::new(image(info.texture().source().index(), info.tex_coord())?);
-                map.strength = f64::from(
-                    info.scale()
-                        .clamp(MAP_STRENGTH.low, MAP_STRENGTH.high.unwrap_or(f32::MAX)),
-                );
-                Some(map)
+                let index = info.texture().source().index();
+                scaled(index, info.tex_coord(), info.scale(), "a normal texture's scale")
             });
-            if material
-                .normal_texture()
-                .is_some_and(|info| !MAP_STRENGTH.contains(info.scale()))
-            {
-                note("a normal texture's scale outside argil's normal map strength range is clamped to it");
-            }
-            // ---- Maps for the `maps` branch's slots (roughness_map, metallic_map,
-            // occlusion_map). Until they exist, the textures are named and left out.
-            if pbr.metallic_roughness_texture().is_some() {
-                note("metallicRoughnessTexture is not yet used: the metallic and roughness factors apply alone");
-            }
-            if material.occlusion_texture().is_some() {
-                note("occlusionTexture is not yet used");
-            }
-            // ---- end of the maps still to wire.
+            let occlusion_map = material.occlusion_texture().and_then(|info| {
+                let index = info.texture().source().index();
+                scaled(
+                    index,
+                    info.tex_coord(),
+                    info.strength(),
+                    "an occlusion texture's strength",
+                )
+            });
             if material.emissive_factor() != [0.0; 3] || material.emissive_texture().is_some() {
                 note("emission is not supported and is ignored");
             }
@@ -311,6 +340,9 @@ fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Ve
                 metallic: f64::from(pbr.metallic_factor()),
                 base_color_map,
                 normal_map,
+                roughness_map: metallic_roughness.clone(),
+                metallic_map: metallic_roughness,
+                occlusion_map,
                 ..MaterialDef::default()
             };
             (name.trim_end().to_owned(), def)
@@ -318,6 +350,32 @@ fn materials(document: &Document, path: &Path, warnings: &mut Vec<String>) -> Ve
         .collect();
     warnings.extend(unused.into_inner());
     materials
+}
+
+/// Every image of the model, by index, that is embedded in it (a buffer view or a `data:`
+/// URI): its texture name, the model's absolute path and `#image<index>`, and its bytes;
+/// `None` for an image in a file of its own.
+fn embedded_images(
+    document: &Document,
+    buffers: &[Vec<u8>],
+    folder: &Path,
+    path: &Path,
+) -> Result<Vec<Option<Embedded>>, String> {
+    let model = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    document
+        .images()
+        .map(|image| {
+            let index = image.index();
+            let bytes = match image.source() {
+                ::gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => read_uri(uri, folder).map(Some),
+                ::gltf::image::Source::Uri { .. } => Ok(None),
+                ::gltf::image::Source::View { view, .. } => view_bytes(&view, buffers).map(|b| Some(b.to_vec())),
+            };
+            bytes
+                .map(|bytes| bytes.map(|bytes| (format!("{}#image{index}", model.display()), bytes)))
+                .map_err(|problem| format!("image {index}: {problem}"))
+        })
+        .collect()
 }
 
 /// The nodes of the default scene (else the first), each with its world matrix, depth
@@ -528,17 +586,24 @@ fn check_accessor(
             view.length()
         ));
     }
-    let buffer = buffers.get(view.buffer().index()).map_or(0, Vec::len);
-    if view.offset().checked_add(view.length()).is_none_or(|end| end > buffer) {
-        return Err(format!(
-            "buffer view {} (bytes {}..+{}) is outside buffer {} ({buffer} bytes)",
+    view_bytes(&view, buffers)?;
+    Ok(())
+}
+
+/// The bytes of buffer `view`, checked to lie within its buffer.
+fn view_bytes<'a>(view: &::gltf::buffer::View, buffers: &'a [Vec<u8>]) -> Result<&'a [u8], String> {
+    let buffer = buffers.get(view.buffer().index()).map_or(&[][..], Vec::as_slice);
+    let end = view.offset().checked_add(view.length());
+    end.and_then(|end| buffer.get(view.offset()..end)).ok_or_else(|| {
+        format!(
+            "buffer view {} (bytes {}..+{}) is outside buffer {} ({} bytes)",
             view.index(),
             view.offset(),
             view.length(),
-            view.buffer().index()
-        ));
-    }
-    Ok(())
+            view.buffer().index(),
+            buffer.len()
+        )
+    })
 }
 
 /// A model opened on its own (`argil view model.glb`): the default scene's studio

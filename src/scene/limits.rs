@@ -68,8 +68,14 @@ pub fn obj_triangles(text: &[u8]) -> u64 {
 /// block at the sizes the headers give, which a broken file sets to anything (one with a
 /// data window 2²⁹ wide and 8 high made the decoder ask for 25 GB).
 pub fn check_exr_headers(path: &Path) -> Result<(), String> {
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    check_exr_headers_in(std::io::BufReader::new(file))
+}
+
+/// [`check_exr_headers`] of the OpenEXR data `read` holds.
+pub fn check_exr_headers_in(read: impl std::io::Read) -> Result<(), String> {
     let meta =
-        exr::meta::MetaData::read_from_file(path, false).map_err(|e| format!("not a valid OpenEXR file: {e}"))?;
+        exr::meta::MetaData::read_from_buffered(read, false).map_err(|e| format!("not a valid OpenEXR file: {e}"))?;
     let max_side = MAX_TEXTURE_SIDE as usize;
     for header in &meta.headers {
         if header.deep {

@@ -17,9 +17,9 @@ use super::limits::{MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDIVISIONS_RANGE};
 use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
 use super::mesh::SPHERE_SUBDIVISIONS;
 use super::{
-    builtin_texture, gltf, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh, Object, Occlusion,
-    PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES,
-    OCCLUSION_SAMPLES_RANGE,
+    builtin_texture, decode_texture, gltf, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh,
+    Object, Occlusion, PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX,
+    BUILTIN_TEXTURES, OCCLUSION_SAMPLES_RANGE,
 };
 
 /// Name of the built-in neutral material, used by objects without a
@@ -119,6 +119,8 @@ struct TextureRequests {
     indices: HashMap<(String, TextureRole), usize>,
     /// (the first field naming it, texture string, role)
     pending: Vec<(String, String, TextureRole)>,
+    /// Images embedded in glTF models, by the texture name their maps give.
+    embedded: HashMap<String, Vec<u8>>,
 }
 
 impl TextureRequests {
@@ -213,6 +215,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
                     Some(n) => Loaded::one(Mesh::sphere(n)),
                     None => load_mesh(&check, &field, &object.mesh, base_dir, &mut warnings)?,
                 };
+                requests.embedded.extend(loaded.images);
                 let first_material = materials.len();
                 for (name, def) in &loaded.materials {
                     materials.push(material(&check, name, def, &mut requests)?);
@@ -256,7 +259,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
     let textures = requests
         .pending
         .iter()
-        .map(|(field, texture, role)| load_map_texture(&check, field, texture, *role, base_dir))
+        .map(|(field, texture, role)| load_map_texture(&check, field, texture, *role, base_dir, &requests.embedded))
         .collect::<Result<_, _>>()?;
 
     Ok(Scene {
@@ -612,12 +615,17 @@ fn load_map_texture(
     texture: &str,
     role: TextureRole,
     base_dir: &Path,
+    embedded: &HashMap<String, Vec<u8>>,
 ) -> Result<TextureData, SceneError> {
     if texture.starts_with(BUILTIN_PREFIX) {
         // Names were checked with the map; this only avoids an unwrap.
         return builtin_texture(texture).ok_or_else(|| check.invalid(field, texture, "unknown builtin texture"));
     }
-    load_texture(&base_dir.join(texture), role).map_err(|error| SceneError::MaterialTexture {
+    let loaded = match embedded.get(texture) {
+        Some(bytes) => decode_texture(bytes, texture, role),
+        None => load_texture(&base_dir.join(texture), role),
+    };
+    loaded.map_err(|error| SceneError::MaterialTexture {
         origin: check.origin.to_owned(),
         field: field.to_owned(),
         value: texture.to_owned(),
@@ -644,6 +652,8 @@ fn default_material(
 struct Loaded {
     parts: Vec<(Mesh, Option<usize>)>,
     materials: Vec<(String, MaterialDef)>,
+    /// The model's embedded images the materials name, by texture name.
+    images: Vec<(String, Vec<u8>)>,
 }
 
 impl Loaded {
@@ -651,6 +661,7 @@ impl Loaded {
         Loaded {
             parts: vec![(mesh, None)],
             materials: Vec::new(),
+            images: Vec::new(),
         }
     }
 }
@@ -681,6 +692,7 @@ fn load_mesh(
             Loaded {
                 parts: model.parts.into_iter().map(|p| (p.mesh, p.material)).collect(),
                 materials: model.materials,
+                images: model.images,
             }
         })
     } else {

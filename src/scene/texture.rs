@@ -1,7 +1,7 @@
 //! Textures on the CPU: decoded image files, ready for upload.
 
 use std::fs::File;
-use std::io::{BufReader, ErrorKind};
+use std::io::{BufRead, BufReader, Cursor, ErrorKind, Seek, SeekFrom};
 use std::path::Path;
 
 use image::{ColorType, DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
@@ -93,13 +93,31 @@ pub fn load_texture(path: &Path, role: TextureRole) -> Result<TextureData, Scene
             extension
         )));
     }
-    let io_error = |error| SceneError::Io {
+    let file = File::open(path).map_err(|error| SceneError::Io {
         path: path.to_path_buf(),
         error,
+    })?;
+    decode(BufReader::new(file), path, role)
+}
+
+/// Decodes an image held in memory (one embedded in a glTF model) as [`load_texture`]
+/// decodes a file, with its limits and errors, which name the texture `name`.
+pub fn decode_texture(bytes: &[u8], name: &str, role: TextureRole) -> Result<TextureData, SceneError> {
+    decode(Cursor::new(bytes), Path::new(name), role)
+}
+
+/// The decoding of [`load_texture`] and [`decode_texture`], by content; errors name `name`.
+fn decode<R: BufRead + Seek>(mut data: R, name: &Path, role: TextureRole) -> Result<TextureData, SceneError> {
+    let fail = |problem: String| SceneError::Texture {
+        path: name.to_path_buf(),
+        problem,
     };
-    let mut reader = ImageReader::new(BufReader::new(File::open(path).map_err(io_error)?))
-        .with_guessed_format()
-        .map_err(io_error)?;
+    let io_error = |error| SceneError::Io {
+        path: name.to_path_buf(),
+        error,
+    };
+    let start = data.stream_position().map_err(io_error)?;
+    let reader = ImageReader::new(&mut data).with_guessed_format().map_err(io_error)?;
     let format = match reader.format() {
         Some(format @ (ImageFormat::Png | ImageFormat::Jpeg | ImageFormat::Hdr | ImageFormat::OpenExr)) => format,
         Some(other) => {
@@ -114,8 +132,10 @@ pub fn load_texture(path: &Path, role: TextureRole) -> Result<TextureData, Scene
         }
     };
     if format == ImageFormat::OpenExr {
-        super::limits::check_exr_headers(path).map_err(fail)?;
+        super::limits::check_exr_headers_in(&mut data).map_err(fail)?;
     }
+    data.seek(SeekFrom::Start(start)).map_err(io_error)?;
+    let mut reader = ImageReader::with_format(data, format);
     let float = matches!(format, ImageFormat::Hdr | ImageFormat::OpenExr);
     if float && role == TextureRole::Normal {
         return Err(fail(format!(
@@ -176,7 +196,7 @@ pub fn load_texture(path: &Path, role: TextureRole) -> Result<TextureData, Scene
         TexelFormat::Rgba32Float => srgb16_to_linear(&image.into_rgba16().into_raw()),
     };
     Ok(TextureData {
-        name: path.display().to_string(),
+        name: name.display().to_string(),
         width,
         height,
         format: texel_format,
