@@ -387,3 +387,65 @@ fn the_occlusion_map_micro_shadows_the_point_lights() {
     assert!(shadowed > 2000 && open > 500, "{shadowed} shadowed, {open} open");
     assert!(wrong.is_empty(), "{} channels off, first: {:?}", wrong.len(), &wrong[..wrong.len().min(5)]);
 }
+
+/// An image is upright on a mesh: an OBJ quad facing the camera, with v up as OBJ files
+/// have it, shows its texture's top half (red) above its bottom half (blue), in the frame
+/// and in the reference alike.
+#[test]
+fn an_image_texture_is_upright_on_an_obj_quad() {
+    let dir = temp_dir("upright");
+    image::RgbImage::from_fn(8, 8, |_, y| image::Rgb(if y < 4 { [255, 0, 0] } else { [0, 0, 255] }))
+        .save(dir.join("halves.png"))
+        .expect("write png");
+    std::fs::write(
+        dir.join("quad.obj"),
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n\
+         f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n",
+    )
+    .expect("write obj");
+    let text = r#"
+[camera]
+position = [0.0, 0.0, 4.0]
+target = [0.0, 0.0, 0.0]
+fov_y_degrees = 40.0
+
+[environment]
+kind = "uniform"
+radiance = [1.0, 1.0, 1.0]
+
+[[objects]]
+mesh = "quad.obj"
+material = "m"
+
+[materials.m]
+base_color = [1.0, 1.0, 1.0]
+specular = "none"
+subsurface = "none"
+[materials.m.base_color_map]
+texture = "halves.png"
+"#;
+    let scene = Scene::from_toml(text, "upright test", &dir).expect("test scene parses");
+    let (width, height) = (32, 32);
+    let frame = common::render(&scene, width, height);
+    let settings = Settings {
+        width,
+        height,
+        transport: Transport::Direct,
+        filter: Filter::Center,
+        sampling: Sampling::Mis,
+        subsurface: SubsurfaceTransport::Model,
+        stop: Stop::Samples(1),
+        seed: 1,
+        max_depth: Settings::DEFAULT_MAX_DEPTH,
+    };
+    let reference = render(&scene, &settings, &()).expect("reference");
+    for (name, rgba) in [("frame", &frame.hdr), ("reference", &reference.rgba)] {
+        let pixel = |y: u32| {
+            let i = ((y * width + width / 2) * 4) as usize;
+            [rgba[i], rgba[i + 2]]
+        };
+        let ([top_red, top_blue], [bottom_red, bottom_blue]) = (pixel(height / 4), pixel(3 * height / 4));
+        assert!(top_red > 10.0 * top_blue, "{name}: the quad's top is not red: {top_red} {top_blue}");
+        assert!(bottom_blue > 10.0 * bottom_red, "{name}: the quad's bottom is not blue: {bottom_red} {bottom_blue}");
+    }
+}

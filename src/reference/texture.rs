@@ -11,7 +11,7 @@ use crate::scene::{TexelFormat, TextureData};
 pub struct Texture {
     width: usize,
     height: usize,
-    /// Linear RGBA, rows from the top (v = 0).
+    /// Linear RGBA, row 0 at v = 0, as the GPU samples it (an image file's bottom row).
     texels: Vec<[f64; 4]>,
 }
 

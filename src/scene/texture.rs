@@ -52,7 +52,8 @@ pub enum TextureRole {
     Data,
 }
 
-/// A decoded 2D texture: tightly packed rows, top row first, RGBA.
+/// A decoded 2D texture: tightly packed rows, RGBA; row 0 is sampled at v = 0, which for
+/// an image file is its bottom row (the mesh UVs' v runs up the image).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureData {
     /// The file's path, or the `builtin:` name.
@@ -195,6 +196,10 @@ fn decode<R: BufRead + Seek>(mut data: R, name: &Path, role: TextureRole) -> Res
         }
         TexelFormat::Rgba32Float => srgb16_to_linear(&image.into_rgba16().into_raw()),
     };
+    // Mesh UVs have v up the image (OBJ's, and glTF's after its loader's 1 − v) and the
+    // samplers put row 0 at v = 0, so a file's rows are stored from its bottom row up.
+    let row = width as usize * texel_format.bytes_per_texel();
+    let pixels = pixels.chunks_exact(row).rev().flatten().copied().collect();
     Ok(TextureData {
         name: name.display().to_string(),
         width,
@@ -282,6 +287,7 @@ fn describe(format: ImageFormat, error: ImageError) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use image::imageops::flip_vertical;
     use crate::scene::tests::TempDir;
     use image::{ImageBuffer, Rgb, Rgba};
 
@@ -309,7 +315,8 @@ mod tests {
             (colour.width, colour.height, colour.format),
             (5, 3, TexelFormat::Rgba8Srgb)
         );
-        assert_eq!(colour.pixels, image.as_raw().as_slice());
+        // Stored from the bottom row up (v = 0 first).
+        assert_eq!(colour.pixels, flip_vertical(&image).as_raw().as_slice());
         assert_eq!(colour.name, path.display().to_string());
         let normal = load_texture(&path, TextureRole::Normal).unwrap();
         assert_eq!(normal.format, TexelFormat::Rgba8Unorm);
@@ -332,7 +339,7 @@ mod tests {
         let normal = load_texture(&path, TextureRole::Normal).unwrap();
         assert_eq!(normal.format, TexelFormat::Rgba16Unorm);
         let texels: Vec<u16> = bytemuck::pod_collect_to_vec(&normal.pixels);
-        assert_eq!(texels, *image.as_raw());
+        assert_eq!(texels, *flip_vertical(&image).as_raw());
 
         // Colour: sRGB decoded to linear float; alpha stays linear.
         let colour = load_texture(&path, TextureRole::BaseColor).unwrap();
@@ -381,7 +388,7 @@ mod tests {
         );
         let texels: Vec<f32> = bytemuck::pod_collect_to_vec(&texture.pixels);
         // RGBE keeps 8 bits of mantissa.
-        for (texel, source) in texels.chunks_exact(4).zip(rgb.pixels()) {
+        for (texel, source) in texels.chunks_exact(4).zip(flip_vertical(&rgb).pixels()) {
             for (a, b) in texel.iter().zip(source.0) {
                 assert!((a - b).abs() <= b * 0.01, "{texel:?} {source:?}");
             }
@@ -395,7 +402,7 @@ mod tests {
         let texture = load_texture(&exr, TextureRole::Data).unwrap();
         assert_eq!(texture.format, TexelFormat::Rgba32Float);
         let texels: Vec<f32> = bytemuck::pod_collect_to_vec(&texture.pixels);
-        assert_eq!(texels, *rgba.as_raw());
+        assert_eq!(texels, *flip_vertical(&rgba).as_raw());
         assert_eq!(
             message(&exr, TextureRole::Normal),
             "a OpenEXR image cannot be a normal map (normal maps are 8- or 16-bit PNG or JPEG)"
