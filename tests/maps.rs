@@ -29,6 +29,22 @@ fn write_png(path: &Path, texel: impl Fn(u32) -> [u8; 3]) {
         .expect("write png");
 }
 
+/// Reference settings that evaluate the frame's own model: direct light at each pixel's
+/// centre, one sample.
+fn direct_at_pixel_centres(width: u32, height: u32) -> Settings {
+    Settings {
+        width,
+        height,
+        transport: Transport::Direct,
+        filter: Filter::Center,
+        sampling: Sampling::Mis,
+        subsurface: SubsurfaceTransport::Model,
+        stop: Stop::Samples(1),
+        seed: 1,
+        max_depth: Settings::DEFAULT_MAX_DEPTH,
+    }
+}
+
 /// The keys of a glossy, half-metallic, wrapped clay.
 const CLAY: &str = "diffuse = \"lambert\"\nsubsurface = \"energy-conserving-wrap\"\nwrap = 0.5\n\
                     scatter_color = [1.0, 0.6, 0.4]\nmetallic = 0.5\n";
@@ -234,17 +250,7 @@ fn the_reference_applies_the_property_maps_as_the_renderer_does() {
         ),
     ];
     let (width, height) = (128, 128);
-    let settings = Settings {
-        width,
-        height,
-        transport: Transport::Direct,
-        filter: Filter::Center,
-        sampling: Sampling::Mis,
-        subsurface: SubsurfaceTransport::Model,
-        stop: Stop::Samples(1),
-        seed: 1,
-        max_depth: Settings::DEFAULT_MAX_DEPTH,
-    };
+    let settings = direct_at_pixel_centres(width, height);
     let mut failures = Vec::new();
     for (environment, material, keys) in cases {
         let lit = |mut scene: Scene| {
@@ -427,17 +433,7 @@ texture = "halves.png"
     let scene = Scene::from_toml(text, "upright test", &dir).expect("test scene parses");
     let (width, height) = (32, 32);
     let frame = common::render(&scene, width, height);
-    let settings = Settings {
-        width,
-        height,
-        transport: Transport::Direct,
-        filter: Filter::Center,
-        sampling: Sampling::Mis,
-        subsurface: SubsurfaceTransport::Model,
-        stop: Stop::Samples(1),
-        seed: 1,
-        max_depth: Settings::DEFAULT_MAX_DEPTH,
-    };
+    let settings = direct_at_pixel_centres(width, height);
     let reference = render(&scene, &settings, &()).expect("reference");
     for (name, rgba) in [("frame", &frame.hdr), ("reference", &reference.rgba)] {
         let pixel = |y: u32| {

@@ -26,9 +26,11 @@ fn pixel(frame: &OffscreenFrame, x: u32, y: u32) -> [f32; 4] {
 }
 
 /// The default scene with the ball's subsurface term on, so that every lobe contributes
-/// somewhere: the report's wrap, or the ball's own pre-integrated scattering.
+/// somewhere: the report's wrap, or the ball's own pre-integrated scattering. The light
+/// bounced off the ground, a term of its own (the `bounce` view), is off.
 fn every_lobe_scene(subsurface: Subsurface) -> Scene {
     let mut scene = Scene::default_scene();
+    scene.bounce = false;
     let ball = &mut scene.materials[scene.objects[0].material];
     ball.subsurface = subsurface;
     ball.wrap = 0.5;
