@@ -1,6 +1,8 @@
 //! Compiles every GLSL stage in `shaders/` to SPIR-V in `OUT_DIR`, where `src/render/shaders.rs`
 //! embeds it. `#include "x.glsl"` resolves against the including file's folder, then
-//! `shaders/lib/`. A compile error fails the build, naming the file and line.
+//! `shaders/lib/`, then `OUT_DIR`, where `material_struct.glsl` is written first: the
+//! shaders' `struct Material` from `MaterialData` in src/render/material_data.rs, so the
+//! two layouts are one declaration. A compile error fails the build, naming the file and line.
 use std::path::{Path, PathBuf};
 
 // Linked for its build script's link directives (see crates/shaderc-system-link).
@@ -24,6 +26,12 @@ fn main() {
         println!("cargo:rerun-if-changed={}", lib.display());
     }
 
+    let material_data = root.join("src/render/material_data.rs");
+    println!("cargo:rerun-if-changed={}", material_data.display());
+    let rust = std::fs::read_to_string(&material_data).unwrap_or_else(|e| panic!("cannot read {}: {e}", material_data.display()));
+    let glsl = material_glsl(&rust).unwrap_or_else(|e| panic!("{}: {e}", material_data.display()));
+    std::fs::write(out_dir.join("material_struct.glsl"), glsl).expect("cannot write material_struct.glsl to OUT_DIR");
+
     let compiler = shaderc::Compiler::new().expect("shaderc compiler could not be created");
     let mut failures = Vec::new();
     for source in sorted_files(&shader_dir) {
@@ -39,10 +47,10 @@ fn main() {
         options.set_optimization_level(shaderc::OptimizationLevel::Performance);
         options.set_generate_debug_info();
         options.set_warnings_as_errors();
-        let lib_dir = lib_dir.clone();
+        let (lib_dir, generated) = (lib_dir.clone(), out_dir.clone());
         options.set_include_callback(move |name, _ty, from, _depth| {
             let from_dir = Path::new(from).parent().unwrap_or(Path::new("."));
-            let path = [from_dir.join(name), lib_dir.join(name)]
+            let path = [from_dir.join(name), lib_dir.join(name), generated.join(name)]
                 .into_iter()
                 .find(|p| p.is_file())
                 .ok_or_else(|| format!("{from}: cannot find include \"{name}\""))?;
@@ -83,4 +91,44 @@ fn sorted_files(dir: &Path) -> Vec<PathBuf> {
         .unwrap_or_default();
     files.sort();
     files
+}
+
+/// `struct Material` and `material_zero()` in GLSL, from the fields of `pub struct
+/// MaterialData` in `rust` (one `pub name: type,` a line, `///` comments above).
+fn material_glsl(rust: &str) -> Result<String, String> {
+    let start = rust.find("pub struct MaterialData {").ok_or("no `pub struct MaterialData {`")?;
+    let body = &rust[start..];
+    let body = &body[..body.find("\n    }").ok_or("MaterialData does not end")?];
+    let (mut members, mut zeros, mut comment) = (String::new(), String::new(), Vec::new());
+    for line in body.lines().skip(1).map(str::trim) {
+        if let Some(doc) = line.strip_prefix("///") {
+            comment.push(doc.trim());
+            continue;
+        }
+        let field = line.strip_prefix("pub ").and_then(|f| f.strip_suffix(','));
+        let (name, ty) = field.and_then(|f| f.split_once(": ")).ok_or(format!("cannot read the field `{line}`"))?;
+        let (glsl, zero, array) = match ty {
+            "f32" => ("float", "0.0", ""),
+            "u32" => ("uint", "0u", ""),
+            "[f32; 4]" => ("vec4", "vec4(0.0)", ""),
+            "[u32; 4]" => ("uvec4", "uvec4(0u)", ""),
+            "[f32; MAP_COUNT]" => ("float", "0.0", "[MAP_COUNT]"),
+            "[[f32; 4]; MAP_COUNT]" => ("vec4", "vec4(0.0)", "[MAP_COUNT]"),
+            other => return Err(format!("field `{name}`: no GLSL type for `{other}`")),
+        };
+        let note = if comment.is_empty() { String::new() } else { format!(" // {}", comment.join(" ")) };
+        members.push_str(&format!("    {glsl} {name}{array};{note}\n"));
+        zeros.push_str(&if array.is_empty() {
+            format!("    m.{name} = {zero};\n")
+        } else {
+            format!("    for (int i = 0; i < MAP_COUNT; ++i) {{\n        m.{name}[i] = {zero};\n    }}\n")
+        });
+        comment.clear();
+    }
+    Ok(format!(
+        "// Written by build.rs from MaterialData in src/render/material_data.rs: edit that.\n\
+         struct Material {{\n{members}}};\n\n\
+         // A material of zeros, to be filled member by member.\n\
+         Material material_zero() {{\n    Material m;\n{zeros}    return m;\n}}\n"
+    ))
 }

@@ -169,12 +169,18 @@ vec3 shading(Tuple t) {
     uint code = FUNCTION - FIRST_SHADING;
     ShadingModels models = ShadingModels((code >> 4) & 3u, (code >> 2) & 3u, (code >> 1) & 1u, code & 1u,
                                          (code >> 6) & 3u);
-    vec4 no_map_uv[MAP_COUNT];
-    float no_map_strength[MAP_COUNT];
-    Material m = Material(vec4(t.d.rgb, 1.0), vec4(t.e.rgb, 1.0), vec4(t.f.rgb, t.d.w), vec4(t.g.rgb, 1.0),
-                          t.a.w, t.b.w, t.c.w, t.e.w, t.f.w, t.h.x, 0.0, 0.0,
-                          // No maps: brdf_cos does not read them.
-                          no_map_uv, no_map_strength, uvec4(0u));
+    // No maps and no flags: brdf_cos does not read them.
+    Material m = material_zero();
+    m.base_color = vec4(t.d.rgb, 1.0);
+    m.specular_color = vec4(t.e.rgb, 1.0);
+    m.wrap_color = vec4(t.f.rgb, t.d.w);
+    m.scatter = vec4(t.g.rgb, 1.0);
+    m.roughness = t.a.w;
+    m.f0 = t.b.w;
+    m.diffuse_roughness = t.c.w;
+    m.wrap = t.e.w;
+    m.wrap_width = t.f.w;
+    m.metallic = t.h.x;
     if ((code >> 8) == 1u) return brdf_cos_seed(models, m, vec3(0.0, 0.0, 1.0), t.b.xyz, t.c.xyz, t.g.w);
     return brdf_cos(models, m, vec3(0.0, 0.0, 1.0), t.a.xyz, t.b.xyz, t.c.xyz, t.g.w);
 }

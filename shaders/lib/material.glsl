@@ -1,29 +1,13 @@
-// A material's parameters as the shaders read them; mirrored by MaterialData in
-// src/render/gpu_scene.rs (std430).
+// A material's parameters as the shaders read them: MaterialData of
+// src/render/material_data.rs (std430), and what the shaders derive from them.
 #ifndef ARGIL_MATERIAL_GLSL
 #define ARGIL_MATERIAL_GLSL
 
 // The material map slots of src/scene/map_slots.rs.
 const int MAP_COUNT = 8;
 
-struct Material {
-    vec4 base_color;      // rgb linear albedo
-    vec4 specular_color;  // rgb tint of the specular lobe
-    vec4 wrap_color;      // rgb colour of the report's wrap term, a = its intensity
-    vec4 scatter;         // rgb scatter_color (per-channel reach), a = scatter_radius
-    float roughness;      // perceptual; alpha = roughness^2
-    float f0;             // Schlick reflectance at normal incidence
-    float diffuse_roughness;
-    float wrap;
-    float wrap_width;
-    float metallic;       // 0 dielectric, 1 metal (glTF 2.0 metallic-roughness)
-    float energy_compensation; // 1: the specular lobe is energy-compensated (environment.glsl)
-    float micro_shadowing; // 1: the occlusion map micro-shadows the point lights (lights.glsl)
-    // Material maps (material_maps.glsl), by the slot indices of src/scene/map_slots.rs.
-    vec4 map_uv[MAP_COUNT];          // xy scale, zw offset: uv · scale + offset
-    float map_strength[MAP_COUNT];
-    uvec4 green_down;     // x normal map, y detail map: 1 for DirectX-style maps
-};
+// struct Material and material_zero(), written by build.rs from MaterialData.
+#include "material_struct.glsl"
 
 // glTF 2.0's metallic-roughness blend (glTF 2.0 specification, appendix B): the albedo
 // of the diffuse lobes and subsurface terms, base_color · (1 − metallic) ...

@@ -19,7 +19,8 @@ use gpu_allocator::MemoryLocation;
 
 use super::debug_view::DebugView;
 use super::environment::{environment_kind, reflection_code};
-use super::gpu_scene::{FrameData, GpuScene, MaterialData, ObjectPush};
+use super::gpu_scene::{FrameData, GpuScene, ObjectPush};
+use super::material_data::MaterialData;
 use super::occlusion::OcclusionMode;
 use super::shaders;
 use super::split::Split;

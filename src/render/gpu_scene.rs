@@ -10,8 +10,7 @@ use glam::{Mat3, Mat4};
 
 use super::textures::{placeholder, GpuTexture};
 use crate::scene::limits::MAX_OCCLUDERS;
-use crate::scene::map_slots::MAP_COUNT;
-use crate::scene::{MapRef, MapSlot, Material, Mesh, Object, Scene, TexelFormat, TextureData, TextureRole};
+use crate::scene::{MapSlot, Mesh, Object, Scene, TexelFormat, TextureData, TextureRole};
 use crate::vk::{Buffer, DescriptorPool, DescriptorSetLayout, DescriptorWriter, Device, OneShot, Sampler};
 
 /// `MAX_POINT_LIGHTS` in scene_data.glsl.
@@ -76,75 +75,6 @@ impl FrameData {
             ground_albedo,
             occluders,
         })
-    }
-}
-
-/// A Pod struct whose fields' names, offsets and sizes a test compares with a GLSL block.
-macro_rules! gpu_struct {
-    ($(#[$meta:meta])* pub struct $name:ident { $(pub $field:ident: $ty:ty,)+ }) => {
-        $(#[$meta])*
-        pub struct $name {
-            $(pub $field: $ty,)+
-        }
-
-        #[cfg(test)]
-        impl $name {
-            /// (name, offset, size) of every field, in order.
-            const FIELDS: &[(&str, usize, usize)] =
-                &[$((stringify!($field), std::mem::offset_of!($name, $field), std::mem::size_of::<$ty>())),+];
-        }
-    };
-}
-
-gpu_struct! {
-    /// `Material` of shaders/lib/material.glsl (std430); the keys' fields are filled where
-    /// `scene::material_keys` declares them.
-    #[repr(C)]
-    #[derive(Clone, Copy, Pod, Zeroable)]
-    pub struct MaterialData {
-        pub base_color: [f32; 4],
-        pub specular_color: [f32; 4],
-        pub wrap_color: [f32; 4],
-        pub scatter: [f32; 4],
-        pub roughness: f32,
-        pub f0: f32,
-        pub diffuse_roughness: f32,
-        pub wrap: f32,
-        pub wrap_width: f32,
-        pub metallic: f32,
-        pub energy_compensation: f32,
-        pub micro_shadowing: f32,
-        pub map_uv: [[f32; 4]; MAP_COUNT],
-        pub map_strength: [f32; MAP_COUNT],
-        pub green_down: [u32; 4],
-    }
-}
-
-/// A map's `uv · scale + offset` as (scale, offset), and its strength; identity without a map.
-fn map_terms(map: Option<&MapRef>) -> ([f32; 4], f32) {
-    map.map_or(([1.0, 1.0, 0.0, 0.0], 0.0), |m| {
-        ([m.uv_scale.x, m.uv_scale.y, m.uv_offset.x, m.uv_offset.y], m.strength)
-    })
-}
-
-impl From<&Material> for MaterialData {
-    /// The keys where `material_keys` packs them, then the maps.
-    fn from(m: &Material) -> Self {
-        let maps = &m.maps;
-        let terms = maps.0.map(|map| map_terms(map.as_ref()));
-        let mut data = Self {
-            map_uv: terms.map(|t| t.0),
-            map_strength: terms.map(|t| t.1),
-            green_down: [
-                u32::from(maps[MapSlot::Normal].is_some_and(|m| m.green_down)),
-                u32::from(maps[MapSlot::Detail].is_some_and(|m| m.green_down)),
-                0,
-                0,
-            ],
-            ..Self::zeroed()
-        };
-        m.pack(&mut data);
-        data
     }
 }
 
@@ -299,8 +229,7 @@ impl GpuScene {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::material_keys::GPU_SLOTS;
-
+    
     /// The shaders' limits are the Rust ones, and FrameData's occluders lie where std140
     /// puts them: after the ground's two vec4s, 32 bytes each.
     #[test]
@@ -316,118 +245,4 @@ mod tests {
         assert_eq!(std::mem::size_of::<FrameData>() - std::mem::offset_of!(FrameData, occluders), 32 * MAX_OCCLUDERS);
     }
 
-    /// The members of `struct Material` in material.glsl: (type, name).
-    fn glsl_members() -> Vec<(String, String)> {
-        let glsl = include_str!("../../shaders/lib/material.glsl");
-        let start = glsl
-            .find("struct Material {")
-            .expect("material.glsl declares struct Material");
-        let body = &glsl[start..][..glsl[start..].find("};").expect("the struct ends")];
-        body.lines()
-            .skip(1)
-            .map(|line| line.split("//").next().unwrap_or("").trim())
-            .filter(|line| !line.is_empty())
-            .map(|line| {
-                let declaration = line.strip_suffix(';').expect("one member a line");
-                let (ty, name) = declaration.split_once(' ').expect("type and name");
-                (ty.to_owned(), name.trim().to_owned())
-            })
-            .collect()
-    }
-
-    /// std430 (size, alignment) of the member types material.glsl uses; `name[MAP_COUNT]`
-    /// is an array of one element per map slot (std430: stride the element's size).
-    fn std430(ty: &str, name: &str) -> (usize, usize) {
-        let (size, align) = match ty {
-            "float" | "uint" | "int" => (4, 4),
-            "vec2" => (8, 8),
-            "vec4" | "uvec4" => (16, 16),
-            other => panic!("material.glsl: no std430 rule here for {other}"),
-        };
-        match name.split_once('[') {
-            Some((_, "MAP_COUNT]")) => (size * MAP_COUNT, align),
-            Some((_, other)) => panic!("material.glsl: no array size {other}"),
-            None => (size, align),
-        }
-    }
-
-    #[test]
-    fn material_data_has_the_glsl_layout() {
-        let mut offset = 0usize;
-        let glsl: Vec<(String, usize, usize)> = glsl_members()
-            .into_iter()
-            .map(|(ty, name)| {
-                let (size, align) = std430(&ty, &name);
-                offset = offset.next_multiple_of(align);
-                let name = name.split('[').next().unwrap_or(&name).to_owned();
-                let member = (name, offset, size);
-                offset += size;
-                member
-            })
-            .collect();
-        let rust: Vec<(String, usize, usize)> = MaterialData::FIELDS
-            .iter()
-            .map(|&(name, offset, size)| (name.to_owned(), offset, size))
-            .collect();
-        assert_eq!(rust, glsl);
-        assert_eq!(std::mem::size_of::<MaterialData>(), offset.next_multiple_of(16));
-    }
-
-    #[test]
-    fn every_key_packs_into_a_glsl_member() {
-        let members = glsl_members();
-        for (key, slot) in GPU_SLOTS {
-            let field = slot.split(['[', ' ']).next().unwrap_or(slot);
-            let (ty, _) = members
-                .iter()
-                .find(|(_, name)| name == field)
-                .unwrap_or_else(|| panic!("{key}: material.glsl has no member {field}"));
-            // A colour fills a vec4's rgb, a number a float or one component.
-            let indexed = slot.contains('[');
-            assert_eq!(ty == "vec4", indexed, "{key} packs into {slot}, a {ty}");
-        }
-    }
-
-    #[test]
-    fn verify_builds_every_member_of_the_material() {
-        let comp = include_str!("../../shaders/verify_brdf.comp");
-        let call = &comp[comp
-            .find("Material m = Material(")
-            .expect("verify_brdf.comp builds a Material")
-            + 22..];
-        let mut depth = 0;
-        let mut arguments = 1;
-        for c in call.chars() {
-            match c {
-                '(' => depth += 1,
-                ')' if depth == 0 => break,
-                ')' => depth -= 1,
-                ',' if depth == 0 => arguments += 1,
-                _ => {}
-            }
-        }
-        assert_eq!(arguments, glsl_members().len());
-    }
-
-    #[test]
-    fn keys_pack_where_declared() {
-        let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
-            .expect("the default scene");
-        for m in &scene.materials {
-            let data = MaterialData::from(m);
-            assert_eq!(data.base_color[..3], m.base_color.to_array());
-            assert_eq!(data.wrap_color, m.wrap_color.extend(m.wrap_intensity).to_array());
-            assert_eq!(data.scatter, m.scatter_color.extend(m.scatter_radius).to_array());
-            assert_eq!(
-                [
-                    data.roughness,
-                    data.f0,
-                    data.diffuse_roughness,
-                    data.wrap,
-                    data.wrap_width
-                ],
-                [m.roughness, m.f0, m.diffuse_roughness, m.wrap, m.wrap_width]
-            );
-        }
-    }
 }

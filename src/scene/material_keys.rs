@@ -19,7 +19,7 @@ use super::resolve::widen;
 use super::{DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, MaterialMaps, SceneError};
 use super::{SpecularModel, Subsurface};
 use crate::brdf::shading::ShadingParams;
-use crate::render::gpu_scene::MaterialData;
+use crate::render::material_data::MaterialData;
 
 /// A key's name as the file spells it, its panel label, and its documentation sentence
 /// (the panel's tooltip), with how it is typed and when the panel shows it.
