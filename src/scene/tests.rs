@@ -77,35 +77,31 @@ fn minimal_scene_gets_the_documented_defaults() {
             material_from_model: false
         }]
     );
+    // The built-in neutral material: the documented models and numbers, and every other
+    // key at the default its declaration gives.
+    let [m] = &scene.materials[..] else {
+        panic!("one material, not {}", scene.materials.len())
+    };
+    assert_eq!((m.name.as_str(), m.preset), ("default", None));
     assert_eq!(
-        scene.materials,
-        [Material {
-            name: "default".into(),
-            preset: None,
-            base_color: Vec3::splat(0.8),
-            diffuse: DiffuseModel::Lambert,
-            specular: SpecularModel::CookTorrance,
-            distribution: Distribution::Ggx,
-            geometry: Geometry::SmithCorrelated,
-            roughness: 0.5,
-            f0: 0.04,
-            metallic: 0.0,
-            diffuse_roughness: 0.0,
-            specular_color: Vec3::ONE,
-            wrap: 0.0,
-            wrap_width: 0.3,
-            wrap_color: Vec3::ONE,
-            wrap_intensity: 0.0,
-            subsurface: Subsurface::Seed,
-            scatter_color: Vec3::ONE,
-            scatter_radius: 0.0,
-            horizon: Horizon::Smooth,
-            detail_blend: DetailBlend::Rnm,
-            energy_compensation: false,
-            micro_shadowing: false,
-            maps: MaterialMaps::default(),
-        }]
+        (m.base_color, m.diffuse, m.specular, m.distribution, m.geometry),
+        (
+            Vec3::splat(0.8),
+            DiffuseModel::Lambert,
+            SpecularModel::CookTorrance,
+            Distribution::Ggx,
+            Geometry::SmithCorrelated
+        )
     );
+    assert_eq!((m.roughness, m.f0, m.metallic, m.subsurface), (0.5, 0.04, 0.0, Subsurface::Seed));
+    let declared = Material::resolve(
+        "default",
+        &MaterialDef::default(),
+        |key: &str, _: &dyn std::fmt::Debug, reason: String| -> SceneError { panic!("{key}: {reason}") },
+        || Ok(MaterialMaps::default()),
+    )
+    .unwrap();
+    assert_eq!(*m, declared);
     assert!(scene.textures.is_empty());
     assert_eq!(scene.source, None);
 }
