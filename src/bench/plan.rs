@@ -193,6 +193,9 @@ pub fn configuration_names() -> Vec<String> {
         "generic-maps-off",
         "no-environment",
         "generic-no-environment",
+        "no-occlusion",
+        "no-bounce",
+        "no-objects",
     ];
     let mut names: Vec<String> = base.map(str::to_owned).into();
     names.extend(SAMPLED.iter().map(|n| format!("sampled-{n}")));
@@ -406,6 +409,10 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
             }
         }),
         "no-environment" => file.environment = EnvironmentDef::None,
+        // The default scene's terms of the light between its surfaces, one at a time.
+        "no-occlusion" => file.occlusion.get_or_insert_with(Default::default).enabled = Some(false),
+        "no-objects" => file.occlusion.get_or_insert_with(Default::default).objects = Some(false),
+        "no-bounce" => file.shadows.get_or_insert_with(Default::default).bounce = Some(false),
         // A feature added: every property map, the builtin noise's channels as one packed
         // occlusion-roughness-metallic texture and as the scatter map.
         PROPERTY_MAPS => file.materials.values_mut().for_each(|m| {
@@ -511,11 +518,10 @@ const OCCLUSION_CONFIGURATIONS: [&str; 5] = [
     "occlusion-r1",
 ];
 
+/// The scene's own `[occlusion]` (so `objects` stays as the scene has it) with GTAO on.
 fn occlusion_configured(file: &mut SceneFile, name: &str) {
-    let mut def = crate::scene::file::OcclusionDef {
-        enabled: Some(true),
-        ..Default::default()
-    };
+    let def = file.occlusion.get_or_insert_with(Default::default);
+    def.enabled = Some(true);
     match name {
         "occlusion-plain" => def.multi_bounce = Some(false),
         "occlusion-2x4" => (def.slices, def.steps) = (Some(2), Some(4)),
@@ -523,7 +529,6 @@ fn occlusion_configured(file: &mut SceneFile, name: &str) {
         "occlusion-r1" => def.radius = Some(1.0),
         _ => {}
     }
-    file.occlusion = Some(def);
 }
 
 /// What the light bounced off the ground costs and changes, alone and with occlusion.
