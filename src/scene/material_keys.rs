@@ -608,6 +608,12 @@ with_map_slots!(material_keys {
         shown: has_specular,
         gpu: [specular_color[..]],
         twin: specular_color;
+    emission: Rgb = Rgb { unit: false },
+        default: [0.0; 3],
+        label: "emission",
+        doc: "radiance the surface emits, linear RGB, added to the reflected light whatever lights it",
+        shown: |_| true,
+        gpu: [emission[..]];
     wrap: Scalar = Scalar::UNIT,
         default: 0.0,
         label: "wrap",

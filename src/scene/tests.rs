@@ -92,6 +92,7 @@ fn minimal_scene_gets_the_documented_defaults() {
             metallic: 0.0,
             diffuse_roughness: 0.0,
             specular_color: Vec3::ONE,
+            emission: Vec3::ZERO,
             wrap: 0.0,
             wrap_width: 0.3,
             wrap_color: Vec3::ONE,
