@@ -107,6 +107,11 @@ fn material_glsl(rust: &str) -> Result<String, String> {
         }
         let field = line.strip_prefix("pub ").and_then(|f| f.strip_suffix(','));
         let (name, ty) = field.and_then(|f| f.split_once(": ")).ok_or(format!("cannot read the field `{line}`"))?;
+        // Padding std430 adds itself before a vec4 member.
+        if ty == "[f32; MAP_STRENGTH_PAD]" {
+            comment.clear();
+            continue;
+        }
         let (glsl, zero, array) = match ty {
             "f32" => ("float", "0.0", ""),
             "u32" => ("uint", "0u", ""),

@@ -1,6 +1,7 @@
 #version 460
 // Forward shading of one object: every point light through the material's BRDF, plus the
-// environment's light when the scene has one, occluded by the ambient visibility. The
+// environment's light when the scene has one, occluded by the ambient visibility, plus
+// the material's emission. The
 // models, maps, debug view, environment kind, reflection mode and occlusion are
 // specialization constants (src/render/forward.rs), so each
 // pipeline holds only the code its frame needs.
@@ -88,7 +89,8 @@ void main() {
         // The bounced light, gathered by a Lambertian lobe.
         radiance += m.base_color.rgb / PI * ground_bounce_irradiance(in_world_position, n);
     }
-    out_radiance = vec4(radiance, 1.0);
+    // The surface's own light, which no light, occlusion or shadow changes.
+    out_radiance = vec4(radiance + mapped_emission(m, in_map_uv[MAP_EMISSION]), 1.0);
     uint debug_view = DEBUG_VIEW == FROM_UNIFORM ? frame.counts.y : DEBUG_VIEW;
     if (debug_view != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(debug_view, models, m, n, n_geometric, v, in_world_position,

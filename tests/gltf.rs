@@ -926,3 +926,85 @@ fn bad_embedded_images_are_clear_errors() {
         assert_refused(&render_16(&scene, &out), &out, &mentions);
     }
 }
+
+/// glTF's emission is argil's: `emissiveFactor` (times `KHR_materials_emissive_strength`,
+/// required or only used) is `emission` and `emissiveTexture` its `emission_map`, with no
+/// warning; the frame equals, bit for bit, that of the same geometry as OBJ files with the
+/// materials written in the scene.
+#[test]
+fn a_model_brings_its_emission() {
+    let dir = temp_dir("emission");
+    let glow = image::RgbaImage::from_fn(8, 8, |x, y| image::Rgba([60 + 24 * x as u8, 200 - 20 * y as u8, 120, 255]));
+    glow.save(dir.join("glow.png")).expect("write glow");
+    let primitives = [octahedron(), tetrahedron()];
+    let (nodes, worlds) = nodes();
+    let mut model = Model::new(&primitives, nodes, &[0, 1]);
+    model.json["images"] = json!([{"uri": "glow.png"}]);
+    model.json["textures"] = json!([{"source": 0}]);
+    let pbr = json!({"baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5});
+    model.json["materials"] = json!([
+        {"name": "glow", "pbrMetallicRoughness": pbr, "emissiveFactor": [0.75, 0.5, 0.25], "emissiveTexture": {"index": 0}},
+        {
+            "name": "lamp",
+            "pbrMetallicRoughness": pbr,
+            "emissiveFactor": [1.0, 0.5, 0.25],
+            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4.0}},
+        },
+    ]);
+    model.json["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
+    model.json["meshes"][1]["primitives"][0]["material"] = json!(1);
+    for (i, (p, world)) in primitives.iter().zip(worlds).enumerate() {
+        write_obj(&dir.join(format!("part{i}.obj")), p, world);
+    }
+    let obj_text = scene_text(&[])
+        + r#"
+[[objects]]
+mesh = "part0.obj"
+position = [0.25, 0.0, 0.0]
+material = "glow"
+[[objects]]
+mesh = "part1.obj"
+position = [0.25, 0.0, 0.0]
+material = "lamp"
+[materials.glow]
+base_color = [0.5, 0.5, 0.5]
+roughness = 0.5
+emission = [0.75, 0.5, 0.25]
+[materials.glow.emission_map]
+texture = "glow.png"
+[materials.lamp]
+base_color = [0.5, 0.5, 0.5]
+roughness = 0.5
+emission = [4.0, 2.0, 1.0]
+"#;
+    let obj = load(&dir, "obj.toml", &obj_text);
+    let expected = common::render(&obj, 96, 64);
+    let model_text = scene_text(&[]) + "\n[[objects]]\nmesh = \"model.glb\"\nposition = [0.25, 0.0, 0.0]\n";
+    for required in [false, true] {
+        if required {
+            model.json["extensionsRequired"] = json!(["KHR_materials_emissive_strength"]);
+        }
+        model.write(&dir, "model", Storage::Binary);
+        let scene = load(&dir, "model.toml", &model_text);
+        assert_eq!(scene.warnings, Vec::<String>::new(), "required: {required}");
+        for (model_object, obj_object) in scene.objects.iter().zip(&obj.objects) {
+            let (a, b) = (
+                &scene.materials[model_object.material],
+                &obj.materials[obj_object.material],
+            );
+            assert_eq!(
+                argil::scene::Material {
+                    name: b.name.clone(),
+                    ..a.clone()
+                },
+                *b
+            );
+        }
+        let frame = common::render(&scene, 96, 64);
+        assert!(
+            frame.display == expected.display,
+            "required: {required}: the frame differs from the OBJ files'"
+        );
+    }
+}

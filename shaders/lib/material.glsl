@@ -4,7 +4,7 @@
 #define ARGIL_MATERIAL_GLSL
 
 // The material map slots of src/scene/map_slots.rs.
-const int MAP_COUNT = 8;
+const int MAP_COUNT = 9;
 
 // struct Material and material_zero(), written by build.rs from MaterialData.
 #include "material_struct.glsl"

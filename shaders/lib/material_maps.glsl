@@ -1,6 +1,7 @@
 // A material's texture maps (set 1 of the forward pass), and what they change: base
-// colour, the shading normal (seed eqs. 13–16), the reflection noise (eq. 17), and the
-// property maps of glTF 2.0 (roughness, metallic, occlusion) and the scatter map. Which maps
+// colour, the shading normal (seed eqs. 13–16), the reflection noise (eq. 17), the
+// property maps of glTF 2.0 (roughness, metallic, occlusion), the scatter map and the
+// emission map. Which maps
 // a material samples is the MAPS specialization constant, one bit per slot of
 // src/scene/map_slots.rs (its index, binding and bit are the same number), so a material
 // without maps samples nothing. Each function takes its map's uv, already transformed by
@@ -26,6 +27,7 @@ const uint MAP_OCCLUSION = 6u;
 const uint MAP_OCCLUSION_CHANNEL = 0u;
 const uint MAP_SCATTER = 7u;
 const uint MAP_SCATTER_CHANNEL = 0u;
+const uint MAP_EMISSION = 8u;
 
 const bool HAS_BASE_COLOR_MAP = (MAPS & (1u << MAP_BASE_COLOR)) != 0u;
 const bool HAS_NORMAL_MAP = (MAPS & (1u << MAP_NORMAL)) != 0u;
@@ -35,6 +37,7 @@ const bool HAS_ROUGHNESS_MAP = (MAPS & (1u << MAP_ROUGHNESS)) != 0u;
 const bool HAS_METALLIC_MAP = (MAPS & (1u << MAP_METALLIC)) != 0u;
 const bool HAS_OCCLUSION_MAP = (MAPS & (1u << MAP_OCCLUSION)) != 0u;
 const bool HAS_SCATTER_MAP = (MAPS & (1u << MAP_SCATTER)) != 0u;
+const bool HAS_EMISSION_MAP = (MAPS & (1u << MAP_EMISSION)) != 0u;
 
 layout(set = 1, binding = 0) uniform sampler2D base_color_map_texture;
 layout(set = 1, binding = 1) uniform sampler2D normal_map_texture;
@@ -44,12 +47,20 @@ layout(set = 1, binding = 4) uniform sampler2D roughness_map_texture;
 layout(set = 1, binding = 5) uniform sampler2D metallic_map_texture;
 layout(set = 1, binding = 6) uniform sampler2D occlusion_map_texture;
 layout(set = 1, binding = 7) uniform sampler2D scatter_map_texture;
+layout(set = 1, binding = 8) uniform sampler2D emission_map_texture;
 
 // base_color · mix(1, map, strength).
 vec3 mapped_base_color(Material m, vec2 uv) {
     if (!HAS_BASE_COLOR_MAP) return m.base_color.rgb;
     vec3 texel = texture(base_color_map_texture, uv).rgb;
     return m.base_color.rgb * mix(vec3(1.0), texel, m.map_strength[MAP_BASE_COLOR]);
+}
+
+// emission · mix(1, map, strength), glTF 2.0's emissive factor times its texture.
+vec3 mapped_emission(Material m, vec2 uv) {
+    if (!HAS_EMISSION_MAP) return m.emission.rgb;
+    vec3 texel = texture(emission_map_texture, uv).rgb;
+    return m.emission.rgb * mix(vec3(1.0), texel, m.map_strength[MAP_EMISSION]);
 }
 
 // The shading normal: the normal map, with the detail map blended over it, through the

@@ -4,7 +4,10 @@
 //! as a sphere of the same power by the solid angle it subtends; the environment both by
 //! its luminance and by the material's lobes, the two combined by the power heuristic
 //! (Veach 1997). `Direct` and `Shadows` stop after the first surface; `Full` follows the
-//! path with Russian roulette.
+//! path with Russian roulette. An emissive surface's light is added where a camera ray or
+//! a path's bounce meets it: emissive surfaces are not sampled as lights, so in `full`
+//! transport they light other surfaces only through the material's own samples (unbiased,
+//! noisy for small bright emitters), and in `direct` and `shadows` not at all.
 
 use std::f64::consts::PI;
 
@@ -362,7 +365,7 @@ impl<'a> Integrator<'a> {
         let mut surface = self.world.surface(&hit, dir);
         let mut v = -dir.normalize();
         let mut throughput = DVec3::ONE;
-        let mut radiance = DVec3::ZERO;
+        let mut radiance = surface.emission;
         let mut exit = false;
         for depth in 0..self.max_depth {
             let s = self.shading(&surface, v, exit);
@@ -436,6 +439,8 @@ impl<'a> Integrator<'a> {
                 throughput /= survive;
             }
             surface = self.world.surface(&next, l);
+            // Counted where the bounce meets it, as the environment is where a ray escapes.
+            radiance += throughput * surface.emission;
             v = -l;
             exit = false;
         }

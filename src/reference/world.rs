@@ -62,6 +62,8 @@ pub struct WorldMaterial {
     pub seed_horizon: bool,
     /// Whether the specular lobe is energy-compensated, as the forward pass compensates it.
     pub energy_compensation: bool,
+    /// The emitted radiance, before the emission map.
+    emission: DVec3,
     /// By slot.
     maps: [Option<Map>; MAP_COUNT],
     detail_blend: DetailBlend,
@@ -74,6 +76,7 @@ impl WorldMaterial {
             params: material.shading_params(),
             seed_horizon: material.horizon == crate::scene::Horizon::Seed,
             energy_compensation: material.energy_compensation,
+            emission: material.emission.as_dvec3(),
             maps: material.maps.0.map(|map| map.as_ref().map(Map::new)),
             detail_blend: material.detail_blend,
         }
@@ -136,6 +139,8 @@ pub struct Surface {
     pub params: ShadingParams,
     /// The occlusion map's visibility of the environment's light (1 without one).
     pub occlusion: f64,
+    /// The radiance the surface emits, its emission map applied, as mapped_emission does.
+    pub emission: DVec3,
     pub material: usize,
     pub object: usize,
     /// The position moved onto the vertices' tangent planes, where rays leave from on the
@@ -251,10 +256,12 @@ impl World {
             let map = material.maps[slot.index()].as_ref()?;
             Some((map, self.textures[map.texture].sample(map.uv(uv))))
         };
-        if let Some((map, texel)) = sample(MapSlot::BaseColor) {
-            // base_color · mix(1, map, strength), as mapped_base_color does.
-            params.base_color = std::array::from_fn(|c| params.base_color[c] * map_factor(map, texel, c));
-        }
+        // base_color · mix(1, map, strength), as mapped_base_color does, and the emission.
+        let colour = |slot: MapSlot, value: [f64; 3]| {
+            sample(slot).map_or(value, |(map, texel)| std::array::from_fn(|c| value[c] * map_factor(map, texel, c)))
+        };
+        params.base_color = colour(MapSlot::BaseColor, params.base_color);
+        let emission = DVec3::from(colour(MapSlot::Emission, material.emission.to_array()));
         // The property maps, as mapped_properties and mapped_occlusion do.
         let factor = |slot: MapSlot| {
             sample(slot).map_or(1.0, |(map, texel)| {
@@ -284,6 +291,7 @@ impl World {
             curvature,
             params,
             occlusion,
+            emission,
             material: material_index,
             object: object as usize,
             ray_origin,

@@ -116,6 +116,7 @@ impl ForwardConstants {
             // It occludes the environment's light and micro-shadows the point lights.
             MapSlot::Occlusion => sampled(&maps[slot], true),
             MapSlot::Scatter => sampled(&maps[slot], models.subsurface != Subsurface::None),
+            MapSlot::Emission => sampled(&maps[slot], m.emission != glam::Vec3::ZERO),
         });
         Self {
             diffuse_model: models.diffuse as u32,
@@ -652,6 +653,17 @@ mod tests {
             !shown.samples(MapSlot::Noise),
             "the noise map modulates only the seed reflection"
         );
+        assert!(!shown.samples(MapSlot::Emission), "the emission map multiplies an emission of 0");
+        let mut glowing = mapped_material(0.5);
+        glowing.emission = glam::Vec3::new(0.0, 0.0, 0.5);
+        let glowing = ForwardConstants::new(
+            &glowing,
+            &uniform(ReflectionMode::SplitSum),
+            DebugView::Shaded,
+            true,
+            true,
+        );
+        assert!(glowing.samples(MapSlot::Emission));
         let seed = ForwardConstants::new(
             &mapped_material(0.5),
             &uniform(ReflectionMode::Seed),

@@ -26,7 +26,8 @@ macro_rules! gpu_struct {
 }
 
 // build.rs reads the fields of this block, one a line: `f32`, `u32`, `[f32; 4]`, `[u32; 4]`
-// and arrays of them over `MAP_COUNT`, with `///` comments above them.
+// and arrays of them over `MAP_COUNT`, with `///` comments above them; `map_strength_pad`,
+// the explicit padding Pod needs, is no member there (std430 aligns the next one itself).
 gpu_struct! {
     /// `Material` of the shaders (std430); the keys' fields are filled where
     /// `scene::material_keys` declares them.
@@ -41,6 +42,8 @@ gpu_struct! {
         pub wrap_color: [f32; 4],
         /// rgb scatter_color (per-channel reach), a = scatter_radius
         pub scatter: [f32; 4],
+        /// rgb emitted radiance, linear
+        pub emission: [f32; 4],
         /// perceptual; alpha = roughness^2
         pub roughness: f32,
         /// Schlick reflectance at normal incidence
@@ -58,10 +61,15 @@ gpu_struct! {
         pub map_uv: [[f32; 4]; MAP_COUNT],
         /// per map slot: its strength, 0 without the map
         pub map_strength: [f32; MAP_COUNT],
+        /// up to std430's 16-byte alignment of the next member, which GLSL pads to itself
+        pub map_strength_pad: [f32; MAP_STRENGTH_PAD],
         /// x normal map, y detail map: 1 for DirectX-style maps
         pub green_down: [u32; 4],
     }
 }
+
+/// The floats after `map_strength` up to the next 16 bytes.
+const MAP_STRENGTH_PAD: usize = MAP_COUNT.next_multiple_of(4) - MAP_COUNT;
 
 /// A map's `uv · scale + offset` as (scale, offset), and its strength; identity without a map.
 fn map_terms(map: Option<&MapRef>) -> ([f32; 4], f32) {
@@ -148,6 +156,7 @@ mod tests {
             .collect();
         let rust: Vec<(String, usize, usize)> = MaterialData::FIELDS
             .iter()
+            .filter(|(name, ..)| !name.ends_with("_pad"))
             .map(|&(name, offset, size)| (name.to_owned(), offset, size))
             .collect();
         assert_eq!(rust, glsl);

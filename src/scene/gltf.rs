@@ -1,7 +1,8 @@
 //! glTF 2.0 models (.gltf with external or `data:` buffers and images, and .glb): every triangle
 //! primitive of the model's scene becomes a part, a [`Mesh`] in world space with the node
 //! transforms baked in. What argil does not draw (other primitive modes, skins,
-//! animations, morph targets, extensions) is named in one warning each.
+//! animations, morph targets, extensions other than KHR_materials_emissive_strength) is
+//! named in one warning each.
 //!
 //! The `gltf` crate parses and validates the JSON (the indices between its objects
 //! included); this module reads the buffers itself, within [`MAX_GLTF_BYTES`], and checks
@@ -82,7 +83,7 @@ impl Model {
         check_glb_header(&bytes).map_err(invalid)?;
         let Gltf { document, blob } = Gltf::from_slice_without_validation(&bytes).map_err(|e| invalid(message(e)))?;
         // Before validation, which reports an extension the crate does not know less plainly.
-        if let Some(extension) = document.extensions_required().next() {
+        if let Some(extension) = document.extensions_required().find(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
             return Err(invalid(format!(
                 "the model requires the extension {extension}, which argil does not support"
             )));
@@ -229,10 +230,14 @@ fn read_uri(uri: &str, folder: &Path) -> Result<Vec<u8>, String> {
     std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
 }
 
+/// The extensions argil reads (the `gltf` crate's features that parse them are on).
+const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength"];
+
 /// The warnings for what the model has and argil does not draw.
 fn unsupported_parts(document: &Document) -> Vec<String> {
     let mut warnings: Vec<String> = document
         .extensions_used()
+        .filter(|e| !SUPPORTED_EXTENSIONS.contains(e))
         .map(|e| format!("the extension {e} is not supported and is ignored"))
         .collect();
     let count = |n: usize, what: &str| (n > 0).then(|| format!("{n} {what}"));
@@ -255,8 +260,9 @@ fn unsupported_parts(document: &Document) -> Vec<String> {
 
 /// The model's materials as scene materials: glTF's metallic-roughness model is argil's
 /// `metallic` blend, with the base colour factor (its alpha dropped) and map, the
-/// metallic and roughness factors and their map, the normal map with its scale and the
-/// occlusion map with its strength. What argil cannot
+/// metallic and roughness factors and their map, the normal map with its scale, the
+/// occlusion map with its strength and the emissive factor (times its strength) and
+/// map. What argil cannot
 /// draw yet is named in `warnings`, once per model.
 fn materials(
     document: &Document,
@@ -320,9 +326,11 @@ fn materials(
                     "an occlusion texture's strength",
                 )
             });
-            if material.emissive_factor() != [0.0; 3] || material.emissive_texture().is_some() {
-                note("emission is not supported and is ignored");
-            }
+            // KHR_materials_emissive_strength scales the factor, which glTF otherwise
+            // keeps in [0, 1]; the texture multiplies it, as `emission_map` does.
+            let strength = material.emissive_strength().unwrap_or(1.0);
+            let emission = material.emissive_factor().map(|c| f64::from(c) * f64::from(strength));
+            let emission_map = material.emissive_texture().and_then(info_map);
             if material.alpha_mode() != ::gltf::material::AlphaMode::Opaque {
                 note("transparency (alphaMode MASK or BLEND) is not supported: surfaces are drawn opaque");
             }
@@ -343,6 +351,8 @@ fn materials(
                 roughness_map: metallic_roughness.clone(),
                 metallic_map: metallic_roughness,
                 occlusion_map,
+                emission,
+                emission_map,
                 ..MaterialDef::default()
             };
             (name.trim_end().to_owned(), def)

@@ -135,6 +135,12 @@ macro_rules! with_map_slots {
                     summary: "texture scaling the subsurface scattering",
                     doc: "`scatter_color` and `wrap` are multiplied by `mix(1, map, strength)`"
                 },
+                Emission {
+                    key: emission_map, label: "emission map", glsl: "MAP_EMISSION",
+                    role: BaseColor, channel: Rgb,
+                    summary: "texture multiplying `emission` (glTF 2.0's emissive texture)",
+                    doc: "`emission · mix(1, map, strength)`"
+                },
             ]
             $($args)*
         }

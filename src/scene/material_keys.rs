@@ -180,7 +180,8 @@ impl Kind for Rgb {
     }
 
     fn edit<'a>(&self, v: &'a mut Vec3) -> Edit<'a> {
-        Edit::Color(v)
+        let high = if self.unit { 1.0 } else { f32::INFINITY };
+        Edit::Color(v, 0.0..=high)
     }
 }
 
@@ -236,7 +237,8 @@ impl Kind for Flag {
 pub enum Edit<'a> {
     /// A slider over the range.
     Number(&'a mut f32, RangeInclusive<f32>),
-    Color(&'a mut Vec3),
+    /// With its components' range.
+    Color(&'a mut Vec3, RangeInclusive<f32>),
     Choice(Box<dyn Choose + 'a>),
     /// A checkbox.
     Toggle(&'a mut bool),
@@ -608,6 +610,12 @@ with_map_slots!(material_keys {
         shown: has_specular,
         gpu: [specular_color[..]],
         twin: specular_color;
+    emission: Rgb = Rgb { unit: false },
+        default: [0.0; 3],
+        label: "emission",
+        doc: "radiance the surface emits, linear RGB, added to the reflected light whatever lights it",
+        shown: |_| true,
+        gpu: [emission[..]];
     wrap: Scalar = Scalar::UNIT,
         default: 0.0,
         label: "wrap",
@@ -705,6 +713,20 @@ mod tests {
         assert_eq!(limit(MAX_UV_SCALE), "10000");
         assert!(!keys::wrap_width.kind.contains(0.0) && keys::wrap_width.kind.contains(1e30));
         assert!(!Scalar::UNIT.contains(f32::NAN) && !keys::wrap_intensity.kind.contains(f32::INFINITY));
+    }
+
+    /// The panel edits a colour over its valid range: an emission of 4 stays 4.
+    #[test]
+    fn colours_edit_over_their_range() {
+        let mut c = Vec3::splat(4.0);
+        let Edit::Color(_, range) = keys::emission.kind.edit(&mut c) else {
+            panic!("emission is a colour")
+        };
+        assert!(range.contains(&4.0) && range.contains(&0.0) && !range.contains(&-0.1));
+        let Edit::Color(_, range) = keys::scatter_color.kind.edit(&mut c) else {
+            panic!("scatter_color is a colour")
+        };
+        assert_eq!(range, 0.0..=1.0);
     }
 
     #[test]

@@ -512,7 +512,7 @@ fn material_fields(ui: &mut Ui, m: &mut Material) {
     for (key, edit) in m.edits() {
         match edit {
             Edit::Number(value, range) => number(ui, key.label, &key.tip, value, range),
-            Edit::Color(value) => color(ui, key.label, &key.tip, value),
+            Edit::Color(value, range) => color(ui, key.label, &key.tip, value, range),
             Edit::Toggle(value) => {
                 ui.label(key.label).on_hover_text(&key.tip);
                 ui.checkbox(value, "").on_hover_text(&key.tip);
@@ -614,8 +614,9 @@ fn number(ui: &mut Ui, label: &str, tip: &str, value: &mut f32, range: RangeIncl
 }
 
 /// A linear RGB colour as the file stores it: three numbers, a swatch picker, and the
-/// sRGB-encoded 8-bit values the swatch shows; written only when the user changes it.
-fn color(ui: &mut Ui, label: &str, tip: &str, value: &mut Vec3) {
+/// sRGB-encoded 8-bit values the swatch shows; written only when the user changes it. The
+/// numbers stay in `range`, which for an unbounded colour (emission) does not clamp them to 1.
+fn color(ui: &mut Ui, label: &str, tip: &str, value: &mut Vec3, range: RangeInclusive<f32>) {
     ui.label(label).on_hover_text(tip);
     ui.vertical(|ui| {
         let mut rgb = value.to_array();
@@ -628,7 +629,7 @@ fn color(ui: &mut Ui, label: &str, tip: &str, value: &mut Vec3) {
         ui.horizontal(|ui| {
             for c in &mut rgb {
                 changed |= ui
-                    .add(egui::DragValue::new(c).speed(0.005).range(0.0..=1.0).max_decimals(3))
+                    .add(egui::DragValue::new(c).speed(0.005).range(range.clone()).max_decimals(3))
                     .on_hover_text("linear, as the scene file stores it")
                     .changed();
             }
@@ -648,6 +649,7 @@ fn scaled_color(ui: &mut Ui, label: &str, value: &mut Vec3, unit: &str) {
         &format!("{label} colour"),
         "the colour, brightest channel 1",
         &mut tint,
+        0.0..=1.0,
     );
     ui.label(label);
     let speed = (scale * 0.01).max(0.001);
