@@ -296,6 +296,39 @@ texture = "builtin:clay-lumps"
     text
 }
 
+/// Each primitive as `partN.obj` in `dir`, in world space.
+fn write_parts(dir: &Path, primitives: &[Primitive], worlds: [Mat4; 2]) {
+    for (i, (p, world)) in primitives.iter().zip(worlds).enumerate() {
+        write_obj(&dir.join(format!("part{i}.obj")), p, world);
+    }
+}
+
+/// The two parts as objects where the model's tests place it, with these materials.
+fn parts_with(materials: [&str; 2]) -> String {
+    materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| format!("\n[[objects]]\nmesh = \"part{i}.obj\"\nposition = [0.25, 0.0, 0.0]\nmaterial = \"{m}\""))
+        .collect()
+}
+
+/// The model's objects have the materials of the OBJ scene's, names aside.
+fn assert_same_materials(scene: &Scene, obj: &Scene) {
+    for (model_object, obj_object) in scene.objects.iter().zip(&obj.objects) {
+        let (a, b) = (
+            &scene.materials[model_object.material],
+            &obj.materials[obj_object.material],
+        );
+        assert_eq!(
+            argil::scene::Material {
+                name: b.name.clone(),
+                ..a.clone()
+            },
+            *b
+        );
+    }
+}
+
 fn load(dir: &Path, name: &str, text: &str) -> Scene {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write scene");
@@ -311,9 +344,7 @@ fn a_model_renders_as_its_geometry_written_as_obj() {
     let primitives = [octahedron(), tetrahedron()];
     let (nodes, worlds) = nodes();
     let model = Model::new(&primitives, nodes, &[0, 1]);
-    for (i, (p, world)) in primitives.iter().zip(worlds).enumerate() {
-        write_obj(&dir.join(format!("part{i}.obj")), p, world);
-    }
+    write_parts(&dir, &primitives, worlds);
     let obj = load(&dir, "obj.toml", &scene_text(&["part0.obj", "part1.obj"]));
     assert!(obj.warnings.is_empty());
     let expected = common::render(&obj, 96, 64);
@@ -618,19 +649,10 @@ fn a_model_brings_its_materials() {
     assert_eq!(names, [format!("{shown} #0 glaze"), format!("{shown} #1")]);
     assert!(scene.objects.iter().all(|o| o.material_from_model));
 
-    for (i, (p, world)) in primitives.iter().zip(worlds).enumerate() {
-        write_obj(&dir.join(format!("part{i}.obj")), p, world);
-    }
+    write_parts(&dir, &primitives, worlds);
     let obj_text = scene_text(&[])
+        + &parts_with(["glaze", "metal"])
         + r#"
-[[objects]]
-mesh = "part0.obj"
-position = [0.25, 0.0, 0.0]
-material = "glaze"
-[[objects]]
-mesh = "part1.obj"
-position = [0.25, 0.0, 0.0]
-material = "metal"
 [materials.glaze]
 base_color = [0.75, 0.5, 0.25]
 metallic = 0.25
@@ -660,19 +682,7 @@ texture = "orm.png"
 strength = 8.0
 "#;
     let obj = load(&dir, "obj.toml", &obj_text);
-    for (model_object, obj_object) in scene.objects.iter().zip(&obj.objects) {
-        let (a, b) = (
-            &scene.materials[model_object.material],
-            &obj.materials[obj_object.material],
-        );
-        assert_eq!(
-            argil::scene::Material {
-                name: b.name.clone(),
-                ..a.clone()
-            },
-            *b
-        );
-    }
+    assert_same_materials(&scene, &obj);
     let expected = common::render(&obj, 96, 64);
     let frame = common::render(&scene, 96, 64);
     assert!(
@@ -954,19 +964,10 @@ fn a_model_brings_its_emission() {
     model.json["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
     model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
     model.json["meshes"][1]["primitives"][0]["material"] = json!(1);
-    for (i, (p, world)) in primitives.iter().zip(worlds).enumerate() {
-        write_obj(&dir.join(format!("part{i}.obj")), p, world);
-    }
+    write_parts(&dir, &primitives, worlds);
     let obj_text = scene_text(&[])
+        + &parts_with(["glow", "lamp"])
         + r#"
-[[objects]]
-mesh = "part0.obj"
-position = [0.25, 0.0, 0.0]
-material = "glow"
-[[objects]]
-mesh = "part1.obj"
-position = [0.25, 0.0, 0.0]
-material = "lamp"
 [materials.glow]
 base_color = [0.5, 0.5, 0.5]
 roughness = 0.5
@@ -988,19 +989,7 @@ emission = [4.0, 2.0, 1.0]
         model.write(&dir, "model", Storage::Binary);
         let scene = load(&dir, "model.toml", &model_text);
         assert_eq!(scene.warnings, Vec::<String>::new(), "required: {required}");
-        for (model_object, obj_object) in scene.objects.iter().zip(&obj.objects) {
-            let (a, b) = (
-                &scene.materials[model_object.material],
-                &obj.materials[obj_object.material],
-            );
-            assert_eq!(
-                argil::scene::Material {
-                    name: b.name.clone(),
-                    ..a.clone()
-                },
-                *b
-            );
-        }
+        assert_same_materials(&scene, &obj);
         let frame = common::render(&scene, 96, 64);
         assert!(
             frame.display == expected.display,
