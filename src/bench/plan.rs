@@ -193,7 +193,6 @@ pub fn configuration_names() -> Vec<String> {
         "generic-maps-off",
         "no-environment",
         "generic-no-environment",
-        "no-occlusion",
         "no-bounce",
         "no-objects",
     ];
@@ -202,9 +201,7 @@ pub fn configuration_names() -> Vec<String> {
     let others = SHADOW_CONFIGURATIONS
         .iter()
         .chain(&ANTIALIASING_CONFIGURATIONS)
-        .chain(&OCCLUSION_CONFIGURATIONS)
-        .chain(&BOUNCE_CONFIGURATIONS)
-        .chain(&OBJECT_CONFIGURATIONS);
+        .chain(&OCCLUSION_CONFIGURATIONS);
     names.extend(others.map(|n| (*n).to_owned()));
     names
 }
@@ -410,7 +407,6 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         }),
         "no-environment" => file.environment = EnvironmentDef::None,
         // The default scene's terms of the light between its surfaces, one at a time.
-        "no-occlusion" => file.occlusion.get_or_insert_with(Default::default).enabled = Some(false),
         "no-objects" => file.occlusion.get_or_insert_with(Default::default).objects = Some(false),
         "no-bounce" => file.shadows.get_or_insert_with(Default::default).bounce = Some(false),
         // A feature added: every property map, the builtin noise's channels as one packed

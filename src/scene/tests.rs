@@ -403,14 +403,15 @@ fn default_scene_is_a_valid_clay_scene() {
     assert_eq!(scene.lights.len(), 1);
     let light = scene.lights[0];
     assert!(light.intensity.min_element() >= 30.0 && light.intensity.max_element() <= 60.0);
-    // A studio shot: the studio's light, a soft key light, contact shadows.
+    // A studio shot: the studio's light, a soft key light, its light bounced off the
+    // ground, and the studio's light the objects hide from each other.
     assert!(
         matches!(scene.environment, Environment::Studio { .. }),
         "{:?}",
         scene.environment
     );
     assert!(light.radius > 0.0 && light.shadows);
-    assert!(scene.occlusion.enabled);
+    assert!(scene.bounce && scene.occlusion.objects && !scene.occlusion.enabled);
     // Up, left and in front of the objects.
     assert!(light.position.y > 0.0 && light.position.x < 0.0 && light.position.z > 0.0);
     let camera = scene.camera;
