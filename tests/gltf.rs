@@ -7,7 +7,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use argil::scene::Scene;
+use argil::scene::{Mesh, Scene, Vertex};
 use base64::Engine;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use serde_json::{json, Value};
@@ -286,8 +286,6 @@ radiance = [0.2, 0.2, 0.25]
 [materials.clay]
 base_color = [0.7, 0.45, 0.3]
 roughness = 0.5
-[materials.clay.normal_map]
-texture = "builtin:clay-lumps"
 "#,
     );
     for mesh in objects {
@@ -337,7 +335,10 @@ fn load(dir: &Path, name: &str, text: &str) -> Scene {
 
 /// Each primitive of the model's scene is a part in world space, with its node's transform
 /// baked in: the frames of a .gltf with an external buffer, one with a `data:` buffer and a
-/// .glb equal, bit for bit, the frame of the same geometry as two OBJ files.
+/// .glb equal, bit for bit, the frame of the same geometry as two OBJ files. Corner for
+/// corner the vertices are the OBJ files' but for the octahedron's tangents: those are
+/// MikkTSpace's, as glTF asks (the frame has no normal map, which would show them), and
+/// split its vertices where its UVs turn over, 6 into 14.
 #[test]
 fn a_model_renders_as_its_geometry_written_as_obj() {
     let dir = temp_dir("geometry");
@@ -354,11 +355,22 @@ fn a_model_renders_as_its_geometry_written_as_obj() {
         let scene = load(&dir, "model.toml", &scene_text(&[name]));
         assert_eq!(scene.warnings, Vec::<String>::new(), "{storage:?}");
         assert_eq!((scene.meshes.len(), scene.objects.len()), (2, 2), "{storage:?}");
+        let corners = |mesh: &Mesh| -> Vec<Vertex> {
+            let corner = |i: &u32| Vertex {
+                tangent: [0.0; 4],
+                ..mesh.vertices[*i as usize]
+            };
+            mesh.indices.iter().map(corner).collect()
+        };
         for (part, (mesh, obj_mesh)) in scene.meshes.iter().zip(&obj.meshes).enumerate() {
             assert_eq!(scene.objects[part].part, part);
-            assert_eq!(mesh.indices, obj_mesh.indices, "{storage:?} part {part}");
-            assert_eq!(mesh.vertices, obj_mesh.vertices, "{storage:?} part {part}");
+            assert_eq!(corners(mesh), corners(obj_mesh), "{storage:?} part {part}");
         }
+        let [octahedron, tetrahedron] = [0, 1].map(|part| (&scene.meshes[part], &obj.meshes[part]));
+        assert_eq!((octahedron.0.vertices.len(), octahedron.1.vertices.len()), (14, 6));
+        // Flat-shaded, the tetrahedron's tangents are argil's own, as the OBJ file's.
+        assert_eq!(tetrahedron.0.indices, tetrahedron.1.indices, "{storage:?}");
+        assert_eq!(tetrahedron.0.vertices, tetrahedron.1.vertices, "{storage:?}");
         let frame = common::render(&scene, 96, 64);
         assert!(
             frame.display == expected.display,
@@ -373,8 +385,7 @@ fn a_model_renders_as_its_geometry_written_as_obj() {
 }
 
 /// Tangents given by the file are kept (made orthogonal to the normal), turned with the
-/// node and their handedness flipped by a mirror; without them they are computed as an OBJ
-/// file's are, as the test above shows.
+/// node and their handedness flipped by a mirror; without them they are MikkTSpace's.
 #[test]
 fn tangents_from_the_file_are_kept_and_mirrored() {
     let dir = temp_dir("tangents");
@@ -409,6 +420,62 @@ fn tangents_from_the_file_are_kept_and_mirrored() {
     assert!(computed.exists());
     for v in &scene.meshes[0].vertices {
         assert_eq!(Vec4::from(v.tangent), Vec4::new(1.0, 0.0, 0.0, 1.0));
+    }
+}
+
+/// Two unit quads side by side, the right one's UVs mirrored about their shared edge, with
+/// normals and no tangents.
+fn mirrored_strip() -> Primitive {
+    Primitive {
+        positions: vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [2.0, 1.0, 0.0],
+        ],
+        normals: Some(vec![[0.0, 0.0, 1.0]; 6]),
+        uvs: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [0.0, 1.0]],
+        tangents: None,
+        indices: vec![0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4],
+    }
+}
+
+/// A primitive with normals and UVs but no tangents gets MikkTSpace's, as glTF asks: on a
+/// strip whose right half mirrors its UVs, the tangent follows u (+x with w = +1 on the
+/// left, -x with w = -1 on the right) and only the two vertices on the mirror seam are
+/// split, 6 into 8. Under a plain and a mirroring node, the parts equal those of the same
+/// strip with those 8 vertices and their tangents written in the file.
+#[test]
+fn missing_tangents_are_mikktspace_s() {
+    let dir = temp_dir("mikktspace");
+    let strip = mirrored_strip();
+    let nodes = json!([
+        {"mesh": 0, "translation": [-2.5, 0.0, 0.0]},
+        {"mesh": 0, "translation": [2.5, 0.0, 0.0], "scale": [-1.0, 1.0, 1.0]},
+    ]);
+    Model::new(&[strip.clone()], nodes.clone(), &[0, 1]).write(&dir, "generated", Storage::Binary);
+    let mut written = strip.clone();
+    for seam in [1, 4] {
+        written.positions.push(strip.positions[seam]);
+        written.uvs.push(strip.uvs[seam]);
+    }
+    written.normals = Some(vec![[0.0, 0.0, 1.0]; 8]);
+    let (left, right) = ([1.0, 0.0, 0.0, 1.0], [-1.0, 0.0, 0.0, -1.0]);
+    written.tangents = Some(vec![left, left, right, left, left, right, right, right]);
+    written.indices = vec![0, 1, 4, 0, 4, 3, 6, 2, 5, 6, 5, 7];
+    Model::new(&[written.clone()], nodes, &[0, 1]).write(&dir, "written", Storage::Binary);
+
+    let generated = load(&dir, "generated.toml", &scene_text(&["generated.glb"]));
+    let expected = load(&dir, "written.toml", &scene_text(&["written.glb"]));
+    assert_eq!(generated.warnings, Vec::<String>::new());
+    let plain = &generated.meshes[generated.objects[0].mesh];
+    let tangents: Vec<[f32; 4]> = plain.vertices.iter().map(|v| v.tangent).collect();
+    assert_eq!(Some(tangents), written.tangents);
+    for (part, (mesh, file)) in generated.meshes.iter().zip(&expected.meshes).enumerate() {
+        assert_eq!(mesh.indices, file.indices, "part {part}");
+        assert_eq!(mesh.vertices, file.vertices, "part {part}");
     }
 }
 
@@ -579,7 +646,9 @@ fn bad_models_are_clear_errors() {
 /// roughness²) and their one texture as `roughness_map` and `metallic_map`, the normal
 /// texture with its scale and the occlusion texture with its strength (clamped to argil's
 /// range, and named in a warning). The model draws bit for bit as its geometry in OBJ
-/// files with those materials written as tables.
+/// files with those materials written as tables; the normal map is on the flat-shaded
+/// tetrahedron, whose tangents argil computes as an OBJ file's (the octahedron's are
+/// MikkTSpace's).
 #[test]
 fn a_model_brings_its_materials() {
     let dir = temp_dir("materials");
@@ -612,7 +681,6 @@ fn a_model_brings_its_materials() {
                 "roughnessFactor": 0.375,
                 "metallicRoughnessTexture": {"index": 2},
             },
-            "normalTexture": {"index": 1, "scale": 0.5},
             "occlusionTexture": {"index": 2, "strength": 0.75},
         },
         {
@@ -621,6 +689,7 @@ fn a_model_brings_its_materials() {
                 "roughnessFactor": 0.625,
                 "metallicRoughnessTexture": {"index": 2},
             },
+            "normalTexture": {"index": 1, "scale": 0.5},
             "occlusionTexture": {"index": 2, "strength": 9.0},
         },
     ]);
@@ -659,9 +728,6 @@ metallic = 0.25
 roughness = 0.375
 [materials.glaze.base_color_map]
 texture = "albedo map.png"
-[materials.glaze.normal_map]
-texture = "normals.png"
-strength = 0.5
 [materials.glaze.roughness_map]
 texture = "orm.png"
 [materials.glaze.metallic_map]
@@ -673,6 +739,9 @@ strength = 0.75
 base_color = [1.0, 1.0, 1.0]
 metallic = 1.0
 roughness = 0.625
+[materials.metal.normal_map]
+texture = "normals.png"
+strength = 0.5
 [materials.metal.roughness_map]
 texture = "orm.png"
 [materials.metal.metallic_map]
@@ -872,17 +941,17 @@ fn embedded_images_draw_as_files_beside_the_model() {
     };
     let files = scene_of("files.glb");
     assert_eq!(files.warnings, Vec::<String>::new());
-    // clay-lumps, the colour map and the one ORM texture.
-    assert_eq!(files.textures.len(), 3);
+    // The colour map and the one ORM texture.
+    assert_eq!(files.textures.len(), 2);
     let expected = common::render(&files, 96, 64);
     for model in ["views.glb", "uris.gltf"] {
         let scene = scene_of(model);
         assert_eq!(scene.warnings, Vec::<String>::new(), "{model}");
-        assert_eq!(scene.textures.len(), 3, "{model}");
+        assert_eq!(scene.textures.len(), 2, "{model}");
         let shown = dir.join(model).display().to_string();
         let names: Vec<&str> = scene.textures.iter().map(|t| t.name.as_str()).collect();
         assert_eq!(
-            names[1..],
+            names,
             [format!("{shown}#image0"), format!("{shown}#image1")],
             "{model}"
         );

@@ -25,6 +25,8 @@ use super::file::{MapDef, MaterialDef, ObjectDef, SceneFile};
 use super::limits::{check_file_size, MAX_GLTF_BYTES, MAX_MESH_TRIANGLES};
 use super::map_slots::MapSlot;
 use super::material_keys::MAP_STRENGTH;
+use super::mesh::check_triangles;
+use super::mikktspace;
 use super::{Camera, Mesh, Scene, SceneError, DEFAULT_SCENE_TOML};
 
 /// Whether a path (or a scene's `mesh` string) names a glTF model, by its extension in
@@ -439,7 +441,8 @@ fn mode_name(mode: Mode) -> &'static str {
 
 /// One primitive in world space: `world` applied to positions and tangents, its inverse
 /// transpose to normals, and the winding reversed where `world` mirrors (det < 0), so that
-/// front faces stay counter-clockwise seen from outside. Errors name `origin`.
+/// front faces stay counter-clockwise seen from outside. Tangents the file lacks, where it
+/// has normals and UVs, are MikkTSpace's (mikktspace.rs). Errors name `origin`.
 fn part(origin: &str, world: Mat4, primitive: &Primitive, buffers: &[Vec<u8>]) -> Result<Mesh, SceneError> {
     let invalid = |problem: String| SceneError::InvalidMesh {
         origin: origin.to_owned(),
@@ -501,6 +504,23 @@ fn part(origin: &str, world: Mat4, primitive: &Primitive, buffers: &[Vec<u8>]) -
             )));
         }
     }
+    // Before MikkTSpace and the flat-shading split, which index the attributes.
+    check_triangles(origin, &positions, normals.as_deref(), uvs.as_deref(), &indices)?;
+    // glTF's rule: tangents missing from the file are MikkTSpace's, generated before the
+    // node's transform, as the file's own would have been.
+    let split = match (&tangents, &normals, &uvs) {
+        (None, Some(given_normals), Some(given_uvs)) => {
+            mikktspace::split_by_tangents(&positions, given_normals, given_uvs, &indices)
+        }
+        _ => None,
+    };
+    if let Some(split) = split {
+        positions = split.positions;
+        normals = Some(split.normals);
+        uvs = Some(split.uvs);
+        tangents = Some(split.tangents);
+        indices = split.indices;
+    }
 
     let linear = Mat3::from_mat4(world);
     let normal_matrix = linear.inverse().transpose();
@@ -525,12 +545,6 @@ fn part(origin: &str, world: Mat4, primitive: &Primitive, buffers: &[Vec<u8>]) -
     if normals.is_none() {
         // glTF's rule: without normals a primitive is flat shaded and its tangents are
         // ignored. Unshared corners get their own triangle's normal from `from_triangles`.
-        if let Some(&bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-            return Err(invalid(format!(
-                "index {bad} is out of range: there are {} vertices",
-                positions.len()
-            )));
-        }
         positions = indices.iter().map(|&i| positions[i as usize]).collect();
         uvs = uvs.map(|uvs| indices.iter().map(|&i| uvs[i as usize]).collect());
         tangents = None;

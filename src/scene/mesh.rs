@@ -225,50 +225,17 @@ impl Mesh {
         given_tangents: Option<&[[f32; 4]]>,
         indices: &[u32],
     ) -> Result<Mesh, SceneError> {
-        let invalid = |problem: String| SceneError::InvalidMesh {
-            origin: name.to_owned(),
-            problem,
-        };
-        check_finite("position", positions).map_err(&invalid)?;
-        if let Some(normals) = normals {
-            check_len("normal", normals.len(), positions.len()).map_err(&invalid)?;
-            check_finite("normal", normals).map_err(&invalid)?;
-        }
-        if let Some(uvs) = uvs {
-            check_len("texture coordinate", uvs.len(), positions.len()).map_err(&invalid)?;
-            check_finite("texture coordinate", uvs).map_err(&invalid)?;
-        }
-        if indices.is_empty() {
-            return Err(invalid("no triangles".into()));
-        }
-        if indices.len() % 3 != 0 {
-            return Err(invalid(format!(
-                "{} indices is not a whole number of triangles",
-                indices.len()
-            )));
-        }
-        if let Some((at, &index)) = indices
-            .iter()
-            .enumerate()
-            .find(|&(_, &index)| index as usize >= positions.len())
-        {
-            return Err(invalid(format!(
-                "index {index} (triangle {}) is out of range: there are {} vertices",
-                at / 3,
-                positions.len()
-            )));
-        }
-
+        check_triangles(name, positions, normals, uvs, indices)?;
         let normals = tangents::vertex_normals(positions, normals, indices);
         let mut tangents = tangents::vertex_tangents(positions, &normals, uvs, indices);
         if let Some(given) = given_tangents {
-            check_len("tangent", given.len(), positions.len()).map_err(&invalid)?;
+            check_len("tangent", given.len(), positions.len()).map_err(|problem| SceneError::InvalidMesh {
+                origin: name.to_owned(),
+                problem,
+            })?;
             for ((tangent, given), normal) in tangents.iter_mut().zip(given).zip(&normals) {
-                let t = Vec3::new(given[0], given[1], given[2]);
-                let orthogonal = t - *normal * normal.dot(t);
-                // What is left of a tangent (nearly) along the normal is rounding noise.
-                if orthogonal.length() > 1e-3 * t.length() {
-                    *tangent = orthogonal.normalize().extend(if given[3] < 0.0 { -1.0 } else { 1.0 });
+                if let Some(t) = tangents::orthogonal_tangent(*given, *normal) {
+                    *tangent = t;
                 }
             }
         }
@@ -448,6 +415,52 @@ fn unit(q: Vec3) -> Vec3 {
     let mut squares = (q * q).to_array();
     squares.sort_by(f32::total_cmp);
     q / (squares[0] + squares[1] + squares[2]).sqrt()
+}
+
+/// The checks of [`Mesh::from_triangles`] on its input, for loaders that work on it first:
+/// finite coordinates, one of each attribute per position, and whole triangles whose
+/// indices are in range. Errors name `name`.
+pub(super) fn check_triangles(
+    name: &str,
+    positions: &[[f32; 3]],
+    normals: Option<&[[f32; 3]]>,
+    uvs: Option<&[[f32; 2]]>,
+    indices: &[u32],
+) -> Result<(), SceneError> {
+    let invalid = |problem: String| SceneError::InvalidMesh {
+        origin: name.to_owned(),
+        problem,
+    };
+    check_finite("position", positions).map_err(&invalid)?;
+    if let Some(normals) = normals {
+        check_len("normal", normals.len(), positions.len()).map_err(&invalid)?;
+        check_finite("normal", normals).map_err(&invalid)?;
+    }
+    if let Some(uvs) = uvs {
+        check_len("texture coordinate", uvs.len(), positions.len()).map_err(&invalid)?;
+        check_finite("texture coordinate", uvs).map_err(&invalid)?;
+    }
+    if indices.is_empty() {
+        return Err(invalid("no triangles".into()));
+    }
+    if indices.len() % 3 != 0 {
+        return Err(invalid(format!(
+            "{} indices is not a whole number of triangles",
+            indices.len()
+        )));
+    }
+    if let Some((at, &index)) = indices
+        .iter()
+        .enumerate()
+        .find(|&(_, &index)| index as usize >= positions.len())
+    {
+        return Err(invalid(format!(
+            "index {index} (triangle {}) is out of range: there are {} vertices",
+            at / 3,
+            positions.len()
+        )));
+    }
+    Ok(())
 }
 
 fn check_len(what: &str, len: usize, expected: usize) -> Result<(), String> {

@@ -16,6 +16,7 @@ pub mod occluders;
 mod material;
 pub mod material_keys;
 mod mesh;
+mod mikktspace;
 mod obj;
 mod occlusion;
 mod preset;

@@ -114,6 +114,16 @@ pub(super) fn vertex_tangents(
         .collect()
 }
 
+/// A tangent given with the mesh (glTF's, or MikkTSpace's) made orthogonal to the unit
+/// `normal` and unit, its w ±1; `None` if it is not finite or lies (nearly) along the
+/// normal, where what is left is rounding noise: the mesh's own tangent serves there.
+pub(super) fn orthogonal_tangent(given: [f32; 4], normal: Vec3) -> Option<Vec4> {
+    let t = Vec3::new(given[0], given[1], given[2]);
+    let orthogonal = t - normal * normal.dot(t);
+    (orthogonal.length() > 1e-3 * t.length())
+        .then(|| orthogonal.normalize().extend(if given[3] < 0.0 { -1.0 } else { 1.0 }))
+}
+
 /// The unit direction of `v`'s component orthogonal to the unit vector `n`,
 /// if that component is longer than rounding noise relative to `length`, the
 /// magnitude `v` would have without cancellation.
