@@ -641,6 +641,26 @@ fn bad_models_are_clear_errors() {
     std::fs::remove_file(&huge).expect("remove");
 }
 
+/// Writes three 8 × 8 images into `dir`, each varying across it, and makes them the model's
+/// textures 0, 1 and 2: `albedo map.png`, `normals.png` and `orm.png` (occlusion in red,
+/// roughness in green, metallic in blue, each varying on its own).
+fn add_maps(model: &mut Model, dir: &Path) {
+    let albedo = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([40 + 25 * x as u8, 200 - 20 * y as u8, 90, 255])
+    });
+    albedo.save(dir.join("albedo map.png")).expect("write albedo");
+    let normals = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([128 + 12 * x as u8, 128 - 10 * y as u8, 230, 255])
+    });
+    normals.save(dir.join("normals.png")).expect("write normals");
+    let orm = image::RgbaImage::from_fn(8, 8, |x, y| {
+        image::Rgba([255 - 20 * y as u8, 60 + 24 * x as u8, 30 * ((x + y) % 8) as u8, 255])
+    });
+    orm.save(dir.join("orm.png")).expect("write orm");
+    model.json["images"] = json!([{"uri": "albedo%20map.png"}, {"uri": "normals.png"}, {"uri": "orm.png"}]);
+    model.json["textures"] = json!([{"source": 0}, {"source": 1}, {"source": 2}]);
+}
+
 /// A model's materials are argil materials: the base colour factor and texture, the
 /// metallic and roughness factors (both glTF's roughness and argil's are perceptual, α =
 /// roughness²) and their one texture as `roughness_map` and `metallic_map`, the normal
@@ -652,25 +672,10 @@ fn bad_models_are_clear_errors() {
 #[test]
 fn a_model_brings_its_materials() {
     let dir = temp_dir("materials");
-    let albedo = image::RgbaImage::from_fn(8, 8, |x, y| {
-        image::Rgba([40 + 25 * x as u8, 200 - 20 * y as u8, 90, 255])
-    });
-    albedo.save(dir.join("albedo map.png")).expect("write albedo");
-    let normals = image::RgbaImage::from_fn(8, 8, |x, y| {
-        image::Rgba([128 + 12 * x as u8, 128 - 10 * y as u8, 230, 255])
-    });
-    normals.save(dir.join("normals.png")).expect("write normals");
-    // Occlusion in red, roughness in green, metallic in blue, each varying on its own.
-    let orm = image::RgbaImage::from_fn(8, 8, |x, y| {
-        image::Rgba([255 - 20 * y as u8, 60 + 24 * x as u8, 30 * ((x + y) % 8) as u8, 255])
-    });
-    orm.save(dir.join("orm.png")).expect("write orm");
-
     let primitives = [octahedron(), tetrahedron()];
     let (nodes, worlds) = nodes();
     let mut model = Model::new(&primitives, nodes, &[0, 1]);
-    model.json["images"] = json!([{"uri": "albedo%20map.png"}, {"uri": "normals.png"}, {"uri": "orm.png"}]);
-    model.json["textures"] = json!([{"source": 0}, {"source": 1}, {"source": 2}]);
+    add_maps(&mut model, &dir);
     model.json["materials"] = json!([
         {
             "name": "glaze",
@@ -773,6 +778,106 @@ strength = 8.0
         .objects
         .iter()
         .all(|o| named.materials[o.material].name == "clay" && !o.material_from_model));
+}
+
+/// A texture reference with KHR_texture_transform's `offset` and `scale`.
+fn transformed(index: usize, offset: [f32; 2], scale: [f32; 2]) -> Value {
+    json!({"index": index, "extensions": {"KHR_texture_transform": {"offset": offset, "scale": scale}}})
+}
+
+/// KHR_texture_transform's offset and scale are a map's `uv_offset` and `uv_scale`, with v
+/// turned up the image: glTF's v' = s v + o is v' = s v + (1 - s - o) in argil's UVs. On every
+/// kind of texture (the `gltf` crate parses the extension on some, argil on the normal and
+/// occlusion textures) the model draws bit for bit as its geometry in OBJ files with the
+/// maps' transforms written in the scene; a texCoord of 0 in the transform overrides the
+/// reference's 1. A rotation is named in one warning per model and dropped.
+#[test]
+fn texture_transforms_are_uv_scale_and_offset() {
+    let dir = temp_dir("texture-transform");
+    let primitives = [octahedron(), tetrahedron()];
+    let (nodes, worlds) = nodes();
+    let mut model = Model::new(&primitives, nodes, &[0, 1]);
+    add_maps(&mut model, &dir);
+    let mut emissive = transformed(0, [0.0, 0.25], [1.5, 0.5]);
+    emissive["texCoord"] = json!(1);
+    emissive["extensions"]["KHR_texture_transform"]["texCoord"] = json!(0);
+    model.json["materials"] = json!([
+        {
+            "name": "colour",
+            "pbrMetallicRoughness": {
+                "baseColorTexture": transformed(0, [0.25, -0.5], [2.0, 3.0]),
+                "metallicFactor": 0.0,
+                "roughnessFactor": 0.5,
+            },
+            "occlusionTexture": transformed(2, [0.5, 0.125], [0.5, 4.0]),
+        },
+        {
+            "name": "relief",
+            "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.5},
+            "normalTexture": transformed(1, [0.25, 0.75], [-1.0, 2.0]),
+            "emissiveFactor": [0.5, 0.25, 0.125],
+            "emissiveTexture": emissive,
+        },
+    ]);
+    model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
+    model.json["meshes"][1]["primitives"][0]["material"] = json!(1);
+    model.json["extensionsUsed"] = json!(["KHR_texture_transform"]);
+    model.json["extensionsRequired"] = json!(["KHR_texture_transform"]);
+    model.write(&dir, "model", Storage::Binary);
+    let model_text = scene_text(&[]) + "\n[[objects]]\nmesh = \"model.glb\"\nposition = [0.25, 0.0, 0.0]\n";
+    let scene = load(&dir, "model.toml", &model_text);
+    assert_eq!(scene.warnings, Vec::<String>::new());
+
+    write_parts(&dir, &primitives, worlds);
+    // Named in the glTF's order, so that the scene loads their textures in the same order.
+    let obj_text = scene_text(&[])
+        + &parts_with(["colour", "relief"])
+        + r#"
+[materials.colour]
+base_color = [1.0, 1.0, 1.0]
+roughness = 0.5
+[materials.colour.base_color_map]
+texture = "albedo map.png"
+uv_scale = [2.0, 3.0]
+uv_offset = [0.25, -1.5]
+[materials.colour.occlusion_map]
+texture = "orm.png"
+uv_scale = [0.5, 4.0]
+uv_offset = [0.5, -3.125]
+[materials.relief]
+base_color = [1.0, 1.0, 1.0]
+roughness = 0.5
+emission = [0.5, 0.25, 0.125]
+[materials.relief.normal_map]
+texture = "normals.png"
+uv_scale = [-1.0, 2.0]
+uv_offset = [0.25, -1.75]
+[materials.relief.emission_map]
+texture = "albedo map.png"
+uv_scale = [1.5, 0.5]
+uv_offset = [0.0, 0.25]
+"#;
+    let obj = load(&dir, "obj.toml", &obj_text);
+    assert_same_materials(&scene, &obj);
+    let expected = common::render(&obj, 96, 64);
+    assert!(
+        common::render(&scene, 96, 64).display == expected.display,
+        "the frame differs from the OBJ files'"
+    );
+
+    let rotate = |texture: &mut Value, angle: f32| texture["extensions"]["KHR_texture_transform"]["rotation"] = json!(angle);
+    rotate(&mut model.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"], 0.5);
+    rotate(&mut model.json["materials"][1]["normalTexture"], -1.0);
+    model.write(&dir, "model", Storage::Binary);
+    let rotated = load(&dir, "model.toml", &model_text);
+    let shown = dir.join("model.glb").display().to_string();
+    assert_eq!(
+        rotated.warnings,
+        [format!(
+            "{shown}: KHR_texture_transform rotations are not supported: those textures are drawn unrotated"
+        )]
+    );
+    assert_same_materials(&rotated, &obj);
 }
 
 /// The octahedron and tetrahedron model with `scale` on a root node above both, and the

@@ -1,8 +1,8 @@
 //! glTF 2.0 models (.gltf with external or `data:` buffers and images, and .glb): every triangle
 //! primitive of the model's scene becomes a part, a [`Mesh`] in world space with the node
 //! transforms baked in. What argil does not draw (other primitive modes, skins,
-//! animations, morph targets, extensions other than KHR_materials_emissive_strength) is
-//! named in one warning each.
+//! animations, morph targets, extensions other than KHR_materials_emissive_strength and
+//! KHR_texture_transform, texture rotations) is named in one warning each.
 //!
 //! The `gltf` crate parses and validates the JSON (the indices between its objects
 //! included); this module reads the buffers itself, within [`MAX_GLTF_BYTES`], and checks
@@ -156,7 +156,7 @@ impl Model {
             return Err(invalid("the model's scene has no triangles to draw".to_owned()));
         }
         let embedded = embedded_images(&document, &buffers, folder, path).map_err(invalid)?;
-        let materials = materials(&document, path, &embedded, &mut warnings);
+        let materials = materials(&document, path, &embedded, &mut warnings).map_err(invalid)?;
         let named: BTreeSet<&str> = materials
             .iter()
             .flat_map(|(_, def)| MapSlot::ALL.map(|slot| def.map(slot)))
@@ -233,7 +233,57 @@ fn read_uri(uri: &str, folder: &Path) -> Result<Vec<u8>, String> {
 }
 
 /// The extensions argil reads (the `gltf` crate's features that parse them are on).
-const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength"];
+const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_materials_emissive_strength", KHR_TEXTURE_TRANSFORM];
+
+const KHR_TEXTURE_TRANSFORM: &str = "KHR_texture_transform";
+
+/// A texture reference's KHR_texture_transform, in glTF's UVs (v down the image):
+/// `uv' = offset + rotate(rotation, scale · uv)`, reading `TEXCOORD_<tex_coord>` if given.
+#[derive(Clone, Copy, Debug)]
+struct UvTransform {
+    offset: [f32; 2],
+    rotation: f32,
+    scale: [f32; 2],
+    tex_coord: Option<u32>,
+}
+
+impl UvTransform {
+    /// Of a base colour, metallic-roughness or emissive texture, which the `gltf` crate parses.
+    fn of_info(info: &::gltf::texture::Info) -> Option<UvTransform> {
+        info.texture_transform().map(|t| UvTransform {
+            offset: t.offset(),
+            rotation: t.rotation(),
+            scale: t.scale(),
+            tex_coord: t.tex_coord(),
+        })
+    }
+
+    /// Of a normal or occlusion texture, whose extensions the `gltf` crate leaves as JSON.
+    fn parse(extension: Option<&::gltf::json::Value>) -> Result<Option<UvTransform>, String> {
+        let Some(value) = extension else {
+            return Ok(None);
+        };
+        let t: ::gltf::json::extensions::texture::TextureTransform =
+            ::gltf::json::deserialize::from_value(value.clone()).map_err(|e| format!("{KHR_TEXTURE_TRANSFORM}: {e}"))?;
+        Ok(Some(UvTransform {
+            offset: t.offset.0,
+            rotation: t.rotation.0,
+            scale: t.scale.0,
+            tex_coord: t.tex_coord,
+        }))
+    }
+
+    /// `map` sampled through this transform, without its rotation. argil's UVs run up the
+    /// image, v = 1 - v_glTF, so glTF's `v' = s v + o` is `v' = s v + (1 - s - o)` there.
+    fn apply(&self, map: MapDef) -> MapDef {
+        let ([su, sv], [ou, ov]) = (self.scale.map(f64::from), self.offset.map(f64::from));
+        MapDef {
+            uv_scale: [su, sv],
+            uv_offset: [ou, 1.0 - sv - ov],
+            ..map
+        }
+    }
+}
 
 /// The warnings for what the model has and argil does not draw.
 fn unsupported_parts(document: &Document) -> Vec<String> {
@@ -264,14 +314,15 @@ fn unsupported_parts(document: &Document) -> Vec<String> {
 /// `metallic` blend, with the base colour factor (its alpha dropped) and map, the
 /// metallic and roughness factors and their map, the normal map with its scale, the
 /// occlusion map with its strength and the emissive factor (times its strength) and
-/// map. What argil cannot
-/// draw yet is named in `warnings`, once per model.
+/// map, each map with its KHR_texture_transform's offset and scale. What argil cannot
+/// draw yet is named in `warnings`, once per model; a texture transform that is not one is
+/// an error.
 fn materials(
     document: &Document,
     path: &Path,
     embedded: &[Option<Embedded>],
     warnings: &mut Vec<String>,
-) -> Vec<(String, MaterialDef)> {
+) -> Result<Vec<(String, MaterialDef)>, String> {
     let unused = std::cell::RefCell::new(BTreeSet::new());
     let note = |warning: &str| {
         unused.borrow_mut().insert(warning.to_owned());
@@ -293,14 +344,27 @@ fn materials(
         let file = folder.join(decoded.as_ref());
         Some(std::path::absolute(&file).unwrap_or(file).display().to_string())
     };
-    let map = |index: usize, tex_coord: u32| image(index, tex_coord).map(MapDef::new);
+    // The map of image `index` read through `transform`, whose texCoord, if it has one,
+    // overrides the reference's `tex_coord`.
+    let map = |index: usize, tex_coord: u32, transform: Option<UvTransform>| {
+        let Some(transform) = transform else {
+            return image(index, tex_coord).map(MapDef::new);
+        };
+        if transform.rotation != 0.0 {
+            note(&format!(
+                "{KHR_TEXTURE_TRANSFORM} rotations are not supported: those textures are drawn unrotated"
+            ));
+        }
+        let tex_coord = transform.tex_coord.unwrap_or(tex_coord);
+        image(index, tex_coord).map(|texture| transform.apply(MapDef::new(texture)))
+    };
     // A map with the strength the file gives (`what`), clamped to argil's range.
-    let scaled = |index: usize, tex_coord: u32, strength: f32, what: &str| {
+    let scaled = |index: usize, tex_coord: u32, transform: Option<UvTransform>, strength: f32, what: &str| {
         if !MAP_STRENGTH.contains(strength) {
             note(&format!("{what} outside argil's map strength range is clamped to it"));
         }
         let strength = strength.clamp(MAP_STRENGTH.low, MAP_STRENGTH.high.unwrap_or(f32::MAX));
-        map(index, tex_coord).map(|m| MapDef {
+        map(index, tex_coord, transform).map(|m| MapDef {
             strength: f64::from(strength),
             ..m
         })
@@ -308,26 +372,39 @@ fn materials(
     let materials = document
         .materials()
         .map(|material| {
+            let index = material.index().unwrap_or_default();
+            let transform = |extension: Option<&::gltf::json::Value>, texture: &str| {
+                UvTransform::parse(extension).map_err(|problem| format!("material {index}: {texture}: {problem}"))
+            };
             let pbr = material.pbr_metallic_roughness();
             let [r, g, b, _] = pbr.base_color_factor();
-            let info_map = |info: ::gltf::texture::Info| map(info.texture().source().index(), info.tex_coord());
+            let info_map = |info: ::gltf::texture::Info| {
+                map(info.texture().source().index(), info.tex_coord(), UvTransform::of_info(&info))
+            };
             let base_color_map = pbr.base_color_texture().and_then(info_map);
             // One metallic-roughness texture serves both slots, which read its G and B
             // channels (map_slots.rs); the factors are the values it multiplies.
             let metallic_roughness = pbr.metallic_roughness_texture().and_then(info_map);
-            let normal_map = material.normal_texture().and_then(|info| {
-                let index = info.texture().source().index();
-                scaled(index, info.tex_coord(), info.scale(), "a normal texture's scale")
-            });
-            let occlusion_map = material.occlusion_texture().and_then(|info| {
-                let index = info.texture().source().index();
-                scaled(
-                    index,
+            let normal_map = match material.normal_texture() {
+                Some(info) => scaled(
+                    info.texture().source().index(),
                     info.tex_coord(),
+                    transform(info.extension_value(KHR_TEXTURE_TRANSFORM), "normalTexture")?,
+                    info.scale(),
+                    "a normal texture's scale",
+                ),
+                None => None,
+            };
+            let occlusion_map = match material.occlusion_texture() {
+                Some(info) => scaled(
+                    info.texture().source().index(),
+                    info.tex_coord(),
+                    transform(info.extension_value(KHR_TEXTURE_TRANSFORM), "occlusionTexture")?,
                     info.strength(),
                     "an occlusion texture's strength",
-                )
-            });
+                ),
+                None => None,
+            };
             // KHR_materials_emissive_strength scales the factor, which glTF otherwise
             // keeps in [0, 1]; the texture multiplies it, as `emission_map` does.
             let strength = material.emissive_strength().unwrap_or(1.0);
@@ -336,12 +413,7 @@ fn materials(
             if material.alpha_mode() != ::gltf::material::AlphaMode::Opaque {
                 note("transparency (alphaMode MASK or BLEND) is not supported: surfaces are drawn opaque");
             }
-            let name = format!(
-                "{} #{} {}",
-                path.display(),
-                material.index().unwrap_or_default(),
-                material.name().unwrap_or("")
-            );
+            let name = format!("{} #{index} {}", path.display(), material.name().unwrap_or(""));
             let def = MaterialDef {
                 base_color: [r, g, b].map(f64::from),
                 // glTF's roughness is perceptual, α = roughness², as argil's `roughness` is
@@ -357,11 +429,11 @@ fn materials(
                 emission_map,
                 ..MaterialDef::default()
             };
-            (name.trim_end().to_owned(), def)
+            Ok((name.trim_end().to_owned(), def))
         })
-        .collect();
+        .collect::<Result<_, String>>()?;
     warnings.extend(unused.into_inner());
-    materials
+    Ok(materials)
 }
 
 /// Every image of the model, by index, that is embedded in it (a buffer view or a `data:`
