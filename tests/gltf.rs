@@ -7,7 +7,7 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use argil::scene::{Mesh, Scene, Vertex};
+use argil::scene::{MapSlot, Mesh, Scene, Vertex};
 use base64::Engine;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use serde_json::{json, Value};
@@ -878,6 +878,37 @@ uv_offset = [0.0, 0.25]
         )]
     );
     assert_same_materials(&rotated, &obj);
+}
+
+/// Maps on TEXCOORD_1 (by the texture reference's texCoord, or by its KHR_texture_transform's)
+/// are left out, named in one warning per model: the parts draw without them.
+#[test]
+fn maps_on_texcoord_1_are_left_out() {
+    let dir = temp_dir("texcoord-1");
+    let mut model = Model::new(&[octahedron()], json!([{"mesh": 0}]), &[0]);
+    add_maps(&mut model, &dir);
+    let mut occlusion = transformed(2, [0.0, 0.0], [1.0, 1.0]);
+    occlusion["extensions"]["KHR_texture_transform"]["texCoord"] = json!(1);
+    model.json["materials"] = json!([{
+        "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}},
+        "normalTexture": {"index": 1},
+        "occlusionTexture": occlusion,
+    }]);
+    model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
+    model.json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] =
+        model.json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"].clone();
+    model.write(&dir, "model", Storage::Binary);
+    let scene = load(&dir, "model.toml", &(scene_text(&[]) + "\n[[objects]]\nmesh = \"model.glb\"\n"));
+    let shown = dir.join("model.glb").display().to_string();
+    assert_eq!(
+        scene.warnings,
+        [format!(
+            "{shown}: textures on TEXCOORD_1 or above are not supported; those maps are left out"
+        )]
+    );
+    let maps = &scene.materials[scene.objects[0].material].maps;
+    let slots: Vec<MapSlot> = MapSlot::ALL.into_iter().filter(|&slot| maps[slot].is_some()).collect();
+    assert_eq!(slots, [MapSlot::Normal]);
 }
 
 /// The octahedron and tetrahedron model with `scale` on a root node above both, and the
