@@ -2,7 +2,9 @@
 # Installs what argil needs to build and to run on Mesa's software Vulkan (lavapipe):
 # the Vulkan loader, lavapipe, the Khronos validation layer, the system shaderc/glslang
 # (so build.rs links them in seconds instead of compiling shaderc from C++), and Xvfb for
-# windowed tests (with libXtst and python3, which move the pointer in one). Idempotent: does nothing when everything is present.
+# windowed tests (with libXtst and python3, which move the pointer in one), and
+# assimp-testmodels, whose Khronos glTF sample models (good and broken) tests/gltf.rs
+# loads. Idempotent: does nothing when everything is present.
 set -euo pipefail
 
 packages=(
@@ -10,6 +12,7 @@ packages=(
   libshaderc-dev glslang-dev spirv-tools
   xvfb xauth libxkbcommon-x11-0 libxcursor1 libxrandr2 libxi6 libx11-xcb1 libxtst6 python3
   pkg-config
+  assimp-testmodels
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then

@@ -1202,3 +1202,193 @@ emission = [4.0, 2.0, 1.0]
         );
     }
 }
+
+/// Where Debian's package `assimp-testmodels` (installed by `scripts/setup.sh`) puts Khronos'
+/// glTF sample models and the broken files of assimp's tests, with their licences in
+/// /usr/share/doc/assimp-testmodels/copyright.
+const SAMPLES: &str = "/usr/share/assimp/models/glTF2";
+
+/// A file of `assimp-testmodels`, which must be installed: these tests never skip.
+fn sample(path: &str) -> PathBuf {
+    let file = Path::new(SAMPLES).join(path);
+    assert!(
+        file.exists(),
+        "{} is missing: install Debian's package assimp-testmodels (`make setup` does)",
+        file.display()
+    );
+    file
+}
+
+/// Pixels of `frame` whose colour leans towards one channel (0 red, 1 green, 2 blue) by more
+/// than 30 code values over each of the others.
+fn leaning_to(frame: &[u8], channel: usize) -> usize {
+    frame
+        .chunks_exact(4)
+        .filter(|p| (0..3).all(|c| c == channel || i32::from(p[channel]) > i32::from(p[c]) + 30))
+        .count()
+}
+
+/// Khronos' BoxTextured as a .gltf with its .bin and PNG beside it, as a .glb and as a .gltf
+/// of `data:` URIs: the same 12 triangles, drawn bit for bit alike, and the Cesium logo on
+/// them (its blue sky and green hills, which the box without its map has none of: 484 and
+/// 315 of the 96 × 64 pixels against none).
+#[test]
+fn box_textured_draws_alike_from_every_storage() {
+    let scenes = [
+        "BoxTextured-glTF/BoxTextured.gltf",
+        "BoxTextured-glTF-Binary/BoxTextured.glb",
+        "BoxTextured-glTF-Embedded/BoxTextured.gltf",
+    ]
+    .map(|path| Scene::load(&sample(path)).unwrap_or_else(|e| panic!("{path}: {e}")));
+    let frames = scenes.each_ref().map(|scene| {
+        assert_eq!(scene.warnings, Vec::<String>::new());
+        let triangles: usize = scene.meshes.iter().map(|m| m.indices.len() / 3).sum();
+        let vertices: usize = scene.meshes.iter().map(|m| m.vertices.len()).sum();
+        // MikkTSpace gives it tangents and splits none of its vertices: each face's UVs
+        // keep one orientation.
+        assert_eq!((triangles, vertices), (12, 24));
+        common::render(scene, 96, 64)
+    });
+    assert!(frames[1].display == frames[0].display, "the .glb draws otherwise");
+    assert!(frames[2].display == frames[0].display, "the data: URIs draw otherwise");
+
+    let mut plain = scenes[0].clone();
+    for material in &mut plain.materials {
+        for slot in MapSlot::ALL {
+            material.maps[slot] = None;
+        }
+    }
+    let plain = common::render(&plain, 96, 64);
+    let [blue, green] = [2, 1].map(|channel| leaning_to(&frames[0].display, channel));
+    let [plain_blue, plain_green] = [2, 1].map(|channel| leaning_to(&plain.display, channel));
+    println!("blue and green pixels: {blue} and {green} with the map, {plain_blue} and {plain_green} without");
+    assert!(blue > 100 && green > 100, "{blue} blue and {green} green pixels");
+    assert_eq!((plain_blue, plain_green), (0, 0));
+}
+
+/// What the samples have and argil does not draw is named in one warning each: the
+/// specular-glossiness extension, a skin and its animation, morph targets and theirs.
+#[test]
+fn samples_name_what_is_not_drawn() {
+    let cases: [(&str, &[&str]); 3] = [
+        (
+            "BoxTextured-glTF-pbrSpecularGlossiness/BoxTextured.gltf",
+            &["the extension KHR_materials_pbrSpecularGlossiness is not supported and is ignored"],
+        ),
+        (
+            "simple_skin/simple_skin.gltf",
+            &[
+                "1 animation(s) are not played",
+                "1 skin(s) are ignored: meshes are drawn in their bind pose",
+            ],
+        ),
+        (
+            "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf",
+            &[
+                "1 animation(s) are not played",
+                "1 primitive(s) have morph targets, which are ignored (the base shape is drawn)",
+            ],
+        ),
+    ];
+    for (path, expected) in cases {
+        let file = sample(path);
+        let scene = Scene::load(&file).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let expected: Vec<String> = expected.iter().map(|w| format!("{}: {w}", file.display())).collect();
+        assert_eq!(scene.warnings, expected);
+    }
+}
+
+/// assimp's broken files are refused with exit code 2, naming the file and the problem,
+/// without writing anything.
+#[test]
+fn broken_samples_are_clear_errors() {
+    let dir = temp_dir("broken-samples");
+    let out = dir.join("x.png");
+    let cases: [(&str, &str); 16] = [
+        ("MissingBin/BoxTextured.gltf", "BoxTextured0.bin: cannot read"),
+        ("IndexOutOfRange/IndexOutOfRange.gltf", "index 255 (triangle 0) is out of range"),
+        ("IndexOutOfRange/AllIndicesOutOfRange.gltf", "index 65535 (triangle 0) is out of range"),
+        ("RecursiveNodes/RecursiveNodes.gltf", "node 0 is reached twice"),
+        // Its normals are infinite, and its POSITION lacks the bounds glTF requires.
+        ("BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "POSITION\"].min: Missing data"),
+        ("SchemaFailures/sceneWrongType.gltf", "invalid type: string \"hello\""),
+        ("wrongTypes/badArray.gltf", "expected a sequence"),
+        ("wrongTypes/badExtension.gltf", "expected struct TextureTransform"),
+        ("wrongTypes/badNumber.gltf", "expected f32"),
+        ("wrongTypes/badObject.gltf", "invalid type: string \"not an object\""),
+        ("wrongTypes/badString.gltf", "expected a string"),
+        ("wrongTypes/badUint.gltf", "invalid type: integer `-1`"),
+        ("TestNoRootNode/NoScene.gltf", "scene: Index out of bounds"),
+        // glTF allows a scene without `nodes`, an empty one; the `gltf` crate does not.
+        ("TestNoRootNode/SceneWithoutNodes.gltf", "missing field `nodes`"),
+        // Its vertex and index counts are not whole triangles, its POSITIONs lack bounds.
+        ("IncorrectVertexArrays/Cube.gltf", "POSITION\"].min: Missing data"),
+        (
+            "issue_3269/texcoord_crash.gltf",
+            "material 4 has textures on TEXCOORD_0, which the primitive lacks",
+        ),
+    ];
+    for (path, problem) in cases {
+        let file = sample(path);
+        let o = argil(&["render", file.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")]);
+        assert_refused(&o, &out, &[&format!("{}: ", file.display()), problem]);
+    }
+}
+
+/// Khronos' KHR_texture_transform test: each of the three offset squares shows the quarter
+/// of its texture the offset moves it to (green "U", blue "V", cyan "UV"; without the
+/// offset all three would show the yellow top-left quarter). The rotated squares are drawn
+/// unrotated, named in the one warning.
+#[test]
+fn the_texture_transform_sample_shows_its_offsets() {
+    let file = sample("textureTransform/TextureTransformTest.gltf");
+    let text = format!(
+        "[camera]\nposition = [0.0, 0.0, 4.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_degrees = 40.0\n\
+         [environment]\nkind = \"uniform\"\nradiance = [1.0, 1.0, 1.0]\n\
+         [[objects]]\nmesh = {:?}\n",
+        file.display().to_string()
+    );
+    let dir = temp_dir("texture-transform-sample");
+    let scene = load(&dir, "scene.toml", &text);
+    assert_eq!(
+        scene.warnings,
+        [format!(
+            "{}: KHR_texture_transform rotations are not supported: those textures are drawn unrotated",
+            file.display()
+        )]
+    );
+    let (width, height) = (192, 128);
+    let frame = common::render(&scene, width, height);
+    // The squares' nodes are at x = -1.1, 0, 1.1 and y = 0.55; their textures' background
+    // fills each square's corners, away from the check mark.
+    let half_height = 4.0 * 20f32.to_radians().tan();
+    let pixel = |x: f32, y: f32| {
+        let column = ((x / (half_height * width as f32 / height as f32) + 1.0) * 0.5 * width as f32) as usize;
+        let row = ((1.0 - y / half_height) * 0.5 * height as f32) as usize;
+        let at = 4 * (row * width as usize + column);
+        [0, 1, 2].map(|c| i32::from(frame.display[at + c]))
+    };
+    let squares: [(f32, &str, &[usize]); 3] = [(-1.1, "U", &[1]), (0.0, "V", &[2]), (1.1, "UV", &[1, 2])];
+    for (x, name, leans) in squares {
+        let [r, g, b] = pixel(x - 0.35, 0.55 + 0.35);
+        let channels = [r, g, b];
+        let others: Vec<i32> = (0..3).filter(|c| !leans.contains(c)).map(|c| channels[c]).collect();
+        assert!(
+            leans.iter().all(|&c| others.iter().all(|&o| channels[c] > o + 60)),
+            "offset {name}: the square's colour {channels:?} is not its quarter's"
+        );
+    }
+}
+
+/// Khronos' 2CylinderEngine: 34 primitives under 82 nodes of transforms, some meshes drawn
+/// by several nodes, load as 115 parts and draw (every frame is checked for NaN and Inf).
+#[test]
+fn the_engine_sample_draws() {
+    let scene = Scene::load(&sample("2CylinderEngine-glTF-Binary/2CylinderEngine.glb")).expect("loads");
+    assert_eq!(scene.warnings, Vec::<String>::new());
+    let triangles: usize = scene.meshes.iter().map(|m| m.indices.len() / 3).sum();
+    assert_eq!((scene.meshes.len(), triangles), (115, 121_496));
+    let frame = common::render(&scene, 96, 64);
+    let background = common::render(&Scene::default_scene(), 96, 64);
+    assert!(common::rgb_difference(&frame.display, &background.display).0 > 5.0, "the engine is not in view");
+}

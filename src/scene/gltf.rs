@@ -157,6 +157,20 @@ impl Model {
         }
         let embedded = embedded_images(&document, &buffers, folder, path).map_err(invalid)?;
         let materials = materials(&document, path, &embedded, &mut warnings).map_err(invalid)?;
+        // glTF: a primitive MUST have the texture coordinates its material's textures read
+        // (every map argil keeps reads TEXCOORD_0); without them the maps would read one texel.
+        for (_, mesh, primitive) in instances.iter().filter(|(_, _, p)| p.mode() == Mode::Triangles) {
+            let Some(material) = primitive.material().index() else {
+                continue;
+            };
+            let mapped = MapSlot::ALL.iter().any(|&slot| materials[material].1.map(slot).is_some());
+            if mapped && primitive.get(&Semantic::TexCoords(0)).is_none() {
+                return Err(invalid(format!(
+                    "mesh {mesh} primitive {}: material {material} has textures on TEXCOORD_0, which the primitive lacks",
+                    primitive.index()
+                )));
+            }
+        }
         let named: BTreeSet<&str> = materials
             .iter()
             .flat_map(|(_, def)| MapSlot::ALL.map(|slot| def.map(slot)))
