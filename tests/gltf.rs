@@ -426,17 +426,11 @@ fn tangents_from_the_file_are_kept_and_mirrored() {
 /// Two unit quads side by side, the right one's UVs mirrored about their shared edge, with
 /// normals and no tangents.
 fn mirrored_strip() -> Primitive {
+    // Vertex i at (i mod 3, i div 3); u runs 0, 1, 0 along each row.
     Primitive {
-        positions: vec![
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [2.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [2.0, 1.0, 0.0],
-        ],
+        positions: (0..6).map(|i| [(i % 3) as f32, (i / 3) as f32, 0.0]).collect(),
         normals: Some(vec![[0.0, 0.0, 1.0]; 6]),
-        uvs: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [0.0, 1.0]],
+        uvs: (0..6).map(|i| [(i % 3 % 2) as f32, (i / 3) as f32]).collect(),
         tangents: None,
         indices: vec![0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4],
     }
@@ -455,7 +449,7 @@ fn missing_tangents_are_mikktspace_s() {
         {"mesh": 0, "translation": [-2.5, 0.0, 0.0]},
         {"mesh": 0, "translation": [2.5, 0.0, 0.0], "scale": [-1.0, 1.0, 1.0]},
     ]);
-    Model::new(&[strip.clone()], nodes.clone(), &[0, 1]).write(&dir, "generated", Storage::Binary);
+    Model::new(std::slice::from_ref(&strip), nodes.clone(), &[0, 1]).write(&dir, "generated", Storage::Binary);
     let mut written = strip.clone();
     for seam in [1, 4] {
         written.positions.push(strip.positions[seam]);
@@ -465,7 +459,7 @@ fn missing_tangents_are_mikktspace_s() {
     let (left, right) = ([1.0, 0.0, 0.0, 1.0], [-1.0, 0.0, 0.0, -1.0]);
     written.tangents = Some(vec![left, left, right, left, left, right, right, right]);
     written.indices = vec![0, 1, 4, 0, 4, 3, 6, 2, 5, 6, 5, 7];
-    Model::new(&[written.clone()], nodes, &[0, 1]).write(&dir, "written", Storage::Binary);
+    Model::new(std::slice::from_ref(&written), nodes, &[0, 1]).write(&dir, "written", Storage::Binary);
 
     let generated = load(&dir, "generated.toml", &scene_text(&["generated.glb"]));
     let expected = load(&dir, "written.toml", &scene_text(&["written.glb"]));

@@ -139,6 +139,7 @@ pub(super) fn split_by_tangents(
 
 #[cfg(test)]
 mod tests {
+    use super::super::tangents::tests::{degenerate_soups, Soup};
     use super::super::Mesh;
     use super::*;
 
@@ -172,15 +173,9 @@ mod tests {
     /// two vertices on that edge get a copy each (8 vertices from 6), the others none.
     #[test]
     fn vertices_split_only_across_a_mirror_seam() {
-        let positions = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [2.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [2.0, 1.0, 0.0],
-        ];
-        let uvs = [[0.0, 0.0], [1.0, 0.0], [0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [0.0, 1.0]];
+        // Vertex i at (i mod 3, i div 3); u runs 0, 1, 0 along each row.
+        let positions: Vec<[f32; 3]> = (0..6).map(|i| [(i % 3) as f32, (i / 3) as f32, 0.0]).collect();
+        let uvs: Vec<[f32; 2]> = (0..6).map(|i| [(i % 3 % 2) as f32, (i / 3) as f32]).collect();
         let indices = [0, 1, 4, 0, 4, 3, 1, 2, 5, 1, 5, 4];
         let split = split_by_tangents(&positions, &[[0.0, 0.0, 1.0]; 6], &uvs, &indices).expect("within the budget");
         assert_eq!(split.positions.len(), 8);
@@ -188,7 +183,11 @@ mod tests {
         assert_eq!(split.positions[6..], [positions[1], positions[4]]);
         for (i, t) in split.tangents.iter().enumerate() {
             let left = matches!(i, 0 | 1 | 3 | 4);
-            let expected = if left { [1.0, 0.0, 0.0, 1.0] } else { [-1.0, 0.0, 0.0, -1.0] };
+            let expected = if left {
+                [1.0, 0.0, 0.0, 1.0]
+            } else {
+                [-1.0, 0.0, 0.0, -1.0]
+            };
             assert_eq!(*t, expected, "vertex {i}");
         }
     }
@@ -214,27 +213,19 @@ mod tests {
         }
     }
 
-    /// Random triangles over a tiny grid of values, so that coincident points, collinear
-    /// edges, zero normals and repeated UVs are frequent: every tangent is unit and
+    /// On random triangles where degenerate ones are frequent, every tangent is unit and
     /// orthogonal to its normal, or zero (none usable), and the mesh built with them has a
     /// valid frame at every vertex.
     #[test]
     fn degenerate_soup_gives_unit_tangents_or_none() {
-        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = |range: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % range
-        };
         let mut without = 0;
-        for _ in 0..500 {
-            let count = 3 + next(6) as usize;
-            let mut value = || next(5) as f32 * 0.5 - 1.0;
-            let positions: Vec<[f32; 3]> = (0..count).map(|_| [value(), value(), value()]).collect();
-            let normals: Vec<[f32; 3]> = (0..count).map(|_| [value(), value(), value()]).collect();
-            let uvs: Vec<[f32; 2]> = (0..count).map(|_| [value(), value()]).collect();
-            let indices: Vec<u32> = (0..3 * (1 + next(8))).map(|_| next(count as u64) as u32).collect();
+        for soup in degenerate_soups(0x9e37_79b9_7f4a_7c15) {
+            let Soup {
+                positions,
+                normals,
+                uvs,
+                indices,
+            } = soup;
             let split = split_by_tangents(&positions, &normals, &uvs, &indices).expect("within the budget");
             for (t, n) in split.tangents.iter().zip(&split.normals) {
                 let (t, n) = (Vec4::from(*t), Vec3::from(*n));
@@ -260,7 +251,10 @@ mod tests {
                 assert!(n.dot(t.truncate()).abs() < 1e-5 && t.w.abs() == 1.0, "{v:?}");
             }
         }
-        assert!(without > 0, "the soup has no vertex without a tangent: it tests less than it says");
+        assert!(
+            without > 0,
+            "the soup has no vertex without a tangent: it tests less than it says"
+        );
     }
 
     #[test]
@@ -269,7 +263,11 @@ mod tests {
         let positions = [[-big, -big, 0.0], [big, -big, 0.0], [big, big, 0.0], [-big, big, 1e-30]];
         let uvs = [[0.0, 0.0], [1e-38, 0.0], [1e-38, 1e-38], [0.0, 1e-38]];
         let split = split_by_tangents(&positions, &UP, &uvs, &QUAD_INDICES).expect("within the budget");
-        assert!(split.tangents.iter().flatten().all(|x| x.is_finite()), "{:?}", split.tangents);
+        assert!(
+            split.tangents.iter().flatten().all(|x| x.is_finite()),
+            "{:?}",
+            split.tangents
+        );
     }
 
     /// A disc of `n` triangles fanned about its centre.

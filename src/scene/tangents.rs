@@ -163,7 +163,7 @@ fn corner_angle(p: DVec3, q: DVec3, r: DVec3) -> Option<f64> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::super::{Mesh, Vertex};
     use glam::Vec2;
 
@@ -330,26 +330,49 @@ mod tests {
         assert_eq!(mesh.vertices[1].tangent, [1.0, 0.0, 0.0, 1.0]);
     }
 
-    /// Random triangles over a tiny grid of values, so that coincident
-    /// points, collinear edges and repeated UVs are frequent.
-    #[test]
-    fn random_degenerate_soup_stays_valid() {
-        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    /// A few random triangles with normals and UVs.
+    pub(in crate::scene) struct Soup {
+        pub positions: Vec<[f32; 3]>,
+        pub normals: Vec<[f32; 3]>,
+        pub uvs: Vec<[f32; 2]>,
+        pub indices: Vec<u32>,
+    }
+
+    /// 500 soups of random triangles over a tiny grid of values, so that coincident
+    /// points, collinear edges, zero normals and repeated UVs are frequent; `seed` (not 0)
+    /// picks them.
+    pub(in crate::scene) fn degenerate_soups(seed: u64) -> Vec<Soup> {
+        let mut state = seed;
         let mut next = |range: u64| {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             state % range
         };
-        for _ in 0..500 {
-            let count = 3 + next(6) as usize;
-            let mut value = || next(5) as f32 * 0.5 - 1.0;
-            let positions: Vec<[f32; 3]> = (0..count).map(|_| [value(), value(), value()]).collect();
-            let normals: Vec<[f32; 3]> = (0..count).map(|_| [value(), value(), value()]).collect();
-            let uvs: Vec<[f32; 2]> = (0..count).map(|_| [value(), value()]).collect();
-            let indices: Vec<u32> = (0..3 * (1 + next(8))).map(|_| next(count as u64) as u32).collect();
-            for normals in [None, Some(normals.as_slice())] {
-                let mesh = Mesh::from_triangles("soup", &positions, normals, Some(&uvs), &indices).unwrap();
+        (0..500)
+            .map(|_| {
+                let count = 3 + next(6) as usize;
+                let mut value = || next(5) as f32 * 0.5 - 1.0;
+                let positions = (0..count).map(|_| [value(), value(), value()]).collect();
+                let normals = (0..count).map(|_| [value(), value(), value()]).collect();
+                let uvs = (0..count).map(|_| [value(), value()]).collect();
+                let indices = (0..3 * (1 + next(8))).map(|_| next(count as u64) as u32).collect();
+                Soup {
+                    positions,
+                    normals,
+                    uvs,
+                    indices,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn random_degenerate_soup_stays_valid() {
+        for soup in degenerate_soups(0x2545_f491_4f6c_dd1d) {
+            for normals in [None, Some(soup.normals.as_slice())] {
+                let mesh =
+                    Mesh::from_triangles("soup", &soup.positions, normals, Some(&soup.uvs), &soup.indices).unwrap();
                 assert_valid(&mesh.vertices);
             }
         }
