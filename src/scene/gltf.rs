@@ -329,8 +329,9 @@ fn unsupported_parts(document: &Document) -> Vec<String> {
 /// metallic and roughness factors and their map, the normal map with its scale, the
 /// occlusion map with its strength and the emissive factor (times its strength) and
 /// map, each map with its KHR_texture_transform's offset and scale. What argil cannot
-/// draw yet is named in `warnings`, once per model; a texture transform that is not one is
-/// an error.
+/// draw yet is named in `warnings`, once per model; a malformed KHR_texture_transform on a
+/// normal or occlusion texture is an error naming the material (on the other textures the
+/// `gltf` crate refuses it already).
 fn materials(
     document: &Document,
     path: &Path,
