@@ -31,11 +31,14 @@ fi
 command -v valgrind >/dev/null || { echo "$0: needs valgrind (apt install valgrind)" >&2; exit 1; }
 [ -x "$argil" ] || { echo "$0: no argil at $argil (cargo build --release)" >&2; exit 1; }
 
+for scene in "$@"; do
+  [ -f "$scene" ] || { echo "$0: $scene: no such file" >&2; exit 2; }
+done
+
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 printf '%-40s %18s %18s\n' scene shader_instructions all_instructions
 for scene in "$@"; do
-  [ -f "$scene" ] || { echo "$0: $scene: no such file" >&2; exit 2; }
   valgrind --tool=callgrind --callgrind-out-file="$work/out" \
     "$argil" render "$scene" --width "${size%x*}" --height "${size#*x}" --out "$work/frame.exr" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
