@@ -21,6 +21,31 @@ fn background_is_transparent_and_black_without_environment() {
     assert_eq!(&frame.hdr[0..4], &[0.0, 0.0, 0.0, 0.0], "top-left pixel is background");
 }
 
+/// Solids seen from outside have their back faces culled; from inside, or with the near
+/// plane cutting into them, their back faces are what the camera sees, so they are drawn.
+#[test]
+fn solids_are_seen_from_inside_and_through_the_near_plane() {
+    for (what, camera) in [
+        ("inside", "position = [0.0, 0.0, 0.0]\ntarget = [0.0, 0.0, -1.0]"),
+        // The eye is outside, 0.02 from the surface, but the near plane (0.05) is inside.
+        ("grazing", "position = [0.0, 0.0, 1.02]\ntarget = [0.0, 0.0, 0.0]"),
+    ] {
+        let frame = render(
+            &scene(&format!(
+                "[camera]\n{camera}\n\n[[lights]]\nkind = \"point\"\nposition = [0.0, 0.5, 0.0]\n\
+                 intensity = [1.0, 1.0, 1.0]\n\n[[objects]]\nmesh = \"builtin:sphere\"\n"
+            )),
+            16,
+            16,
+        );
+        let centre = 4 * (8 * 16 + 8);
+        assert_eq!(frame.hdr[centre + 3], 1.0, "{what}: the sphere's inside covers the centre");
+        if what == "inside" {
+            assert!(frame.hdr.chunks_exact(4).all(|p| p[3] == 1.0), "inside: every pixel sees the sphere");
+        }
+    }
+}
+
 /// The bench's floor shows the interpolated normal ·0.5 + 0.5 with coverage in alpha, and
 /// turning it off gives the shaded frame back.
 #[test]

@@ -350,6 +350,7 @@ impl ForwardPass {
                 ],
             )
             .depth(DEPTH_FORMAT)
+            .dynamic_cull_mode()
             .samples(samples)
             .specialization(specialization.clone())
             .build(&self.device, &self.layout, name)
@@ -490,8 +491,9 @@ impl ForwardPass {
                 &[],
             );
         }
+        let aspect = target.extent().width as f32 / target.extent().height as f32;
         match split {
-            None => self.draw_objects(cmd, scene, gpu, &self.material_pipelines, 0)?,
+            None => self.draw_objects(cmd, scene, gpu, aspect, &self.material_pipelines, 0)?,
             Some(split) => {
                 let [left, right] = split.scissors(target.extent());
                 let parts = [
@@ -500,7 +502,7 @@ impl ForwardPass {
                 ];
                 for (scissor, pipelines, first_material) in parts {
                     unsafe { d.cmd_set_scissor(cmd, 0, &[scissor]) };
-                    self.draw_objects(cmd, scene, gpu, pipelines, first_material)?;
+                    self.draw_objects(cmd, scene, gpu, aspect, pipelines, first_material)?;
                 }
             }
         }
@@ -509,12 +511,15 @@ impl ForwardPass {
     }
 
     /// Draws every object of `scene` with `pipelines` (one per material), reading its
-    /// material at `first_material` + its index in the materials buffer.
+    /// material at `first_material` + its index in the materials buffer. A solid seen from
+    /// outside, through a projection of `aspect`, has its back faces culled: the fragment
+    /// shader runs on none of the pixels its front faces would cover again.
     fn draw_objects(
         &self,
         cmd: vk::CommandBuffer,
         scene: &Scene,
         gpu: &GpuScene,
+        aspect: f32,
         pipelines: &[vk::Pipeline],
         first_material: usize,
     ) -> Result<()> {
@@ -527,6 +532,15 @@ impl ForwardPass {
             let mesh = &gpu.meshes[object.mesh];
             let mut push = ObjectPush::new(object, index);
             push.material_index += first_material as u32;
+            let seen_from_outside = mesh.solid.is_some_and(|(centre, radius)| {
+                let centre = object.position + centre * object.scale;
+                scene.camera.sees_from_outside(aspect, centre, radius * object.scale)
+            });
+            let cull = if seen_from_outside {
+                vk::CullModeFlags::BACK
+            } else {
+                vk::CullModeFlags::NONE
+            };
             unsafe {
                 if pipeline != bound {
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
@@ -547,6 +561,7 @@ impl ForwardPass {
                     0,
                     bytemuck::bytes_of(&push),
                 );
+                d.cmd_set_cull_mode(cmd, cull);
                 d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
                 d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
                 d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);

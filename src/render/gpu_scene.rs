@@ -6,7 +6,7 @@ use std::sync::Arc;
 use anyhow::{ensure, Result};
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat3, Mat4};
+use glam::{Mat3, Mat4, Vec3};
 
 use super::textures::{placeholder, GpuTexture};
 use crate::scene::limits::MAX_OCCLUDERS;
@@ -115,6 +115,9 @@ pub struct GpuMesh {
     pub vertices: Buffer,
     pub indices: Buffer,
     pub index_count: u32,
+    /// Where the mesh bounds a solid (`Mesh::bounds_solid`), its bounding sphere in object
+    /// space: seen from outside it, its back faces are culled.
+    pub solid: Option<(Vec3, f32)>,
 }
 
 impl GpuMesh {
@@ -136,6 +139,7 @@ impl GpuMesh {
                 &mesh.name,
             )?,
             index_count: mesh.indices.len() as u32,
+            solid: mesh.bounds_solid().then(|| mesh.bounding_sphere()),
         })
     }
 }

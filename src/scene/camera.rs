@@ -46,14 +46,29 @@ impl Camera {
     /// `aspect` is width / height; a non-positive or non-finite aspect (a
     /// minimised window) is treated as 1 so the matrix stays finite.
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        let aspect = if aspect.is_finite() && aspect > 0.0 {
-            aspect
-        } else {
-            1.0
-        };
-        let mut projection = Mat4::perspective_rh(self.fov_y_degrees.to_radians(), aspect, self.near, self.far);
+        let mut projection =
+            Mat4::perspective_rh(self.fov_y_degrees.to_radians(), usable_aspect(aspect), self.near, self.far);
         projection.y_axis.y = -projection.y_axis.y;
         projection
+    }
+
+    /// Whether every pixel's view ray starts outside the sphere: the rays start on the
+    /// near plane's visible rectangle, whose corners are its farthest points from the eye.
+    /// The sphere must clear that distance by a thousandth, for the rounding of its radius.
+    pub fn sees_from_outside(&self, aspect: f32, centre: Vec3, radius: f32) -> bool {
+        let aspect = usable_aspect(aspect);
+        let tan_half_fov = (self.fov_y_degrees.to_radians() * 0.5).tan();
+        let near_corner = self.near * (1.0 + tan_half_fov * tan_half_fov * (1.0 + aspect * aspect)).sqrt();
+        (centre - self.position).length() > (radius + near_corner) * 1.001
+    }
+}
+
+/// `aspect`, or 1 where it is non-positive or non-finite (a minimised window).
+fn usable_aspect(aspect: f32) -> f32 {
+    if aspect.is_finite() && aspect > 0.0 {
+        aspect
+    } else {
+        1.0
     }
 }
 

@@ -292,6 +292,21 @@ impl Mesh {
         .with_curvature()
     }
 
+    /// A sphere holding every vertex: (centre of the bounding box, radius).
+    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+        let (lo, hi) = self.vertices.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), v| (lo.min(Vec3::from(v.position)), hi.max(Vec3::from(v.position))),
+        );
+        let centre = (lo + hi) * 0.5;
+        let radius = self
+            .vertices
+            .iter()
+            .map(|v| (Vec3::from(v.position) - centre).length())
+            .fold(0.0, f32::max);
+        (centre, radius)
+    }
+
     /// The mesh with every vertex's curvature estimated from its positions,
     /// normals and triangles.
     fn with_curvature(mut self) -> Mesh {

@@ -22,6 +22,7 @@ mod occlusion;
 mod preset;
 mod procedural;
 mod resolve;
+mod solid;
 mod tangents;
 mod texture;
 

@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::limits::MAX_OCCLUDERS;
 use super::mesh::TORUS_RADII;
-use super::{Scene, Vertex};
+use super::{Mesh, Scene};
 
 /// Spheres a builtin torus becomes: with 9 along the ring, each of the tube's volume share
 /// (radius ∛(π R r² / 6) = 0.40 for R = 1, r = 0.35), neighbours overlap slightly, so the
@@ -29,23 +29,7 @@ pub struct Occluder {
 impl Scene {
     /// Each object's bounding sphere in world space: (centre, radius).
     pub fn bounding_spheres(&self) -> Vec<(Vec3, f32)> {
-        let meshes: Vec<(Vec3, f32)> = self
-            .meshes
-            .iter()
-            .map(|mesh| {
-                let (lo, hi) = mesh.vertices.iter().fold(
-                    (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-                    |(lo, hi), v: &Vertex| (lo.min(Vec3::from(v.position)), hi.max(Vec3::from(v.position))),
-                );
-                let centre = (lo + hi) * 0.5;
-                let radius = mesh
-                    .vertices
-                    .iter()
-                    .map(|v| (Vec3::from(v.position) - centre).length())
-                    .fold(0.0, f32::max);
-                (centre, radius)
-            })
-            .collect();
+        let meshes: Vec<(Vec3, f32)> = self.meshes.iter().map(Mesh::bounding_sphere).collect();
         self.objects
             .iter()
             .map(|o| {

@@ -123,7 +123,8 @@ pub struct GraphicsPipelineBuilder<'a> {
     depth_format: Option<vk::Format>,
     depth_write: bool,
     depth_compare: vk::CompareOp,
-    cull_mode: vk::CullModeFlags,
+    /// Whether the draws set the cull mode (`vkCmdSetCullMode`); otherwise nothing is culled.
+    dynamic_cull_mode: bool,
     samples: vk::SampleCountFlags,
 }
 
@@ -139,7 +140,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             depth_format: None,
             depth_write: false,
             depth_compare: vk::CompareOp::LESS,
-            cull_mode: vk::CullModeFlags::NONE,
+            dynamic_cull_mode: false,
             samples: vk::SampleCountFlags::TYPE_1,
         }
     }
@@ -157,7 +158,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             depth_format: Some(depth_format),
             depth_write: true,
             depth_compare: vk::CompareOp::LESS,
-            cull_mode: vk::CullModeFlags::NONE,
+            dynamic_cull_mode: false,
             samples: vk::SampleCountFlags::TYPE_1,
         }
     }
@@ -194,8 +195,10 @@ impl<'a> GraphicsPipelineBuilder<'a> {
         self
     }
 
-    pub fn cull_back_faces(mut self) -> Self {
-        self.cull_mode = vk::CullModeFlags::BACK;
+    /// The cull mode is set by each draw (core in Vulkan 1.3), so one pipeline draws both
+    /// open meshes and solids whose back faces are culled.
+    pub fn dynamic_cull_mode(mut self) -> Self {
+        self.dynamic_cull_mode = true;
         self
     }
 
@@ -247,7 +250,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             .scissor_count(1);
         let raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
-            .cull_mode(self.cull_mode)
+            .cull_mode(vk::CullModeFlags::NONE)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
             .line_width(1.0);
         let multisample = vk::PipelineMultisampleStateCreateInfo::default().rasterization_samples(self.samples);
@@ -259,7 +262,10 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA);
         let blend_attachments: Vec<_> = self.color_format.iter().map(|_| blend_attachment).collect();
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
-        let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+        if self.dynamic_cull_mode {
+            dynamic_states.push(vk::DynamicState::CULL_MODE);
+        }
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let color_formats: Vec<vk::Format> = self.color_format.into_iter().collect();
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
