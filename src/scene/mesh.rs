@@ -432,6 +432,14 @@ fn unit(q: Vec3) -> Vec3 {
     q / (squares[0] + squares[1] + squares[2]).sqrt()
 }
 
+/// A vertex position as a hash key: equal where the coordinates are (−0 and +0 alike), so
+/// the corners of triangles that meet share it however their vertices are split (UV
+/// seams, creases).
+pub(super) fn position_key(position: [f32; 3]) -> [u32; 3] {
+    // + 0.0 turns -0.0 into 0.0.
+    position.map(|x| (x + 0.0).to_bits())
+}
+
 /// The checks of [`Mesh::from_triangles`] on its input, for loaders that work on it first:
 /// finite coordinates, one of each attribute per position, and whole triangles whose
 /// indices are in range. Errors name `name`.
@@ -561,7 +569,7 @@ mod tests {
                 .iter()
                 .map(|v| {
                     let count = welded.len();
-                    *welded.entry(v.position.map(f32::to_bits)).or_insert(count)
+                    *welded.entry(position_key(v.position)).or_insert(count)
                 })
                 .collect();
             assert_eq!(welded.len() as u32, 6 * n * n + 2, "distinct points of sphere({n})");

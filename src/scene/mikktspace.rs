@@ -16,6 +16,7 @@ use std::collections::HashMap;
 
 use glam::{Vec3, Vec4};
 
+use super::mesh::position_key;
 use super::tangents;
 
 /// A primitive with its vertices split where their corners' tangents differ.
@@ -90,7 +91,7 @@ pub(super) fn split_by_tangents(
 ) -> Option<Split> {
     let mut at_point: HashMap<[u32; 3], u64> = HashMap::new();
     for &v in indices {
-        *at_point.entry(positions[v as usize].map(f32::to_bits)).or_default() += 1;
+        *at_point.entry(position_key(positions[v as usize])).or_default() += 1;
     }
     if at_point.values().map(|k| k * k).sum::<u64>() > pair_budget(indices.len()) {
         return None;

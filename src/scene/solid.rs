@@ -6,11 +6,8 @@ use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
 
+use super::mesh::position_key;
 use super::Mesh;
-
-/// A vertex position by its bits: the triangles of a closed surface share their corners
-/// exactly, even where its vertices are split (UV seams, creases).
-type Corner = [u32; 3];
 
 impl Mesh {
     /// Whether the mesh bounds a solid from outside: every edge between distinct corners
@@ -20,9 +17,9 @@ impl Mesh {
     /// are skipped; anything else (open borders, T-junctions, edges of three or more
     /// triangles, inward winding) answers false, which only costs the culling.
     pub fn bounds_solid(&self) -> bool {
-        let corner = |i: u32| -> Corner { self.vertices[i as usize].position.map(f32::to_bits) };
+        let corner = |i: u32| position_key(self.vertices[i as usize].position);
         // For each edge by its corners in ascending order: (traversals a → b, b → a).
-        let mut edges: HashMap<(Corner, Corner), (u32, u32)> = HashMap::with_capacity(self.indices.len());
+        let mut edges: HashMap<([u32; 3], [u32; 3]), (u32, u32)> = HashMap::with_capacity(self.indices.len());
         let mut six_volume = 0.0;
         for triangle in self.indices.chunks_exact(3) {
             let triangle = [triangle[0], triangle[1], triangle[2]];
@@ -79,6 +76,21 @@ mod tests {
         let mut torn = cube;
         torn.vertices[0].position[0] = f32::from_bits(torn.vertices[0].position[0].to_bits() + 1);
         assert!(!torn.bounds_solid());
+    }
+
+    /// Copies of a corner on different faces may carry −0 where the others have +0.
+    #[test]
+    fn negative_and_positive_zero_are_one_corner() {
+        let mut sphere = Mesh::sphere(2);
+        let mut flipped = 0;
+        for vertex in sphere.vertices.iter_mut().step_by(2) {
+            for x in vertex.position.iter_mut().filter(|x| **x == 0.0) {
+                *x = -*x;
+                flipped += 1;
+            }
+        }
+        assert!(flipped > 0);
+        assert!(sphere.bounds_solid());
     }
 
     #[test]
