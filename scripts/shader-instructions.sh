@@ -44,7 +44,7 @@ for scene in "$@"; do
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
   # Functions of no object file ([???]) are the run-time compiled shaders.
   shaders=$(callgrind_annotate --inclusive=no --threshold=100 "$work/out" |
-    awk '/\[\?\?\?\]$/ { gsub(",", "", $1); s += $1 } END { printf "%d", s }')
+    awk '/\[\?\?\?\]$/ { gsub(",", "", $1); s += $1 } END { printf "%.0f", s }')
   all=$(awk '/^summary:/ { print $2 }' "$work/out")
   printf '%-40s %18s %18s\n' "$scene" "$shaders" "$all"
 done
