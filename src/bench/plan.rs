@@ -203,6 +203,9 @@ pub fn configuration_names() -> Vec<String> {
         .chain(&ANTIALIASING_CONFIGURATIONS)
         .chain(&OCCLUSION_CONFIGURATIONS);
     names.extend(others.map(|n| (*n).to_owned()));
+    // The ball's tessellation: on a software rasteriser each triangle shades whole blocks
+    // of pixels, so finer meshes cost shading, not only vertices.
+    names.extend(SPHERE_SUBDIVISIONS.iter().map(|n| format!("sphere-{n}")));
     names
 }
 
