@@ -42,19 +42,18 @@ pub fn derive(scene: &Scene, configuration: &str) -> Result<(Vec<Material>, Envi
     let file = plan::configured(&scene.to_file(), configuration)?;
     let base_dir = scene.source.as_deref().and_then(Path::parent).unwrap_or(Path::new(""));
     let mut right = Scene::from_file(&file, &format!("the {configuration} configuration"), base_dir)?;
-    let materials = std::mem::take(&mut right.materials);
+    let materials = std::mem::replace(&mut right.materials, scene.materials.clone());
     let environment = std::mem::replace(&mut right.environment, scene.environment.clone());
-    if materials == scene.materials && environment == scene.environment {
-        bail!("{configuration} draws this scene as it is: nothing to compare");
-    }
-    right.materials = scene.materials.clone();
     right.source = scene.source.clone();
     right.camera = scene.camera;
     if right != *scene {
         bail!(
-            "{configuration} changes more than the materials' values and the reflection mode (textures, lights, \
-             shadows, anti-aliasing or occlusion), which the split view cannot draw in one half"
+            "{configuration} changes more than the materials' values and the reflection mode (meshes, textures, \
+             lights, shadows, anti-aliasing or occlusion), which the split view cannot draw in one half"
         );
+    }
+    if materials == scene.materials && environment == scene.environment {
+        bail!("{configuration} draws this scene as it is: nothing to compare");
     }
     let split = Split {
         materials,
@@ -211,9 +210,10 @@ mod tests {
         let scene = Scene::default_scene();
         let unchanged = derive(&scene, "split-sum").expect_err("argil's defaults are the scene");
         assert!(unchanged.to_string().contains("nothing to compare"), "{unchanged:#}");
-        for name in ["no-shadows", "msaa-4", "occlusion", "no-environment"] {
+        for name in ["no-shadows", "msaa-4", "occlusion", "no-environment", "sphere-8"] {
             let error = derive(&scene, name).expect_err(name);
             assert!(error.to_string().starts_with(name), "{error:#}");
+            assert!(!error.to_string().contains("nothing to compare"), "{error:#}");
         }
         assert!(parse_configuration("floor").is_err());
         assert!(parse_configuration("generic-maps-off").is_err());
