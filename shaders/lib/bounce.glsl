@@ -37,7 +37,7 @@ float ground_light_visibility(uint i, vec3 x) {
 // The environment's irradiance over π on a surface facing d (its blurred radiance along d).
 vec3 bounce_environment(vec3 d) {
     if (env_kind() == ENV_NONE) return vec3(0.0);
-    return env_convolve(d, SH_IRRADIANCE_OVER_PI);
+    return env_irradiance_over_pi(d);
 }
 
 // The irradiance that the ground below p, of unit normal n, adds to the environment's (or

@@ -51,6 +51,8 @@ layout(set = ENV_SET, binding = 1) uniform samplerCube radiance_map;
 layout(set = ENV_SET, binding = 2) uniform samplerCube prefiltered_map;
 // BRDF tables: x = lut_x(n·v), y = roughness (σ for Oren-Nayar), layer = lut_layer().
 layout(set = ENV_SET, binding = 3) uniform sampler2DArray brdf_lut;
+// Irradiance over π (f64 twin: irradiance_over_pi_cube in src/brdf/environment.rs).
+layout(set = ENV_SET, binding = 4) uniform samplerCube irradiance_map;
 
 vec3 env_map_direction(vec3 d) {
     return rotate_y(d, env.params.xy);
@@ -73,6 +75,13 @@ vec3 env_prefiltered(vec3 d, float roughness) {
 vec3 env_convolve(vec3 d, vec3 kernel) {
     if (env_kind() == ENV_UNIFORM) return kernel.x * env.radiance.rgb;
     return env.radiance.rgb * max(sh_convolve(env.sh, env_map_direction(d), kernel), vec3(0.0));
+}
+
+// Irradiance over π on a surface facing d, E(d)/π = (1/π) ∫ L(l) max(d·l, 0) dl: exactly
+// L for a uniform L.
+vec3 env_irradiance_over_pi(vec3 d) {
+    if (env_kind() == ENV_UNIFORM) return env.radiance.rgb;
+    return env.radiance.rgb * textureLod(irradiance_map, env_map_direction(d), 0.0).rgb;
 }
 
 vec2 brdf_table(uint layer, float n_dot_v, float y) {
@@ -101,8 +110,9 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 }
 
 // Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
-// times irradiance/π from SH (exact for Lambert under band-limited light), the subsurface
-// term through its own SH kernels, and the specular lobe as prefiltered radiance along its
+// times irradiance/π (exact for Lambert), the subsurface term through its own SH kernels
+// (less the SH irradiance, so that both sides of the difference are band-limited alike),
+// and the specular lobe as prefiltered radiance along its
 // dominant direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
 // by the report's eq. 17: one lookup along the mirror direction × seed_strength × noise.
 // `noise` modulates the seed mode's lookup: the material's noise map, or 1. `occlusion`
@@ -112,8 +122,7 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float curvature, float noise,
                            vec4 occlusion) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
-    vec3 irradiance_over_pi = env_convolve(n, SH_IRRADIANCE_OVER_PI);
-    vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * irradiance_over_pi;
+    vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * env_irradiance_over_pi(n);
     if (subsurface_lights(models, m)) {
         if (models.subsurface == SUBSURFACE_SEED) {
             vec3 kernel = wrap_sh_kernel(m.wrap, m.wrap_width);
@@ -124,7 +133,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
             vec3 transferred = vec3(env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.r)).r,
                                     env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.g)).g,
                                     env_convolve(n, subsurface_sh_kernel(models.subsurface, reach.b)).b);
-            radiance += diffuse_color(m) * (transferred / PI - irradiance_over_pi);
+            radiance += diffuse_color(m) * (transferred / PI - env_convolve(n, SH_IRRADIANCE_OVER_PI));
         }
     }
     float alpha = clamp_alpha(m.roughness * m.roughness);

@@ -36,7 +36,7 @@ vec3 env_cone_radiance(vec3 d, float sin_alpha) {
 vec3 object_occlusion(vec3 p, vec3 n, uint self_index) {
     vec3 factor = vec3(1.0);
     if (!OBJECT_OCCLUSION || env_kind() == ENV_NONE) return factor;
-    vec3 open = PI * env_convolve(n, SH_IRRADIANCE_OVER_PI);
+    vec3 open = PI * env_irradiance_over_pi(n);
     for (uint j = 0u; j < frame.counts.w; ++j) {
         Occluder o = frame.occluders[j];
         vec3 to_centre = o.sphere.xyz - p;
@@ -47,7 +47,7 @@ vec3 object_occlusion(vec3 p, vec3 n, uint self_index) {
         float sin_alpha = min(o.sphere.w * inv_d, 1.0);
         float f = sphere_cap_irradiance(dot(n, w), sin_alpha);
         if (f <= 0.0) continue;
-        vec3 hidden = env_cone_radiance(w, sin_alpha) - o.albedo.rgb * env_convolve(-w, SH_IRRADIANCE_OVER_PI);
+        vec3 hidden = env_cone_radiance(w, sin_alpha) - o.albedo.rgb * env_irradiance_over_pi(-w);
         factor *= max(vec3(1.0) - PI * f * hidden / max(open, vec3(1e-6)), vec3(0.0));
     }
     return factor;

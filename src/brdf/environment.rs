@@ -184,6 +184,43 @@ pub fn sh_project_cube(size: u32, texel: impl Fn(u32, u32, u32) -> Vec3) -> Sh9 
     c
 }
 
+/// Irradiance over π, (1/π) ∫ L(l) max(n·l, 0) dl, towards the centre of every texel of a
+/// cube with `out`² faces (face-major, rows from the top, as `texel` numbers them), from a
+/// cube map of `size`² faces given texel by texel: quadrature over its texels with their
+/// exact solid angles. Three SH bands smooth a bright source into lobes that go negative
+/// on its far side (clamped, a dark crescent past the terminator); this does not ring.
+pub fn irradiance_over_pi_cube(out: u32, size: u32, texel: impl Fn(u32, u32, u32) -> Vec3) -> Vec<Vec3> {
+    use rayon::prelude::*;
+    let cube = |size: u32| (0..6).flat_map(move |face| (0..size * size).map(move |i| (face, i % size, i / size)));
+    let sources: Vec<(Vec3, Vec3)> = cube(size)
+        .filter_map(|(face, x, y)| {
+            let radiance = texel(face, x, y);
+            let (a, b) = cube_texel_ab(x, y, size);
+            let weight = cube_texel_solid_angle(x, y, size) / PI;
+            (radiance != [0.0; 3]).then(|| (cube_direction(face, a, b), scale(radiance, weight)))
+        })
+        .collect();
+    let normals: Vec<Vec3> = cube(out)
+        .map(|(face, x, y)| {
+            let (a, b) = cube_texel_ab(x, y, out);
+            cube_direction(face, a, b)
+        })
+        .collect();
+    normals
+        .par_iter()
+        .map(|&n| {
+            sources.iter().fold([0.0; 3], |sum, &(l, weighted)| {
+                let cos = dot(n, l);
+                if cos > 0.0 {
+                    add(sum, scale(weighted, cos))
+                } else {
+                    sum
+                }
+            })
+        })
+        .collect()
+}
+
 /// Funk–Hecke coefficients 2π ∫ s(μ) P_l(μ) dμ of the report's wrap term s = `wrap_seed`,
 /// exact by 3-point Gauss-Legendre on each of its two cubic pieces.
 pub fn wrap_sh_kernel(w1: f64, w2: f64) -> Vec3 {

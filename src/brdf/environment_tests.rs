@@ -193,6 +193,47 @@ fn sh_irradiance_of_a_band_limited_environment() {
     assert!((sh_convolve(&constant, [0.0, 1.0, 0.0], SH_IRRADIANCE_OVER_PI)[0] - 2.0).abs() < 1e-12);
 }
 
+/// The irradiance cube of a band-limited radiance is its SH irradiance, up to the
+/// quadrature over the source's texels; of a constant L it is L. Of one bright texel it is
+/// 0 on the far side, where the SH irradiance goes negative.
+#[test]
+fn irradiance_cube_agrees_with_sh_where_the_light_is_band_limited() {
+    let radiance = |d: Vec3| 1.0 + 0.5 * d[0] + 0.3 * (3.0 * d[2] * d[2] - 1.0);
+    let (out, size) = (8, 32);
+    let source = |face, x, y| {
+        let (a, b) = cube_texel_ab(x, y, size);
+        [radiance(cube_direction(face, a, b)); 3]
+    };
+    let sh = sh_project_cube(size, source);
+    let cube = irradiance_over_pi_cube(out, size, source);
+    let constant = irradiance_over_pi_cube(out, size, |_, _, _| [2.0; 3]);
+    let mut worst: f64 = 0.0;
+    let mut worst_constant: f64 = 0.0;
+    for (i, (got, uniform)) in cube.iter().zip(&constant).enumerate() {
+        let (face, texel) = (i as u32 / (out * out), i as u32 % (out * out));
+        let (a, b) = cube_texel_ab(texel % out, texel / out, out);
+        let expected = sh_convolve(&sh, cube_direction(face, a, b), SH_IRRADIANCE_OVER_PI)[0];
+        worst = worst.max((got[0] - expected).abs());
+        worst_constant = worst_constant.max((uniform[0] - 2.0).abs());
+    }
+    println!("irradiance cube vs SH, 32² source faces: max |error| {worst:.1e}, constant {worst_constant:.1e}");
+    assert!(worst < 5e-4 && worst_constant < 5e-4);
+    // One bright texel at the centre of +z: every normal facing away from it.
+    let bright = |face, x, y| [if face == 4 && x == 16 && y == 16 { 1e3 } else { 0.0 }; 3];
+    let c = sh_project_cube(size, bright);
+    let (mut cube_max, mut sh_min) = (0.0_f64, f64::INFINITY);
+    for (i, got) in irradiance_over_pi_cube(out, size, bright).iter().enumerate() {
+        let (face, texel) = (i as u32 / (out * out), i as u32 % (out * out));
+        let (a, b) = cube_texel_ab(texel % out, texel / out, out);
+        let n = cube_direction(face, a, b);
+        if n[2] < -0.1 {
+            cube_max = cube_max.max(got[0].abs());
+            sh_min = sh_min.min(sh_convolve(&c, n, SH_IRRADIANCE_OVER_PI)[0]);
+        }
+    }
+    assert!(cube_max == 0.0 && sh_min < 0.0, "far side: cube up to {cube_max}, SH down to {sh_min}");
+}
+
 #[test]
 fn wrap_sh_kernel_matches_quadrature() {
     let rule = gauss_legendre(64);

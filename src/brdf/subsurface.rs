@@ -107,7 +107,7 @@ fn row_t(row: usize) -> f64 {
 }
 
 /// Funk–Hecke coefficients 2π ∫ D(μ, t) P_l(μ) dμ (l = 0, 1, 2) of the pre-integrated
-/// transfer, for the environment's SH irradiance. Integrated over θ, split around the
+/// transfer, for the environment's SH convolution. Integrated over θ, split around the
 /// terminator where D bends within a few t.
 pub fn preintegrated_sh_kernel(t: f64) -> Vec3 {
     if t.is_infinite() {

@@ -1,8 +1,8 @@
 //! The scene's environment as the reference sees it: the radiance arriving from each
 //! direction, evaluated exactly (the studio's f64 function, an equirectangular map read
 //! bilinearly as `env_equirect.comp` reads it, before any cube map, mip or fp16 rounding),
-//! and sampled in proportion to its luminance (a piecewise-constant distribution over
-//! the map's (u, v), pbrt-v4's `PiecewiseConstant2D`).
+//! and sampled in proportion to a bound of its luminance (a piecewise-constant
+//! distribution over the map's (u, v), pbrt-v4's `PiecewiseConstant2D`).
 
 use std::f64::consts::PI;
 use std::path::Path;
@@ -18,8 +18,8 @@ use crate::scene::Environment;
 /// Columns × rows of the studio's sampling distribution: a texel of it subtends
 /// 0.7° × 0.7°, finer than the studio's softest box edge.
 const STUDIO_GRID: (usize, usize) = (512, 256);
-/// Every cell keeps this fraction of the mean weight, so no direction with light has
-/// pdf 0 (bilinear filtering lights a little beyond the brightest texels).
+/// Every cell keeps this fraction of the mean weight, so that a black map still has a
+/// density and no direction has pdf 0.
 const WEIGHT_FLOOR: f64 = 1e-3;
 
 enum Source {
@@ -194,9 +194,12 @@ fn bilinear(texels: &[DVec3], width: usize, height: usize, u: f64, v: f64) -> DV
     top.lerp(bottom, fy)
 }
 
-/// A piecewise-constant density on [0, 1]² over a grid of cells, each weighted by its
-/// value times the solid angle its row subtends (sin θ), sampled by inverting the marginal
-/// CDF of rows and then the row's conditional CDF.
+/// A piecewise-constant density on [0, 1]² over a grid of cells, sampled by inverting the
+/// marginal CDF of rows and then the row's conditional CDF. A cell is weighted by the
+/// solid angle its row subtends (sin θ) times the largest value of itself and its eight
+/// neighbours: bilinear filtering reads a cell as a blend of those nine, so the radiance
+/// over the pdf stays bounded where a bright texel lights its neighbours' cells (a sun's
+/// disc, a studio box's edge) instead of firing once in thousands of samples.
 struct Distribution2d {
     width: usize,
     height: usize,
@@ -212,10 +215,17 @@ impl Distribution2d {
     fn new(values: Vec<f64>, width: usize, height: usize) -> Self {
         let mean = values.iter().sum::<f64>() / values.len() as f64;
         let floor = (WEIGHT_FLOOR * mean).max(f64::MIN_POSITIVE);
+        let value = |x: usize, y: usize| values[y * width + x].max(0.0);
         let weight = |i: usize| {
-            let row = i / width;
-            let sin_theta = ((row as f64 + 0.5) / height as f64 * PI).sin();
-            (values[i].max(0.0) + floor) * sin_theta
+            let (x, y) = (i % width, i / width);
+            let columns = [(x + width - 1) % width, x, (x + 1) % width];
+            let rows = [y.saturating_sub(1), y, (y + 1).min(height - 1)];
+            let bound = rows
+                .iter()
+                .flat_map(|&r| columns.iter().map(move |&c| value(c, r)))
+                .fold(0.0, f64::max);
+            let sin_theta = ((y as f64 + 0.5) / height as f64 * PI).sin();
+            (bound + floor) * sin_theta
         };
         let weights: Vec<f64> = (0..values.len()).map(weight).collect();
         let conditional: Vec<Vec<f64>> = weights
@@ -301,6 +311,33 @@ mod tests {
             |rng| Some(light.sample([rng.uniform(), rng.uniform()]).0),
             |d| light.pdf(d),
         );
+    }
+
+    /// A map of one bright texel on a dim one: over every direction, radiance over pdf stays
+    /// within 18 ∫ L dω (the nine cells that read the texel, times sin θ's change across a
+    /// row), including where bilinear filtering carries it into its neighbours' cells;
+    /// weighting a cell by its own texel alone gives 4,700 ∫ L dω there.
+    #[test]
+    fn map_radiance_over_pdf_is_bounded_next_to_a_bright_texel() {
+        let (width, height) = (32, 16);
+        let texels = (0..width * height)
+            .map(|i| DVec3::splat(if i == 6 * width + 11 { 1e4 } else { 1.0 }))
+            .collect();
+        let light = EnvironmentLight::from_source(Source::Map { width, height, texels }, 1.0, 0.0);
+        // Midpoint quadrature on a grid 16 times finer than the map's in each direction.
+        let (w, h) = (16 * width, 16 * height);
+        let (mut integral, mut worst) = (0.0_f64, 0.0_f64);
+        for y in 0..h {
+            let v = (y as f64 + 0.5) / h as f64;
+            let solid_angle = (v * PI).sin() * (PI / h as f64) * (2.0 * PI / w as f64);
+            for x in 0..w {
+                let d = equirect_direction((x as f64 + 0.5) / w as f64, v);
+                let l = luminance(light.radiance(d));
+                integral += l * solid_angle;
+                worst = worst.max(l / light.pdf(d));
+            }
+        }
+        assert!(worst < 18.0 * integral, "L/pdf up to {worst}, ∫ L dω = {integral}");
     }
 
     #[test]

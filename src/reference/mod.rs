@@ -40,7 +40,7 @@ use world::World;
 pub enum Transport {
     /// Each light through the material at the first surface, without visibility: what
     /// the real-time renderer computes, so that comparing with it isolates its
-    /// approximations (split sum, SH irradiance, texture filtering).
+    /// approximations (split sum, irradiance cube, texture filtering).
     Direct,
     /// Direct light with visibility: shadows from the point lights and occlusion of the
     /// environment.

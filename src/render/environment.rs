@@ -3,9 +3,10 @@
 //! behind the objects.
 //!
 //! Set 2: binding 0 the `EnvironmentData` uniform buffer, 1 the radiance cube map (with
-//! mips), 2 the GGX-prefiltered cube map, 3 the BRDF tables. What an environment needs is
-//! built when a frame first uses it and kept for the next frames (until another source
-//! replaces it): a studio or map builds its cube maps and spherical harmonics, split-sum
+//! mips), 2 the GGX-prefiltered cube map, 3 the BRDF tables, 4 the irradiance cube. What an
+//! environment needs is built when a frame first uses it and kept for the next frames
+//! (until another source replaces it): a studio or map builds its cube maps, spherical
+//! harmonics and irradiance cube, split-sum
 //! reflection adds the prefiltered cube, and the BRDF tables (the same for every
 //! environment) are built once when a material needs them. Intensity and rotation are
 //! uniforms; the kind and reflection mode are uniforms too, and also specialization
@@ -30,7 +31,7 @@ use gpu_allocator::MemoryLocation;
 use super::shaders;
 use super::split::Split;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
-use crate::brdf::environment::{map_rotation, sh_project_cube, Sh9};
+use crate::brdf::environment::{irradiance_over_pi_cube, map_rotation, sh_project_cube, Sh9};
 use crate::cache::DiskCache;
 use crate::scene::{Camera, DiffuseModel, Environment, Material, ReflectionMode, Scene, SpecularModel};
 use crate::vk::{
@@ -47,9 +48,13 @@ const STUDIO_SIZE: u32 = 256;
 /// A map's cube faces hold a quarter of its width, within these bounds.
 const MIN_MAP_SIZE: u32 = 16;
 const MAX_MAP_SIZE: u32 = 512;
-/// Spherical harmonics are projected from the first mip at most this wide: bands 0–2
-/// vary slowly, and 32² faces put their error below 1e-3.
+/// Spherical harmonics and the irradiance cube are computed from the first mip at most
+/// this wide: bands 0–2 vary slowly, and 32² faces put their error below 1e-3; irradiance
+/// is a cosine lobe's mean, which 2.8° texels resolve.
 const SH_SIZE: u32 = 32;
+/// Faces of the irradiance cube: it varies no faster than a cosine, and bilinear filtering
+/// of 2.8° texels follows one within 0.1% of its peak away from its terminator.
+const IRRADIANCE_SIZE: u32 = 32;
 
 // Values of `EnvironmentData.mode` (environment.glsl).
 const KIND_NONE: u32 = 0;
@@ -89,6 +94,9 @@ struct Cubes {
     /// Built when split-sum reflection first needs it.
     prefiltered: Option<Image>,
     sh: Sh9,
+    /// Irradiance over π (`irradiance_over_pi_cube`): the diffuse light of the split sum,
+    /// the objects' occlusion and the bounce.
+    irradiance: Image,
 }
 
 pub struct EnvironmentPass {
@@ -115,6 +123,7 @@ impl EnvironmentPass {
         let fragment = vk::ShaderStageFlags::FRAGMENT;
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(vk::DescriptorType::UNIFORM_BUFFER, fragment)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
             .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
             .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
             .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
@@ -258,12 +267,24 @@ impl EnvironmentPass {
         let level = (size / SH_SIZE.min(size)).trailing_zeros();
         let side = size >> level;
         let texels = self.precompute.read_level(&radiance.image, level)?;
-        let sh = sh_project_cube(side, |face, x, y| {
+        let texel = |face: u32, x: u32, y: u32| {
             let t = texels[((face * side + y) * side + x) as usize];
             [f64::from(t[0]), f64::from(t[1]), f64::from(t[2])]
-        });
+        };
+        let sh = sh_project_cube(side, texel);
         self.costs.push(Cost {
             step: "spherical harmonics",
+            ms: start.elapsed().as_secs_f64() * 1e3,
+            gpu: false,
+        });
+        let start = Instant::now();
+        let irradiance = self.precompute.upload_cube(
+            IRRADIANCE_SIZE,
+            &irradiance_over_pi_cube(IRRADIANCE_SIZE, side, texel),
+            "irradiance cube",
+        )?;
+        self.costs.push(Cost {
+            step: "irradiance",
             ms: start.elapsed().as_secs_f64() * 1e3,
             gpu: false,
         });
@@ -272,6 +293,7 @@ impl EnvironmentPass {
             radiance,
             prefiltered: None,
             sh,
+            irradiance,
         })
     }
 
@@ -324,6 +346,7 @@ impl EnvironmentPass {
             .and_then(|c| c.prefiltered.as_ref())
             .map_or(self.placeholder_cube.view, |i| i.view);
         let lut_view = self.brdf_lut.as_ref().map_or(self.placeholder_table.view, |i| i.view);
+        let irradiance_view = cubes.map_or(self.placeholder_cube.view, |c| c.irradiance.view);
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         DescriptorWriter::default()
@@ -331,6 +354,7 @@ impl EnvironmentPass {
             .image(1, sampled, radiance_view, layout, self.sampler.handle)
             .image(2, sampled, prefiltered_view, layout, self.sampler.handle)
             .image(3, sampled, lut_view, layout, self.sampler.handle)
+            .image(4, sampled, irradiance_view, layout, self.sampler.handle)
             .write(&self.device, self.set);
         Ok(())
     }

@@ -85,7 +85,7 @@ impl Environment {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ReflectionMode {
-    /// Prefiltered specular cube map × DFG table, diffuse from spherical harmonics (Karis 2013).
+    /// Prefiltered specular cube map × DFG table, diffuse from an irradiance cube (Karis 2013).
     #[default]
     SplitSum,
     /// The seed report's single lookup along the reflected direction (eq. 17).

@@ -599,6 +599,20 @@ impl Precompute {
         })
     }
 
+    /// A one-level cube of `size`² faces holding `texels` (RGB, face-major, rows from the
+    /// top) rounded to RGBA16F, in `SHADING_READ`.
+    pub fn upload_cube(&self, size: u32, texels: &[[f64; 3]], name: &str) -> Result<Image> {
+        let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = Image::cube(&self.device, size, 1, FORMAT, usage, name)?;
+        let bits: Vec<u8> = texels
+            .iter()
+            .flat_map(|t| [t[0], t[1], t[2], 1.0])
+            .flat_map(|c| half::f16::from_f64(c).to_bits().to_ne_bytes())
+            .collect();
+        self.upload_levels(&image, &bits)?;
+        Ok(image)
+    }
+
     /// Fills every level and layer of an image with `bits` (the levels' `read_level_bits`
     /// one after another), leaving it in `SHADING_READ`.
     fn upload_levels(&self, image: &Image, bits: &[u8]) -> Result<()> {
