@@ -511,8 +511,7 @@ fn bench(choice: DeviceChoice, validation: bool, options: argil::bench::Options)
 
 fn soak_run(choice: DeviceChoice, validation: bool, counts: &[u64]) -> Result<()> {
     let device = Arc::new(Device::new(DeviceOptions { choice, validation }, None)?);
-    let scratch = std::env::temp_dir().join(format!("argil-soak-{}", std::process::id()));
-    argil::bench::soak::run(&device, counts[0], counts[1], &scratch)
+    argil::bench::soak::run(&device, counts[0], counts[1])
 }
 
 fn compare(options: argil::compare::Options) -> Result<()> {
@@ -634,10 +633,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
         Command::Bench {
             soak_viewer: Some(frames),
             ..
-        } => {
-            let scratch = std::env::temp_dir().join(format!("argil-soak-{}", std::process::id()));
-            argil::bench::soak::run_viewer(frames, device_arg.as_deref(), &scratch)
-        }
+        } => argil::bench::soak::run_viewer(frames, device_arg.as_deref()),
         Command::Bench {
             quick,
             frames,

@@ -2,12 +2,12 @@
 //! and the window under Xvfb. Every run has the validation layer on and must print no
 //! validation message (leaked handles are reported when the device is destroyed).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 mod common;
 
 use std::process::{Command, Output};
 
-use common::{argil, argil_with, gpu, sampled_sphere_toml};
+use common::{argil, argil_with, gpu, sampled_sphere_toml, TestDir};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -33,10 +33,8 @@ fn assert_failure(o: &Output, code: i32, mentions: &[&str]) {
     }
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("argil-cli-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+fn temp_dir(name: &str) -> TestDir {
+    TestDir::new(&format!("cli-{name}"))
 }
 
 fn path_str(p: &Path) -> &str {
@@ -105,7 +103,8 @@ fn exit_codes_follow_the_contract() {
 /// No Vulkan driver at all: one sentence saying what to install, exit code 1.
 #[test]
 fn without_a_vulkan_driver_argil_says_what_to_install() {
-    let out = temp_dir("no-driver").join("frame.png");
+    let dir = temp_dir("no-driver");
+    let out = dir.join("frame.png");
     for variable in ["VK_ICD_FILENAMES", "VK_DRIVER_FILES"] {
         let env = [(variable, "/nonexistent/icd.json")];
         for args in [&["devices"][..], &["render", "--out", path_str(&out)], &["verify"]] {
@@ -220,7 +219,8 @@ fn render_exr_writes_linear_radiance_without_exposure() {
 
 #[test]
 fn render_without_scene_renders_the_default_scene() {
-    let out = temp_dir("default").join("clay.png");
+    let dir = temp_dir("default");
+    let out = dir.join("clay.png");
     let o = argil(&["render", "--out", path_str(&out), "--width", "96", "--height", "54"]);
     assert_clean_success(&o);
     assert!(

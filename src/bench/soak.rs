@@ -13,7 +13,7 @@
 //! presents) and logs its memory; the validation layer's report of objects still alive
 //! when the device is destroyed is part of what it must not print.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 use std::sync::Arc;
 use std::time::Instant;
@@ -22,6 +22,7 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 use serde::{Deserialize, Serialize};
 
+use super::scratch::Scratch;
 use crate::render::{OffscreenTarget, Renderer};
 use crate::scene::{Scene, DEFAULT_SCENE_TOML};
 use crate::vk::Device;
@@ -132,7 +133,7 @@ fn variant(toml: &str, index: u64) -> String {
 
 /// Runs the soak on `device`; fails if memory is not flat, a GPU allocation is left or the
 /// validation layer reported an error.
-pub fn run(device: &Arc<Device>, frames: u64, renders: u64, scratch: &Path) -> Result<()> {
+pub fn run(device: &Arc<Device>, frames: u64, renders: u64) -> Result<()> {
     let start = Instant::now();
     let mut problems = Vec::new();
     let baseline = device.allocator().generate_report().allocations.len();
@@ -151,8 +152,8 @@ pub fn run(device: &Arc<Device>, frames: u64, renders: u64, scratch: &Path) -> R
         }
         problems.extend(judge("frames", &samples));
 
-        std::fs::create_dir_all(scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
-        let path = scratch.join("soak-scene.toml");
+        let scratch = Scratch::new("soak")?;
+        let path = scratch.path().join("soak-scene.toml");
         let every = (renders / SAMPLES).max(1);
         let mut samples = Vec::new();
         for render in 1..=renders {
@@ -196,7 +197,7 @@ pub fn run(device: &Arc<Device>, frames: u64, renders: u64, scratch: &Path) -> R
 /// Runs the viewer's soak in a child `argil view` on this display; fails if its memory is
 /// not flat, it failed, or the validation layer printed anything (leaked objects are
 /// reported when its device is destroyed). `device` is the child's `--device`, if given.
-pub fn run_viewer(frames: u64, device: Option<&str>, scratch: &Path) -> Result<()> {
+pub fn run_viewer(frames: u64, device: Option<&str>) -> Result<()> {
     if std::env::var_os("DISPLAY").is_none() && std::env::var_os("WAYLAND_DISPLAY").is_none() {
         return Err(crate::error::InputError(
             "--soak-viewer needs a display; without one run it under Xvfb: xvfb-run -a argil bench --soak-viewer N"
@@ -204,8 +205,8 @@ pub fn run_viewer(frames: u64, device: Option<&str>, scratch: &Path) -> Result<(
         )
         .into());
     }
-    std::fs::create_dir_all(scratch).with_context(|| format!("cannot create {}", scratch.display()))?;
-    let log: PathBuf = scratch.join("viewer-soak.json");
+    let scratch = Scratch::new("soak-viewer")?;
+    let log: PathBuf = scratch.path().join("viewer-soak.json");
     let exe = std::env::current_exe().context("cannot find the argil executable")?;
     let mut child = Command::new(exe);
     child.arg("--validation");
@@ -260,7 +261,7 @@ mod tests {
     fn variants_differ_from_each_other_and_parse() {
         assert_ne!(variant(DEFAULT_SCENE_TOML, 0), variant(DEFAULT_SCENE_TOML, 1));
         for i in 0..2 {
-            Scene::from_toml(&variant(DEFAULT_SCENE_TOML, i), "soak", Path::new("")).unwrap();
+            Scene::from_toml(&variant(DEFAULT_SCENE_TOML, i), "soak", std::path::Path::new("")).unwrap();
         }
     }
 

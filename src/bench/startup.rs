@@ -3,7 +3,7 @@
 //! default scene, with empty caches (cold: argil's disk cache and Mesa's shader cache) and
 //! again with the caches the first run filled (warm).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
@@ -11,6 +11,7 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 use serde::{Deserialize, Serialize};
 
+use super::scratch::Scratch;
 use crate::atomic::write_bytes;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -67,13 +68,13 @@ impl Recorder {
 
 /// A cold and a warm start of the default scene at `extent` on device `device_index`.
 pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]> {
-    let dir = TempDir::new()?;
+    let dir = Scratch::new("startup")?;
     let exe = std::env::current_exe().context("cannot find the argil executable")?;
     let start = |run: &str| -> Result<Startup> {
-        let timings = dir.0.join(format!("{run}.json"));
+        let timings = dir.path().join(format!("{run}.json"));
         let output = Command::new(&exe)
             .args(["--device", &device_index.to_string(), "render", "--out"])
-            .arg(dir.0.join("frame.exr"))
+            .arg(dir.path().join("frame.exr"))
             .args([
                 "--width",
                 &extent.width.to_string(),
@@ -82,8 +83,8 @@ pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]
             ])
             .arg("--timings")
             .arg(&timings)
-            .env("ARGIL_CACHE_DIR", dir.0.join("argil-cache"))
-            .env("MESA_SHADER_CACHE_DIR", dir.0.join("mesa-cache"))
+            .env("ARGIL_CACHE_DIR", dir.path().join("argil-cache"))
+            .env("MESA_SHADER_CACHE_DIR", dir.path().join("mesa-cache"))
             .output()
             .context("cannot start argil render")?;
         if !output.status.success() {
@@ -114,24 +115,4 @@ pub fn markdown(extent: vk::Extent2D, [cold, warm]: &[Startup; 2]) -> String {
         cold.total_ms, warm.total_ms
     );
     text
-}
-
-/// A folder removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new() -> Result<Self> {
-        let dir = std::env::temp_dir().join(format!("argil-startup-{}", std::process::id()));
-        if dir.exists() {
-            std::fs::remove_dir_all(&dir).with_context(|| format!("cannot empty {}", dir.display()))?;
-        }
-        std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        Ok(Self(dir))
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
 }
