@@ -112,10 +112,10 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
 // times irradiance/π (exact for Lambert), the subsurface term through its own SH kernels
 // (less the SH irradiance, so that both sides of the difference are band-limited alike),
-// and the specular lobe as prefiltered radiance along its
-// dominant direction times ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced
-// by the report's eq. 17: one lookup along the mirror direction × seed_strength × noise.
-// `noise` modulates the seed mode's lookup: the material's noise map, or 1. `occlusion`
+// and the specular lobe as prefiltered radiance along its dominant direction times
+// ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced by the report's eq. 17:
+// one lookup along the mirror direction × seed_strength × noise. `noise` modulates the
+// seed mode's lookup: the material's noise map, or 1. `occlusion`
 // (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb; all 1: none) scales
 // the diffuse and subsurface terms by its rgb, and the specular one by the specular
 // occlusion of its visibility a (none at a = 1).

@@ -22,6 +22,7 @@ pub mod soak;
 pub mod startup;
 pub mod stats;
 
+use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
@@ -143,7 +144,18 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     } else {
         Some(sky::ensure(&reference_dir)?)
     };
-    for scene in plan::scenes(options.quick, sky.as_deref())? {
+    let plan = plan::scenes(options.quick, sky.as_deref())?;
+    let planned: HashSet<(String, String, u32, u32)> = plan
+        .iter()
+        .flat_map(|s| {
+            s.configurations.iter().flat_map(move |c| {
+                c.resolutions
+                    .iter()
+                    .map(move |r| (s.name.to_owned(), c.name.clone(), r.width, r.height))
+            })
+        })
+        .collect();
+    for scene in plan {
         let scene = scene.selected(&options.only);
         if scene.configurations.is_empty() {
             continue;
@@ -190,9 +202,13 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         write_bytes(&out.join("startup.md"), startup::markdown(extent, &starts).as_bytes())?;
     }
     // With --only, the rows already there are written again beside the new ones (with
-    // `--only startup`, in this build's format).
+    // `--only startup`, in this build's format), but for those of configurations a full
+    // run no longer makes. A quick run plans fewer rows, so it keeps every row.
     if !options.only.is_empty() {
-        rows = report::merged(report::read(&out)?, rows);
+        let planned = |r: &report::Row| {
+            options.quick || planned.contains(&(r.scene.clone(), r.configuration.clone(), r.width, r.height))
+        };
+        rows = report::merged(report::read(&out)?, rows, planned);
     }
     if !rows.is_empty() {
         report::write(&out, &rows)?;

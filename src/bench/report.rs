@@ -156,8 +156,11 @@ pub fn read(dir: &Path) -> Result<Vec<Row>> {
 }
 
 /// `old` with each row of `new` in place of the row of the same scene, configuration and
-/// size, or after the last row of its scene (at the end for a new scene).
-pub fn merged(mut old: Vec<Row>, new: Vec<Row>) -> Vec<Row> {
+/// size, or after the last row of its scene (at the end for a new scene). Rows of `old`
+/// that are not `planned` (a configuration the bench no longer has) are dropped, so that
+/// the results describe only what this build measures.
+pub fn merged(old: Vec<Row>, new: Vec<Row>, planned: impl Fn(&Row) -> bool) -> Vec<Row> {
+    let mut old: Vec<Row> = old.into_iter().filter(|r| planned(r)).collect();
     for row in new {
         let same = |r: &Row| {
             r.scene == row.scene
@@ -381,14 +384,19 @@ mod tests {
     }
 
     #[test]
-    fn merged_rows_replace_their_namesakes_and_join_their_scene() {
-        let old = vec![row("a", "x", 64, 1.0), row("a", "y", 64, 2.0), row("b", "x", 64, 3.0)];
+    fn merged_rows_replace_their_namesakes_join_their_scene_and_drop_the_unplanned() {
+        let old = vec![
+            row("a", "x", 64, 1.0),
+            row("a", "y", 64, 2.0),
+            row("a", "gone", 64, 2.5),
+            row("b", "x", 64, 3.0),
+        ];
         let new = vec![
             row("a", "y", 64, 20.0),
             row("a", "y", 128, 21.0),
             row("c", "x", 64, 30.0),
         ];
-        let merged: Vec<(String, String, u32, f64)> = merged(old, new)
+        let merged: Vec<(String, String, u32, f64)> = merged(old, new, |r| r.configuration != "gone")
             .into_iter()
             .map(|r| (r.scene, r.configuration, r.width, r.gpu_ms_median))
             .collect();

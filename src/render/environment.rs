@@ -6,9 +6,8 @@
 //! mips), 2 the GGX-prefiltered cube map, 3 the BRDF tables, 4 the irradiance cube. What an
 //! environment needs is built when a frame first uses it and kept for the next frames
 //! (until another source replaces it): a studio or map builds its cube maps, spherical
-//! harmonics and irradiance cube, split-sum
-//! reflection adds the prefiltered cube, and the BRDF tables (the same for every
-//! environment) are built once when a material needs them. Intensity and rotation are
+//! harmonics and irradiance cube, split-sum reflection adds the prefiltered cube, and the
+//! BRDF tables (the same for every environment) are built once when a material needs them. Intensity and rotation are
 //! uniforms; the kind and reflection mode are uniforms too, and also specialization
 //! constants of the forward pass (see forward.rs), so that a frame runs only its own
 //! mode's code. Unused bindings hold
@@ -52,8 +51,9 @@ const MAX_MAP_SIZE: u32 = 512;
 /// this wide: bands 0–2 vary slowly, and 32² faces put their error below 1e-3; irradiance
 /// is a cosine lobe's mean, which 2.8° texels resolve.
 const SH_SIZE: u32 = 32;
-/// Faces of the irradiance cube: it varies no faster than a cosine, and bilinear filtering
-/// of 2.8° texels follows one within 0.1% of its peak away from its terminator.
+/// Faces of the irradiance cube: it varies no faster than a cosine lobe's mean, and read
+/// bilinearly from 2.8° texels it lights a Lambert sphere under one soft box within 0.14%
+/// on average and 1.3% at worst (tests/environment.rs).
 const IRRADIANCE_SIZE: u32 = 32;
 
 // Values of `EnvironmentData.mode` (environment.glsl).
