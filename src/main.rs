@@ -210,7 +210,7 @@ enum Command {
         references: Option<PathBuf>,
         /// Only these rows: a scene or configuration name, or SCENE/CONFIGURATION (`*` matches
         /// any run of characters); repeatable. Their rows replace the same rows of the results already in the
-        /// folder, and the other rows are kept.
+        /// folder, and the other rows are kept, but for those of configurations the bench no longer has.
         #[arg(long, value_name = "PATTERN")]
         only: Vec<String>,
         /// Instead of timing, a long run looking for leaks: FRAMES frames, then RENDERS renders
