@@ -5,18 +5,15 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use argil::reference::integrator::CameraRays;
 use argil::reference::{render, Filter, Reference, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::scene::{MapSlot, Scene, DEFAULT_SCENE_TOML};
 use glam::{DVec3, Vec3};
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("argil-emission-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+fn temp_dir(name: &str) -> common::TestDir {
+    common::TestDir::new(&format!("emission-{name}"))
 }
 
 fn settings(width: u32, height: u32, transport: Transport, samples: u32) -> Settings {

@@ -27,15 +27,14 @@ fn assert_machine_failure(o: &Output, fault: &str) {
     assert!(err.contains(advice), "ARGIL_FAULT={fault}: no {advice:?}: {err}");
 }
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("argil-faults-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+fn temp_dir(name: &str) -> common::TestDir {
+    common::TestDir::new(&format!("faults-{name}"))
 }
 
 #[test]
 fn render_fails_cleanly() {
-    let out = temp_dir("render").join("frame.exr");
+    let dir = temp_dir("render");
+    let out = dir.join("frame.exr");
     let out = out.to_str().expect("utf-8");
     for fault in [
         "alloc:1",
@@ -56,7 +55,8 @@ fn render_fails_cleanly() {
 
 #[test]
 fn verify_fails_cleanly() {
-    let json = temp_dir("verify").join("verify.json");
+    let dir = temp_dir("verify");
+    let json = dir.join("verify.json");
     let json = json.to_str().expect("utf-8");
     for fault in ["alloc:3", "submit:2", "device-lost:5"] {
         let o = argil_with(

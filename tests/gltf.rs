@@ -14,10 +14,8 @@ use serde_json::{json, Value};
 
 use common::argil;
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("argil-gltf-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+fn temp_dir(name: &str) -> common::TestDir {
+    common::TestDir::new(&format!("gltf-{name}"))
 }
 
 /// One primitive's vertex data, in argil's UV convention (v up; the file gets 1 - v).

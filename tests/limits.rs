@@ -13,10 +13,8 @@ use common::argil;
 const SPHERE_OBJECT: &str = "[[objects]]\nmesh = \"builtin:sphere\"\n";
 const LIGHT: &str = "[[lights]]\nkind = \"point\"\nposition = [0, 2, 2]\nintensity = [1, 1, 1]\n";
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("argil-limits-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+fn temp_dir(name: &str) -> common::TestDir {
+    common::TestDir::new(&format!("limits-{name}"))
 }
 
 /// Renders `scene`: refused with exit code 2 and a message that mentions `mentions`, and

@@ -6,7 +6,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use argil::brdf::occlusion::micro_shadowing;
 use argil::reference::integrator::CameraRays;
@@ -15,11 +15,8 @@ use argil::scene::{MapSlot, Scene};
 use common::{argil, percentiles};
 use glam::DVec3;
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("argil-maps-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+fn temp_dir(name: &str) -> common::TestDir {
+    common::TestDir::new(&format!("maps-{name}"))
 }
 
 /// A 64² RGB8 PNG whose texel at column x is `texel(x)`.

@@ -329,11 +329,8 @@ fn a_noise_target_is_met() {
     assert!(image.samples < 4096, "{} samples", image.samples);
 }
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("argil-reference-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
+fn temp_dir(name: &str) -> common::TestDir {
+    common::TestDir::new(&format!("reference-{name}"))
 }
 
 #[test]
