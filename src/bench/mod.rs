@@ -145,7 +145,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         Some(sky::ensure(&reference_dir)?)
     };
     let plan = plan::scenes(options.quick, sky.as_deref())?;
-    let planned: HashSet<(String, String, u32, u32)> = plan
+    let planned_rows: HashSet<(String, String, u32, u32)> = plan
         .iter()
         .flat_map(|s| {
             s.configurations.iter().flat_map(move |c| {
@@ -206,7 +206,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     // run no longer makes. A quick run plans fewer rows, so it keeps every row.
     if !options.only.is_empty() {
         let planned = |r: &report::Row| {
-            options.quick || planned.contains(&(r.scene.clone(), r.configuration.clone(), r.width, r.height))
+            options.quick || planned_rows.contains(&(r.scene.clone(), r.configuration.clone(), r.width, r.height))
         };
         rows = report::merged(report::read(&out)?, rows, planned);
     }

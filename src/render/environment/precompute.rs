@@ -602,7 +602,7 @@ impl Precompute {
     /// A one-level cube of `size`² faces holding `texels` (RGB, face-major, rows from the
     /// top) rounded to RGBA16F, in `SHADING_READ`.
     pub fn upload_cube(&self, size: u32, texels: &[[f64; 3]], name: &str) -> Result<Image> {
-        let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC;
+        let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
         let image = Image::cube(&self.device, size, 1, FORMAT, usage, name)?;
         let bits: Vec<u8> = texels
             .iter()
