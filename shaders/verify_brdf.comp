@@ -1,6 +1,6 @@
 #version 460
 // `argil verify`'s harness: evaluates one function of brdf.glsl, tonemap.glsl,
-// msaa_resolve.glsl, specular_aa.glsl, normal_mapping.glsl or shading.glsl, chosen by the FUNCTION specialization constant, on
+// msaa_resolve.glsl, specular_aa.glsl, occlusion.glsl, env_math.glsl, normal_mapping.glsl or shading.glsl, chosen by the FUNCTION specialization constant, on
 // every input tuple. src/verify/functions.rs and terms.rs evaluate the f64 twins on the same
 // f32 tuples; the meaning of a tuple's vec4s per function is documented there and below.
 #include "brdf.glsl"
@@ -10,6 +10,7 @@
 #include "msaa_resolve.glsl"
 #include "specular_aa.glsl"
 #include "occlusion.glsl"
+#include "env_math.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -104,6 +105,8 @@ vec4 term(Tuple t) {
     case 26u: return vec4(specular_energy_compensation(a.x, t.d.rgb), 0.0);
     case 27u: return vec4(sphere_cap_irradiance(a.x, a.y));
     case 28u: return vec4(micro_shadowing(a.x, a.y));
+    case 29u: return vec4(prefiltered_lookup_roughness(a.x, a.y));
+    case 30u: return vec4(prefiltered_lookup_offset(a.x, a.y));
     }
     return vec4(0.0);
 }

@@ -112,10 +112,11 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
 // times irradiance/π (exact for Lambert), the subsurface term through its own SH kernels
 // (less the SH irradiance, so that both sides of the difference are band-limited alike),
-// and the specular lobe as prefiltered radiance along its dominant direction times
-// ∫ f_s cos = F0 A + B. In seed mode the specular lobe is replaced by the report's eq. 17:
-// one lookup along the mirror direction × seed_strength × noise. `noise` modulates the
-// seed mode's lookup: the material's noise map, or 1. `occlusion`
+// and the specular lobe as prefiltered radiance around its dominant direction (two lobes
+// of its solid angle at n·v, env_math.glsl) times ∫ f_s cos = F0 A + B. In seed mode the
+// specular lobe is replaced by the report's eq. 17: one lookup along the mirror direction
+// × seed_strength × noise. `noise` modulates the seed mode's lookup: the material's noise
+// map, or 1. `occlusion`
 // (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb; all 1: none) scales
 // the diffuse and subsurface terms by its rgb, and the specular one by the specular
 // occlusion of its visibility a (none at a = 1).
@@ -147,7 +148,15 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
     }
     vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
     vec3 dominant = specular_dominant_direction(n, r, alpha);
-    return radiance + specular_visibility * env_prefiltered(dominant, m.roughness) * m.specular_color.rgb
+    // Along the plane of incidence, across the dominant direction; none seen head-on.
+    vec3 across_plane = cross(n, v);
+    float sin_v = length(across_plane);
+    vec3 along = sin_v > 1e-4 ? cross(across_plane / sin_v, dominant) : vec3(0.0);
+    vec3 offset = prefiltered_lookup_offset(alpha, n_dot_v) * along;
+    float lookup = prefiltered_lookup_roughness(m.roughness, n_dot_v);
+    vec3 prefiltered = 0.5 * (env_prefiltered(normalize(dominant + offset), lookup)
+                              + env_prefiltered(normalize(dominant - offset), lookup));
+    return radiance + specular_visibility * prefiltered * m.specular_color.rgb
                     * (clamp(specular_f0(m), 0.0, 1.0) * ab.x + ab.y);
 }
 

@@ -100,6 +100,21 @@ pub fn specular_dominant_direction(n: Vec3, r: Vec3, alpha: f64) -> Vec3 {
     normalize(add(scale(n, 1.0 - t), scale(r, t)))
 }
 
+/// The roughness of the prefiltered lobes read for a GGX lobe seen at n·v: the lobe's solid
+/// angle, α' = α √(n·v), since dω_l = 4 (v·h) dω_h (Walter et al. 2007, eq. 14) narrows it
+/// across the plane of incidence by n·v.
+pub fn prefiltered_lookup_roughness(roughness: f64, n_dot_v: f64) -> f64 {
+    roughness * n_dot_v.clamp(0.0, 1.0).sqrt().sqrt()
+}
+
+/// The angle the two lookups sit either side of the dominant direction along the plane of
+/// incidence: √2 α √(1 − n·v) restores the lobe's variance there, 2α², from the lookups'
+/// own 2α'²; at most √2 α √(n·v), their own width, so that the pair stays one lobe.
+pub fn prefiltered_lookup_offset(alpha: f64, n_dot_v: f64) -> f64 {
+    let mu = n_dot_v.clamp(0.0, 1.0);
+    2f64.sqrt() * alpha * (1.0 - mu).min(mu).sqrt()
+}
+
 /// An orthonormal frame (t, b, n) around unit n (Duff et al. 2017).
 pub fn tangent_frame(n: Vec3) -> [Vec3; 3] {
     let s = if n[2] >= 0.0 { 1.0 } else { -1.0 };
