@@ -18,7 +18,7 @@ use argil::brdf::shading::{diffuse_lobe, specular_lobe};
 use argil::render::environment::{LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
 use argil::render::OffscreenFrame;
 use argil::scene::{Environment, Reflection, ReflectionMode, Scene};
-use common::{argil_with, assert_matches_golden, gpu, render, scene, try_render};
+use common::{argil_with, assert_matches_golden, gpu, render, scene, try_render, TestDir};
 
 /// A sphere filling most of a square frame, seen from +z.
 fn sphere_scene(environment: &str, material: &str) -> String {
@@ -363,23 +363,6 @@ fn subsurface_split_sum_agrees_with_sampling() {
     }
 }
 
-/// A folder for files a test writes, removed at the end.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("argil-env-{name}-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        Self(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 /// A 64×32 equirectangular map: grey, a red patch straight ahead (−z) and a green one to
 /// the right (+x).
 fn write_test_map(path: &Path) {
@@ -428,10 +411,10 @@ fn centre(frame: &OffscreenFrame) -> [f32; 4] {
 /// scaled by `intensity` and turned by `rotation_degrees`.
 #[test]
 fn equirect_hdr_map_loads_and_renders() {
-    let dir = TempDir::new("map");
-    let path = dir.0.join("test.hdr");
+    let dir = TestDir::new("map");
+    let path = dir.join("test.hdr");
     write_test_map(&path);
-    let load = |extra: &str| Scene::from_toml(&map_scene("test.hdr", extra), "map scene", &dir.0).expect("scene");
+    let load = |extra: &str| Scene::from_toml(&map_scene("test.hdr", extra), "map scene", &dir).expect("scene");
     for (extra, expected) in [
         ("", [2.0, 0.0, 0.0]),
         ("intensity = 0.5", [1.0, 0.0, 0.0]),
@@ -464,19 +447,19 @@ fn render_error(scene: &Scene) -> String {
 /// goes on afterwards.
 #[test]
 fn broken_environment_maps_are_clear_errors() {
-    let dir = TempDir::new("bad-maps");
-    let png = dir.0.join("photo.png");
+    let dir = TestDir::new("bad-maps");
+    let png = dir.join("photo.png");
     image::RgbImage::new(8, 4).save(&png).expect("png");
     let nan = image::Rgb32FImage::from_fn(16, 8, |x, _| {
         image::Rgb([if x == 3 { f32::NAN } else { 1.0 }, 1.0, 1.0])
     });
-    nan.save(dir.0.join("nan.exr")).expect("exr");
+    nan.save(dir.join("nan.exr")).expect("exr");
     let negative = image::Rgb32FImage::from_fn(16, 8, |x, y| {
         image::Rgb([1.0, if (x, y) == (5, 2) { -1.0 } else { 1.0 }, 1.0])
     });
-    negative.save(dir.0.join("negative.exr")).expect("exr");
+    negative.save(dir.join("negative.exr")).expect("exr");
     image::Rgb32FImage::new(24, 16)
-        .save(dir.0.join("square.hdr"))
+        .save(dir.join("square.hdr"))
         .expect("hdr");
     let files: [(&str, Vec<u8>, &str); 7] = [
         (
@@ -505,20 +488,20 @@ fn broken_environment_maps_are_clear_errors() {
     ];
     for (name, bytes, message) in files {
         if !bytes.is_empty() {
-            std::fs::write(dir.0.join(name), bytes).expect("write");
+            std::fs::write(dir.join(name), bytes).expect("write");
         }
-        let scene = Scene::from_toml(&map_scene(name, ""), "bad map scene", &dir.0).expect("scene");
+        let scene = Scene::from_toml(&map_scene(name, ""), "bad map scene", &dir).expect("scene");
         let error = render_error(&scene);
         eprintln!("{name}: {error}");
         assert!(
-            error.contains(&dir.0.join(name).display().to_string()),
+            error.contains(&dir.join(name).display().to_string()),
             "{name}: the error does not name the file: {error}"
         );
         assert!(error.contains(message), "{name}: {error}");
     }
     // The renderer is still usable.
-    write_test_map(&dir.0.join("good.hdr"));
-    let good = Scene::from_toml(&map_scene("good.hdr", ""), "good map scene", &dir.0).expect("scene");
+    write_test_map(&dir.join("good.hdr"));
+    let good = Scene::from_toml(&map_scene("good.hdr", ""), "good map scene", &dir).expect("scene");
     assert!(centre(&render(&good, 16, 16))[0] > 1.9);
 }
 
@@ -682,8 +665,8 @@ fn render_studio_sphere(dir: &Path, name: &str, env: &[(&str, &str)]) -> std::pr
 /// message (leaks included).
 #[test]
 fn render_prints_precomputation_costs() {
-    let dir = TempDir::new("cli");
-    let o = render_studio_sphere(&dir.0, "studio.png", &[]);
+    let dir = TestDir::new("cli");
+    let o = render_studio_sphere(&dir, "studio.png", &[]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     assert!(!stderr.contains("vulkan validation"), "{stderr}");
@@ -704,13 +687,13 @@ fn render_prints_precomputation_costs() {
 /// cache instead of computing them, and draws the same bits.
 #[test]
 fn environment_tables_come_from_the_disk_cache_on_a_warm_start() {
-    let dir = TempDir::new("lut-cache");
-    let cache = dir.0.join("cache");
+    let dir = TestDir::new("lut-cache");
+    let cache = dir.join("cache");
     let run = |name: &str| {
-        let o = render_studio_sphere(&dir.0, name, &[("ARGIL_CACHE_DIR", cache.to_str().expect("utf-8"))]);
+        let o = render_studio_sphere(&dir, name, &[("ARGIL_CACHE_DIR", cache.to_str().expect("utf-8"))]);
         let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
         assert!(o.status.success(), "{stderr}");
-        (stderr, std::fs::read(dir.0.join(name)).expect("output"))
+        (stderr, std::fs::read(dir.join(name)).expect("output"))
     };
     let (cold, cold_image) = run("cold.exr");
     let (warm, warm_image) = run("warm.exr");
@@ -886,12 +869,12 @@ const SOFT_BOX_PLACES: [(&str, DVec3); 3] = [
 /// were weighted by solid angle, the corner read +22% and the face centre −30% at N = 16.
 #[test]
 fn sampled_lambert_is_consistent_wherever_the_box_sits() {
-    let dir = TempDir::new("soft-box");
+    let dir = TestDir::new("soft-box");
     let size = 64;
     let counts = [16, 64, 256];
     let mut bias = [[0.0; 3]; 3];
     for (p, (place, centre)) in SOFT_BOX_PLACES.into_iter().enumerate() {
-        let (path, box_texels) = soft_box_scene_map(&dir.0, centre);
+        let (path, box_texels) = soft_box_scene_map(&dir, centre);
         let eye = centre * 5.0;
         let mut previous = f64::INFINITY;
         for (k, samples) in counts.into_iter().enumerate() {
@@ -939,10 +922,10 @@ fn sampled_lambert_is_consistent_wherever_the_box_sits() {
 /// read dim beside it and overshoot behind it.
 #[test]
 fn split_sum_lambert_is_the_maps_irradiance() {
-    let dir = TempDir::new("irradiance");
+    let dir = TestDir::new("irradiance");
     let size = 64;
     for (place, centre) in SOFT_BOX_PLACES {
-        let (path, box_texels) = soft_box_scene_map(&dir.0, centre);
+        let (path, box_texels) = soft_box_scene_map(&dir, centre);
         // Seen from the side, so that the sphere shows the box's terminator.
         let eye = DVec3::new(centre.z, 0.3, -centre.x).normalize() * 5.0;
         let frame = render(
@@ -970,8 +953,8 @@ fn split_sum_lambert_is_the_maps_irradiance() {
 /// horizon over the limbs.
 #[test]
 fn split_sum_keeps_a_sharp_horizon_at_grazing_angles() {
-    let dir = TempDir::new("horizon");
-    let path = dir.0.join("horizon.exr");
+    let dir = TestDir::new("horizon");
+    let path = dir.join("horizon.exr");
     let map = image::Rgb32FImage::from_fn(256, 128, |_, y| {
         let l = if y < 64 { 1.0 } else { 0.05 };
         image::Rgb([l, l, l])
@@ -1023,8 +1006,8 @@ fn split_sum_keeps_a_sharp_horizon_at_grazing_angles() {
 /// with the soft box at a corner, where a plain 2×2 mean gains the most.
 #[test]
 fn cube_mips_are_solid_angle_weighted_means() {
-    let dir = TempDir::new("mips");
-    let (path, _) = soft_box_scene_map(&dir.0, SOFT_BOX_PLACES[2].1);
+    let dir = TestDir::new("mips");
+    let (path, _) = soft_box_scene_map(&dir, SOFT_BOX_PLACES[2].1);
     let scene = sphere_under_map(
         DVec3::new(0.0, 0.0, 5.0),
         &path,
@@ -1109,8 +1092,8 @@ const SPLIT_SUM_BOX: DVec3 = DVec3::new(0.2683281572999747, 0.35777087639996635,
 /// the filtered importance sampling of 128 points from the source's mips, in fp16.
 #[test]
 fn prefiltered_levels_match_their_f64_definition() {
-    let dir = TempDir::new("prefilter");
-    let (path, _) = soft_box_scene_map(&dir.0, SPLIT_SUM_BOX);
+    let dir = TestDir::new("prefilter");
+    let (path, _) = soft_box_scene_map(&dir, SPLIT_SUM_BOX);
     let eye = DVec3::new(0.0, 0.0, 5.0);
     let scene = sphere_under_map(eye, &path, "reflection = \"split-sum\"", "roughness = 0.5");
     let levels = gpu().exclusive(|renderer| {
@@ -1159,8 +1142,8 @@ fn prefiltered_levels_match_their_f64_definition() {
 /// product; what the product misses of the truth is the approximation's own error.
 #[test]
 fn split_sum_specular_is_its_f64_product() {
-    let dir = TempDir::new("split-sum");
-    let (path, _) = soft_box_scene_map(&dir.0, SPLIT_SUM_BOX);
+    let dir = TestDir::new("split-sum");
+    let (path, _) = soft_box_scene_map(&dir, SPLIT_SUM_BOX);
     let eye = DVec3::new(0.0, 0.0, 5.0);
     let size = 64;
     let samples = 2048;
@@ -1254,8 +1237,8 @@ fn split_sum_specular_is_its_f64_product() {
 /// the right of green.
 #[test]
 fn equirect_orientation_matches_the_documentation() {
-    let dir = TempDir::new("orientation");
-    let path = dir.0.join("axes.exr");
+    let dir = TestDir::new("orientation");
+    let path = dir.join("axes.exr");
     let patches = [
         (DVec3::X, [4.0f32, 0.0, 0.0]),
         (DVec3::NEG_Z, [0.0, 4.0, 0.0]),

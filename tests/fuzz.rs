@@ -3,11 +3,14 @@
 //! long, every seed must load (a seed that is rejected no longer reaches past the first
 //! check), and a short fixed-seed mutation run must not panic either.
 
+mod common;
+
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use argil::fuzz::{read_corpus, Harness, Mutator, Target};
+use common::TestDir;
 
 /// The slowest accepted input takes well under a second in a release build; this leaves
 /// room for a machine busy with other builds.
@@ -17,9 +20,11 @@ fn fuzz_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz")
 }
 
-fn harness(name: &str) -> Harness {
-    let scratch = std::env::temp_dir().join(format!("argil-fuzz-test-{name}-{}", std::process::id()));
-    Harness::new(&scratch, &fuzz_dir().join("corpus/assets")).expect("scratch folder")
+/// A harness writing its inputs into a scratch folder removed with the returned `TestDir`.
+fn harness(name: &str) -> (TestDir, Harness) {
+    let scratch = TestDir::new(&format!("fuzz-test-{name}"));
+    let harness = Harness::new(&scratch, &fuzz_dir().join("corpus/assets")).expect("scratch folder");
+    (scratch, harness)
 }
 
 /// Runs `input`, returning the loader's verdict, or a description of a panic or a slow run.
@@ -36,7 +41,7 @@ fn run(harness: &Harness, target: Target, input: &[u8]) -> Result<Result<(), Str
 
 #[test]
 fn every_seed_loads() {
-    let harness = harness("seeds");
+    let (_scratch, harness) = harness("seeds");
     let mut problems = Vec::new();
     for target in Target::ALL {
         let seeds = read_corpus(&fuzz_dir().join("corpus").join(target.name())).expect("corpus");
@@ -54,7 +59,7 @@ fn every_seed_loads() {
 
 #[test]
 fn every_crasher_is_rejected_or_loaded_without_a_panic() {
-    let harness = harness("crashers");
+    let (_scratch, harness) = harness("crashers");
     let mut problems = Vec::new();
     let mut count = 0;
     for target in Target::ALL {
@@ -71,7 +76,7 @@ fn every_crasher_is_rejected_or_loaded_without_a_panic() {
 
 #[test]
 fn a_short_mutation_run_finds_no_crash() {
-    let harness = harness("mutants");
+    let (_scratch, harness) = harness("mutants");
     let mut mutator = Mutator::new(13);
     let mut problems = Vec::new();
     for target in Target::ALL {
