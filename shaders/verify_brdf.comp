@@ -1,8 +1,9 @@
 #version 460
 // `argil verify`'s harness: evaluates one function of brdf.glsl, tonemap.glsl,
-// msaa_resolve.glsl, specular_aa.glsl, occlusion.glsl, env_math.glsl, normal_mapping.glsl or shading.glsl, chosen by the FUNCTION specialization constant, on
-// every input tuple. src/verify/functions.rs and terms.rs evaluate the f64 twins on the same
-// f32 tuples; the meaning of a tuple's vec4s per function is documented there and below.
+// msaa_resolve.glsl, specular_aa.glsl, occlusion.glsl, env_math.glsl, normal_mapping.glsl
+// or shading.glsl, chosen by the FUNCTION specialization constant, on every input tuple.
+// src/verify/functions.rs and terms.rs evaluate the f64 twins on the same f32 tuples; the
+// meaning of a tuple's vec4s per function is documented there and below.
 #include "brdf.glsl"
 #include "tonemap.glsl"
 #include "normal_mapping.glsl"

@@ -82,16 +82,17 @@ vec3 specular_dominant_direction(vec3 n, vec3 r, float alpha) {
 // The prefiltered cube holds isotropic lobes (n = v = r), but dω_l = 4 (v·h) dω_h (Walter
 // et al. 2007, eq. 14): seen at n·v, a GGX lobe is n·v times as narrow across the plane of
 // incidence as along it. The split sum reads two lobes of the lobe's solid angle,
-// α' = α √(n·v), which is (n·v)^¼ in roughness, offset along the plane by ± the angle below.
-// At grazing angles this keeps a sharp horizon from smearing.
+// α' = α √(n·v), which is (n·v)^¼ in roughness, offset along the plane by ± the offset
+// below. At grazing angles this keeps a sharp horizon from smearing.
 float prefiltered_lookup_roughness(float roughness, float n_dot_v) {
     return roughness * sqrt(sqrt(clamp(n_dot_v, 0.0, 1.0)));
 }
 
-// The angle the two lookups sit either side of the dominant direction, along the plane of
-// incidence (Walter et al. 2007, eq. 14, as above): what restores the lobe's variance there,
-// 2α² (GGX's core as Beckmann's, twice its slopes' α²/2), from the lookups' own 2α'²,
-// s = √2 α √(1 − n·v); at most their own width, √2 α √(n·v), so that the pair stays one lobe.
+// How far the two lookups sit either side of the dominant direction, along the plane of
+// incidence (a multiple of a unit vector there added to it, an angle of atan s; Walter et
+// al. 2007, eq. 14, as above): what restores the lobe's variance there, 2α² (GGX's core
+// as Beckmann's, twice its slopes' α²/2), from the lookups' own 2α'², s = √2 α √(1 − n·v);
+// at most their own width, √2 α √(n·v), so that the pair stays one lobe.
 float prefiltered_lookup_offset(float alpha, float n_dot_v) {
     float mu = clamp(n_dot_v, 0.0, 1.0);
     return sqrt(2.0) * alpha * sqrt(min(1.0 - mu, mu));

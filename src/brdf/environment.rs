@@ -107,8 +107,8 @@ pub fn prefiltered_lookup_roughness(roughness: f64, n_dot_v: f64) -> f64 {
     roughness * n_dot_v.clamp(0.0, 1.0).sqrt().sqrt()
 }
 
-/// The angle the two lookups sit either side of the dominant direction along the plane of
-/// incidence: √2 α √(1 − n·v) restores the lobe's variance there, 2α², from the lookups'
+/// How far the two lookups sit either side of the dominant direction along the plane of
+/// incidence (the multiple of a unit vector there added to it): √2 α √(1 − n·v) restores the lobe's variance there, 2α², from the lookups'
 /// own 2α'²; at most √2 α √(n·v), their own width, so that the pair stays one lobe.
 pub fn prefiltered_lookup_offset(alpha: f64, n_dot_v: f64) -> f64 {
     let mu = n_dot_v.clamp(0.0, 1.0);
