@@ -116,10 +116,9 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // of its solid angle at n·v, env_math.glsl) times ∫ f_s cos = F0 A + B. In seed mode the
 // specular lobe is replaced by the report's eq. 17: one lookup along the mirror direction
 // × seed_strength × noise. `noise` modulates the seed mode's lookup: the material's noise
-// map, or 1. `occlusion`
-// (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb; all 1: none) scales
-// the diffuse and subsurface terms by its rgb, and the specular one by the specular
-// occlusion of its visibility a (none at a = 1).
+// map, or 1. `occlusion` (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb;
+// all 1: none) scales the diffuse and subsurface terms by its rgb, and the specular one by
+// the specular occlusion of its visibility a (none at a = 1).
 vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float curvature, float noise,
                            vec4 occlusion) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);

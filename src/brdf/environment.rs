@@ -108,8 +108,9 @@ pub fn prefiltered_lookup_roughness(roughness: f64, n_dot_v: f64) -> f64 {
 }
 
 /// How far the two lookups sit either side of the dominant direction along the plane of
-/// incidence (the multiple of a unit vector there added to it): √2 α √(1 − n·v) restores the lobe's variance there, 2α², from the lookups'
-/// own 2α'²; at most √2 α √(n·v), their own width, so that the pair stays one lobe.
+/// incidence (the multiple of a unit vector there added to it): √2 α √(1 − n·v) restores
+/// the lobe's variance there, 2α², from the lookups' own 2α'²; at most √2 α √(n·v), their
+/// own width, so that the pair stays one lobe.
 pub fn prefiltered_lookup_offset(alpha: f64, n_dot_v: f64) -> f64 {
     let mu = n_dot_v.clamp(0.0, 1.0);
     2f64.sqrt() * alpha * (1.0 - mu).min(mu).sqrt()

@@ -525,7 +525,8 @@ fn prefiltered_lookup_lobe_has_the_lobes_solid_angle() {
             );
             let ratio = lookup * lookup / (0.5 * (toward_n + away) * across);
             // Exact at the peak and to first order in α: measured 0.98–1.0 for roughness 0.2,
-            // down to 0.89 at roughness 0.3 and 0.45 and n·v = 0.2, where the lobe is lopsided along.
+            // down to 0.89 at roughness 0.3 and 0.45 and n·v = 0.2, where the lobe is
+            // lopsided along the plane.
             assert!(
                 (across / (0.5 * (toward_n + away)) / mu - 1.0).abs() < 0.15,
                 "roughness {roughness}, n·v {mu}"

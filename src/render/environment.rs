@@ -7,11 +7,11 @@
 //! environment needs is built when a frame first uses it and kept for the next frames
 //! (until another source replaces it): a studio or map builds its cube maps, spherical
 //! harmonics and irradiance cube, split-sum reflection adds the prefiltered cube, and the
-//! BRDF tables (the same for every environment) are built once when a material needs them. Intensity and rotation are
-//! uniforms; the kind and reflection mode are uniforms too, and also specialization
-//! constants of the forward pass (see forward.rs), so that a frame runs only its own
-//! mode's code. Unused bindings hold
-//! 1² placeholders: Vulkan needs every binding the shader uses statically to be valid.
+//! BRDF tables (the same for every environment) are built once when a material needs them.
+//! Intensity and rotation are uniforms; the kind and reflection mode are uniforms too, and
+//! also specialization constants of the forward pass (see forward.rs), so that a frame runs
+//! only its own mode's code. Unused bindings hold 1² placeholders: Vulkan needs every
+//! binding the shader uses statically to be valid.
 
 pub mod equirect;
 mod precompute;
