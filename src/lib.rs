@@ -12,7 +12,8 @@
 //! - [`cache`]: what every start computes alike, kept on disk for the next.
 //! - [`error`]: error types the command line maps to exit codes; [`atomic`]: output files
 //!   written whole or not at all.
-//! - [`fault`]: `ARGIL_FAULT`, failures injected for tests.
+//! - [`fault`]: `ARGIL_FAULT`, failures injected for tests; [`scratch`]: folders removed
+//!   when done.
 //! - [`fuzz`]: the loaders' fuzz targets and mutations (`argil-fuzz`, `tests/fuzz.rs`).
 
 pub mod atomic;
@@ -27,6 +28,7 @@ pub mod reference;
 pub mod render;
 pub mod rng;
 pub mod scene;
+pub mod scratch;
 pub mod verify;
 pub mod viewer;
 pub mod vk;

@@ -1,14 +1,17 @@
-//! The folder a bench run writes its passing files into (the startup's caches and frames,
-//! the soak's reloaded scenes and viewer log), removed when the run ends, failed or not.
+//! Folders for passing files, removed when dropped whether the work failed or not: a bench
+//! run's (the startup's caches and frames, the soak's reloaded scenes and viewer log) and
+//! the tests'.
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
+/// A folder under the system's temporary folder, read as its `Path`.
 pub struct Scratch(PathBuf);
 
 impl Scratch {
-    /// `argil-NAME-PID` under the system's temporary folder, emptied first.
+    /// `argil-NAME-PID`, emptied first.
     pub fn new(name: &str) -> Result<Self> {
         let dir = std::env::temp_dir().join(format!("argil-{name}-{}", std::process::id()));
         if dir.exists() {
@@ -17,9 +20,24 @@ impl Scratch {
         std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
         Ok(Self(dir))
     }
+}
 
-    pub fn path(&self) -> &Path {
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
         &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<OsStr> for Scratch {
+    fn as_ref(&self) -> &OsStr {
+        self.0.as_os_str()
     }
 }
 

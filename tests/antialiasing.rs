@@ -219,8 +219,7 @@ roughness = 0.2
 /// key named, nothing written; `--msaa 3` too.
 #[test]
 fn a_bad_msaa_count_is_bad_input() {
-    let dir = std::env::temp_dir().join(format!("argil-antialiasing-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = common::test_dir("bad-msaa");
     let path = dir.join("bad-msaa.toml");
     std::fs::write(&path, format!("{BLACK_ON_WHITE}\n[antialiasing]\nmsaa = 3\n")).expect("write scene");
     let out = dir.join("never.png");
@@ -237,5 +236,4 @@ fn a_bad_msaa_count_is_bad_input() {
     assert_eq!(output.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&output.stderr).contains("--msaa"));
     assert!(!out.exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -40,7 +40,7 @@ fn finite(row: &Value, key: &str) -> f64 {
 
 #[test]
 fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
-    let dir = std::env::temp_dir().join(format!("argil-bench-test-{}", std::process::id()));
+    let dir = common::test_dir("quick");
     let (out, references) = (dir.join("results"), dir.join("references"));
     let first = run(&out, &references, &[]);
     assert_eq!(
@@ -110,7 +110,6 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
     };
     assert_eq!(frames(&merged, "report"), Some(Value::from(1)));
     assert_eq!(frames(&merged, "floor"), frames(&rows, "floor"));
-    std::fs::remove_dir_all(dir).expect("remove the test folder");
 }
 
 #[test]

@@ -7,7 +7,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::{argil, argil_with, gpu, sampled_sphere_toml, TestDir};
+use common::{argil, argil_with, gpu, sampled_sphere_toml, test_dir};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -33,9 +33,6 @@ fn assert_failure(o: &Output, code: i32, mentions: &[&str]) {
     }
 }
 
-fn temp_dir(name: &str) -> TestDir {
-    TestDir::new(&format!("cli-{name}"))
-}
 
 fn path_str(p: &Path) -> &str {
     p.to_str().expect("utf-8 temp path")
@@ -65,7 +62,7 @@ fn exit_codes_follow_the_contract() {
     for word in ["Exit codes", "0 ", "1 ", "2 ", "ARGIL_FAULT"] {
         assert!(help.contains(word), "--help lacks {word:?}: {help}");
     }
-    let dir = temp_dir("exit-codes");
+    let dir = test_dir("exit-codes");
     let out = dir.join("frame.png");
     let size = ["--width", "32", "--height", "32"];
     let render = |scene: Option<&Path>, env: &[(&str, &str)]| {
@@ -103,7 +100,7 @@ fn exit_codes_follow_the_contract() {
 /// No Vulkan driver at all: one sentence saying what to install, exit code 1.
 #[test]
 fn without_a_vulkan_driver_argil_says_what_to_install() {
-    let dir = temp_dir("no-driver");
+    let dir = test_dir("no-driver");
     let out = dir.join("frame.png");
     for variable in ["VK_ICD_FILENAMES", "VK_DRIVER_FILES"] {
         let env = [(variable, "/nonexistent/icd.json")];
@@ -121,7 +118,7 @@ fn without_a_vulkan_driver_argil_says_what_to_install() {
 /// still there, byte for byte, and no temporary is left beside it.
 #[test]
 fn a_write_failing_half_way_leaves_the_previous_output() {
-    let dir = temp_dir("half-write");
+    let dir = test_dir("half-write");
     for name in ["frame.png", "frame.exr"] {
         let out = dir.join(name);
         let previous = format!("the previous {name}, kept");
@@ -174,7 +171,7 @@ specular = "none"
 /// at distance 4, L = (1/π)·40/16 ≈ 0.7958 — above what any tone mapper would leave.
 #[test]
 fn render_exr_writes_linear_radiance_without_exposure() {
-    let dir = temp_dir("exr");
+    let dir = test_dir("exr");
     let scene = dir.join("sphere.toml");
     std::fs::write(&scene, SPHERE).expect("write scene");
     for exposure in ["1", "4"] {
@@ -219,7 +216,7 @@ fn render_exr_writes_linear_radiance_without_exposure() {
 
 #[test]
 fn render_without_scene_renders_the_default_scene() {
-    let dir = temp_dir("default");
+    let dir = test_dir("default");
     let out = dir.join("clay.png");
     let o = argil(&["render", "--out", path_str(&out), "--width", "96", "--height", "54"]);
     assert_clean_success(&o);
@@ -232,7 +229,7 @@ fn render_without_scene_renders_the_default_scene() {
 
 #[test]
 fn bad_input_is_a_clear_error() {
-    let dir = temp_dir("bad");
+    let dir = test_dir("bad");
     let unknown_key = dir.join("unknown.toml");
     std::fs::write(&unknown_key, SPHERE.replace("fov_y_degrees", "fov_degrees")).expect("write");
     let out = dir.join("x.png");
@@ -288,7 +285,7 @@ fn bad_input_is_a_clear_error() {
 /// written.
 #[test]
 fn the_shadow_map_view_needs_a_light_that_casts_shadows() {
-    let dir = temp_dir("shadow-map");
+    let dir = test_dir("shadow-map");
     let out = dir.join("view.png");
     let view = |scene: &Path| {
         argil(&[
@@ -323,7 +320,7 @@ fn the_shadow_map_view_needs_a_light_that_casts_shadows() {
 fn view_opens_a_window_under_xvfb() {
     let status = Command::new("xvfb-run").arg("--help").output();
     assert!(status.is_ok(), "xvfb-run is missing: `make setup` installs it");
-    let runtime = temp_dir("xvfb-runtime");
+    let runtime = test_dir("xvfb-runtime");
     let o = Command::new("xvfb-run")
         .args([
             "-a",
@@ -375,7 +372,7 @@ fn bench_soak_viewer_needs_a_display_and_samples_the_viewer() {
 
 /// `argil view` under Xvfb with its own arguments; validation on.
 fn view_under_xvfb(args: &[&str]) -> Output {
-    let runtime = temp_dir("xvfb-runtime");
+    let runtime = test_dir("xvfb-runtime");
     Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
         .args(args)
@@ -428,7 +425,7 @@ fn view_rmse(window: &image::RgbImage, left: u32, path: &Path) -> f64 {
 /// RMSE > 2.
 #[test]
 fn view_screenshot_matches_the_headless_render_beside_the_ui() {
-    let dir = temp_dir("screenshot");
+    let dir = test_dir("screenshot");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
     let shot = dir.join("window.png");
@@ -516,7 +513,7 @@ fn region_rmse(
 /// silent. The labels' strip at the bottom and the columns next to the divider are left out.
 #[test]
 fn view_splits_the_view_between_two_configurations() {
-    let dir = temp_dir("split-view");
+    let dir = test_dir("split-view");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, argil::scene::DEFAULT_SCENE_TOML).expect("write scene");
     let file: argil::scene::file::SceneFile = toml::from_str(argil::scene::DEFAULT_SCENE_TOML).expect("parse");
@@ -618,10 +615,10 @@ move(after_x, after_y)
 fn slow_frames_are_reduced_while_the_ui_is_in_use() {
     let python = Command::new("python3").arg("--version").output();
     assert!(python.is_ok(), "python3 is missing: the test moves the pointer with it");
-    let dir = temp_dir("responsive");
+    let dir = test_dir("responsive");
     let script = dir.join("pointer.py");
     std::fs::write(&script, POINTER_SCRIPT).expect("write script");
-    let runtime = temp_dir("xvfb-runtime");
+    let runtime = test_dir("xvfb-runtime");
     // The window opens at the screen's top left: the panel is x < 320, the view beyond.
     let viewer = format!(
         "{} view --seconds 40 --width 560 --height 300 & viewer=$!; python3 {} 100 150 450 150 25; wait $viewer",
@@ -741,11 +738,11 @@ roughness = 0.7
 fn view_reloads_the_scene_when_its_file_changes() {
     use std::io::{BufRead, BufReader};
     use std::process::Stdio;
-    let dir = temp_dir("reload");
+    let dir = test_dir("reload");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, RELOADED_SCENE).expect("write scene");
     let shot = dir.join("window.png");
-    let runtime = temp_dir("xvfb-runtime");
+    let runtime = test_dir("xvfb-runtime");
     let mut child = Command::new("xvfb-run")
         .args([
             "-a",
@@ -840,7 +837,7 @@ fn accumulated_frames(err: &str) -> (u32, u32) {
 /// Threshold as for the split-sum screenshot: both sides compute the same fp32 mean.
 #[test]
 fn view_shows_the_accumulated_mean_of_a_still_sampled_view() {
-    let dir = temp_dir("accumulate");
+    let dir = test_dir("accumulate");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, sampled_sphere_toml(128)).expect("write scene");
     let shot = dir.join("window.png");
@@ -899,7 +896,7 @@ fn view_shows_the_accumulated_mean_of_a_still_sampled_view() {
 /// pixel (4 frames of 256 here), then goes idle.
 #[test]
 fn a_refining_viewer_draws_until_converged_then_idles() {
-    let dir = temp_dir("converge");
+    let dir = test_dir("converge");
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, sampled_sphere_toml(256)).expect("write scene");
     let o = view_under_xvfb(&["--seconds", "20", path_str(&scene), "--width", "320", "--height", "200"]);
@@ -935,7 +932,7 @@ fn exposure_in_use(err: &str) -> (f32, String) {
 /// renderer draws it (threshold as for the shaded screenshot).
 #[test]
 fn view_auto_exposes_the_specular_lobe() {
-    let dir = temp_dir("auto-exposure");
+    let dir = test_dir("auto-exposure");
     let shot = dir.join("window.png");
     let o = view_under_xvfb(&[
         "--debug-view",
@@ -982,7 +979,7 @@ fn view_auto_exposes_the_specular_lobe() {
 /// strong blue (concave) to strong red (convex), in the colours the view itself uses.
 #[test]
 fn view_shows_the_curvature_legend() {
-    let dir = temp_dir("legend");
+    let dir = test_dir("legend");
     let shot = dir.join("window.png");
     let (w, h) = (800u32, 400u32);
     let (width, height) = (w.to_string(), h.to_string());

@@ -3,7 +3,6 @@
 
 mod common;
 
-use std::path::PathBuf;
 use std::process::Output;
 
 use common::argil;
@@ -13,15 +12,13 @@ use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
 const W: u32 = 48;
 const H: u32 = 16;
 
-/// A fresh folder for one test, removed when the test ends.
-struct Scratch(PathBuf);
+/// A fresh folder for one test, removed when the test ends, and the paths in it as
+/// arguments.
+struct Scratch(argil::scratch::Scratch);
 
 impl Scratch {
     fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("argil-compare-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("scratch dir");
-        Self(dir)
+        Self(common::test_dir(name))
     }
 
     fn path(&self, name: &str) -> String {
@@ -41,18 +38,12 @@ impl Scratch {
     }
 
     fn files(&self) -> Vec<String> {
-        let mut names: Vec<String> = std::fs::read_dir(&self.0)
+        let mut names: Vec<String> = std::fs::read_dir(&*self.0)
             .expect("read scratch dir")
             .map(|e| e.expect("dir entry").file_name().to_string_lossy().into_owned())
             .collect();
         names.sort();
         names
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
     }
 }
 

@@ -10,11 +10,9 @@ use std::path::Path;
 use argil::reference::integrator::CameraRays;
 use argil::reference::{render, Filter, Reference, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::scene::{MapSlot, Scene, DEFAULT_SCENE_TOML};
+use common::test_dir;
 use glam::{DVec3, Vec3};
 
-fn temp_dir(name: &str) -> common::TestDir {
-    common::TestDir::new(&format!("emission-{name}"))
-}
 
 fn settings(width: u32, height: u32, transport: Transport, samples: u32) -> Settings {
     Settings {
@@ -166,7 +164,7 @@ base_color = [0.9, 0.9, 0.9]
 /// Both spheres reflect white light, of which there is none.
 #[test]
 fn pure_emission_matches_the_reference() {
-    let dir = temp_dir("pure");
+    let dir = test_dir("pure");
     image::RgbImage::from_pixel(8, 8, image::Rgb([200, 120, 40]))
         .save(dir.join("glow.png"))
         .expect("write png");

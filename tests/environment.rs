@@ -18,7 +18,7 @@ use argil::brdf::shading::{diffuse_lobe, specular_lobe};
 use argil::render::environment::{LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
 use argil::render::OffscreenFrame;
 use argil::scene::{Environment, Reflection, ReflectionMode, Scene};
-use common::{argil_with, assert_matches_golden, gpu, render, scene, try_render, TestDir};
+use common::{argil_with, assert_matches_golden, gpu, render, scene, test_dir, try_render};
 
 /// A sphere filling most of a square frame, seen from +z.
 fn sphere_scene(environment: &str, material: &str) -> String {
@@ -411,7 +411,7 @@ fn centre(frame: &OffscreenFrame) -> [f32; 4] {
 /// scaled by `intensity` and turned by `rotation_degrees`.
 #[test]
 fn equirect_hdr_map_loads_and_renders() {
-    let dir = TestDir::new("map");
+    let dir = test_dir("map");
     let path = dir.join("test.hdr");
     write_test_map(&path);
     let load = |extra: &str| Scene::from_toml(&map_scene("test.hdr", extra), "map scene", &dir).expect("scene");
@@ -447,7 +447,7 @@ fn render_error(scene: &Scene) -> String {
 /// goes on afterwards.
 #[test]
 fn broken_environment_maps_are_clear_errors() {
-    let dir = TestDir::new("bad-maps");
+    let dir = test_dir("bad-maps");
     let png = dir.join("photo.png");
     image::RgbImage::new(8, 4).save(&png).expect("png");
     let nan = image::Rgb32FImage::from_fn(16, 8, |x, _| {
@@ -665,7 +665,7 @@ fn render_studio_sphere(dir: &Path, name: &str, env: &[(&str, &str)]) -> std::pr
 /// message (leaks included).
 #[test]
 fn render_prints_precomputation_costs() {
-    let dir = TestDir::new("cli");
+    let dir = test_dir("cli");
     let o = render_studio_sphere(&dir, "studio.png", &[]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
@@ -687,7 +687,7 @@ fn render_prints_precomputation_costs() {
 /// cache instead of computing them, and draws the same bits.
 #[test]
 fn environment_tables_come_from_the_disk_cache_on_a_warm_start() {
-    let dir = TestDir::new("lut-cache");
+    let dir = test_dir("lut-cache");
     let cache = dir.join("cache");
     let run = |name: &str| {
         let o = render_studio_sphere(&dir, name, &[("ARGIL_CACHE_DIR", cache.to_str().expect("utf-8"))]);
@@ -869,7 +869,7 @@ const SOFT_BOX_PLACES: [(&str, DVec3); 3] = [
 /// were weighted by solid angle, the corner read +22% and the face centre −30% at N = 16.
 #[test]
 fn sampled_lambert_is_consistent_wherever_the_box_sits() {
-    let dir = TestDir::new("soft-box");
+    let dir = test_dir("soft-box");
     let size = 64;
     let counts = [16, 64, 256];
     let mut bias = [[0.0; 3]; 3];
@@ -922,7 +922,7 @@ fn sampled_lambert_is_consistent_wherever_the_box_sits() {
 /// read dim beside it and overshoot behind it.
 #[test]
 fn split_sum_lambert_is_the_maps_irradiance() {
-    let dir = TestDir::new("irradiance");
+    let dir = test_dir("irradiance");
     let size = 64;
     for (place, centre) in SOFT_BOX_PLACES {
         let (path, box_texels) = soft_box_scene_map(&dir, centre);
@@ -953,7 +953,7 @@ fn split_sum_lambert_is_the_maps_irradiance() {
 /// horizon over the limbs.
 #[test]
 fn split_sum_keeps_a_sharp_horizon_at_grazing_angles() {
-    let dir = TestDir::new("horizon");
+    let dir = test_dir("horizon");
     let path = dir.join("horizon.exr");
     let map = image::Rgb32FImage::from_fn(256, 128, |_, y| {
         let l = if y < 64 { 1.0 } else { 0.05 };
@@ -1006,7 +1006,7 @@ fn split_sum_keeps_a_sharp_horizon_at_grazing_angles() {
 /// with the soft box at a corner, where a plain 2×2 mean gains the most.
 #[test]
 fn cube_mips_are_solid_angle_weighted_means() {
-    let dir = TestDir::new("mips");
+    let dir = test_dir("mips");
     let (path, _) = soft_box_scene_map(&dir, SOFT_BOX_PLACES[2].1);
     let scene = sphere_under_map(
         DVec3::new(0.0, 0.0, 5.0),
@@ -1092,7 +1092,7 @@ const SPLIT_SUM_BOX: DVec3 = DVec3::new(0.2683281572999747, 0.35777087639996635,
 /// the filtered importance sampling of 128 points from the source's mips, in fp16.
 #[test]
 fn prefiltered_levels_match_their_f64_definition() {
-    let dir = TestDir::new("prefilter");
+    let dir = test_dir("prefilter");
     let (path, _) = soft_box_scene_map(&dir, SPLIT_SUM_BOX);
     let eye = DVec3::new(0.0, 0.0, 5.0);
     let scene = sphere_under_map(eye, &path, "reflection = \"split-sum\"", "roughness = 0.5");
@@ -1142,7 +1142,7 @@ fn prefiltered_levels_match_their_f64_definition() {
 /// product; what the product misses of the truth is the approximation's own error.
 #[test]
 fn split_sum_specular_is_its_f64_product() {
-    let dir = TestDir::new("split-sum");
+    let dir = test_dir("split-sum");
     let (path, _) = soft_box_scene_map(&dir, SPLIT_SUM_BOX);
     let eye = DVec3::new(0.0, 0.0, 5.0);
     let size = 64;
@@ -1237,7 +1237,7 @@ fn split_sum_specular_is_its_f64_product() {
 /// the right of green.
 #[test]
 fn equirect_orientation_matches_the_documentation() {
-    let dir = TestDir::new("orientation");
+    let dir = test_dir("orientation");
     let path = dir.join("axes.exr");
     let patches = [
         (DVec3::X, [4.0f32, 0.0, 0.0]),

@@ -9,7 +9,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::{argil_with, run};
+use common::{argil_with, run, test_dir};
 
 fn assert_machine_failure(o: &Output, fault: &str) {
     let err = String::from_utf8_lossy(&o.stderr);
@@ -27,13 +27,10 @@ fn assert_machine_failure(o: &Output, fault: &str) {
     assert!(err.contains(advice), "ARGIL_FAULT={fault}: no {advice:?}: {err}");
 }
 
-fn temp_dir(name: &str) -> common::TestDir {
-    common::TestDir::new(&format!("faults-{name}"))
-}
 
 #[test]
 fn render_fails_cleanly() {
-    let dir = temp_dir("render");
+    let dir = test_dir("render");
     let out = dir.join("frame.exr");
     let out = out.to_str().expect("utf-8");
     for fault in [
@@ -55,7 +52,7 @@ fn render_fails_cleanly() {
 
 #[test]
 fn verify_fails_cleanly() {
-    let dir = temp_dir("verify");
+    let dir = test_dir("verify");
     let json = dir.join("verify.json");
     let json = json.to_str().expect("utf-8");
     for fault in ["alloc:3", "submit:2", "device-lost:5"] {

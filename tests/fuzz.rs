@@ -10,7 +10,8 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use argil::fuzz::{read_corpus, Harness, Mutator, Target};
-use common::TestDir;
+use argil::scratch::Scratch;
+use common::test_dir;
 
 /// The slowest accepted input takes well under a second in a release build; this leaves
 /// room for a machine busy with other builds.
@@ -20,9 +21,9 @@ fn fuzz_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz")
 }
 
-/// A harness writing its inputs into a scratch folder removed with the returned `TestDir`.
-fn harness(name: &str) -> (TestDir, Harness) {
-    let scratch = TestDir::new(&format!("fuzz-test-{name}"));
+/// A harness writing its inputs into a scratch folder removed with the returned `Scratch`.
+fn harness(name: &str) -> (Scratch, Harness) {
+    let scratch = test_dir(name);
     let harness = Harness::new(&scratch, &fuzz_dir().join("corpus/assets")).expect("scratch folder");
     (scratch, harness)
 }

@@ -12,11 +12,8 @@ use base64::Engine;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use serde_json::{json, Value};
 
-use common::argil;
+use common::{argil, test_dir};
 
-fn temp_dir(name: &str) -> common::TestDir {
-    common::TestDir::new(&format!("gltf-{name}"))
-}
 
 /// One primitive's vertex data, in argil's UV convention (v up; the file gets 1 - v).
 #[derive(Clone)]
@@ -339,7 +336,7 @@ fn load(dir: &Path, name: &str, text: &str) -> Scene {
 /// split its vertices where its UVs turn over, 6 into 14.
 #[test]
 fn a_model_renders_as_its_geometry_written_as_obj() {
-    let dir = temp_dir("geometry");
+    let dir = test_dir("geometry");
     let primitives = [octahedron(), tetrahedron()];
     let (nodes, worlds) = nodes();
     let model = Model::new(&primitives, nodes, &[0, 1]);
@@ -386,7 +383,7 @@ fn a_model_renders_as_its_geometry_written_as_obj() {
 /// node and their handedness flipped by a mirror; without them they are MikkTSpace's.
 #[test]
 fn tangents_from_the_file_are_kept_and_mirrored() {
-    let dir = temp_dir("tangents");
+    let dir = test_dir("tangents");
     let mut quad = Primitive {
         positions: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
         normals: Some(vec![[0.0, 0.0, 1.0]; 4]),
@@ -441,7 +438,7 @@ fn mirrored_strip() -> Primitive {
 /// strip with those 8 vertices and their tangents written in the file.
 #[test]
 fn missing_tangents_are_mikktspace_s() {
-    let dir = temp_dir("mikktspace");
+    let dir = test_dir("mikktspace");
     let strip = mirrored_strip();
     let nodes = json!([
         {"mesh": 0, "translation": [-2.5, 0.0, 0.0]},
@@ -475,7 +472,7 @@ fn missing_tangents_are_mikktspace_s() {
 /// extensions it ignores, animations.
 #[test]
 fn unsupported_parts_are_named_in_warnings() {
-    let dir = temp_dir("warnings");
+    let dir = test_dir("warnings");
     let mut model = Model::new(
         &[octahedron(), tetrahedron()],
         json!([{"mesh": 0}, {"mesh": 1}]),
@@ -543,7 +540,7 @@ fn assert_refused(o: &Output, out: &Path, mentions: &[&str]) {
 /// and nothing is written.
 #[test]
 fn bad_models_are_clear_errors() {
-    let dir = temp_dir("bad");
+    let dir = test_dir("bad");
     let good = Model::new(&[octahedron()], json!([{"mesh": 0}]), &[0]);
     let glb_bytes = std::fs::read(good.write(&dir, "good", Storage::Binary)).expect("read");
     let out = dir.join("x.png");
@@ -663,7 +660,7 @@ fn add_maps(model: &mut Model, dir: &Path) {
 /// MikkTSpace's).
 #[test]
 fn a_model_brings_its_materials() {
-    let dir = temp_dir("materials");
+    let dir = test_dir("materials");
     let primitives = [octahedron(), tetrahedron()];
     let (nodes, worlds) = nodes();
     let mut model = Model::new(&primitives, nodes, &[0, 1]);
@@ -785,7 +782,7 @@ fn transformed(index: usize, offset: [f32; 2], scale: [f32; 2]) -> Value {
 /// reference's 1. A rotation is named in one warning per model and dropped.
 #[test]
 fn texture_transforms_are_uv_scale_and_offset() {
-    let dir = temp_dir("texture-transform");
+    let dir = test_dir("texture-transform");
     let primitives = [octahedron(), tetrahedron()];
     let (nodes, worlds) = nodes();
     let mut model = Model::new(&primitives, nodes, &[0, 1]);
@@ -876,7 +873,7 @@ uv_offset = [0.0, 0.25]
 /// are left out, named in one warning per model: the parts draw without them.
 #[test]
 fn maps_on_texcoord_1_are_left_out() {
-    let dir = temp_dir("texcoord-1");
+    let dir = test_dir("texcoord-1");
     let mut model = Model::new(&[octahedron()], json!([{"mesh": 0}]), &[0]);
     add_maps(&mut model, &dir);
     let mut occlusion = transformed(2, [0.0, 0.0], [1.0, 1.0]);
@@ -925,7 +922,7 @@ fn opened_model(dir: &Path, name: &str, scale: f32, camera: Option<Value>) -> Pa
 /// small one does.
 #[test]
 fn a_model_opens_alone_framed_in_the_studio() {
-    let dir = temp_dir("open");
+    let dir = test_dir("open");
     let small = Scene::load(&opened_model(&dir, "small", 1.0, None)).expect("small model opens");
     let large = Scene::load(&opened_model(&dir, "large", 1000.0, None)).expect("large model opens");
     let default = Scene::default_scene();
@@ -987,7 +984,7 @@ fn a_model_opens_alone_framed_in_the_studio() {
 /// direction, and its vertical field of view.
 #[test]
 fn a_model_opens_through_its_camera() {
-    let dir = temp_dir("camera");
+    let dir = test_dir("camera");
     let camera = json!({"camera": 0, "translation": [0.5, 0.25, 6.0]});
     let scene = Scene::load(&opened_model(&dir, "model", 1.0, Some(camera))).expect("opens");
     assert_eq!(scene.camera.position, Vec3::new(0.5, 0.25, 6.0));
@@ -1041,7 +1038,7 @@ fn png(image: &image::RgbaImage) -> Vec<u8> {
 /// image serving three maps is one texture, and saving writes no texture path for them.
 #[test]
 fn embedded_images_draw_as_files_beside_the_model() {
-    let dir = temp_dir("embedded");
+    let dir = test_dir("embedded");
     let albedo = image::RgbaImage::from_fn(8, 8, |x, y| {
         image::Rgba([30 + 25 * x as u8, 220 - 25 * y as u8, 120, 255])
     });
@@ -1107,7 +1104,7 @@ fn embedded_images_draw_as_files_beside_the_model() {
 /// refused with exit code 2 naming the model and the image, and nothing is written.
 #[test]
 fn bad_embedded_images_are_clear_errors() {
-    let dir = temp_dir("bad-embedded");
+    let dir = test_dir("bad-embedded");
     let out = dir.join("x.png");
     let good = png(&image::RgbaImage::from_pixel(4, 4, image::Rgba([200, 100, 50, 255])));
     let mut corrupt = good.clone();
@@ -1140,7 +1137,7 @@ fn bad_embedded_images_are_clear_errors() {
 /// materials written in the scene.
 #[test]
 fn a_model_brings_its_emission() {
-    let dir = temp_dir("emission");
+    let dir = test_dir("emission");
     let glow = image::RgbaImage::from_fn(8, 8, |x, y| image::Rgba([60 + 24 * x as u8, 200 - 20 * y as u8, 120, 255]));
     glow.save(dir.join("glow.png")).expect("write glow");
     let primitives = [octahedron(), tetrahedron()];
@@ -1294,7 +1291,7 @@ fn samples_name_what_is_not_drawn() {
 /// without writing anything.
 #[test]
 fn broken_samples_are_clear_errors() {
-    let dir = temp_dir("broken-samples");
+    let dir = test_dir("broken-samples");
     let out = dir.join("x.png");
     let cases: [(&str, &str); 16] = [
         ("MissingBin/BoxTextured.gltf", "BoxTextured0.bin: cannot read"),
@@ -1340,7 +1337,7 @@ fn the_texture_transform_sample_shows_its_offsets() {
          [[objects]]\nmesh = {:?}\n",
         file.display().to_string()
     );
-    let dir = temp_dir("texture-transform-sample");
+    let dir = test_dir("texture-transform-sample");
     let scene = load(&dir, "scene.toml", &text);
     assert_eq!(
         scene.warnings,

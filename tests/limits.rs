@@ -8,14 +8,11 @@ mod common;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use common::argil;
+use common::{argil, test_dir};
 
 const SPHERE_OBJECT: &str = "[[objects]]\nmesh = \"builtin:sphere\"\n";
 const LIGHT: &str = "[[lights]]\nkind = \"point\"\nposition = [0, 2, 2]\nintensity = [1, 1, 1]\n";
 
-fn temp_dir(name: &str) -> common::TestDir {
-    common::TestDir::new(&format!("limits-{name}"))
-}
 
 /// Renders `scene`: refused with exit code 2 and a message that mentions `mentions`, and
 /// sooner than loading would take (a header or a count, not a decode).
@@ -40,7 +37,7 @@ fn assert_refused(scene: &Path, mentions: &[&str]) {
 
 #[test]
 fn too_many_lights_or_objects_are_refused() {
-    let dir = temp_dir("counts");
+    let dir = test_dir("counts");
     let lights = dir.join("lights.toml");
     let count = argil::scene::limits::MAX_LIGHTS + 1;
     std::fs::write(&lights, format!("{}{SPHERE_OBJECT}", LIGHT.repeat(count))).expect("write");
@@ -59,7 +56,7 @@ fn too_many_lights_or_objects_are_refused() {
 
 #[test]
 fn an_obj_of_more_than_ten_million_triangles_is_refused() {
-    let dir = temp_dir("obj");
+    let dir = test_dir("obj");
     let obj = dir.join("huge.obj");
     // One polygon of 10⁷ + 3 corners fans into 10⁷ + 1 triangles.
     let corners = argil::scene::limits::MAX_MESH_TRIANGLES + 3;
@@ -86,7 +83,7 @@ fn map_scene(dir: &Path, map: &str) -> PathBuf {
 /// in src/scene/texture.rs).
 #[test]
 fn a_65536_squared_image_is_refused_from_its_header() {
-    let dir = temp_dir("images");
+    let dir = test_dir("images");
     // A Radiance HDR header of 131072 × 65536 (2:1) and no scanlines.
     std::fs::write(
         dir.join("huge.hdr"),
@@ -101,7 +98,7 @@ fn a_65536_squared_image_is_refused_from_its_header() {
 #[test]
 fn an_exr_with_a_huge_data_window_is_refused_from_its_header() {
     let crasher = common::project_dir().join("tests/fuzz/crashers/exr/data-window-2e29-wide.exr");
-    let dir = temp_dir("exr");
+    let dir = test_dir("exr");
     std::fs::copy(&crasher, dir.join("sky.exr")).expect("copy");
     assert_refused(
         &map_scene(&dir, "sky.exr"),

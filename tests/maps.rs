@@ -12,12 +12,9 @@ use argil::brdf::occlusion::micro_shadowing;
 use argil::reference::integrator::CameraRays;
 use argil::reference::{render, Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::scene::{MapSlot, Scene};
-use common::{argil, percentiles};
+use common::{argil, percentiles, test_dir};
 use glam::DVec3;
 
-fn temp_dir(name: &str) -> common::TestDir {
-    common::TestDir::new(&format!("maps-{name}"))
-}
 
 /// A 64² RGB8 PNG whose texel at column x is `texel(x)`.
 fn write_png(path: &Path, texel: impl Fn(u32) -> [u8; 3]) {
@@ -94,7 +91,7 @@ fn luminance(hdr: &[f32], i: usize) -> f64 {
 /// map's two edges blend both halves (bilinear and mip filtering) and match neither.
 #[test]
 fn each_half_of_a_roughness_map_renders_as_its_uniform_roughness() {
-    let dir = temp_dir("halves");
+    let dir = test_dir("halves");
     write_png(
         &dir.join("halves.png"),
         |x| if x < 32 { [0, 255, 0] } else { [0, 128, 0] },
@@ -141,7 +138,7 @@ fn each_half_of_a_roughness_map_renders_as_its_uniform_roughness() {
 /// channels; the bound is 2 ulp.
 #[test]
 fn property_maps_of_one_are_no_maps() {
-    let dir = temp_dir("ones");
+    let dir = test_dir("ones");
     write_png(&dir.join("white.png"), |_| [255; 3]);
     write_png(&dir.join("grey.png"), |_| [128; 3]);
     let maps = |texture: &str, keys: &[&str]| {
@@ -192,7 +189,7 @@ fn property_maps_of_one_are_no_maps() {
 /// A missing map file fails validation with exit code 2, naming the file and the key.
 #[test]
 fn a_missing_map_file_is_an_error_naming_it() {
-    let dir = temp_dir("missing");
+    let dir = test_dir("missing");
     let scene = dir.join("scene.toml");
     std::fs::write(
         &scene,
@@ -228,7 +225,7 @@ fn a_missing_map_file_is_an_error_naming_it() {
 /// fewer than 0.2% of channels above 5%: dim pixels at the silhouette (max 0.6).
 #[test]
 fn the_reference_applies_the_property_maps_as_the_renderer_does() {
-    let dir = temp_dir("reference");
+    let dir = test_dir("reference");
     let maps = |keys: &[&str]| {
         keys.iter()
             .map(|key| format!("[materials.m.{key}]\ntexture = \"builtin:noise\"\nuv_scale = [0.1, 0.1]\n"))
@@ -343,7 +340,7 @@ roughness = 0.4
 /// `micro_shadowing` off, the default (no environment here).
 #[test]
 fn the_occlusion_map_micro_shadows_the_point_lights() {
-    let dir = temp_dir("micro");
+    let dir = test_dir("micro");
     write_png(&dir.join("grey.png"), |_| [128; 3]);
     write_png(&dir.join("white.png"), |_| [255; 3]);
     let unflagged = |texture: &str| format!("[materials.m.occlusion_map]\ntexture = \"{texture}\"\n");
@@ -396,7 +393,7 @@ fn the_occlusion_map_micro_shadows_the_point_lights() {
 /// and in the reference alike.
 #[test]
 fn an_image_texture_is_upright_on_an_obj_quad() {
-    let dir = temp_dir("upright");
+    let dir = test_dir("upright");
     image::RgbImage::from_fn(8, 8, |_, y| image::Rgb(if y < 4 { [255, 0, 0] } else { [0, 0, 255] }))
         .save(dir.join("halves.png"))
         .expect("write png");

@@ -8,7 +8,7 @@ mod common;
 
 use argil::reference::{render, Filter, Reference, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::scene::{Mesh, Scene};
-use common::{argil, percentiles, scene, LAMBERT_SPHERE};
+use common::{argil, percentiles, scene, LAMBERT_SPHERE, test_dir};
 use glam::DVec3;
 
 fn settings(width: u32, height: u32, transport: Transport, filter: Filter, samples: u32) -> Settings {
@@ -329,13 +329,10 @@ fn a_noise_target_is_met() {
     assert!(image.samples < 4096, "{} samples", image.samples);
 }
 
-fn temp_dir(name: &str) -> common::TestDir {
-    common::TestDir::new(&format!("reference-{name}"))
-}
 
 #[test]
 fn the_command_writes_an_exr_with_its_settings() {
-    let dir = temp_dir("cli");
+    let dir = test_dir("cli");
     let out = dir.join("ref.exr");
     let o = argil(&[
         "reference",
@@ -381,7 +378,7 @@ fn the_command_writes_an_exr_with_its_settings() {
 
 #[test]
 fn the_command_refuses_bad_input_before_rendering() {
-    let dir = temp_dir("bad");
+    let dir = test_dir("bad");
     let broken = dir.join("broken.toml");
     std::fs::write(&broken, "[camera\n").expect("write");
     let out = dir.join("out.exr");

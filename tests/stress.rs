@@ -95,7 +95,7 @@ f 3/1/1 4/2/1 7/3/1\n";
 
 #[test]
 fn degenerate_mesh_renders_finite() {
-    let dir = common::TestDir::new("stress");
+    let dir = common::test_dir("stress");
     std::fs::write(dir.join("degenerate.obj"), DEGENERATE_OBJ).expect("write obj");
     let (materials, count) = all_materials(0.5, 0.04);
     for k in 0..count {

@@ -8,7 +8,8 @@ use common::argil;
 
 #[test]
 fn verify_passes_and_reports_every_model() {
-    let json = std::env::temp_dir().join(format!("argil-verify-{}.json", std::process::id()));
+    let dir = common::test_dir("json");
+    let json = dir.join("verify.json");
     let o = argil(&[
         "verify",
         "--samples",
@@ -68,7 +69,6 @@ fn verify_passes_and_reports_every_model() {
     let written = std::fs::read_to_string(&json).expect("read the JSON table");
     assert_eq!(written.matches("\"status\": ").count(), rows, "{written}");
     assert!(written.contains("\"failures\": 0"), "{written}");
-    let _ = std::fs::remove_file(&json);
 }
 
 #[test]

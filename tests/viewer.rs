@@ -199,8 +199,7 @@ fn nan_highlight_leaves_a_finite_image_alone() {
 /// the viewer's Save and rendered by `argil render`, give the image the viewer rendered.
 #[test]
 fn saved_scene_renders_the_same_image_with_argil_render() {
-    let dir = std::env::temp_dir().join(format!("argil-save-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = common::test_dir("save");
     let mut scene = every_lobe_scene(Subsurface::PreIntegrated);
     scene.camera.position = Vec3::new(0.3137, 1.7071, 7.1234567);
     scene.camera.target += Vec3::new(0.0123, -0.0456, 0.0789);
@@ -241,14 +240,12 @@ fn saved_scene_renders_the_same_image_with_argil_render() {
     let (rmse, max) = rgb_difference(&shown.display, rendered.as_raw());
     assert_eq!(max, 0, "the saved scene renders differently (RMSE {rmse})");
     assert_eq!(Scene::load(&path).expect("reload").materials, scene.materials);
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A scene the viewer cannot show is an error naming the file, not a crash later.
 #[test]
 fn viewer_rejects_scenes_it_cannot_render() {
-    let dir = std::env::temp_dir().join(format!("argil-view-load-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let dir = common::test_dir("load");
     std::fs::write(dir.join("sky.hdr"), "not really an image").expect("write");
     let path = dir.join("map.toml");
     std::fs::write(
@@ -264,7 +261,6 @@ fn viewer_rejects_scenes_it_cannot_render() {
     std::fs::write(&path, "[[objects]]\nmesh = \"builtin:cube\"\nscale = -1\n").expect("write");
     let error = format!("{:#}", argil::viewer::load_scene(&path).expect_err("bad scale"));
     assert!(error.contains("map.toml") && error.contains("scale"), "{error}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 fn sampled_sphere(samples: u32) -> Scene {

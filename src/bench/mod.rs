@@ -16,7 +16,6 @@ pub mod plan;
 pub mod plot;
 pub mod references;
 pub mod report;
-mod scratch;
 mod sky;
 pub mod soak;
 pub mod startup;

@@ -22,7 +22,7 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 use serde::{Deserialize, Serialize};
 
-use super::scratch::Scratch;
+use crate::scratch::Scratch;
 use crate::render::{OffscreenTarget, Renderer};
 use crate::scene::{Scene, DEFAULT_SCENE_TOML};
 use crate::vk::Device;
@@ -153,7 +153,7 @@ pub fn run(device: &Arc<Device>, frames: u64, renders: u64) -> Result<()> {
         problems.extend(judge("frames", &samples));
 
         let scratch = Scratch::new("soak")?;
-        let path = scratch.path().join("soak-scene.toml");
+        let path = scratch.join("soak-scene.toml");
         let every = (renders / SAMPLES).max(1);
         let mut samples = Vec::new();
         for render in 1..=renders {
@@ -206,7 +206,7 @@ pub fn run_viewer(frames: u64, device: Option<&str>) -> Result<()> {
         .into());
     }
     let scratch = Scratch::new("soak-viewer")?;
-    let log: PathBuf = scratch.path().join("viewer-soak.json");
+    let log: PathBuf = scratch.join("viewer-soak.json");
     let exe = std::env::current_exe().context("cannot find the argil executable")?;
     let mut child = Command::new(exe);
     child.arg("--validation");

@@ -11,8 +11,8 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 use serde::{Deserialize, Serialize};
 
-use super::scratch::Scratch;
 use crate::atomic::write_bytes;
+use crate::scratch::Scratch;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Step {
@@ -71,10 +71,10 @@ pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]
     let dir = Scratch::new("startup")?;
     let exe = std::env::current_exe().context("cannot find the argil executable")?;
     let start = |run: &str| -> Result<Startup> {
-        let timings = dir.path().join(format!("{run}.json"));
+        let timings = dir.join(format!("{run}.json"));
         let output = Command::new(&exe)
             .args(["--device", &device_index.to_string(), "render", "--out"])
-            .arg(dir.path().join("frame.exr"))
+            .arg(dir.join("frame.exr"))
             .args([
                 "--width",
                 &extent.width.to_string(),
@@ -83,8 +83,8 @@ pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]
             ])
             .arg("--timings")
             .arg(&timings)
-            .env("ARGIL_CACHE_DIR", dir.path().join("argil-cache"))
-            .env("MESA_SHADER_CACHE_DIR", dir.path().join("mesa-cache"))
+            .env("ARGIL_CACHE_DIR", dir.join("argil-cache"))
+            .env("MESA_SHADER_CACHE_DIR", dir.join("mesa-cache"))
             .output()
             .context("cannot start argil render")?;
         if !output.status.success() {

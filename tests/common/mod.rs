@@ -10,6 +10,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use argil::render::{count_non_finite, OffscreenFrame, Renderer};
+use argil::scratch::Scratch;
 use argil::scene::Scene;
 use argil::vk::{Device, DeviceChoice, DeviceOptions};
 use ash::vk;
@@ -173,51 +174,18 @@ pub fn argil_with(args: &[&str], env: &[(&str, &str)]) -> Output {
     run(command)
 }
 
-/// A fresh folder for a test's files, removed when dropped; it reads as its `Path`.
-pub struct TestDir(PathBuf);
-
-impl TestDir {
-    /// `argil-NAME-PID-K` under the system's temporary folder, K counting this binary's
-    /// folders so that tests running at once never share one.
-    pub fn new(name: &str) -> Self {
-        static COUNT: AtomicUsize = AtomicUsize::new(0);
-        let k = COUNT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("argil-{name}-{}-{k}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("test dir");
-        Self(dir)
-    }
-}
-
-impl std::ops::Deref for TestDir {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl AsRef<Path> for TestDir {
-    fn as_ref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl AsRef<std::ffi::OsStr> for TestDir {
-    fn as_ref(&self) -> &std::ffi::OsStr {
-        self.0.as_os_str()
-    }
-}
-
-impl Drop for TestDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
+/// A fresh folder for a test's files, removed when dropped: `argil-TEST-NAME-K-PID`, TEST
+/// the test binary and K counting its folders, so that tests running at once never share one.
+pub fn test_dir(name: &str) -> Scratch {
+    static COUNT: AtomicUsize = AtomicUsize::new(0);
+    let k = COUNT.fetch_add(1, Ordering::Relaxed);
+    Scratch::new(&format!("{}-{name}-{k}", env!("CARGO_CRATE_NAME"))).expect("test folder")
 }
 
 /// Runs `command` with the validation layer on and a private runtime directory, and fails
 /// if it runs for more than [`HANG`].
 pub fn run(mut command: Command) -> Output {
-    let runtime = TestDir::new("runtime");
+    let runtime = test_dir("runtime");
     let child = command
         .env("ARGIL_VALIDATION", "1")
         .env("XDG_RUNTIME_DIR", &runtime)
