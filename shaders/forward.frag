@@ -65,12 +65,15 @@ void main() {
     vec3 n_mapped = mapped_normal(m, n_geometric, tangent, in_map_uv[MAP_NORMAL], in_map_uv[MAP_DETAIL]);
     bool seed_horizon = HORIZON == HORIZON_SEED;
     vec3 n = seed_horizon ? n_mapped : view_facing_normal(n_mapped, v);
+    m.specular_color.rgb = compensated_specular_color(models, m, max(dot(n, v), MIN_N_DOT_V));
+    // Specular anti-aliasing widens the lobes that gather light over the pixel's normals;
+    // the microsurface itself, whose albedo the split sum's table holds, keeps its own.
+    float microsurface_roughness = m.roughness;
     if (SPECULAR_AA) {
         vec3 dx = dFdx(n_mapped);
         vec3 dy = dFdy(n_mapped);
         m.roughness = specular_aa_roughness(m.roughness, dot(dx, dx) + dot(dy, dy));
     }
-    m.specular_color.rgb = compensated_specular_color(models, m, max(dot(n, v), MIN_N_DOT_V));
 
     float visibility = ambient_visibility(gl_FragCoord.xy);
     vec4 occlusion = environment_occlusion(visibility, m.base_color.rgb);
@@ -80,8 +83,9 @@ void main() {
     // micro-shadows (lights.glsl) where the material asks.
     float map_visibility = mapped_occlusion(m, in_map_uv[MAP_OCCLUSION]);
     float light_visibility = m.micro_shadowing != 0.0 ? map_visibility : 1.0;
-    vec3 environment = environment_light(models, m, n, n_geometric, v, in_curvature, mapped_noise(m, in_map_uv[MAP_NOISE]),
-                                         gl_FragCoord.xy, frame.counts.z, occlusion)
+    vec3 environment = environment_light(models, m, microsurface_roughness, n, n_geometric, v, in_curvature,
+                                         mapped_noise(m, in_map_uv[MAP_NOISE]), gl_FragCoord.xy, frame.counts.z,
+                                         occlusion)
                        * map_visibility;
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon, light_visibility) + environment;

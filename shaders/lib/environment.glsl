@@ -118,9 +118,13 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // × seed_strength × noise. `noise` modulates the seed mode's lookup: the material's noise
 // map, or 1. `occlusion` (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb;
 // all 1: none) scales the diffuse and subsurface terms by its rgb, and the specular one by
-// the specular occlusion of its visibility a (none at a = 1).
-vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, float curvature, float noise,
-                           vec4 occlusion) {
+// the specular occlusion of its visibility a (none at a = 1). `microsurface_roughness` is
+// the material's roughness before specular anti-aliasing widened m.roughness: the
+// prefiltered lookups read the widened lobe, which filters the light over the pixel's
+// normals, but the lobe's albedo (the table's F0 A + B) and its off-specular peak are the
+// microsurface's, which the pixel's many normals neither shadow nor tilt more.
+vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_roughness, vec3 n, vec3 v,
+                           float curvature, float noise, vec4 occlusion) {
     float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * env_irradiance_over_pi(n);
     if (subsurface_lights(models, m)) {
@@ -145,8 +149,8 @@ vec3 environment_split_sum(ShadingModels models, Material m, vec3 n, vec3 v, flo
     if (reflection_mode() == REFLECTION_SEED) {
         return radiance + specular_visibility * env.params.z * noise * env_radiance(r, 0.0);
     }
-    vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
-    vec3 dominant = specular_dominant_direction(n, r, alpha);
+    vec2 ab = brdf_table(lut_layer(models), n_dot_v, microsurface_roughness);
+    vec3 dominant = specular_dominant_direction(n, r, clamp_alpha(microsurface_roughness * microsurface_roughness));
     // Along the plane of incidence, across the dominant direction; none seen head-on.
     vec3 across_plane = cross(n, v);
     float sin_v = length(across_plane);
@@ -219,12 +223,13 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
 
 // The light the environment reflects towards v: replaces the report's constant ambient.
 // `occlusion` is applied as environment_split_sum applies it; the sampled mode then
-// estimates the diffuse (with subsurface) and specular lobes apart, to scale each.
-vec3 environment_light(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, float curvature,
-                       float noise, vec2 pixel, uint sample_set, vec4 occlusion) {
+// estimates the diffuse (with subsurface) and specular lobes apart, to scale each, with
+// the widened lobe alone (it estimates the whole BRDF, not a lookup times an albedo).
+vec3 environment_light(ShadingModels models, Material m, float microsurface_roughness, vec3 n, vec3 n_geometric,
+                       vec3 v, float curvature, float noise, vec2 pixel, uint sample_set, vec4 occlusion) {
     if (env_kind() == ENV_NONE) return vec3(0.0);
     if (reflection_mode() != REFLECTION_SAMPLED) {
-        return environment_split_sum(models, m, n, v, curvature, noise, occlusion);
+        return environment_split_sum(models, m, microsurface_roughness, n, v, curvature, noise, occlusion);
     }
     if (occlusion == vec4(1.0)) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel, sample_set);
     ShadingModels diffuse_only = models;
