@@ -32,7 +32,7 @@ impl SubsurfaceTable {
             pixels: bytemuck::cast_slice(table.texels()).to_vec(),
         };
         Ok(Self {
-            texture: GpuTexture::upload(device, one_shot, &data)?,
+            texture: GpuTexture::upload_table(device, one_shot, &data)?,
             sampler: Sampler::clamped(device)?,
         })
     }
@@ -47,7 +47,7 @@ impl SubsurfaceTable {
             pixels: vec![0; 16],
         };
         Ok(Self {
-            texture: GpuTexture::upload(device, one_shot, &data)?,
+            texture: GpuTexture::upload_table(device, one_shot, &data)?,
             sampler: Sampler::clamped(device)?,
         })
     }

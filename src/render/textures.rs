@@ -1,4 +1,5 @@
-//! Material textures on the GPU: uploaded once with a full mip chain made by blits.
+//! Material textures on the GPU: uploaded once with a full mip chain made by blits; tables
+//! read by texel, their top level alone.
 
 use std::sync::Arc;
 
@@ -26,6 +27,17 @@ impl GpuTexture {
     /// Uploads `texture` and builds its mip chain on the GPU (linear blits, which average
     /// sRGB texels in linear space as the format says).
     pub fn upload(device: &Arc<Device>, one_shot: &OneShot, texture: &TextureData) -> Result<Self> {
+        Self::upload_levels(device, one_shot, texture, true)
+    }
+
+    /// Uploads `texture` as its top level alone: a table that shaders read by texel, which
+    /// no mip would serve (and whose first blit of a format makes lavapipe compile a blit
+    /// shader: 75 ms of every start for the RGBA32F subsurface table).
+    pub fn upload_table(device: &Arc<Device>, one_shot: &OneShot, texture: &TextureData) -> Result<Self> {
+        Self::upload_levels(device, one_shot, texture, false)
+    }
+
+    fn upload_levels(device: &Arc<Device>, one_shot: &OneShot, texture: &TextureData, mips: bool) -> Result<Self> {
         let (format, texel_bytes) = vk_format(texture.format);
         let extent = vk::Extent2D {
             width: texture.width,
@@ -57,7 +69,7 @@ impl GpuTexture {
         }
         // Without blits, the texture has its top level only (filtering still works).
         let blits = vk::FormatFeatureFlags::BLIT_SRC | vk::FormatFeatureFlags::BLIT_DST;
-        let levels = if features.contains(blits) { mip_count(extent) } else { 1 };
+        let levels = if mips && features.contains(blits) { mip_count(extent) } else { 1 };
 
         let mut staging = Buffer::new(
             device,
