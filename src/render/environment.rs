@@ -31,7 +31,8 @@ use super::shaders;
 use super::split::Split;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::brdf::environment::{irradiance_over_pi_cube, map_rotation, sh_project_cube, Sh9};
-use crate::cache::DiskCache;
+use crate::brdf::Vec3;
+use crate::cache::{self, DiskCache};
 use crate::scene::{Camera, DiffuseModel, Environment, Material, ReflectionMode, Scene, SpecularModel};
 use crate::vk::{
     begin_full_rendering, transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
@@ -55,6 +56,8 @@ const SH_SIZE: u32 = 32;
 /// bilinearly from 2.8° texels it lights a Lambert sphere under one soft box within 0.14%
 /// on average and 1.3% at worst (tests/environment.rs).
 const IRRADIANCE_SIZE: u32 = 32;
+/// The disk cache's entry of an irradiance cube.
+const IRRADIANCE_ENTRY: &str = "irradiance";
 
 // Values of `EnvironmentData.mode` (environment.glsl).
 const KIND_NONE: u32 = 0;
@@ -278,13 +281,30 @@ impl EnvironmentPass {
             gpu: false,
         });
         let start = Instant::now();
-        let irradiance = self.precompute.upload_cube(
-            IRRADIANCE_SIZE,
-            &irradiance_over_pi_cube(IRRADIANCE_SIZE, side, texel),
-            "irradiance cube",
-        )?;
+        // The cube follows from these texels by brdf/environment.rs's quadrature alone.
+        let key = cache::key(&[
+            bytemuck::cast_slice(&texels),
+            &side.to_le_bytes(),
+            &IRRADIANCE_SIZE.to_le_bytes(),
+            include_str!("../brdf/environment.rs").as_bytes(),
+        ]);
+        let disk = DiskCache::from_env();
+        let count = 6 * (IRRADIANCE_SIZE * IRRADIANCE_SIZE) as usize;
+        let cached = disk
+            .load(IRRADIANCE_ENTRY, key)
+            .filter(|b| b.len() == count * std::mem::size_of::<Vec3>());
+        let step = if cached.is_some() { "irradiance (disk cache)" } else { "irradiance" };
+        let irradiance: Vec<Vec3> = match cached {
+            Some(bytes) => bytemuck::pod_collect_to_vec(&bytes),
+            None => {
+                let cube = irradiance_over_pi_cube(IRRADIANCE_SIZE, side, texel);
+                disk.store(IRRADIANCE_ENTRY, key, bytemuck::cast_slice(&cube));
+                cube
+            }
+        };
+        let irradiance = self.precompute.upload_cube(IRRADIANCE_SIZE, &irradiance, "irradiance cube")?;
         self.costs.push(Cost {
-            step: "irradiance",
+            step,
             ms: start.elapsed().as_secs_f64() * 1e3,
             gpu: false,
         });
