@@ -288,23 +288,21 @@ impl EnvironmentPass {
             &IRRADIANCE_SIZE.to_le_bytes(),
             include_str!("../brdf/environment.rs").as_bytes(),
         ]);
-        let disk = DiskCache::from_env();
-        let count = 6 * (IRRADIANCE_SIZE * IRRADIANCE_SIZE) as usize;
-        let cached = disk
-            .load(IRRADIANCE_ENTRY, key)
-            .filter(|b| b.len() == count * std::mem::size_of::<Vec3>());
-        let step = if cached.is_some() { "irradiance (disk cache)" } else { "irradiance" };
-        let irradiance: Vec<Vec3> = match cached {
-            Some(bytes) => bytemuck::pod_collect_to_vec(&bytes),
-            None => {
-                let cube = irradiance_over_pi_cube(IRRADIANCE_SIZE, side, texel);
-                disk.store(IRRADIANCE_ENTRY, key, bytemuck::cast_slice(&cube));
-                cube
-            }
-        };
+        let size = 6 * (IRRADIANCE_SIZE * IRRADIANCE_SIZE) as usize * std::mem::size_of::<Vec3>();
+        let mut computed = false;
+        let bytes = DiskCache::from_env().get_or_compute(
+            IRRADIANCE_ENTRY,
+            key,
+            |b| b.len() == size,
+            || {
+                computed = true;
+                bytemuck::cast_slice(&irradiance_over_pi_cube(IRRADIANCE_SIZE, side, texel)).to_vec()
+            },
+        );
+        let irradiance: Vec<Vec3> = bytemuck::pod_collect_to_vec(&bytes);
         let irradiance = self.precompute.upload_cube(IRRADIANCE_SIZE, &irradiance, "irradiance cube")?;
         self.costs.push(Cost {
-            step,
+            step: if computed { "irradiance" } else { "irradiance (disk cache)" },
             ms: start.elapsed().as_secs_f64() * 1e3,
             gpu: false,
         });
