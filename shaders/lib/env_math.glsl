@@ -61,6 +61,13 @@ vec2 equirect_uv(vec3 d) {
     return vec2(u, acos(clamp(d.y, -1.0, 1.0)) / PI);
 }
 
+// The direction of equirectangular (u, v): the inverse of equirect_uv.
+vec3 equirect_direction(vec2 uv) {
+    float theta = uv.y * PI;
+    float phi = (uv.x - 0.5) * TWO_PI;
+    return vec3(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+}
+
 // d rotated about +y by the angle whose (cos, sin) is cs: (x c + z s, y, −x s + z c).
 vec3 rotate_y(vec3 d, vec2 cs) {
     return vec3(d.x * cs.x + d.z * cs.y, d.y, -d.x * cs.y + d.z * cs.x);
@@ -231,16 +238,20 @@ float filtered_lod(float n_pdf, float texel_solid_angle) {
     return max(0.5 * log2(1.0 / (max(n_pdf, 1e-30) * texel_solid_angle)), 0.0);
 }
 
-// Samples per strategy (cosine, GGX VNDF, uniform sphere) out of `total`: a quarter for
-// the wrap term when it lights (it is the only one reaching below the horizon), the
-// rest split between the lobes present. Every strategy with samples covers the upper
-// hemisphere, so the multi-sample balance heuristic stays unbiased for any total ≥ 1.
-uvec3 strategy_counts(uint total, bool diffuse, bool specular, bool wrap) {
-    if (!diffuse && !specular) return uvec3(0u, 0u, wrap ? total : 0u);
+// Samples per strategy (cosine, GGX VNDF, uniform sphere, the environment's luminance)
+// out of `total`: a quarter for the wrap term when it lights (it is the only lobe reaching
+// below the horizon), three quarters of the rest for the environment when it is sampled
+// (a sun or a studio's boxes are where the light is, even for a glossy lobe), the rest
+// split between the lobes present. Every strategy with samples covers the upper hemisphere, so
+// the multi-sample balance heuristic stays unbiased for any total ≥ 1.
+uvec4 strategy_counts(uint total, bool diffuse, bool specular, bool wrap, bool environment) {
+    if (!diffuse && !specular) return uvec4(0u, 0u, wrap ? total : 0u, 0u);
     uint n_wrap = wrap ? max(total / 4u, 1u) : 0u;
     uint rest = total - min(n_wrap, total);
+    uint n_environment = environment ? 3u * rest / 4u : 0u;
+    rest -= n_environment;
     uint n_specular = specular ? (diffuse ? rest / 2u : rest) : 0u;
-    return uvec3(rest - n_specular, n_specular, n_wrap);
+    return uvec4(rest - n_specular, n_specular, n_wrap, n_environment);
 }
 
 #endif

@@ -75,6 +75,14 @@ pub fn equirect_uv(d: Vec3) -> [f64; 2] {
     [u, d[1].clamp(-1.0, 1.0).acos() / PI]
 }
 
+/// The direction of equirectangular (u, v): the inverse of `equirect_uv`.
+pub fn equirect_direction(uv: [f64; 2]) -> Vec3 {
+    let theta = uv[1] * PI;
+    let phi = (uv[0] - 0.5) * TWO_PI;
+    let (sin_t, cos_t) = theta.sin_cos();
+    [sin_t * phi.sin(), cos_t, -sin_t * phi.cos()]
+}
+
 /// d rotated about +y by the angle whose (cos, sin) is `cs`.
 pub fn rotate_y(d: Vec3, cs: [f64; 2]) -> Vec3 {
     [d[0] * cs[0] + d[2] * cs[1], d[1], -d[0] * cs[1] + d[2] * cs[0]]
@@ -327,19 +335,22 @@ pub fn filtered_lod(n_pdf: f64, texel_solid_angle: f64) -> f64 {
     (0.5 * (1.0 / (n_pdf.max(1e-30) * texel_solid_angle)).log2()).max(0.0)
 }
 
-/// Samples per strategy (cosine, GGX VNDF, uniform sphere) out of `total`.
-pub fn strategy_counts(total: u32, diffuse: bool, specular: bool, wrap: bool) -> [u32; 3] {
+/// Samples per strategy (cosine, GGX VNDF, uniform sphere, the environment's luminance)
+/// out of `total`.
+pub fn strategy_counts(total: u32, diffuse: bool, specular: bool, wrap: bool, environment: bool) -> [u32; 4] {
     if !diffuse && !specular {
-        return [0, 0, if wrap { total } else { 0 }];
+        return [0, 0, if wrap { total } else { 0 }, 0];
     }
     let n_wrap = if wrap { (total / 4).max(1) } else { 0 };
     let rest = total - n_wrap.min(total);
+    let n_environment = if environment { 3 * rest / 4 } else { 0 };
+    let rest = rest - n_environment;
     let n_specular = match (specular, diffuse) {
         (false, _) => 0,
         (true, true) => rest / 2,
         (true, false) => rest,
     };
-    [rest - n_specular, n_specular, n_wrap]
+    [rest - n_specular, n_specular, n_wrap, n_environment]
 }
 
 // ---- BRDF tables ----

@@ -302,16 +302,23 @@ fn strategy_counts_cover_what_lights() {
             (true, true, false),
             (false, false, true),
         ] {
-            let [d, s, w] = strategy_counts(total, diffuse, specular, wrap);
-            assert_eq!(d + s + w, total);
-            assert!(!wrap || w >= 1, "the wrap term reaches below the horizon");
-            assert!(diffuse || d == 0);
-            assert!(specular || s == 0);
+            for environment in [false, true] {
+                let [d, s, w, e] = strategy_counts(total, diffuse, specular, wrap, environment);
+                assert_eq!(d + s + w + e, total);
+                assert!(!wrap || w >= 1, "the wrap term reaches below the horizon");
+                assert!(diffuse || d == 0);
+                assert!(specular || s == 0);
+                assert!(environment || e == 0);
+                assert!(!(diffuse || specular) || d + s >= (total - w).min(1), "the lobes keep samples");
+            }
         }
     }
-    assert_eq!(strategy_counts(64, true, true, false), [32, 32, 0]);
-    assert_eq!(strategy_counts(64, true, true, true), [24, 24, 16]);
-    assert_eq!(strategy_counts(8, false, false, false), [0, 0, 0]);
+    assert_eq!(strategy_counts(64, true, true, false, false), [32, 32, 0, 0]);
+    assert_eq!(strategy_counts(64, true, true, true, false), [24, 24, 16, 0]);
+    assert_eq!(strategy_counts(64, true, true, false, true), [8, 8, 0, 48]);
+    assert_eq!(strategy_counts(1, true, true, false, true), [1, 0, 0, 0]);
+    assert_eq!(strategy_counts(16, true, true, true, true), [2, 1, 4, 9]);
+    assert_eq!(strategy_counts(8, false, false, false, true), [0, 0, 0, 0]);
 }
 
 #[test]

@@ -15,6 +15,7 @@ pub mod distribution;
 pub mod environment;
 pub mod fresnel;
 pub mod geometry;
+pub mod luminance_distribution;
 pub mod normal_mapping;
 pub mod object_occlusion;
 pub mod occlusion;

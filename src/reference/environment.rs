@@ -1,8 +1,8 @@
 //! The scene's environment as the reference sees it: the radiance arriving from each
 //! direction, evaluated exactly (the studio's f64 function, an equirectangular map read
 //! bilinearly as `env_equirect.comp` reads it, before any cube map, mip or fp16 rounding),
-//! and sampled in proportion to a bound of its luminance (a piecewise-constant
-//! distribution over the map's (u, v), pbrt-v4's `PiecewiseConstant2D`).
+//! and sampled in proportion to a bound of its luminance (`LuminanceDistribution`, at the
+//! map's own resolution).
 
 use std::f64::consts::PI;
 use std::path::Path;
@@ -11,16 +11,9 @@ use anyhow::Result;
 use glam::DVec3;
 
 use crate::brdf::environment::{equirect_uv, map_rotation, rotate_y, studio_radiance};
-use crate::brdf::tonemap;
+use crate::brdf::luminance_distribution::LuminanceDistribution;
 use crate::render::environment::equirect;
 use crate::scene::Environment;
-
-/// Columns × rows of the studio's sampling distribution: a texel of it subtends
-/// 0.7° × 0.7°, finer than the studio's softest box edge.
-const STUDIO_GRID: (usize, usize) = (512, 256);
-/// Every cell keeps this fraction of the mean weight, so that a black map still has a
-/// density and no direction has pdf 0.
-const WEIGHT_FLOOR: f64 = 1e-3;
 
 enum Source {
     Uniform(DVec3),
@@ -39,19 +32,12 @@ pub struct EnvironmentLight {
     to_map: [f64; 2],
     /// Importance sampling over the map's (u, v); none for a uniform environment, which is
     /// sampled uniformly over the sphere.
-    distribution: Option<Distribution2d>,
-}
-
-fn luminance(c: DVec3) -> f64 {
-    tonemap::luminance(c.to_array())
+    distribution: Option<LuminanceDistribution>,
 }
 
 /// The direction of equirectangular (u, v): the inverse of `equirect_uv`.
 pub fn equirect_direction(u: f64, v: f64) -> DVec3 {
-    let theta = v * PI;
-    let phi = (u - 0.5) * 2.0 * PI;
-    let (sin_t, cos_t) = theta.sin_cos();
-    DVec3::new(sin_t * phi.sin(), cos_t, -sin_t * phi.cos())
+    DVec3::from(crate::brdf::environment::equirect_direction([u, v]))
 }
 
 impl EnvironmentLight {
@@ -82,22 +68,11 @@ impl EnvironmentLight {
     fn from_source(source: Source, intensity: f64, rotation_degrees: f64) -> Self {
         let distribution = match &source {
             Source::Uniform(_) => None,
-            Source::Studio => {
-                let (w, h) = STUDIO_GRID;
-                let weights = (0..w * h)
-                    .map(|i| {
-                        let (x, y) = (i % w, i / w);
-                        let d = equirect_direction((x as f64 + 0.5) / w as f64, (y as f64 + 0.5) / h as f64);
-                        luminance(DVec3::from(studio_radiance(d.to_array())))
-                    })
-                    .collect();
-                Some(Distribution2d::new(weights, w, h))
+            Source::Studio => Some(LuminanceDistribution::studio()),
+            Source::Map { width, height, texels } => {
+                let texels: Vec<_> = texels.iter().map(|t| t.to_array()).collect();
+                Some(LuminanceDistribution::map(&texels, *width, *height, *width))
             }
-            Source::Map { width, height, texels } => Some(Distribution2d::new(
-                texels.iter().map(|&t| luminance(t)).collect(),
-                *width,
-                *height,
-            )),
         };
         Self {
             source,
@@ -138,14 +113,8 @@ impl EnvironmentLight {
                 (DVec3::new(r * phi.cos(), r * phi.sin(), z), 0.25 / PI)
             }
             Some(distribution) => {
-                let ([su, sv], pdf_uv) = distribution.sample(u);
-                let sin_theta = (sv * PI).sin();
-                let pdf = if sin_theta > 0.0 {
-                    pdf_uv / (2.0 * PI * PI * sin_theta)
-                } else {
-                    0.0
-                };
-                (equirect_direction(su, sv), pdf)
+                let (m, pdf) = distribution.sample_direction(u);
+                (DVec3::from(m), pdf)
             }
         };
         let from_map = [self.to_map[0], -self.to_map[1]];
@@ -157,13 +126,7 @@ impl EnvironmentLight {
         let Some(distribution) = &self.distribution else {
             return 0.25 / PI;
         };
-        let m = rotate_y(d.to_array(), self.to_map);
-        let sin_theta = (1.0 - m[1] * m[1]).max(0.0).sqrt();
-        if sin_theta <= 0.0 {
-            return 0.0;
-        }
-        let [u, v] = equirect_uv(m);
-        distribution.pdf([u, v]) / (2.0 * PI * PI * sin_theta)
+        distribution.pdf_direction(rotate_y(d.to_array(), self.to_map))
     }
 }
 
@@ -194,102 +157,16 @@ fn bilinear(texels: &[DVec3], width: usize, height: usize, u: f64, v: f64) -> DV
     top.lerp(bottom, fy)
 }
 
-/// A piecewise-constant density on [0, 1]² over a grid of cells, sampled by inverting the
-/// marginal CDF of rows and then the row's conditional CDF. A cell is weighted by the
-/// solid angle its row subtends (sin θ) times the largest value of itself and its eight
-/// neighbours: bilinear filtering reads a cell as a blend of those nine, so the radiance
-/// over the pdf stays bounded where a bright texel lights its neighbours' cells (a sun's
-/// disc, a studio box's edge) instead of firing once in thousands of samples.
-struct Distribution2d {
-    width: usize,
-    height: usize,
-    /// Per row, the running sum of its cells' weights (width + 1 entries, from 0).
-    conditional: Vec<Vec<f64>>,
-    /// The running sum of the rows' totals.
-    marginal: Vec<f64>,
-    /// Density on [0, 1]² of each cell.
-    density: Vec<f64>,
-}
-
-impl Distribution2d {
-    fn new(values: Vec<f64>, width: usize, height: usize) -> Self {
-        let mean = values.iter().sum::<f64>() / values.len() as f64;
-        let floor = (WEIGHT_FLOOR * mean).max(f64::MIN_POSITIVE);
-        let value = |x: usize, y: usize| values[y * width + x].max(0.0);
-        let weight = |i: usize| {
-            let (x, y) = (i % width, i / width);
-            let columns = [(x + width - 1) % width, x, (x + 1) % width];
-            let rows = [y.saturating_sub(1), y, (y + 1).min(height - 1)];
-            let bound = rows
-                .iter()
-                .flat_map(|&r| columns.iter().map(move |&c| value(c, r)))
-                .fold(0.0, f64::max);
-            let sin_theta = ((y as f64 + 0.5) / height as f64 * PI).sin();
-            (bound + floor) * sin_theta
-        };
-        let weights: Vec<f64> = (0..values.len()).map(weight).collect();
-        let conditional: Vec<Vec<f64>> = weights
-            .chunks_exact(width)
-            .map(|row| {
-                std::iter::once(0.0)
-                    .chain(row.iter().scan(0.0, |sum, w| {
-                        *sum += w;
-                        Some(*sum)
-                    }))
-                    .collect()
-            })
-            .collect();
-        let marginal: Vec<f64> = std::iter::once(0.0)
-            .chain(conditional.iter().scan(0.0, |sum, row| {
-                *sum += row[width];
-                Some(*sum)
-            }))
-            .collect();
-        let total = marginal[height];
-        let cell_area = 1.0 / (width * height) as f64;
-        let density = weights.iter().map(|w| w / total / cell_area).collect();
-        Self {
-            width,
-            height,
-            conditional,
-            marginal,
-            density,
-        }
-    }
-
-    /// The index i with cdf[i] ≤ x < cdf[i + 1] and where x falls inside that interval.
-    fn invert(cdf: &[f64], x: f64) -> (usize, f64) {
-        let n = cdf.len() - 1;
-        let target = x * cdf[n];
-        let i = cdf.partition_point(|&c| c <= target).clamp(1, n) - 1;
-        let width = cdf[i + 1] - cdf[i];
-        let t = if width > 0.0 { (target - cdf[i]) / width } else { 0.5 };
-        (i, t.clamp(0.0, 1.0))
-    }
-
-    /// A point of [0, 1]² and its density.
-    fn sample(&self, u: [f64; 2]) -> ([f64; 2], f64) {
-        let (row, tv) = Self::invert(&self.marginal, u[1]);
-        let (column, tu) = Self::invert(&self.conditional[row], u[0]);
-        let point = [
-            (column as f64 + tu) / self.width as f64,
-            (row as f64 + tv) / self.height as f64,
-        ];
-        (point, self.density[row * self.width + column])
-    }
-
-    fn pdf(&self, p: [f64; 2]) -> f64 {
-        let column = ((p[0].rem_euclid(1.0) * self.width as f64) as usize).min(self.width - 1);
-        let row = ((p[1] * self.height as f64) as usize).min(self.height - 1);
-        self.density[row * self.width + column]
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::brdf::tonemap;
     use crate::reference::chi2::chi2;
     use crate::rng::Rng;
+
+    fn luminance(c: DVec3) -> f64 {
+        tonemap::luminance(c.to_array())
+    }
 
     /// A dim map with a bright patch, rotated: sampling by luminance against its pdf.
     #[test]

@@ -3,11 +3,12 @@
 //! behind the objects.
 //!
 //! Set 2: binding 0 the `EnvironmentData` uniform buffer, 1 the radiance cube map (with
-//! mips), 2 the GGX-prefiltered cube map, 3 the BRDF tables, 4 the irradiance cube. What an
-//! environment needs is built when a frame first uses it and kept for the next frames
-//! (until another source replaces it): a studio or map builds its cube maps, spherical
-//! harmonics and irradiance cube, split-sum reflection adds the prefiltered cube, and the
-//! BRDF tables (the same for every environment) are built once when a material needs them.
+//! mips), 2 the GGX-prefiltered cube map, 3 the BRDF tables, 4 the irradiance cube, 5 the
+//! luminance distribution's CDFs. What an environment needs is built when a frame first
+//! uses it and kept for the next frames (until another source replaces it): a studio or
+//! map builds its cube maps, spherical harmonics and irradiance cube, split-sum reflection
+//! adds the prefiltered cube, sampled reflection the luminance distribution, and the BRDF
+//! tables (the same for every environment) are built once when a material needs them.
 //! Intensity and rotation are uniforms; the kind and reflection mode are uniforms too, and
 //! also specialization constants of the forward pass (see forward.rs), so that a frame runs
 //! only its own mode's code. Unused bindings hold 1² placeholders: Vulkan needs every
@@ -31,6 +32,7 @@ use super::shaders;
 use super::split::Split;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::brdf::environment::{irradiance_over_pi_cube, map_rotation, sh_project_cube, Sh9};
+use crate::brdf::luminance_distribution::{LuminanceDistribution, STUDIO_GRID};
 use crate::brdf::Vec3;
 use crate::cache::{self, DiskCache};
 use crate::scene::{Camera, DiffuseModel, Environment, Material, ReflectionMode, Scene, SpecularModel};
@@ -56,6 +58,9 @@ const SH_SIZE: u32 = 32;
 /// bilinearly from 2.8° texels it lights a Lambert sphere under one soft box within 0.14%
 /// on average and 1.3% at worst (tests/environment.rs).
 const IRRADIANCE_SIZE: u32 = 32;
+/// A map's luminance distribution is at most as wide as the studio's: 0.7° cells, which
+/// the balance heuristic's other strategies complement below that scale.
+const LUMINANCE_MAX_WIDTH: usize = STUDIO_GRID.0;
 /// The disk cache's entry of an irradiance cube.
 const IRRADIANCE_ENTRY: &str = "irradiance";
 
@@ -72,6 +77,7 @@ struct EnvironmentData {
     radiance: [f32; 4],
     params: [f32; 4],
     texel: [f32; 4],
+    grid: [u32; 4],
     sh: [[f32; 4]; 9],
 }
 
@@ -100,6 +106,15 @@ struct Cubes {
     /// Irradiance over π (`irradiance_over_pi_cube`): the diffuse light of the split sum,
     /// the objects' occlusion and the bounce.
     irradiance: Image,
+    /// Built when sampled reflection first needs it.
+    luminance: Option<Luminance>,
+}
+
+/// A source's `LuminanceDistribution` on the GPU.
+struct Luminance {
+    cdfs: Buffer,
+    columns: u32,
+    rows: u32,
 }
 
 pub struct EnvironmentPass {
@@ -112,6 +127,7 @@ pub struct EnvironmentPass {
     sampler: Sampler,
     placeholder_cube: Image,
     placeholder_table: Image,
+    placeholder_cdfs: Buffer,
     precompute: Precompute,
     cubes: Option<Cubes>,
     brdf_lut: Option<Image>,
@@ -130,6 +146,7 @@ impl EnvironmentPass {
             .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
             .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
             .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
+            .binding(vk::DescriptorType::STORAGE_BUFFER, fragment)
             .build(device, "environment set")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, 1)?;
         let set = pool.allocate(&set_layout)?;
@@ -142,6 +159,7 @@ impl EnvironmentPass {
         )?;
         let precompute = Precompute::new(device)?;
         let (placeholder_cube, placeholder_table) = precompute.placeholders()?;
+        let placeholder_cdfs = precompute.upload_storage(&[0.0], "environment placeholder luminance")?;
         Ok(Self {
             device: device.clone(),
             set_layout,
@@ -151,6 +169,7 @@ impl EnvironmentPass {
             sampler: Sampler::clamped(device)?,
             placeholder_cube,
             placeholder_table,
+            placeholder_cdfs,
             precompute,
             cubes: None,
             brdf_lut: None,
@@ -189,10 +208,11 @@ impl EnvironmentPass {
         // A split frame's right part reads the same set: what either part needs is built.
         let parts = std::iter::once((environment, scene.materials.as_slice()))
             .chain(split.map(|s| (&s.environment, s.materials.as_slice())));
-        let (mut needs_prefiltered, mut needs_lut) = (false, false);
+        let (mut needs_prefiltered, mut needs_luminance, mut needs_lut) = (false, false, false);
         for (environment, materials) in parts {
             let mode = environment.reflection().map(|r| r.mode);
             needs_prefiltered |= source.is_some() && mode == Some(ReflectionMode::SplitSum);
+            needs_luminance |= source.is_some() && mode == Some(ReflectionMode::Sampled);
             needs_lut |= mode.is_some_and(|m| m != ReflectionMode::Sampled) && needs_brdf_tables(materials);
             // Energy compensation reads E from the tables under every environment and mode.
             needs_lut |= materials
@@ -203,8 +223,14 @@ impl EnvironmentPass {
         let rebuild_source = source.is_some() && built_source != source.as_ref();
         let add_prefiltered =
             needs_prefiltered && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.prefiltered.is_none()));
+        let add_luminance =
+            needs_luminance && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.luminance.is_none()));
         let add_lut = needs_lut && self.brdf_lut.is_none();
-        let changed = rebuild_source || add_prefiltered || add_lut || self.current.as_ref() != Some(environment);
+        let changed = rebuild_source
+            || add_prefiltered
+            || add_luminance
+            || add_lut
+            || self.current.as_ref() != Some(environment);
         if !changed {
             return Ok(());
         }
@@ -214,7 +240,7 @@ impl EnvironmentPass {
         if rebuild_source {
             self.cubes = None;
             if let Some(source) = source {
-                self.cubes = Some(self.build_cubes(source)?);
+                self.cubes = Some(self.build_cubes(source, needs_luminance)?);
             }
         }
         if add_prefiltered {
@@ -226,6 +252,10 @@ impl EnvironmentPass {
                     &mut self.costs,
                 )?);
             }
+        }
+        if let Some(cubes) = self.cubes.as_mut().filter(|c| add_luminance && c.luminance.is_none()) {
+            let source = cubes.source.clone();
+            cubes.luminance = Some(build_luminance(&self.precompute, &source, None, &mut self.costs)?);
         }
         if add_lut {
             self.brdf_lut = Some(self.precompute.brdf_lut(&DiskCache::from_env(), &mut self.costs)?);
@@ -248,7 +278,9 @@ impl EnvironmentPass {
         self.skybox.insert(skybox).prepare(samples)
     }
 
-    fn build_cubes(&mut self, source: Source) -> Result<Cubes> {
+    /// The source's cubes, and its luminance distribution if `with_luminance`.
+    fn build_cubes(&mut self, source: Source, with_luminance: bool) -> Result<Cubes> {
+        let mut luminance = None;
         let radiance = match &source {
             Source::Studio => self.precompute.studio(STUDIO_SIZE, &mut self.costs)?,
             Source::Map(path) => {
@@ -262,9 +294,15 @@ impl EnvironmentPass {
                 let size = (map.width / 4).clamp(MIN_MAP_SIZE, MAX_MAP_SIZE);
                 // The largest power of two within the bounds, so every mip halves exactly.
                 let size = 1 << (31 - size.leading_zeros());
+                if with_luminance {
+                    luminance = Some(build_luminance(&self.precompute, &source, Some(&map), &mut self.costs)?);
+                }
                 self.precompute.equirect(&map, size, &mut self.costs)?
             }
         };
+        if with_luminance && luminance.is_none() {
+            luminance = Some(build_luminance(&self.precompute, &source, None, &mut self.costs)?);
+        }
         let start = Instant::now();
         let size = radiance.image.extent.width;
         let level = (size / SH_SIZE.min(size)).trailing_zeros();
@@ -312,6 +350,7 @@ impl EnvironmentPass {
             prefiltered: None,
             sh,
             irradiance,
+            luminance,
         })
     }
 
@@ -335,6 +374,8 @@ impl EnvironmentPass {
         };
         let rotation = map_rotation(f64::from(rotation_degrees));
         let cubes = self.cubes.as_ref().filter(|_| kind == KIND_CUBE);
+        // Sampled reflection alone reads it, in either part of a split frame.
+        let luminance = cubes.and_then(|c| c.luminance.as_ref());
         // Uniform radiance reads no texel: any positive solid angle keeps the lod finite.
         let texel_solid_angle = cubes.map_or(1.0, |c| {
             let w = c.radiance.image.extent.width as f32;
@@ -356,6 +397,7 @@ impl EnvironmentPass {
                 (PREFILTERED_LEVELS - 1) as f32,
             ],
             texel: [texel_solid_angle, 0.0, 0.0, 0.0],
+            grid: [luminance.map_or(0, |l| l.columns), luminance.map_or(0, |l| l.rows), 0, 0],
             sh,
         };
         self.data.write(bytemuck::bytes_of(&data))?;
@@ -365,6 +407,7 @@ impl EnvironmentPass {
             .map_or(self.placeholder_cube.view, |i| i.view);
         let lut_view = self.brdf_lut.as_ref().map_or(self.placeholder_table.view, |i| i.view);
         let irradiance_view = cubes.map_or(self.placeholder_cube.view, |c| c.irradiance.view);
+        let cdfs = luminance.map_or(self.placeholder_cdfs.handle, |l| l.cdfs.handle);
         let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let layout = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
         DescriptorWriter::default()
@@ -373,6 +416,7 @@ impl EnvironmentPass {
             .image(2, sampled, prefiltered_view, layout, self.sampler.handle)
             .image(3, sampled, lut_view, layout, self.sampler.handle)
             .image(4, sampled, irradiance_view, layout, self.sampler.handle)
+            .buffer(5, vk::DescriptorType::STORAGE_BUFFER, cdfs)
             .write(&self.device, self.set);
         Ok(())
     }
@@ -419,6 +463,47 @@ impl EnvironmentPass {
             .map(|i| self.precompute.read_level(i, 0))
             .transpose()
     }
+}
+
+/// The luminance distribution of `source` (from `map`'s texels when it is loaded already),
+/// uploaded.
+fn build_luminance(
+    precompute: &Precompute,
+    source: &Source,
+    map: Option<&equirect::Equirect>,
+    costs: &mut Vec<Cost>,
+) -> Result<Luminance> {
+    let start = Instant::now();
+    let distribution = match source {
+        Source::Studio => LuminanceDistribution::studio(),
+        Source::Map(path) => {
+            let loaded;
+            let map = match map {
+                Some(map) => map,
+                None => {
+                    loaded = equirect::load(path)?;
+                    &loaded
+                }
+            };
+            let texels: Vec<Vec3> = map
+                .texels
+                .iter()
+                .map(|t| [f64::from(t[0]), f64::from(t[1]), f64::from(t[2])])
+                .collect();
+            LuminanceDistribution::map(&texels, map.width as usize, map.height as usize, LUMINANCE_MAX_WIDTH)
+        }
+    };
+    let cdfs = precompute.upload_storage(&distribution.gpu_cdfs(), "environment luminance")?;
+    costs.push(Cost {
+        step: "luminance distribution",
+        ms: start.elapsed().as_secs_f64() * 1e3,
+        gpu: false,
+    });
+    Ok(Luminance {
+        cdfs,
+        columns: distribution.width() as u32,
+        rows: distribution.height() as u32,
+    })
 }
 
 /// `EnvironmentData.mode.y`, and the forward pass's `REFLECTION_MODE` constant.

@@ -724,6 +724,11 @@ impl Precompute {
 
     /// Placeholders for descriptors an environment does not use (Vulkan needs every
     /// statically used binding valid): a 1² cube and a 1×1 table layer, cleared to 0.
+    /// A device-local storage buffer holding `data`.
+    pub fn upload_storage(&self, data: &[f32], name: &str) -> Result<Buffer> {
+        Buffer::with_data(&self.device, &self.one_shot, data, vk::BufferUsageFlags::STORAGE_BUFFER, name)
+    }
+
     pub fn placeholders(&self) -> Result<(Image, Image)> {
         let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
         let unit = vk::Extent2D { width: 1, height: 1 };
