@@ -11,8 +11,8 @@
 //! tables (the same for every environment) are built once when a material needs them.
 //! Intensity and rotation are uniforms; the kind and reflection mode are uniforms too, and
 //! also specialization constants of the forward pass (see forward.rs), so that a frame runs
-//! only its own mode's code. Unused bindings hold 1² placeholders: Vulkan needs every
-//! binding the shader uses statically to be valid.
+//! only its own mode's code. Unused bindings hold 1² placeholders (a one-float buffer for
+//! binding 5): Vulkan needs every binding the shader uses statically to be valid.
 
 pub mod equirect;
 mod precompute;
@@ -630,5 +630,46 @@ impl Skybox {
             d.cmd_end_rendering(cmd);
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// EnvironmentData's fields lie where environment.glsl's std140 block puts its members:
+    /// the same names in the same order, each a vec4 or uvec4 (16 bytes) or an array of them.
+    #[test]
+    fn environment_data_matches_environment_glsl() {
+        let glsl = include_str!("../../shaders/lib/environment.glsl");
+        let block = glsl
+            .split_once("uniform EnvironmentData {")
+            .and_then(|(_, rest)| rest.split_once("} env;"))
+            .expect("environment.glsl declares EnvironmentData")
+            .0;
+        let mut offset = 0;
+        for line in block.lines() {
+            let Some(member) = line.split("//").next().and_then(|m| m.trim().strip_suffix(';')) else {
+                continue;
+            };
+            let (ty, name) = member.split_once(' ').expect("a member is `type name`");
+            assert!(ty == "vec4" || ty == "uvec4", "{member}: not 16 bytes");
+            let (name, count) = match name.split_once('[') {
+                Some((name, count)) => (name, count.trim_end_matches(']').parse::<usize>().expect("array length")),
+                None => (name, 1),
+            };
+            let rust = match name {
+                "mode" => std::mem::offset_of!(EnvironmentData, mode),
+                "radiance" => std::mem::offset_of!(EnvironmentData, radiance),
+                "params" => std::mem::offset_of!(EnvironmentData, params),
+                "texel" => std::mem::offset_of!(EnvironmentData, texel),
+                "grid" => std::mem::offset_of!(EnvironmentData, grid),
+                "sh" => std::mem::offset_of!(EnvironmentData, sh),
+                other => panic!("EnvironmentData has no field {other}"),
+            };
+            assert_eq!(rust, offset, "{name}");
+            offset += 16 * count;
+        }
+        assert_eq!(std::mem::size_of::<EnvironmentData>(), offset);
     }
 }
