@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use glam::DVec3;
 
-use crate::reference::environment::equirect_direction;
+use crate::brdf::environment::equirect_direction;
 use crate::render::output::write_exr;
 
 /// Texels of the map: 0.7° each, so the sun spans about four across.
@@ -55,10 +55,10 @@ pub fn ensure(dir: &Path) -> Result<PathBuf> {
 fn texels() -> impl Iterator<Item = DVec3> {
     (0..HEIGHT).flat_map(|y| {
         (0..WIDTH).map(move |x| {
-            radiance(equirect_direction(
+            radiance(DVec3::from(equirect_direction([
                 (x as f64 + 0.5) / WIDTH as f64,
                 (y as f64 + 0.5) / HEIGHT as f64,
-            ))
+            ])))
         })
     })
 }

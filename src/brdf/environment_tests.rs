@@ -562,3 +562,14 @@ fn prefiltered_lookups_restore_the_variance_along_the_plane() {
         }
     }
 }
+
+#[test]
+fn equirect_directions_invert_equirect_uv() {
+    for uv in [[0.5, 0.5], [0.75, 0.3], [0.1, 0.9], [0.99, 0.01]] {
+        let back = equirect_uv(equirect_direction(uv));
+        assert!(
+            (back[0] - uv[0]).abs() < 1e-12 && (back[1] - uv[1]).abs() < 1e-12,
+            "{uv:?} → {back:?}"
+        );
+    }
+}

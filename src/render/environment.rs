@@ -237,10 +237,14 @@ impl EnvironmentPass {
         self.device.wait_idle()?;
         self.current = None;
         self.costs.clear();
+        // A map loaded for new cubes, kept for the luminance distribution.
+        let mut loaded_map = None;
         if rebuild_source {
             self.cubes = None;
             if let Some(source) = source {
-                self.cubes = Some(self.build_cubes(source, needs_luminance)?);
+                let (cubes, map) = self.build_cubes(source)?;
+                self.cubes = Some(cubes);
+                loaded_map = map.filter(|_| add_luminance);
             }
         }
         if add_prefiltered {
@@ -255,7 +259,8 @@ impl EnvironmentPass {
         }
         if let Some(cubes) = self.cubes.as_mut().filter(|c| add_luminance && c.luminance.is_none()) {
             let source = cubes.source.clone();
-            cubes.luminance = Some(build_luminance(&self.precompute, &source, None, &mut self.costs)?);
+            let luminance = build_luminance(&self.precompute, &source, loaded_map.as_ref(), &mut self.costs)?;
+            cubes.luminance = Some(luminance);
         }
         if add_lut {
             self.brdf_lut = Some(self.precompute.brdf_lut(&DiskCache::from_env(), &mut self.costs)?);
@@ -278,9 +283,9 @@ impl EnvironmentPass {
         self.skybox.insert(skybox).prepare(samples)
     }
 
-    /// The source's cubes, and its luminance distribution if `with_luminance`.
-    fn build_cubes(&mut self, source: Source, with_luminance: bool) -> Result<Cubes> {
-        let mut luminance = None;
+    /// The source's cubes, and the map they were made from if it is one.
+    fn build_cubes(&mut self, source: Source) -> Result<(Cubes, Option<equirect::Equirect>)> {
+        let mut loaded_map = None;
         let radiance = match &source {
             Source::Studio => self.precompute.studio(STUDIO_SIZE, &mut self.costs)?,
             Source::Map(path) => {
@@ -294,15 +299,11 @@ impl EnvironmentPass {
                 let size = (map.width / 4).clamp(MIN_MAP_SIZE, MAX_MAP_SIZE);
                 // The largest power of two within the bounds, so every mip halves exactly.
                 let size = 1 << (31 - size.leading_zeros());
-                if with_luminance {
-                    luminance = Some(build_luminance(&self.precompute, &source, Some(&map), &mut self.costs)?);
-                }
-                self.precompute.equirect(&map, size, &mut self.costs)?
+                let cube = self.precompute.equirect(&map, size, &mut self.costs)?;
+                loaded_map = Some(map);
+                cube
             }
         };
-        if with_luminance && luminance.is_none() {
-            luminance = Some(build_luminance(&self.precompute, &source, None, &mut self.costs)?);
-        }
         let start = Instant::now();
         let size = radiance.image.extent.width;
         let level = (size / SH_SIZE.min(size)).trailing_zeros();
@@ -344,14 +345,15 @@ impl EnvironmentPass {
             ms: start.elapsed().as_secs_f64() * 1e3,
             gpu: false,
         });
-        Ok(Cubes {
+        let cubes = Cubes {
             source,
             radiance,
             prefiltered: None,
             sh,
             irradiance,
-            luminance,
-        })
+            luminance: None,
+        };
+        Ok((cubes, loaded_map))
     }
 
     /// Writes the uniforms and the set for `environment` from what is built.
