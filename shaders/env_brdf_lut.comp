@@ -1,9 +1,9 @@
 #version 460
 // The BRDF tables (see env_tables.glsl): for n·v = lut_n_dot_v(x) and roughness = y, x
 // and y being each texel's lut_parameter, ∫ f_s cos split as F0 A + B by evaluating the
-// specular lobe at F0 = 1 and F0 = 0 (Schlick's F is linear in F0), by GGX normal
-// sampling; and the Oren-Nayar directional albedo by cosine sampling. The very lobes the
-// forward pass shades with.
+// specular lobe at F0 = 1 and F0 = 0 (Schlick's F is linear in F0), with the angle of each
+// part's mean direction ∫ l f_s cos, by GGX normal sampling; and the Oren-Nayar
+// directional albedo by cosine sampling. The very lobes the forward pass shades with.
 // shading.glsl's surface_normal falls back on derivatives, which compute shaders only
 // have with this extension; it is not called here, so no derivative reaches the SPIR-V.
 #extension GL_NV_compute_shader_derivatives : enable
@@ -15,6 +15,12 @@ layout(set = 0, binding = 0, rgba16f) uniform writeonly image2DArray table;
 layout(push_constant) uniform LutPush {
     uint samples;
 } lut;
+
+// The angle from n of a mean direction given as (towards the mirror direction, along n); 0
+// for none (the Oren-Nayar layer), where atan is undefined.
+float mean_angle(vec2 mean) {
+    return mean == vec2(0.0) ? 0.0 : atan(mean.x, mean.y);
+}
 
 void main() {
     ivec3 texel = ivec3(gl_GlobalInvocationID);
@@ -35,6 +41,9 @@ void main() {
     m.metallic = 0.0;
     uint layer = uint(texel.z);
     vec2 sum = vec2(0.0);
+    // Each part's ∫ l f_s cos in the plane of incidence, as (towards the mirror direction, n).
+    vec2 mean_a = vec2(0.0);
+    vec2 mean_b = vec2(0.0);
     if (layer == LUT_LAYER_OREN_NAYAR) {
         for (uint i = 0u; i < lut.samples; ++i) {
             vec3 l = sample_cosine(hammersley(i, lut.samples));
@@ -57,8 +66,11 @@ void main() {
             float b = specular_lobe(models, m, n, v, l, n_dot_v, l.z).r;
             m.f0 = 1.0;
             float a_plus_b = specular_lobe(models, m, n, v, l, n_dot_v, l.z).r;
-            sum += vec2(a_plus_b - b, b) * (l.z / pdf);
+            vec2 weights = vec2(a_plus_b - b, b) * (l.z / pdf);
+            sum += weights;
+            mean_a += weights.x * vec2(-l.x, l.z);
+            mean_b += weights.y * vec2(-l.x, l.z);
         }
     }
-    imageStore(table, texel, vec4(sum / float(lut.samples), 0.0, 1.0));
+    imageStore(table, texel, vec4(sum / float(lut.samples), mean_angle(mean_a), mean_angle(mean_b)));
 }

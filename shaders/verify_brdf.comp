@@ -106,8 +106,8 @@ vec4 term(Tuple t) {
     case 26u: return vec4(specular_energy_compensation(a.x, t.d.rgb), 0.0);
     case 27u: return vec4(sphere_cap_irradiance(a.x, a.y));
     case 28u: return vec4(micro_shadowing(a.x, a.y));
-    case 29u: return vec4(prefiltered_lookup_roughness(a.x, a.y));
-    case 30u: return vec4(prefiltered_lookup_offset(a.x, a.y));
+    case 29u: return vec4(prefiltered_taps(a.x), 0.0);
+    case 30u: return vec4(prefiltered_lod(a.x, a.y));
     }
     return vec4(0.0);
 }

@@ -78,31 +78,56 @@ vec3 seed_reflection(vec3 n, vec3 v) {
     return normalize(n * (2.0 * dot(n, v)) - v);
 }
 
-// The direction to read a specular lobe's prefiltered radiance from: the mirror direction
-// r drawn towards n as the lobe widens, where a rough lobe's mass lies off-specular
-// (Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", listing 22; α = roughness²).
-vec3 specular_dominant_direction(vec3 n, vec3 r, float alpha) {
-    float smoothness = clamp(1.0 - alpha, 0.0, 1.0);
-    return normalize(mix(n, r, smoothness * (sqrt(smoothness) + alpha)));
+// The mean angle from n of a specular lobe F0 A + B, given the angles θ_A and θ_B of its
+// parts' mean directions (the BRDF tables' z and w): the energy-weighted mean, taking
+// `f0_a` = F0 A and `b` = B. Where a rough lobe's mass lies off-specular, towards n, this
+// is where its prefiltered radiance is read.
+float lobe_mean_angle(float f0_a, float b, float theta_a, float theta_b) {
+    float energy = f0_a + b;
+    return energy > 0.0 ? (f0_a * theta_a + b * theta_b) / energy : 0.0;
 }
+
+// The direction at angle θ from n towards the mirror direction of v, in the plane of
+// incidence; n where v is n and that plane undefined (the tables' θ is 0 there).
+vec3 lobe_direction(vec3 n, vec3 v, float theta) {
+    vec3 towards_mirror = n * dot(n, v) - v;
+    float len = length(towards_mirror);
+    if (len < 1e-6) return n;
+    return n * cos(theta) + towards_mirror * (sin(theta) / len);
+}
+
+// The prefiltered cube's mip for a lobe of α: mip k ≥ 1 holds α = 2^(k − last), an octave
+// apart, so the trilinear blend mixes lobes at most twice apart in α (even steps in
+// roughness mixed lobes four times apart, whose blend is too peaked under a sun); mip 0
+// holds the mirror, blended linearly in α up to mip 1.
+float prefiltered_lod(float alpha, float last_level) {
+    float first = exp2(1.0 - last_level);
+    return alpha < first ? alpha / first : last_level + log2(alpha);
+}
+
+// Most lookups of one lobe; twin PREFILTERED_MAX_TAPS in src/brdf/environment.rs.
+const uint PREFILTERED_MAX_TAPS = 8u;
 
 // The prefiltered cube holds isotropic lobes (n = v = r), but dω_l = 4 (v·h) dω_h (Walter
 // et al. 2007, eq. 14): seen at n·v, a GGX lobe is n·v times as narrow across the plane of
-// incidence as along it. The split sum reads two lobes of the lobe's solid angle,
-// α' = α √(n·v), which is (n·v)^¼ in roughness, offset along the plane by ± the offset
-// below. At grazing angles this keeps a sharp horizon from smearing.
-float prefiltered_lookup_roughness(float roughness, float n_dot_v) {
-    return roughness * sqrt(sqrt(clamp(n_dot_v, 0.0, 1.0)));
-}
-
-// How far the two lookups sit either side of the dominant direction, along the plane of
-// incidence (a multiple of a unit vector there added to it, an angle of atan s; Walter et
-// al. 2007, eq. 14, as above): what restores the lobe's variance there, 2α² (GGX's core
-// as Beckmann's, twice its slopes' α²/2), from the lookups' own 2α'², s = √2 α √(1 − n·v);
-// at most their own width, √2 α √(n·v), so that the pair stays one lobe.
-float prefiltered_lookup_offset(float alpha, float n_dot_v) {
-    float mu = clamp(n_dot_v, 0.0, 1.0);
-    return sqrt(2.0) * alpha * sqrt(min(1.0 - mu, mu));
+// incidence as along it. The split sum reads it as lookups spaced evenly along the plane,
+// isotropic lobes of α·width, whose mean has the lobe's variances: across 2(α n·v)², along
+// 2α² (GGX's core as Beckmann's, twice its slopes' α²/2), or 4α² n·v below n·v = ½, where
+// the horizon clips the lobe. As few lookups as keep neighbours within 2√2 α·width, two
+// of a lookup's standard deviations, so that they read as one lobe; past
+// PREFILTERED_MAX_TAPS they widen instead. Returns (lookups, width, spacing), the spacing
+// per unit α, a multiple of a unit vector along the plane added to the lobe's direction.
+vec3 prefiltered_taps(float n_dot_v) {
+    float mu = clamp(n_dot_v, 1e-4, 1.0);
+    // Variances over 2α².
+    float along = min(1.0, 2.0 * mu);
+    float across = mu * mu;
+    float taps = clamp(ceil(sqrt(max(3.0 * along / across - 2.0, 1.0))), 1.0, float(PREFILTERED_MAX_TAPS));
+    float widest = 3.0 * along / (taps * taps + 2.0);
+    // along − across, factored so that nothing cancels near n·v = 1.
+    float spare = mu >= 0.5 ? (1.0 - mu) * (1.0 + mu) : mu * (2.0 - mu);
+    float spacing2 = across < widest ? 24.0 * along / (taps * taps + 2.0) : 24.0 * spare / max(taps * taps - 1.0, 1.0);
+    return vec3(taps, sqrt(max(across, widest)), taps > 1.0 ? sqrt(spacing2) : 0.0);
 }
 
 // An orthonormal frame (t, b, n) around unit n (Duff et al. 2017, "Building an

@@ -5,7 +5,8 @@
 #include "shading.glsl"
 
 // Layers 0–3: Cook-Torrance (distribution × 2 + geometry); 4: Torrance-Sparrow;
-// 5: Blinn-Phong. RG = (A, B) with ∫ f_s cos = F0 A + B (Karis 2013).
+// 5: Blinn-Phong. RG = (A, B) with ∫ f_s cos = F0 A + B (Karis 2013); BA = (θ_A, θ_B), the
+// angles from n towards the mirror direction of each part's mean direction ∫ l f_s cos.
 const uint LUT_LAYER_TORRANCE_SPARROW = 4u;
 const uint LUT_LAYER_BLINN_PHONG = 5u;
 // R = the directional albedo of Oren-Nayar per unit albedo, against σ instead of roughness.

@@ -48,7 +48,8 @@ uint reflection_mode() {
 
 // The environment with a mip chain of solid-angle-weighted means.
 layout(set = ENV_SET, binding = 1) uniform samplerCube radiance_map;
-// Radiance prefiltered by GGX lobes, roughness = lod / params.w (Karis 2013).
+// Radiance prefiltered by GGX lobes, α = 2^(lod − params.w) above mip 0 (prefiltered_lod;
+// Karis 2013).
 layout(set = ENV_SET, binding = 2) uniform samplerCube prefiltered_map;
 // BRDF tables: x = lut_x(n·v), y = roughness (σ for Oren-Nayar), layer = lut_layer().
 layout(set = ENV_SET, binding = 3) uniform sampler2DArray brdf_lut;
@@ -121,10 +122,11 @@ vec3 env_radiance(vec3 d, float lod) {
     return env.radiance.rgb * textureLod(radiance_map, env_map_direction(d), lod).rgb;
 }
 
-// Radiance around d prefiltered by the GGX lobe of a perceptual roughness.
-vec3 env_prefiltered(vec3 d, float roughness) {
+// Radiance around d prefiltered by the GGX lobe of α.
+vec3 env_prefiltered(vec3 d, float alpha) {
     if (env_kind() == ENV_UNIFORM) return env.radiance.rgb;
-    return env.radiance.rgb * textureLod(prefiltered_map, env_map_direction(d), roughness * env.params.w).rgb;
+    float lod = prefiltered_lod(alpha, env.params.w);
+    return env.radiance.rgb * textureLod(prefiltered_map, env_map_direction(d), lod).rgb;
 }
 
 // ∫ L(l) k(d·l) dl for a zonal kernel k given by its Funk–Hecke coefficients: from the
@@ -141,10 +143,10 @@ vec3 env_irradiance_over_pi(vec3 d) {
     return env.radiance.rgb * textureLod(irradiance_map, env_map_direction(d), 0.0).rgb;
 }
 
-vec2 brdf_table(uint layer, float n_dot_v, float y) {
+vec4 brdf_table(uint layer, float n_dot_v, float y) {
     uvec2 size = uvec2(textureSize(brdf_lut, 0).xy);
     vec2 xy = vec2(lut_coordinate(lut_x(n_dot_v), size.x), lut_coordinate(y, size.y));
-    return textureLod(brdf_lut, vec3(xy, float(layer)), 0.0).rg;
+    return textureLod(brdf_lut, vec3(xy, float(layer)), 0.0);
 }
 
 // The material's specular tint with the lobe's multiple scattering compensated where the
@@ -153,8 +155,8 @@ vec2 brdf_table(uint layer, float n_dot_v, float y) {
 // lights and the environment, which both read the tint, are compensated alike.
 vec3 compensated_specular_color(ShadingModels models, Material m, float n_dot_v) {
     if (m.energy_compensation == 0.0 || models.specular == SPECULAR_NONE) return m.specular_color.rgb;
-    vec2 ab = brdf_table(lut_layer(models), n_dot_v, m.roughness);
-    return m.specular_color.rgb * specular_energy_compensation(ab.x + ab.y, specular_f0(m));
+    vec4 lobe = brdf_table(lut_layer(models), n_dot_v, m.roughness);
+    return m.specular_color.rgb * specular_energy_compensation(lobe.x + lobe.y, specular_f0(m));
 }
 
 // The directional albedo of the diffuse lobe: what it reflects of a unit uniform light.
@@ -169,8 +171,8 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
 // times irradiance/π (exact for Lambert), the subsurface term through its own SH kernels
 // (less the SH irradiance, so that both sides of the difference are band-limited alike),
-// and the specular lobe as prefiltered radiance around its dominant direction (two lobes
-// of its solid angle at n·v, env_math.glsl) times ∫ f_s cos = F0 A + B. In seed mode the
+// and the specular lobe as prefiltered radiance around its mean direction (lookups along
+// the plane of incidence, prefiltered_taps) times ∫ f_s cos = F0 A + B. In seed mode the
 // specular lobe is replaced by the report's eq. 17: one lookup along the mirror direction
 // × seed_strength × noise. `noise` modulates the seed mode's lookup: the material's noise
 // map, or 1. `occlusion` (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb;
@@ -178,7 +180,7 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // the specular occlusion of its visibility a (none at a = 1). `microsurface_roughness` is
 // the material's roughness before specular anti-aliasing widened m.roughness: the
 // prefiltered lookups read the widened lobe, which filters the light over the pixel's
-// normals, but the lobe's albedo (the table's F0 A + B) and its off-specular peak are the
+// normals, but the lobe's albedo (the table's F0 A + B) and its mean direction are the
 // microsurface's, which the pixel's many normals neither shadow nor tilt more.
 vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_roughness, vec3 n, vec3 v,
                            float curvature, float noise, vec4 occlusion) {
@@ -206,18 +208,26 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
     if (reflection_mode() == REFLECTION_SEED) {
         return radiance + specular_visibility * env.params.z * noise * env_radiance(r, 0.0);
     }
-    vec2 ab = brdf_table(lut_layer(models), n_dot_v, microsurface_roughness);
-    vec3 dominant = specular_dominant_direction(n, r, clamp_alpha(microsurface_roughness * microsurface_roughness));
-    // Along the plane of incidence, across the dominant direction; none seen head-on.
+    vec4 lobe = brdf_table(lut_layer(models), n_dot_v, microsurface_roughness);
+    vec3 f0_a = clamp(specular_f0(m), 0.0, 1.0) * lobe.x;
+    // One direction for the three channels: their mean F0 weighs the parts.
+    float theta = lobe_mean_angle(dot(f0_a, vec3(1.0 / 3.0)), lobe.y, lobe.z, lobe.w);
+    vec3 mean = lobe_direction(n, v, theta);
+    // Along the plane of incidence, across the mean direction; none seen head-on.
     vec3 across_plane = cross(n, v);
     float sin_v = length(across_plane);
-    vec3 along = sin_v > 1e-4 ? cross(across_plane / sin_v, dominant) : vec3(0.0);
-    vec3 offset = prefiltered_lookup_offset(alpha, n_dot_v) * along;
-    float lookup = prefiltered_lookup_roughness(m.roughness, n_dot_v);
-    vec3 prefiltered = 0.5 * (env_prefiltered(normalize(dominant + offset), lookup)
-                              + env_prefiltered(normalize(dominant - offset), lookup));
-    return radiance + specular_visibility * prefiltered * m.specular_color.rgb
-                    * (clamp(specular_f0(m), 0.0, 1.0) * ab.x + ab.y);
+    vec3 along = sin_v > 1e-4 ? cross(across_plane / sin_v, mean) : vec3(0.0);
+    vec3 prefiltered = env.radiance.rgb;
+    if (env_kind() != ENV_UNIFORM) {
+        vec3 taps = prefiltered_taps(n_dot_v);
+        prefiltered = vec3(0.0);
+        for (float i = 0.0; i < taps.x; ++i) {
+            float offset = alpha * taps.z * (i - 0.5 * (taps.x - 1.0));
+            prefiltered += env_prefiltered(normalize(mean + offset * along), alpha * taps.y);
+        }
+        prefiltered /= taps.x;
+    }
+    return radiance + specular_visibility * prefiltered * m.specular_color.rgb * (f0_a + lobe.y);
 }
 
 // PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").

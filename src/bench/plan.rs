@@ -256,12 +256,13 @@ const SPHERES: [(&str, DiffuseModel, SpecularModel, Distribution); 7] = [
 ];
 
 /// The sphere under an equirectangular map: reflection modes, `sampled` counts included,
-/// on the map's dynamic range.
-const SKY_CONFIGURATIONS: [&str; 8] = [
+/// on the map's dynamic range, and the silhouette anti-aliased.
+const SKY_CONFIGURATIONS: [&str; 9] = [
     FLOOR,
     "split-sum",
     "seed",
     REPORT,
+    "msaa-4",
     "sampled-4",
     "sampled-16",
     "sampled-64",

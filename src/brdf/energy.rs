@@ -83,7 +83,7 @@ impl SpecularAlbedoTable {
                         for y in 0..height {
                             for x in 0..width {
                                 let n_dot_v = lut_n_dot_v(lut_parameter(x, width));
-                                let [a, b] = brdf_lut_estimate(layer, n_dot_v, lut_parameter(y, height), samples);
+                                let [a, b, ..] = brdf_lut_estimate(layer, n_dot_v, lut_parameter(y, height), samples);
                                 out.push(a + b);
                             }
                         }

@@ -100,28 +100,76 @@ pub fn seed_reflection(n: Vec3, v: Vec3) -> Vec3 {
     normalize(add(scale(n, 2.0 * dot(n, v)), scale(v, -1.0)))
 }
 
-/// The direction a specular lobe's prefiltered radiance is read from: r drawn towards n as
-/// the lobe widens (Lagarde & de Rousiers 2014, listing 22; α = roughness²).
-pub fn specular_dominant_direction(n: Vec3, r: Vec3, alpha: f64) -> Vec3 {
-    let smoothness = (1.0 - alpha).clamp(0.0, 1.0);
-    let t = smoothness * (smoothness.sqrt() + alpha);
-    normalize(add(scale(n, 1.0 - t), scale(r, t)))
+/// The mean angle from n of a specular lobe F0 A + B whose parts' mean directions lie at
+/// θ_A and θ_B (the BRDF tables' z and w): their mean weighted by `f0_a` = F0 A and `b` = B.
+pub fn lobe_mean_angle(f0_a: f64, b: f64, theta_a: f64, theta_b: f64) -> f64 {
+    let energy = f0_a + b;
+    if energy > 0.0 {
+        (f0_a * theta_a + b * theta_b) / energy
+    } else {
+        0.0
+    }
 }
 
-/// The roughness of the prefiltered lobes read for a GGX lobe seen at n·v: the lobe's solid
-/// angle, α' = α √(n·v), since dω_l = 4 (v·h) dω_h (Walter et al. 2007, eq. 14) narrows it
-/// across the plane of incidence by n·v.
-pub fn prefiltered_lookup_roughness(roughness: f64, n_dot_v: f64) -> f64 {
-    roughness * n_dot_v.clamp(0.0, 1.0).sqrt().sqrt()
+/// The direction at angle θ from n towards the mirror direction of v, in the plane of
+/// incidence; n where v is n.
+pub fn lobe_direction(n: Vec3, v: Vec3, theta: f64) -> Vec3 {
+    let towards_mirror = add(scale(n, dot(n, v)), scale(v, -1.0));
+    let len = dot(towards_mirror, towards_mirror).sqrt();
+    if len < 1e-6 {
+        return n;
+    }
+    add(scale(n, theta.cos()), scale(towards_mirror, theta.sin() / len))
 }
 
-/// How far the two lookups sit either side of the dominant direction along the plane of
-/// incidence (the multiple of a unit vector there added to it): √2 α √(1 − n·v) restores
-/// the lobe's variance there, 2α², from the lookups' own 2α'²; at most √2 α √(n·v), their
-/// own width, so that the pair stays one lobe.
-pub fn prefiltered_lookup_offset(alpha: f64, n_dot_v: f64) -> f64 {
-    let mu = n_dot_v.clamp(0.0, 1.0);
-    2f64.sqrt() * alpha * (1.0 - mu).min(mu).sqrt()
+/// The prefiltered cube's mip for a lobe of α: α = 2^(lod − last) from mip 1 up, an octave
+/// a mip; linear in α from the mirror at mip 0 up to mip 1.
+pub fn prefiltered_lod(alpha: f64, last_level: f64) -> f64 {
+    let first = (1.0 - last_level).exp2();
+    if alpha < first {
+        alpha / first
+    } else {
+        last_level + alpha.log2()
+    }
+}
+
+/// The α mip `level` is prefiltered for, `prefiltered_lod`'s inverse.
+pub fn prefiltered_level_alpha(level: u32, last_level: u32) -> f64 {
+    if level == 0 {
+        0.0
+    } else {
+        (f64::from(level) - f64::from(last_level)).exp2()
+    }
+}
+
+/// Most lookups of one lobe; shaders/lib/env_math.glsl declares the same.
+pub const PREFILTERED_MAX_TAPS: u32 = 8;
+
+/// The split sum's lookups of a lobe seen at n·v (Walter et al. 2007, eq. 14: n·v times
+/// as narrow across the plane of incidence as along it): (lookups, width, spacing), the
+/// lookups isotropic lobes of α·width spaced evenly along the plane, α·spacing apart, whose
+/// mean has variance 2(α n·v)² across and 2α² min(1, 2 n·v) along, with neighbours within
+/// two of a lookup's standard deviations (2√2 α·width); past `PREFILTERED_MAX_TAPS` they
+/// widen.
+pub fn prefiltered_taps(n_dot_v: f64) -> [f64; 3] {
+    let mu = n_dot_v.clamp(1e-4, 1.0);
+    // Variances over 2α².
+    let along = (2.0 * mu).min(1.0);
+    let across = mu * mu;
+    let taps = (3.0 * along / across - 2.0)
+        .max(1.0)
+        .sqrt()
+        .ceil()
+        .clamp(1.0, f64::from(PREFILTERED_MAX_TAPS));
+    let widest = 3.0 * along / (taps * taps + 2.0);
+    // along − across, factored so that nothing cancels near n·v = 1.
+    let spare = if mu >= 0.5 { (1.0 - mu) * (1.0 + mu) } else { mu * (2.0 - mu) };
+    let spacing2 = if across < widest {
+        24.0 * along / (taps * taps + 2.0)
+    } else {
+        24.0 * spare / (taps * taps - 1.0).max(1.0)
+    };
+    [taps, across.max(widest).sqrt(), if taps > 1.0 { spacing2.sqrt() } else { 0.0 }]
 }
 
 /// An orthonormal frame (t, b, n) around unit n (Duff et al. 2017).
@@ -447,14 +495,18 @@ pub fn lut_view(n_dot_v: f64) -> Vec3 {
 }
 
 /// One texel of `layer` at n·v = `n_dot_v`, roughness (σ) = y, as env_brdf_lut.comp
-/// estimates it with `samples` Hammersley points: (A, B) for specular layers, (albedo, 0)
-/// for Oren-Nayar. Torrance-Sparrow draws normals by D(h)(n·h) rather than as visible from
-/// v: its V-cavity masking G ≤ 2(n·h)(n·v)/(v·h) keeps those weights bounded at grazing
-/// n·v, where Smith's visible normals leave them heavy-tailed (2× off at n·v = 1e-4).
-pub fn brdf_lut_estimate(layer: u32, n_dot_v: f64, y: f64, samples: u32) -> [f64; 2] {
+/// estimates it with `samples` Hammersley points: (A, B, θ_A, θ_B) for specular layers, the
+/// angles being those of each part's mean direction ∫ l f_s cos from n towards the mirror
+/// direction; (albedo, 0, 0, 0) for Oren-Nayar. Torrance-Sparrow draws normals by D(h)(n·h)
+/// rather than as visible from v: its V-cavity masking G ≤ 2(n·h)(n·v)/(v·h) keeps those
+/// weights bounded at grazing n·v, where Smith's visible normals leave them heavy-tailed
+/// (2× off at n·v = 1e-4).
+pub fn brdf_lut_estimate(layer: u32, n_dot_v: f64, y: f64, samples: u32) -> [f64; 4] {
     const N: Vec3 = [0.0, 0.0, 1.0];
     let v = lut_view(n_dot_v);
     let mut sum = [0.0; 2];
+    // Each part's ∫ l f_s cos as (towards the mirror direction, along n).
+    let mut means = [[0.0; 2]; 2];
     if layer == LUT_LAYER_OREN_NAYAR {
         let m = lut_material(y, 0.0);
         for i in 0..samples {
@@ -480,11 +532,17 @@ pub fn brdf_lut_estimate(layer: u32, n_dot_v: f64, y: f64, samples: u32) -> [f64
             };
             let b = specular_lobe(models, &m0, N, v, l, n_dot_v, l[2])[0];
             let a_plus_b = specular_lobe(models, &m1, N, v, l, n_dot_v, l[2])[0];
-            sum[0] += (a_plus_b - b) * l[2] / pdf;
-            sum[1] += b * l[2] / pdf;
+            let weights = [(a_plus_b - b) * l[2] / pdf, b * l[2] / pdf];
+            for (part, w) in weights.into_iter().enumerate() {
+                sum[part] += w;
+                means[part][0] -= w * l[0];
+                means[part][1] += w * l[2];
+            }
         }
     }
-    sum.map(|s| s / f64::from(samples))
+    let angle = |[towards_mirror, along_n]: [f64; 2]| towards_mirror.atan2(along_n);
+    let n = f64::from(samples);
+    [sum[0] / n, sum[1] / n, angle(means[0]), angle(means[1])]
 }
 
 // ---- The studio ----

@@ -115,18 +115,42 @@ fn seed_reflection_is_the_unit_mirror_direction() {
     assert!(close(r, reflect_about(v, n), 1e-15));
 }
 
-/// A smooth lobe is read along the mirror direction, the roughest along the normal.
+/// θ = 0 is n, the mirror direction's own angle is r; a unit vector in the plane of n and v.
 #[test]
-fn specular_dominant_direction_moves_from_r_to_n() {
-    let n = [0.0, 0.0, 1.0];
-    let r = normalize([0.8, 0.0, 0.6]);
-    assert!(close(specular_dominant_direction(n, r, 0.0), r, 1e-15));
-    assert!(close(specular_dominant_direction(n, r, 1.0), n, 1e-15));
-    let cosines: Vec<f64> = [0.1, 0.3, 0.5, 0.7]
-        .iter()
-        .map(|&alpha| dot(specular_dominant_direction(n, r, alpha), n))
-        .collect();
-    assert!(cosines.windows(2).all(|w| w[0] < w[1]), "{cosines:?}");
+fn lobe_direction_turns_from_n_towards_r() {
+    let n = normalize([0.2, -0.3, 0.9]);
+    let v = normalize([-0.5, 0.4, 0.7]);
+    let r = seed_reflection(n, v);
+    assert!(close(lobe_direction(n, v, 0.0), n, 1e-15));
+    assert!(close(lobe_direction(n, v, dot(n, r).acos()), r, 1e-15));
+    let d = lobe_direction(n, v, 0.3);
+    assert!((dot(d, d) - 1.0).abs() < 1e-15);
+    assert!((dot(d, n) - 0.3f64.cos()).abs() < 1e-15);
+    assert!(dot(cross(n, v), d).abs() < 1e-15, "d in the plane of n and v");
+    assert!(close(lobe_direction(n, n, 0.3), n, 0.0), "no plane of incidence head-on");
+}
+
+#[test]
+fn lobe_mean_angle_weighs_the_parts_by_energy() {
+    assert_eq!(lobe_mean_angle(0.0, 0.0, 0.4, 0.9), 0.0);
+    assert_eq!(lobe_mean_angle(0.3, 0.0, 0.4, 0.9), 0.4);
+    assert_eq!(lobe_mean_angle(0.0, 0.2, 0.4, 0.9), 0.9);
+    assert!((lobe_mean_angle(0.3, 0.1, 0.4, 0.8) - 0.5).abs() < 1e-15);
+}
+
+/// Each mip's α reads that mip exactly; the lod rises with α, continuously at mip 1, where
+/// the linear blend from the mirror meets the octaves.
+#[test]
+fn prefiltered_lod_inverts_the_level_alpha() {
+    let last = 6;
+    for level in 0..=last {
+        let lod = prefiltered_lod(prefiltered_level_alpha(level, last), f64::from(last));
+        assert!((lod - f64::from(level)).abs() < 1e-12, "level {level}: lod {lod}");
+    }
+    let lods: Vec<f64> = (0..=1000).map(|i| prefiltered_lod(f64::from(i) / 1000.0, 6.0)).collect();
+    assert!(lods.windows(2).all(|w| w[0] < w[1]));
+    let first = prefiltered_level_alpha(1, last);
+    assert!((prefiltered_lod(first * (1.0 - 1e-9), 6.0) - 1.0).abs() < 1e-8);
 }
 
 #[test]
@@ -366,11 +390,12 @@ fn lut_layers_round_trip() {
 }
 
 /// The tables' estimator (the compute shader's twin) against hemisphere quadrature of the
-/// same lobes: ∫ f_s(F0 = 1) cos = A + B, ∫ f_s(F0 = 0) cos = B, ∫ f_ON cos.
+/// same lobes: ∫ f_s(F0 = 1) cos = A + B, ∫ f_s(F0 = 0) cos = B, ∫ f_ON cos, and the angles
+/// of the parts' ∫ l f_s cos.
 #[test]
 fn brdf_table_estimates_match_quadrature() {
     const N: Vec3 = [0.0, 0.0, 1.0];
-    let mut worst: f64 = 0.0;
+    let (mut worst, mut worst_angle): (f64, f64) = (0.0, 0.0);
     for layer in 0..LUT_LAYERS {
         // The tables' corners (n·v = 1 and its least, roughness or σ = 0 and 1) among them.
         for (x, y) in [
@@ -393,19 +418,31 @@ fn brdf_table_estimates_match_quadrature() {
                         DIFFUSE_ORDER,
                     ),
                     0.0,
+                    0.0,
+                    0.0,
                 ]
             } else {
                 let models = lut_layer_models(layer);
-                let albedo = |f0| {
-                    let m = lut_material(y, f0);
-                    directional_albedo(
-                        |v, l| specular_lobe(models, &m, N, v, l, v[2].max(MIN_N_DOT_V), l[2])[0],
-                        x,
-                        ALBEDO_ORDER,
-                    )
+                // ∫ w f cos for F0 = 0 and F0 = 1, w a weight per direction.
+                let moment = |w: fn(Vec3) -> f64| {
+                    [0.0, 1.0].map(|f0| {
+                        let m = lut_material(y, f0);
+                        directional_albedo(
+                            |v, l| w(l) * specular_lobe(models, &m, N, v, l, v[2].max(MIN_N_DOT_V), l[2])[0],
+                            x,
+                            ALBEDO_ORDER,
+                        )
+                    })
                 };
-                let b = albedo(0.0);
-                [albedo(1.0) - b, b]
+                let [b, a_plus_b] = moment(|_| 1.0);
+                let [b_towards_mirror, a_plus_b_towards_mirror] = moment(|l| -l[0]);
+                let [b_along_n, a_plus_b_along_n] = moment(|l| l[2]);
+                [
+                    a_plus_b - b,
+                    b,
+                    (a_plus_b_towards_mirror - b_towards_mirror).atan2(a_plus_b_along_n - b_along_n),
+                    b_towards_mirror.atan2(b_along_n),
+                ]
             };
             for i in 0..2 {
                 let error = (estimate[i] - reference[i]).abs();
@@ -415,9 +452,19 @@ fn brdf_table_estimates_match_quadrature() {
                     "layer {layer} n·v {x} y {y}: {estimate:?} vs quadrature {reference:?}"
                 );
             }
+            // The mean directions' angles, where their part carries energy (measured: at
+            // most 6.6e-3 rad, at grazing n·v; a part under 1e-3 weighs nothing).
+            for i in (2..4).filter(|&i| reference[i - 2] >= 1e-3) {
+                let error = (estimate[i] - reference[i]).abs();
+                worst_angle = worst_angle.max(error);
+                assert!(
+                    error < 1e-2,
+                    "layer {layer} n·v {x} y {y}: {estimate:?} vs quadrature {reference:?}"
+                );
+            }
         }
     }
-    println!("BRDF tables, 1024 samples vs quadrature: max |error| {worst:.1e}");
+    println!("BRDF tables, 1024 samples vs quadrature: max |error| {worst:.1e}, angles {worst_angle:.1e} rad");
 }
 
 #[test]
@@ -485,11 +532,11 @@ fn r2_rotations_are_the_plastic_sequence_and_spread_evenly() {
 }
 
 /// The GGX lobe seen at n·v, mapped to the directions it reflects to (density D(h)/(4 v·h)),
-/// is n·v times as narrow across the plane of incidence as along it; the isotropic lobe of
-/// `prefiltered_lookup_roughness` at n = v (what the prefilter stores) covers the same
-/// solid angle: the product of the half-maximum widths matches.
+/// is n·v times as narrow across the plane of incidence as along it, and an isotropic
+/// prefiltered lobe (n = v) of α n·v, the taps' width where they need not widen, is as wide
+/// as it across: half-maximum widths.
 #[test]
-fn prefiltered_lookup_lobe_has_the_lobes_solid_angle() {
+fn the_lobe_narrows_across_the_plane_by_n_dot_v() {
     use crate::brdf::distribution::d_ggx;
     let density = |alpha: f64, v: Vec3, l: Vec3| {
         let h = normalize(add(v, l));
@@ -524,43 +571,52 @@ fn prefiltered_lookup_lobe_has_the_lobes_solid_angle() {
                 half_width(alpha, v, r, scale(along, -1.0)),
             );
             let across = half_width(alpha, v, r, [0.0, 1.0, 0.0]);
-            let lookup = half_width(
-                prefiltered_lookup_roughness(roughness, mu).powi(2),
-                n,
-                n,
-                [1.0, 0.0, 0.0],
-            );
-            let ratio = lookup * lookup / (0.5 * (toward_n + away) * across);
-            // Exact at the peak and to first order in α: measured 0.98–1.0 for roughness 0.2,
-            // down to 0.89 at roughness 0.3 and 0.45 and n·v = 0.2, where the lobe is
-            // lopsided along the plane.
+            let [_, width, _] = prefiltered_taps(mu);
+            let lookup = half_width(alpha * width, n, n, [1.0, 0.0, 0.0]);
+            // To first order in α: measured within 0.98–1.0 for roughness 0.2, down to 0.89
+            // at roughness 0.3 and 0.45 and n·v = 0.2, where the lobe is lopsided along the
+            // plane; the lookup is 0.98–1.0 as wide as the lobe across.
             assert!(
                 (across / (0.5 * (toward_n + away)) / mu - 1.0).abs() < 0.15,
                 "roughness {roughness}, n·v {mu}"
             );
-            assert!((ratio - 1.0).abs() < 0.12, "roughness {roughness}, n·v {mu}: {ratio}");
+            assert!((lookup / across - 1.0).abs() < 0.05, "roughness {roughness}, n·v {mu}: {lookup} vs {across}");
         }
     }
 }
 
-/// The two lookups restore the lobe's variance along the plane of incidence, 2α², where
-/// they can stay one lobe (n·v ≥ ½), and sit one lookup's width, √2 α', apart from the
-/// dominant direction where they cannot.
+/// The taps' mean has the lobe's variances, 2(α n·v)² across and 2α² min(1, 2 n·v) along, as
+/// few taps as keep neighbours within two of a lookup's standard deviations, √2 α·width;
+/// past PREFILTERED_MAX_TAPS (n·v < 0.22) they widen, the along variance kept.
 #[test]
-fn prefiltered_lookups_restore_the_variance_along_the_plane() {
-    for roughness in [0.1, 0.3, 0.7, 1.0] {
-        let alpha: f64 = roughness * roughness;
-        for mu in [1.0, 0.9, 0.5, 0.3, 0.05, 0.0] {
-            let lookup_alpha = prefiltered_lookup_roughness(roughness, mu).powi(2);
-            let offset = prefiltered_lookup_offset(alpha, mu);
-            if mu >= 0.5 {
-                let variance = 2.0 * lookup_alpha * lookup_alpha + offset * offset;
-                assert!((variance - 2.0 * alpha * alpha).abs() < 1e-14, "roughness {roughness}, n·v {mu}");
-            } else {
-                assert!((offset - 2f64.sqrt() * lookup_alpha).abs() < 1e-14, "roughness {roughness}, n·v {mu}");
-            }
+fn prefiltered_taps_have_the_lobes_variances() {
+    let glsl = include_str!("../../shaders/lib/env_math.glsl");
+    let declared = format!("const uint PREFILTERED_MAX_TAPS = {PREFILTERED_MAX_TAPS}u;");
+    assert!(glsl.contains(&declared), "env_math.glsl does not declare {declared}");
+    let neighbours_fit =
+        |taps: f64, width: f64, spacing: f64| taps == 1.0 || spacing <= 2.0 * 2f64.sqrt() * width * (1.0 + 1e-12);
+    for i in 1..=1000 {
+        let mu = f64::from(i) / 1000.0;
+        let [taps, width, spacing] = prefiltered_taps(mu);
+        assert!(taps.fract() == 0.0 && (1.0..=f64::from(PREFILTERED_MAX_TAPS)).contains(&taps));
+        let positions = spacing * spacing * (taps * taps - 1.0) / 12.0;
+        let along = 2.0 * width * width + positions;
+        assert!((along - 2.0 * (2.0 * mu).min(1.0)).abs() < 1e-12, "n·v {mu}: along {along}");
+        assert!(neighbours_fit(taps, width, spacing), "n·v {mu}: {taps} taps {spacing} apart, width {width}");
+        if taps < f64::from(PREFILTERED_MAX_TAPS) {
+            assert!((width - mu).abs() < 1e-12, "n·v {mu}: width {width}");
+        } else {
+            assert!(width >= mu, "n·v {mu}: width {width}");
+        }
+        // One tap fewer at the lobe's width across would not do: one lookup that narrow
+        // lacks the variance along, more would leave gaps.
+        if taps > 1.0 && taps < f64::from(PREFILTERED_MAX_TAPS) {
+            let fewer = taps - 1.0;
+            let spacing = (24.0 * ((2.0 * mu).min(1.0) - mu * mu) / (fewer * fewer - 1.0)).sqrt();
+            assert!(fewer == 1.0 || !neighbours_fit(fewer, mu, spacing), "n·v {mu}: {fewer} taps would do");
         }
     }
+    assert_eq!(prefiltered_taps(1.0), [1.0, 1.0, 0.0]);
 }
 
 #[test]

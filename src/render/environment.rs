@@ -447,8 +447,8 @@ impl EnvironmentPass {
             .transpose()
     }
 
-    /// Mip `level` of the GGX-prefiltered cube map (roughness level/(PREFILTERED_LEVELS − 1),
-    /// laid out as `read_radiance_level`), for checks; `None` before split sum needed it.
+    /// Mip `level` of the GGX-prefiltered cube map (`prefiltered_level_alpha`, laid out as
+    /// `read_radiance_level`), for checks; `None` before split sum needed it.
     pub fn read_prefiltered_level(&self, level: u32) -> Result<Option<Vec<[f32; 4]>>> {
         self.cubes
             .as_ref()

@@ -13,7 +13,7 @@ use crate::brdf::bounce::plane_point_irradiance;
 use crate::brdf::diffuse::e_fon_approx;
 use crate::brdf::distribution::{d_beckmann, d_ggx};
 use crate::brdf::energy::{specular_energy_compensation, MIN_SPECULAR_ALBEDO};
-use crate::brdf::environment::{prefiltered_lookup_offset, prefiltered_lookup_roughness};
+use crate::brdf::environment::{prefiltered_lod, prefiltered_taps, PREFILTERED_MAX_TAPS};
 use crate::brdf::fresnel::{f_schlick, f_schlick_scalar};
 use crate::brdf::geometry::{
     g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
@@ -872,47 +872,54 @@ pub static TERMS: &[TermSpec] = &[
         promise: None,
     },
     TermSpec {
-        name: "prefiltered_lookup_roughness",
+        name: "prefiltered_taps",
         equation: "Walter et al. 2007, eq. 14",
-        arguments: &["roughness", "n·v"],
+        arguments: &["n·v"],
         colour: None,
-        channels: 1,
-        cap: UNIT,
+        channels: 3,
+        cap: MAX_TAPS,
         tolerance: FP32_ARITHMETIC,
         lighting_weight: false,
-        eval: |t| scalar(prefiltered_lookup_roughness(f64::from(t.a[0]), f64::from(t.a[1]))),
-        sample: |rng, _| scalars([rng.uniform(), sample_signed_cosine(rng), 0.0, 0.0]),
-        // n·v below the horizon, at and past 1, and roughness 0 and 1.
-        stress: || grid(&[&[0.0, 1e-4, 0.3, 1.0], STRESS_COSINES]),
+        eval: |t| {
+            let [taps, width, spacing] = prefiltered_taps(f64::from(t.a[0]));
+            [taps, width, spacing, 0.0]
+        },
+        sample: |rng, _| scalars([sample_signed_cosine(rng), 0.0, 0.0, 0.0]),
+        // Below the horizon and its clamp, the widening taps, either side of ½, head-on and
+        // past it.
+        stress: || grid(&[&[-1.0, 0.0, 1e-7, 1e-4, 0.05, 0.2, 0.49999997, 0.5, 0.50000006, 0.9, 1.0, 1.5]]),
         rounding: None,
         promise: None,
     },
     TermSpec {
-        name: "prefiltered_lookup_offset",
-        equation: "Walter et al. 2007, eq. 14",
-        arguments: &["α", "n·v"],
+        name: "prefiltered_lod",
+        equation: "α = 2^(k − last)",
+        arguments: &["α", "last mip"],
         colour: None,
         channels: 1,
-        cap: LOOKUP_OFFSET,
+        cap: LAST_MIP,
         tolerance: FP32_ARITHMETIC,
         lighting_weight: false,
-        eval: |t| scalar(prefiltered_lookup_offset(f64::from(t.a[0]), f64::from(t.a[1]))),
-        sample: |rng, _| scalars([rng.uniform(), sample_signed_cosine(rng), 0.0, 0.0]),
-        // The clamped α's range; n·v below the horizon, either side of ½, at and past 1.
-        stress: || {
-            let alphas: Vec<f32> = STRESS_ALPHAS.iter().copied().filter(|a| (0.0..=1.0).contains(a)).collect();
-            grid(&[&alphas, &[-1.0, 0.0, 1e-7, 0.49999997, 0.5, 0.50000006, 1.0, 1.5]])
-        },
+        eval: |t| scalar(prefiltered_lod(f64::from(t.a[0]), f64::from(t.a[1]))),
+        sample: |rng, _| scalars([rng.uniform(), 6.0, 0.0, 0.0]),
+        // The mirror, either side of mip 1's α of 2^−5 (last mip 6), and 1; the cube's 7 mips,
+        // a smaller and a larger one.
+        stress: || grid(&[&[0.0, 1e-4, 0.031249998, 0.03125, 0.031250004, 0.5, 1.0], &[2.0, 6.0, 8.0]]),
         rounding: None,
         promise: None,
     },
 ];
 
-/// The lookups' largest offset, √2 α √½ at α = 1 and n·v = ½, with the ulps fp32's
-/// square roots may round it up by.
-const LOOKUP_OFFSET: Cap = Cap {
-    value: 1.0 + 4.0 * f32::EPSILON as f64,
-    label: "<= 1 (α = 1, n·v = ½)",
+/// The last mip `prefiltered_lod` is asked about, which roughness 1 reads.
+const LAST_MIP: Cap = Cap {
+    value: 8.0,
+    label: "<= the last mip (8 at most)",
+};
+
+/// The taps' largest channel, their count (width ≤ 1, spacing ≤ 2, at two taps).
+const MAX_TAPS: Cap = Cap {
+    value: PREFILTERED_MAX_TAPS as f64,
+    label: "<= PREFILTERED_MAX_TAPS",
 };
 
 /// The energy compensation's largest factor, 1/MIN_SPECULAR_ALBEDO, with the few ulps

@@ -12,7 +12,7 @@ use ash::vk;
 use gpu_allocator::MemoryLocation;
 
 use super::equirect::Equirect;
-use crate::brdf::environment::LUT_LAYERS;
+use crate::brdf::environment::{prefiltered_level_alpha, LUT_LAYERS};
 use crate::cache::{self, DiskCache};
 use crate::render::shaders;
 use crate::vk::{
@@ -23,9 +23,10 @@ use crate::vk::{
 
 /// Every cube map and table is RGBA16F: filterable and storable on every Vulkan device.
 pub const FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-/// Prefiltered cube: 128² faces, roughness k/6 at mip k (down to 2²). With 64² faces and
-/// steps of 1/5, a GGX lobe at roughness 0.3 blended lobes 4× apart in α and read 4% bright
-/// under a soft box (2.4% now).
+/// Prefiltered cube: 128² faces, the mirror at mip 0 and α = 2^(k − 6) at mip k (down to
+/// 2², `prefiltered_level_alpha`), so a mip's texels are about 0.8 α wide. With 64² faces
+/// and steps of 1/5 in roughness, a GGX lobe at roughness 0.3 blended lobes 4× apart in α
+/// and read 4% bright under a soft box.
 pub const PREFILTERED_SIZE: u32 = 128;
 pub const PREFILTERED_LEVELS: u32 = 7;
 /// GGX samples per prefiltered texel; with filtered importance sampling, 128 keep each
@@ -51,6 +52,11 @@ fn prefilter_min_lod(roughness: f32, side: u32, source_size: u32) -> f32 {
     let lobe_texels = 6.0 * alpha * alpha * f64::from(side * side);
     let levels = (f64::from(source_size) / f64::from(side)).log2() - 0.5 * lobe_texels.max(1.0).log2();
     levels.max(0.0) as f32
+}
+
+/// The roughness each mip of the prefiltered cube is filtered for.
+fn level_roughness() -> [f32; PREFILTERED_LEVELS as usize] {
+    std::array::from_fn(|level| prefiltered_level_alpha(level as u32, PREFILTERED_LEVELS - 1).sqrt() as f32)
 }
 
 /// Bytes of an RGBA16F texel.
@@ -428,7 +434,7 @@ impl Precompute {
         Ok((image, views))
     }
 
-    /// The GGX-prefiltered cube of `source`: mip k filtered for roughness k/(levels − 1).
+    /// The GGX-prefiltered cube of `source`: mip k filtered for `prefiltered_level_alpha`.
     /// Read from `disk` when this device and driver prefiltered the same source texels
     /// before (the studio at every start, a map opened again), else computed and stored.
     pub fn prefilter(
@@ -449,6 +455,7 @@ impl Precompute {
             &PREFILTERED_SIZE.to_le_bytes(),
             &PREFILTERED_LEVELS.to_le_bytes(),
             &PREFILTER_SAMPLES.to_le_bytes(),
+            &level_roughness().map(f32::to_le_bytes).concat(),
             self.device.info.name.as_bytes(),
             self.device.info.driver.as_bytes(),
         ]);
@@ -492,9 +499,8 @@ impl Precompute {
                 ImageUse::UNDEFINED,
                 ImageUse::COMPUTE_STORAGE,
             );
-            for level in 0..PREFILTERED_LEVELS {
+            for (level, roughness) in (0..PREFILTERED_LEVELS).zip(level_roughness()) {
                 let side = PREFILTERED_SIZE >> level;
-                let roughness = level as f32 / (PREFILTERED_LEVELS - 1) as f32;
                 let min_lod = prefilter_min_lod(roughness, side, source_size);
                 let push: [u32; 4] = [
                     roughness.to_bits(),
