@@ -122,10 +122,9 @@ vec3 env_radiance(vec3 d, float lod) {
     return env.radiance.rgb * textureLod(radiance_map, env_map_direction(d), lod).rgb;
 }
 
-// Radiance around d prefiltered by the GGX lobe of α.
-vec3 env_prefiltered(vec3 d, float alpha) {
+// Radiance around d prefiltered by GGX lobes, read at mip `lod` (prefiltered_lod).
+vec3 env_prefiltered(vec3 d, float lod) {
     if (env_kind() == ENV_UNIFORM) return env.radiance.rgb;
-    float lod = prefiltered_lod(alpha, env.params.w);
     return env.radiance.rgb * textureLod(prefiltered_map, env_map_direction(d), lod).rgb;
 }
 
@@ -210,20 +209,21 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
     }
     vec4 lobe = brdf_table(lut_layer(models), n_dot_v, microsurface_roughness);
     vec3 f0_a = clamp(specular_f0(m), 0.0, 1.0) * lobe.x;
-    // One direction for the three channels: their mean F0 weighs the parts.
-    float theta = lobe_mean_angle(dot(f0_a, vec3(1.0 / 3.0)), lobe.y, lobe.z, lobe.w);
-    vec3 mean = lobe_direction(n, v, theta);
-    // Along the plane of incidence, across the mean direction; none seen head-on.
-    vec3 across_plane = cross(n, v);
-    float sin_v = length(across_plane);
-    vec3 along = sin_v > 1e-4 ? cross(across_plane / sin_v, mean) : vec3(0.0);
     vec3 prefiltered = env.radiance.rgb;
     if (env_kind() != ENV_UNIFORM) {
+        // One direction for the three channels: their mean F0 weighs the parts.
+        float theta = lobe_mean_angle(dot(f0_a, vec3(1.0 / 3.0)), lobe.y, lobe.z, lobe.w);
+        vec3 mean = lobe_direction(n, v, theta);
+        // Along the plane of incidence, across the mean direction; none seen head-on.
+        vec3 across_plane = cross(n, v);
+        float sin_v = length(across_plane);
+        vec3 along = sin_v > 1e-4 ? cross(across_plane / sin_v, mean) : vec3(0.0);
         vec3 taps = prefiltered_taps(n_dot_v);
+        float lod = prefiltered_lod(alpha * taps.y, env.params.w);
         prefiltered = vec3(0.0);
         for (float i = 0.0; i < taps.x; ++i) {
             float offset = alpha * taps.z * (i - 0.5 * (taps.x - 1.0));
-            prefiltered += env_prefiltered(normalize(mean + offset * along), alpha * taps.y);
+            prefiltered += env_prefiltered(normalize(mean + offset * along), lod);
         }
         prefiltered /= taps.x;
     }
