@@ -256,13 +256,14 @@ const SPHERES: [(&str, DiffuseModel, SpecularModel, Distribution); 7] = [
 ];
 
 /// The sphere under an equirectangular map: reflection modes, `sampled` counts included,
-/// on the map's dynamic range, and the silhouette anti-aliased.
-const SKY_CONFIGURATIONS: [&str; 9] = [
+/// on the map's dynamic range, and the silhouette anti-aliased under split sum and `seed`.
+const SKY_CONFIGURATIONS: [&str; 10] = [
     FLOOR,
     "split-sum",
     "seed",
     REPORT,
     "msaa-4",
+    "seed-msaa-4",
     "sampled-4",
     "sampled-16",
     "sampled-64",
@@ -384,9 +385,14 @@ pub fn is_generic(name: &str) -> bool {
 /// energy-compensated, `sphere-N` builtin spheres of N cells
 /// along each cube edge, the shadow and anti-aliasing
 /// configurations as their constants say; `generic-NAME` is NAME drawn with the generic
-/// pipelines.
+/// pipelines, `seed-NAME` an anti-aliasing configuration NAME with `seed` reflection.
 pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     let mut file = file.clone();
+    if let Some(antialiasing) = name.strip_prefix("seed-").filter(|n| ANTIALIASING_CONFIGURATIONS.contains(n)) {
+        set_reflection(&mut file.environment, ReflectionMode::Seed, None);
+        file.antialiasing = Some(antialiasing_configured(antialiasing));
+        return Ok(file);
+    }
     match name.strip_prefix("generic-").unwrap_or(name) {
         FLOOR | GENERIC | "split-sum" => {}
         "seed" => set_reflection(&mut file.environment, ReflectionMode::Seed, None),
@@ -640,6 +646,14 @@ mod tests {
         let scene = named(Some(Path::new("bench/references/sky-v1.exr"))).unwrap();
         assert!(scene.text.contains("bench/references/sky-v1.exr"), "{}", scene.text);
         assert!(!scene.text.contains("[[lights]]"));
+        // Split sum and seed, each under 4× MSAA: rows whose costs compare alike.
+        let row = |name: &str| scene.configurations.iter().find(|c| c.name == name).unwrap();
+        let parsed = |name: &str| toml::from_str::<SceneFile>(&row(name).text).unwrap();
+        let (seed, msaa, both) = (parsed("seed"), parsed("msaa-4"), parsed("seed-msaa-4"));
+        assert_eq!(both.antialiasing, msaa.antialiasing);
+        assert!(both.antialiasing.is_some());
+        assert_eq!(both.environment, seed.environment);
+        assert_ne!(both.environment, msaa.environment);
     }
 
     #[test]
