@@ -108,6 +108,7 @@ vec4 term(Tuple t) {
     case 28u: return vec4(micro_shadowing(a.x, a.y));
     case 29u: return vec4(prefiltered_taps(a.x), 0.0);
     case 30u: return vec4(prefiltered_lod(a.x, a.y));
+    case 31u: return vec4(sun_alpha(a.x, a.y));
     }
     return vec4(0.0);
 }

@@ -105,6 +105,12 @@ float prefiltered_lod(float alpha, float last_level) {
     return alpha < first ? alpha / first : last_level + log2(alpha);
 }
 
+// A GGX lobe of α lighting a disc of angular radius θ as one direction: the lobe's l has
+// variance 2α² across each axis near its peak and the disc θ²/4, so α'² = α² + θ²/8.
+float sun_alpha(float alpha, float angular_radius) {
+    return sqrt(alpha * alpha + angular_radius * angular_radius / 8.0);
+}
+
 // Most lookups of one lobe; twin PREFILTERED_MAX_TAPS in src/brdf/environment.rs.
 const uint PREFILTERED_MAX_TAPS = 8u;
 

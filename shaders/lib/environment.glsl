@@ -31,6 +31,9 @@ layout(set = ENV_SET, binding = 0, std140) uniform EnvironmentData {
                     // w: the prefiltered map's last mip, where roughness = 1
     vec4 texel;     // x: solid angle of a level-0 texel of radiance_map
     uvec4 grid;     // xy: columns and rows of luminance_cdf's distribution, 0 without one
+    vec4 sun;       // the map's sun, lifted out of prefiltered_map: xyz its world direction,
+                    // w its angular radius, 0 without one
+    vec4 sun_irradiance; // rgb: its irradiance E⊥, before intensity
     vec4 sh[9];     // the map's radiance in SH (rgb), before rotation and intensity
 } env;
 // The forward pass specialises the kind and reflection mode; FROM_UNIFORM (the skybox, the
@@ -171,7 +174,8 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
 // times irradiance/π (exact for Lambert), the subsurface term through its own SH kernels
 // (less the SH irradiance, so that both sides of the difference are band-limited alike),
 // and the specular lobe as prefiltered radiance around its mean direction (lookups along
-// the plane of incidence, prefiltered_taps) times ∫ f_s cos = F0 A + B. In seed mode the
+// the plane of incidence, prefiltered_taps) times ∫ f_s cos = F0 A + B, plus a map's sun,
+// which the prefiltered cube leaves out, through the lobe itself. In seed mode the
 // specular lobe is replaced by the report's eq. 17: one lookup along the mirror direction
 // × seed_strength × noise. `noise` modulates the seed mode's lookup: the material's noise
 // map, or 1. `occlusion` (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb;
@@ -227,7 +231,16 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
         }
         prefiltered /= taps.x;
     }
-    return radiance + specular_visibility * prefiltered * m.specular_color.rgb * (f0_a + lobe.y);
+    vec3 specular = prefiltered * m.specular_color.rgb * (f0_a + lobe.y);
+    // A map's sun lights as one direction (sun_alpha widens the lobe by its disc).
+    float n_dot_sun = dot(n, env.sun.xyz);
+    if (env.sun.w > 0.0 && n_dot_sun > 0.0) {
+        Material sunlit = m;
+        sunlit.roughness = sqrt(sun_alpha(alpha, env.sun.w));
+        specular += env.radiance.rgb * env.sun_irradiance.rgb * n_dot_sun
+                  * specular_lobe(models, sunlit, n, v, env.sun.xyz, n_dot_v, n_dot_sun);
+    }
+    return radiance + specular_visibility * specular;
 }
 
 // PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").

@@ -142,6 +142,14 @@ pub fn prefiltered_level_alpha(level: u32, last_level: u32) -> f64 {
     }
 }
 
+/// The α of a GGX lobe of α lighting a disc of angular radius θ as its centre's
+/// direction: α'² = α² + θ²/8. Near its peak a lobe of l has the variance 2α² across each
+/// axis (twice the slopes' α²/2, as l turns twice as fast as h), and the disc θ²/4, so
+/// their convolution is the lobe of α'.
+pub fn sun_alpha(alpha: f64, angular_radius: f64) -> f64 {
+    (alpha * alpha + angular_radius * angular_radius / 8.0).sqrt()
+}
+
 /// Most lookups of one lobe; shaders/lib/env_math.glsl declares the same.
 pub const PREFILTERED_MAX_TAPS: u32 = 8;
 

@@ -16,6 +16,7 @@
 
 pub mod equirect;
 mod precompute;
+pub mod sun;
 
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -31,7 +32,7 @@ use gpu_allocator::MemoryLocation;
 use super::shaders;
 use super::split::Split;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
-use crate::brdf::environment::{irradiance_over_pi_cube, map_rotation, sh_project_cube, Sh9};
+use crate::brdf::environment::{irradiance_over_pi_cube, map_rotation, rotate_y, sh_project_cube, Sh9};
 use crate::brdf::luminance_distribution::{LuminanceDistribution, STUDIO_GRID};
 use crate::brdf::Vec3;
 use crate::cache::{self, DiskCache};
@@ -44,6 +45,7 @@ use crate::vk::{
 pub use equirect::{MAX_UPLOAD_WIDTH, MAX_WIDTH};
 pub use precompute::{Cost, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
 use precompute::{Precompute, SourceCube};
+use sun::Sun;
 
 /// Faces of the studio's cube map: 0.35° texels, sharp enough behind the objects.
 const STUDIO_SIZE: u32 = 256;
@@ -78,6 +80,8 @@ struct EnvironmentData {
     params: [f32; 4],
     texel: [f32; 4],
     grid: [u32; 4],
+    sun: [f32; 4],
+    sun_irradiance: [f32; 4],
     sh: [[f32; 4]; 9],
 }
 
@@ -100,8 +104,10 @@ enum Source {
 struct Cubes {
     source: Source,
     radiance: SourceCube,
-    /// Built when split-sum reflection first needs it.
+    /// Built when split-sum reflection first needs it, from the map without its sun.
     prefiltered: Option<Image>,
+    /// A map's sun, lifted out of the prefiltered cube with it.
+    sun: Option<Sun>,
     sh: Sh9,
     /// Irradiance over π (`irradiance_over_pi_cube`): the diffuse light of the split sum,
     /// the objects' occlusion and the bounce.
@@ -237,24 +243,42 @@ impl EnvironmentPass {
         self.device.wait_idle()?;
         self.current = None;
         self.costs.clear();
-        // A map loaded for new cubes, kept for the luminance distribution.
+        // A map loaded for new cubes, kept for its sun and the luminance distribution.
         let mut loaded_map = None;
         if rebuild_source {
             self.cubes = None;
             if let Some(source) = source {
                 let (cubes, map) = self.build_cubes(source)?;
                 self.cubes = Some(cubes);
-                loaded_map = map.filter(|_| add_luminance);
+                loaded_map = map.filter(|_| add_luminance || add_prefiltered);
             }
         }
         if add_prefiltered {
             if let Some(cubes) = self.cubes.as_mut() {
+                if let (Source::Map(path), None) = (&cubes.source, &loaded_map) {
+                    loaded_map = Some(load_map(path, &mut self.costs)?);
+                }
+                let start = Instant::now();
+                let sunny = loaded_map.as_ref().and_then(sun::extract);
+                if loaded_map.is_some() {
+                    self.costs.push(Cost {
+                        step: "sun",
+                        ms: start.elapsed().as_secs_f64() * 1e3,
+                        gpu: false,
+                    });
+                }
+                let size = cubes.radiance.image.extent.width;
+                let sunless = match &sunny {
+                    Some((_, map)) => Some(self.precompute.equirect(map, size, &mut self.costs)?),
+                    None => None,
+                };
                 cubes.prefiltered = Some(self.precompute.prefilter(
-                    &cubes.radiance,
+                    sunless.as_ref().unwrap_or(&cubes.radiance),
                     &self.sampler,
                     &DiskCache::from_env(),
                     &mut self.costs,
                 )?);
+                cubes.sun = sunny.map(|(sun, _)| sun);
             }
         }
         if let Some(cubes) = self.cubes.as_mut().filter(|c| add_luminance && c.luminance.is_none()) {
@@ -289,13 +313,7 @@ impl EnvironmentPass {
         let radiance = match &source {
             Source::Studio => self.precompute.studio(STUDIO_SIZE, &mut self.costs)?,
             Source::Map(path) => {
-                let start = Instant::now();
-                let map = equirect::load(path)?;
-                self.costs.push(Cost {
-                    step: "load map",
-                    ms: start.elapsed().as_secs_f64() * 1e3,
-                    gpu: false,
-                });
+                let map = load_map(path, &mut self.costs)?;
                 let size = (map.width / 4).clamp(MIN_MAP_SIZE, MAX_MAP_SIZE);
                 // The largest power of two within the bounds, so every mip halves exactly.
                 let size = 1 << (31 - size.leading_zeros());
@@ -349,6 +367,7 @@ impl EnvironmentPass {
             source,
             radiance,
             prefiltered: None,
+            sun: None,
             sh,
             irradiance,
             luminance: None,
@@ -383,6 +402,9 @@ impl EnvironmentPass {
             let w = c.radiance.image.extent.width as f32;
             4.0 * std::f32::consts::PI / (6.0 * w * w)
         });
+        // Its direction in the world: the map's rotation undone.
+        let sun = cubes.and_then(|c| c.sun.as_ref());
+        let sun_direction = sun.map_or([0.0; 3], |s| rotate_y(s.direction, [rotation[0], -rotation[1]]));
         let mut sh = [[0.0; 4]; 9];
         if let Some(c) = cubes {
             for (out, coefficient) in sh.iter_mut().zip(c.sh) {
@@ -400,6 +422,15 @@ impl EnvironmentPass {
             ],
             texel: [texel_solid_angle, 0.0, 0.0, 0.0],
             grid: [luminance.map_or(0, |l| l.columns), luminance.map_or(0, |l| l.rows), 0, 0],
+            sun: [
+                sun_direction[0] as f32,
+                sun_direction[1] as f32,
+                sun_direction[2] as f32,
+                sun.map_or(0.0, |s| s.angular_radius as f32),
+            ],
+            sun_irradiance: sun.map_or([0.0; 4], |s| {
+                [s.irradiance[0] as f32, s.irradiance[1] as f32, s.irradiance[2] as f32, 0.0]
+            }),
             sh,
         };
         self.data.write(bytemuck::bytes_of(&data))?;
@@ -469,6 +500,18 @@ impl EnvironmentPass {
 
 /// The luminance distribution of `source` (from `map`'s texels when it is loaded already),
 /// uploaded.
+/// The map at `path`, its loading timed.
+fn load_map(path: &std::path::Path, costs: &mut Vec<Cost>) -> Result<equirect::Equirect> {
+    let start = Instant::now();
+    let map = equirect::load(path)?;
+    costs.push(Cost {
+        step: "load map",
+        ms: start.elapsed().as_secs_f64() * 1e3,
+        gpu: false,
+    });
+    Ok(map)
+}
+
 fn build_luminance(
     precompute: &Precompute,
     source: &Source,
@@ -666,6 +709,8 @@ mod tests {
                 "params" => std::mem::offset_of!(EnvironmentData, params),
                 "texel" => std::mem::offset_of!(EnvironmentData, texel),
                 "grid" => std::mem::offset_of!(EnvironmentData, grid),
+                "sun" => std::mem::offset_of!(EnvironmentData, sun),
+                "sun_irradiance" => std::mem::offset_of!(EnvironmentData, sun_irradiance),
                 "sh" => std::mem::offset_of!(EnvironmentData, sh),
                 other => panic!("EnvironmentData has no field {other}"),
             };

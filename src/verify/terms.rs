@@ -13,7 +13,8 @@ use crate::brdf::bounce::plane_point_irradiance;
 use crate::brdf::diffuse::e_fon_approx;
 use crate::brdf::distribution::{d_beckmann, d_ggx};
 use crate::brdf::energy::{specular_energy_compensation, MIN_SPECULAR_ALBEDO};
-use crate::brdf::environment::{prefiltered_lod, prefiltered_taps, PREFILTERED_MAX_TAPS};
+use crate::brdf::environment::{prefiltered_lod, prefiltered_taps, sun_alpha, PREFILTERED_MAX_TAPS};
+use crate::render::environment::sun::SUN_MAX_RADIUS_DEGREES;
 use crate::brdf::fresnel::{f_schlick, f_schlick_scalar};
 use crate::brdf::geometry::{
     g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
@@ -908,12 +909,40 @@ pub static TERMS: &[TermSpec] = &[
         rounding: None,
         promise: None,
     },
+    TermSpec {
+        name: "sun_alpha",
+        equation: "α'² = α² + θ²/8",
+        arguments: &["α", "θ"],
+        colour: None,
+        channels: 1,
+        cap: SUN_ALPHA,
+        tolerance: FP32_ARITHMETIC,
+        lighting_weight: false,
+        eval: |t| scalar(sun_alpha(f64::from(t.a[0]), f64::from(t.a[1]))),
+        // α over its range, a sun up to the widest.
+        sample: |rng, _| scalars([rng.uniform(), widest_sun() * rng.uniform(), 0.0, 0.0]),
+        // The smallest α, a point, the bench's 1.5° sun and the widest.
+        stress: || grid(&[&[0.002025, 0.01, 0.09, 1.0], &[0.0, 1e-6, 0.02618, widest_sun() as f32]]),
+        rounding: None,
+        promise: None,
+    },
 ];
 
 /// The last mip `prefiltered_lod` is asked about, which roughness 1 reads.
 const LAST_MIP: Cap = Cap {
     value: 8.0,
     label: "<= the last mip (8 at most)",
+};
+
+/// The widest sun split sum lifts out of a map, in radians.
+fn widest_sun() -> f64 {
+    SUN_MAX_RADIUS_DEGREES.to_radians()
+}
+
+/// `sun_alpha` at α = 1 under the widest sun, with a few ulps to spare.
+const SUN_ALPHA: Cap = Cap {
+    value: 1.0 + 1e-3,
+    label: "<= √(1 + θ²/8) at α = 1 under the widest sun",
 };
 
 /// The taps' largest channel, their count (width ≤ 1, spacing ≤ 2, at two taps).
