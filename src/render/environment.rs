@@ -498,8 +498,6 @@ impl EnvironmentPass {
     }
 }
 
-/// The luminance distribution of `source` (from `map`'s texels when it is loaded already),
-/// uploaded.
 /// The map at `path`, its loading timed.
 fn load_map(path: &std::path::Path, costs: &mut Vec<Cost>) -> Result<equirect::Equirect> {
     let start = Instant::now();
@@ -512,6 +510,8 @@ fn load_map(path: &std::path::Path, costs: &mut Vec<Cost>) -> Result<equirect::E
     Ok(map)
 }
 
+/// The luminance distribution of `source` (from `map`'s texels when it is loaded already),
+/// uploaded.
 fn build_luminance(
     precompute: &Precompute,
     source: &Source,
