@@ -207,13 +207,13 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
     radiance *= occlusion.rgb;
     if (occlusion.a < 1.0) specular_visibility = specular_occlusion(n_dot_v, occlusion.a, alpha);
     if (models.specular == SPECULAR_NONE) return radiance;
-    vec3 r = seed_reflection(n, v);
     if (reflection_mode() == REFLECTION_SEED) {
-        return radiance + specular_visibility * env.params.z * noise * env_radiance(r, 0.0);
+        return radiance + specular_visibility * env.params.z * noise * env_radiance(seed_reflection(n, v), 0.0);
     }
     vec4 lobe = brdf_table(lut_layer(models), n_dot_v, microsurface_roughness);
     vec3 f0_a = clamp(specular_f0(m), 0.0, 1.0) * lobe.x;
     vec3 prefiltered = env.radiance.rgb;
+    vec3 sunlight = vec3(0.0);
     if (env_kind() != ENV_UNIFORM) {
         // One direction for the three channels: their mean F0 weighs the parts.
         float theta = lobe_mean_angle(dot(f0_a, vec3(1.0 / 3.0)), lobe.y, lobe.z, lobe.w);
@@ -230,17 +230,16 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
             prefiltered += env_prefiltered(normalize(mean + offset * along), lod);
         }
         prefiltered /= taps.x;
+        // A map's sun lights as one direction (sun_alpha widens the lobe by its disc).
+        float n_dot_sun = dot(n, env.sun.xyz);
+        if (env.sun.w > 0.0 && n_dot_sun > 0.0) {
+            Material sunlit = m;
+            sunlit.roughness = sqrt(sun_alpha(alpha, env.sun.w));
+            sunlight = env.radiance.rgb * env.sun_irradiance.rgb * n_dot_sun
+                     * specular_lobe(models, sunlit, n, v, env.sun.xyz, n_dot_v, n_dot_sun);
+        }
     }
-    vec3 specular = prefiltered * m.specular_color.rgb * (f0_a + lobe.y);
-    // A map's sun lights as one direction (sun_alpha widens the lobe by its disc).
-    float n_dot_sun = dot(n, env.sun.xyz);
-    if (env.sun.w > 0.0 && n_dot_sun > 0.0) {
-        Material sunlit = m;
-        sunlit.roughness = sqrt(sun_alpha(alpha, env.sun.w));
-        specular += env.radiance.rgb * env.sun_irradiance.rgb * n_dot_sun
-                  * specular_lobe(models, sunlit, n, v, env.sun.xyz, n_dot_v, n_dot_sun);
-    }
-    return radiance + specular_visibility * specular;
+    return radiance + specular_visibility * (prefiltered * m.specular_color.rgb * (f0_a + lobe.y) + sunlight);
 }
 
 // PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").
