@@ -17,6 +17,7 @@ use anyhow::{Context, Result};
 use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
+use rayon::prelude::*;
 
 use super::debug_view::DebugView;
 use super::environment::{environment_kind, reflection_code};
@@ -302,22 +303,32 @@ impl ForwardPass {
         subsurface.bind(writer).write(device, set);
     }
 
-    fn pipeline(&mut self, samples: vk::SampleCountFlags, specialization: &Specialization) -> Result<vk::Pipeline> {
-        let key = (samples, specialization.clone());
-        if let Some(p) = self.pipelines.get(&key) {
-            return Ok(p.handle);
+    /// The pipelines of `specializations` for targets of `samples` samples, in their order.
+    /// Those not made yet are created side by side, one per core: a software device
+    /// (lavapipe) compiles each on the calling thread, and the frame waits for all of them.
+    fn pipelines_for(
+        &mut self,
+        samples: vk::SampleCountFlags,
+        specializations: &[Specialization],
+    ) -> Result<Vec<vk::Pipeline>> {
+        let mut missing: Vec<&Specialization> = Vec::new();
+        for s in specializations {
+            if !self.pipelines.contains_key(&(samples, s.clone())) && !missing.contains(&s) {
+                missing.push(s);
+            }
         }
-        let start = Instant::now();
-        let pipeline = self.build_pipeline(
-            &self.fragment,
-            samples,
-            specialization,
-            &format!("forward {samples:?} {:?}", specialization.0),
-        )?;
-        self.pipeline_time += start.elapsed();
-        let handle = pipeline.handle;
-        self.pipelines.insert(key, pipeline);
-        Ok(handle)
+        if !missing.is_empty() {
+            let start = Instant::now();
+            let built = missing
+                .par_iter()
+                .map(|s| self.build_pipeline(&self.fragment, samples, s, &format!("forward {samples:?} {:?}", s.0)))
+                .collect::<Result<Vec<_>>>()?;
+            self.pipeline_time += start.elapsed();
+            for (s, pipeline) in missing.into_iter().zip(built) {
+                self.pipelines.insert((samples, s.clone()), pipeline);
+            }
+        }
+        Ok(specializations.iter().map(|s| self.pipelines[&(samples, s.clone())].handle).collect())
     }
 
     fn floor_pipeline(&mut self, samples: vk::SampleCountFlags) -> Result<vk::Pipeline> {
@@ -396,28 +407,26 @@ impl ForwardPass {
             .chain(split_materials)
             .map(MaterialData::from)
             .collect();
-        let mut pipelines = |materials: &[Material], environment: &Environment| {
-            materials
-                .iter()
-                .map(|m| {
-                    if floor {
-                        self.floor_pipeline(samples)
-                    } else {
-                        let specular_aa = scene.antialiasing.specular;
-                        let mut constants = ForwardConstants::new(m, environment, debug_view, specialize, specular_aa);
-                        constants.occlusion = occlusion as u32;
-                        constants.object_occlusion = u32::from(objects);
-                        self.pipeline(samples, &constants.specialization())
-                    }
+        let pipelines = if floor {
+            vec![self.floor_pipeline(samples)?; materials.len()]
+        } else {
+            let split_parts = split.map(|s| (s.materials.as_slice(), &s.environment));
+            let specializations: Vec<Specialization> = std::iter::once((scene.materials.as_slice(), &scene.environment))
+                .chain(split_parts)
+                .flat_map(|(materials, environment)| materials.iter().map(move |m| (m, environment)))
+                .map(|(m, environment)| {
+                    let specular_aa = scene.antialiasing.specular;
+                    let mut constants = ForwardConstants::new(m, environment, debug_view, specialize, specular_aa);
+                    constants.occlusion = occlusion as u32;
+                    constants.object_occlusion = u32::from(objects);
+                    constants.specialization()
                 })
-                .collect::<Result<Vec<_>>>()
+                .collect();
+            self.pipelines_for(samples, &specializations)?
         };
-        let scene_pipelines = pipelines(&scene.materials, &scene.environment)?;
-        let split_pipelines = match split {
-            Some(s) => pipelines(&s.materials, &s.environment)?,
-            None => Vec::new(),
-        };
-        (self.material_pipelines, self.split_pipelines) = (scene_pipelines, split_pipelines);
+        // The buffer's order: the scene's materials, then the split's.
+        let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.materials.len());
+        (self.material_pipelines, self.split_pipelines) = (scene_pipelines.to_vec(), split_pipelines.to_vec());
         let preintegrated = |m: &Material| m.subsurface == Subsurface::PreIntegrated;
         let needs_table = scene.needs_preintegrated_table() || split_materials.iter().any(preintegrated);
         if needs_table && self.subsurface.is_none() {
