@@ -10,8 +10,8 @@ use crate::compare::input::read_exr;
 use crate::compare::metrics::Rgba32;
 use crate::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use crate::render::output::write_linear;
-use crate::scene::file::{LightDef, MaterialDef, SceneFile};
-use crate::scene::Scene;
+use crate::scene::file::{EnvironmentDef, LightDef, MaterialDef, SceneFile};
+use crate::scene::{Scene, BUILTIN_PREFIX};
 
 /// A reference image and its own estimated relative RMS noise.
 pub struct CachedReference {
@@ -58,8 +58,18 @@ pub fn path(dir: &Path, name: &str, text: &str, settings: &Settings) -> Result<P
 /// - material keys at their defaults, so that a new key, whose default keeps the material
 ///   as it was, renames no reference. The price: a change of a default must rename the
 ///   references of the scenes that rely on it.
+///
+/// The files it names (the environment's map, meshes, map textures; relative to the
+/// working directory, as the bench loads them) are keyed by their bytes, not their paths:
+/// a reference follows an edited file, and keeps its name wherever the files sit.
 pub fn key_text(text: &str) -> Result<String> {
     let mut file: SceneFile = toml::from_str(text).context("a bench reference's scene")?;
+    if let EnvironmentDef::Map { path, .. } = &mut file.environment {
+        *path = content_key(&path.to_string_lossy())?.into();
+    }
+    for object in &mut file.objects {
+        object.mesh = content_key(&object.mesh)?;
+    }
     file.shadows = None;
     file.antialiasing = None;
     file.occlusion = None;
@@ -76,10 +86,24 @@ pub fn key_text(text: &str) -> Result<String> {
         for (_, material) in materials.iter_mut() {
             if let toml::Value::Table(keys) = material {
                 keys.retain(|key, v| defaults.get(key) != Some(v));
+                for (_, map) in keys.iter_mut() {
+                    if let Some(toml::Value::String(texture)) = map.get_mut("texture") {
+                        *texture = content_key(texture.as_str())?;
+                    }
+                }
             }
         }
     }
     Ok(toml::to_string(&value)?)
+}
+
+/// `builtin:` names as they are; a file as `file-HASH`, the hash over its bytes.
+fn content_key(name: &str) -> Result<String> {
+    if name.starts_with(BUILTIN_PREFIX) {
+        return Ok(name.to_owned());
+    }
+    let bytes = std::fs::read(name).with_context(|| format!("cannot read {name}, which a bench scene names"))?;
+    Ok(format!("file-{:016x}", fnv1a(&bytes)))
 }
 
 /// The cached reference of the scene `text`, rendered and written first if it is not cached.
@@ -153,6 +177,34 @@ mod tests {
             crate::reference::render(&scene, &settings, &()).unwrap().rgba
         };
         assert!(render(DEFAULT_SCENE_TOML) == render(&edited), "the reference read a key its cache key leaves out");
+    }
+
+    /// The sky's key is its bytes': the same file anywhere names the same reference, and an
+    /// edited file another one.
+    #[test]
+    fn a_file_is_keyed_by_its_bytes() {
+        let dir = crate::scratch::Scratch::new("reference-key").unwrap();
+        let sky = crate::bench::sky::ensure(&dir).unwrap();
+        let copy = dir.join("elsewhere.exr");
+        std::fs::copy(&sky, &copy).unwrap();
+        let scene = |map: &Path| {
+            let mut file: SceneFile = toml::from_str(DEFAULT_SCENE_TOML).unwrap();
+            file.environment = toml::from_str(&format!("kind = \"map\"\npath = {:?}", map.to_str().unwrap())).unwrap();
+            key_text(&file.to_toml().unwrap()).unwrap()
+        };
+        assert_eq!(scene(&sky), scene(&copy));
+        assert!(!scene(&sky).contains("elsewhere"));
+        let textured = |map: &Path| {
+            let path = format!("{:?}", map.to_str().unwrap());
+            key_text(&format!("{DEFAULT_SCENE_TOML}\n[materials.ground.base_color_map]\ntexture = {path}\n")).unwrap()
+        };
+        assert_eq!(textured(&sky), textured(&copy));
+        assert!(!textured(&sky).contains("elsewhere"));
+        let mut bytes = std::fs::read(&copy).unwrap();
+        *bytes.last_mut().unwrap() ^= 1;
+        std::fs::write(&copy, bytes).unwrap();
+        assert_ne!(scene(&sky), scene(&copy));
+        assert!(key_text(&DEFAULT_SCENE_TOML.replace("builtin:torus", "missing.obj")).is_err());
     }
 
     /// A key added to the materials comes with a default that keeps them as they were;
