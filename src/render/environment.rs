@@ -114,6 +114,9 @@ struct Cubes {
     irradiance: Image,
     /// Built when sampled reflection first needs it.
     luminance: Option<Luminance>,
+    /// A map source as decoded, kept while its cubes are: the sun and the luminance
+    /// distribution, built when a mode first needs them, read it rather than the file.
+    map: Option<equirect::Equirect>,
 }
 
 /// A source's `LuminanceDistribution` on the GPU.
@@ -243,48 +246,37 @@ impl EnvironmentPass {
         self.device.wait_idle()?;
         self.current = None;
         self.costs.clear();
-        // A map loaded for new cubes, kept for its sun and the luminance distribution.
-        let mut loaded_map = None;
         if rebuild_source {
             self.cubes = None;
             if let Some(source) = source {
-                let (cubes, map) = self.build_cubes(source)?;
-                self.cubes = Some(cubes);
-                loaded_map = map.filter(|_| add_luminance || add_prefiltered);
+                self.cubes = Some(self.build_cubes(source)?);
             }
         }
-        if add_prefiltered {
-            if let Some(cubes) = self.cubes.as_mut() {
-                if let (Source::Map(path), None) = (&cubes.source, &loaded_map) {
-                    loaded_map = Some(load_map(path, &mut self.costs)?);
-                }
-                let start = Instant::now();
-                let sunny = loaded_map.as_ref().and_then(sun::extract);
-                if loaded_map.is_some() {
-                    self.costs.push(Cost {
-                        step: "sun",
-                        ms: start.elapsed().as_secs_f64() * 1e3,
-                        gpu: false,
-                    });
-                }
-                let size = cubes.radiance.image.extent.width;
-                let sunless = match &sunny {
-                    Some((_, map)) => Some(self.precompute.equirect(map, size, &mut self.costs)?),
-                    None => None,
-                };
-                cubes.prefiltered = Some(self.precompute.prefilter(
-                    sunless.as_ref().unwrap_or(&cubes.radiance),
-                    &self.sampler,
-                    &DiskCache::from_env(),
-                    &mut self.costs,
-                )?);
-                cubes.sun = sunny.map(|(sun, _)| sun);
+        if let Some(cubes) = self.cubes.as_mut().filter(|_| add_prefiltered) {
+            let start = Instant::now();
+            let sunny = cubes.map.as_ref().and_then(sun::extract);
+            if cubes.map.is_some() {
+                self.costs.push(Cost {
+                    step: "sun",
+                    ms: start.elapsed().as_secs_f64() * 1e3,
+                    gpu: false,
+                });
             }
+            let size = cubes.radiance.image.extent.width;
+            let sunless = match &sunny {
+                Some((_, map)) => Some(self.precompute.equirect(map, size, &mut self.costs)?),
+                None => None,
+            };
+            cubes.prefiltered = Some(self.precompute.prefilter(
+                sunless.as_ref().unwrap_or(&cubes.radiance),
+                &self.sampler,
+                &DiskCache::from_env(),
+                &mut self.costs,
+            )?);
+            cubes.sun = sunny.map(|(sun, _)| sun);
         }
         if let Some(cubes) = self.cubes.as_mut().filter(|c| add_luminance && c.luminance.is_none()) {
-            let source = cubes.source.clone();
-            let luminance = build_luminance(&self.precompute, &source, loaded_map.as_ref(), &mut self.costs)?;
-            cubes.luminance = Some(luminance);
+            cubes.luminance = Some(build_luminance(&self.precompute, cubes.map.as_ref(), &mut self.costs)?);
         }
         if add_lut {
             self.brdf_lut = Some(self.precompute.brdf_lut(&DiskCache::from_env(), &mut self.costs)?);
@@ -307,8 +299,8 @@ impl EnvironmentPass {
         self.skybox.insert(skybox).prepare(samples)
     }
 
-    /// The source's cubes, and the map they were made from if it is one.
-    fn build_cubes(&mut self, source: Source) -> Result<(Cubes, Option<equirect::Equirect>)> {
+    /// The source's cubes, with the map they were made from if it is one.
+    fn build_cubes(&mut self, source: Source) -> Result<Cubes> {
         let mut loaded_map = None;
         let radiance = match &source {
             Source::Studio => self.precompute.studio(STUDIO_SIZE, &mut self.costs)?,
@@ -371,8 +363,9 @@ impl EnvironmentPass {
             sh,
             irradiance,
             luminance: None,
+            map: loaded_map,
         };
-        Ok((cubes, loaded_map))
+        Ok(cubes)
     }
 
     /// Writes the uniforms and the set for `environment` from what is built.
@@ -510,26 +503,16 @@ fn load_map(path: &std::path::Path, costs: &mut Vec<Cost>) -> Result<equirect::E
     Ok(map)
 }
 
-/// The luminance distribution of `source` (from `map`'s texels when it is loaded already),
-/// uploaded.
+/// The luminance distribution of `map`'s texels, or of the studio without one, uploaded.
 fn build_luminance(
     precompute: &Precompute,
-    source: &Source,
     map: Option<&equirect::Equirect>,
     costs: &mut Vec<Cost>,
 ) -> Result<Luminance> {
     let start = Instant::now();
-    let distribution = match source {
-        Source::Studio => LuminanceDistribution::studio(),
-        Source::Map(path) => {
-            let loaded;
-            let map = match map {
-                Some(map) => map,
-                None => {
-                    loaded = equirect::load(path)?;
-                    &loaded
-                }
-            };
+    let distribution = match map {
+        None => LuminanceDistribution::studio(),
+        Some(map) => {
             let texels: Vec<Vec3> = map
                 .texels
                 .iter()
