@@ -1,8 +1,9 @@
 //! `argil bench`: run time against error. For each scene × configuration × resolution, the
 //! GPU time per pass of steady frames (after a warm-up that absorbs the driver's first-draw
 //! shader compile), the CPU time per frame, the GPU time as a ratio to the trivial-shader
-//! floor drawn in alternation with it, and the frame's error against the scene's `full` and
-//! `shadows` references (cached, see [`references`]).
+//! floor (drawn in alternation with every row, pooled per scene and size: [`Floor`]), and
+//! the frame's error against the scene's `full` and `shadows` references (cached, see
+//! [`references`]).
 //!
 //! - [`plan`]: the scenes and configurations.
 //! - [`references`]: the reference cache.
@@ -225,6 +226,8 @@ fn bench_scene(
     provenance: &Provenance,
     rows: &mut Vec<Row>,
 ) -> Result<()> {
+    // Each row's times, then its ratios to the floor frames of every row at its size.
+    let mut measured = Vec::new();
     for configuration in &scene.configurations {
         let parsed = Scene::from_toml(&configuration.text, &configuration.name, Path::new(""))?;
         let samples = supported_samples(&renderer.device, parsed.antialiasing.msaa);
@@ -243,21 +246,30 @@ fn bench_scene(
         let (full, shadows) = (full?, shadows?);
         for &extent in &configuration.resolutions {
             let timing = time(renderer, &parsed, &gpu, extent, configuration.floor, options)?;
-            let row = Row::new(
-                scene.name,
-                configuration,
-                extent,
-                &timing,
-                (&full, refs[0]),
-                (&shadows, refs[1]),
-                provenance,
+            eprintln!(
+                "{} {} {}x{}: GPU {:.2} ms, work {:.2} ms",
+                scene.name, configuration.name, extent.width, extent.height, timing.gpu_total.median, timing.work.median
             );
-            eprintln!("{}", row.line());
-            rows.push(row);
+            measured.push((configuration, extent, timing, full.clone(), shadows.clone()));
         }
     }
     renderer.floor = false;
     renderer.generic = false;
+    for (configuration, extent, timing, full, shadows) in &measured {
+        let floor = Floor::pooled(measured.iter().filter(|m| m.1 == *extent).map(|m| &m.2.floor));
+        let row = Row::new(
+            scene.name,
+            configuration,
+            *extent,
+            timing,
+            &floor,
+            (full, refs[0]),
+            (shadows, refs[1]),
+            provenance,
+        );
+        eprintln!("{}", row.line());
+        rows.push(row);
+    }
     Ok(())
 }
 
@@ -286,13 +298,45 @@ pub struct Timing {
     /// CPU time the whole process spent on the frame (every thread): on a software device
     /// the rendering itself.
     pub work: Summary,
-    /// The forward pass of the floor frames.
-    pub floor_forward: Summary,
-    /// Per pair of frames, the configuration's forward pass over the floor's, its whole
-    /// frame over the floor's, and its process CPU time over the floor's.
-    pub forward_ratio: Summary,
-    pub gpu_ratio: Summary,
-    pub work_ratio: Summary,
+    /// The floor frames drawn between the row's.
+    pub floor: FloorFrames,
+}
+
+/// The times of floor frames: forward pass and whole frame (GPU ms), and the process's CPU
+/// time (ms).
+#[derive(Default)]
+pub struct FloorFrames {
+    forward: Vec<f64>,
+    gpu: Vec<f64>,
+    work: Vec<f64>,
+}
+
+/// What every ratio divides by: the medians of the floor frames of every row of a scene at
+/// one size, in one run. The floor, a trivial shader, is bound by memory where the
+/// configurations are bound by shading, so the machine's noise moves it alone: on a
+/// shared 2-core machine one row's floor frames read 6–16 ms while the configurations'
+/// own times stayed within 3%. Pooled over the run, the floor is one yardstick for all
+/// the scene's rows.
+pub struct Floor {
+    pub forward: f64,
+    pub gpu: f64,
+    pub work: f64,
+}
+
+impl Floor {
+    pub fn pooled<'a>(rows: impl Iterator<Item = &'a FloorFrames>) -> Self {
+        let mut all = FloorFrames::default();
+        for f in rows {
+            all.forward.extend(&f.forward);
+            all.gpu.extend(&f.gpu);
+            all.work.extend(&f.work);
+        }
+        Self {
+            forward: Summary::of(&all.forward).median,
+            gpu: Summary::of(&all.gpu).median,
+            work: Summary::of(&all.work).median,
+        }
+    }
 }
 
 /// What one frame took: GPU milliseconds per pass, wall milliseconds of the CPU, and CPU
@@ -307,9 +351,8 @@ struct FrameTimes {
 /// reading them back: a floor frame, then a frame of the configuration (itself the floor
 /// when `floor`). GPU milliseconds per pass from the timestamps, CPU milliseconds of
 /// writing the uniforms, recording, submitting and waiting for each frame, and the CPU
-/// time of the process meanwhile. Pairing makes the ratios hold when other work on the
-/// machine comes and goes during a run; on a software device, the ratio of CPU time holds
-/// even while other work competes for the cores, which stretches wall and GPU time.
+/// time of the process meanwhile; the floor frames' for [`Floor::pooled`]. Alternating
+/// spreads the floor's frames over the run as the configurations' are.
 fn time(
     renderer: &mut Renderer,
     scene: &Scene,
@@ -342,8 +385,8 @@ fn time(
         draw(renderer, floor)?;
     }
     let mut passes = vec![Vec::new(); PASS_NAMES.len()];
-    let mut series: [Vec<f64>; 7] = Default::default();
-    let [totals, cpu, work, floor_forward, forward_ratio, gpu_ratio, work_ratio] = &mut series;
+    let (mut totals, mut cpu, mut work) = (Vec::new(), Vec::new(), Vec::new());
+    let mut floor_frames = FloorFrames::default();
     let start = Instant::now();
     for i in 0..options.frames {
         if i >= MIN_FRAMES && start.elapsed().as_secs_f64() > options.max_seconds {
@@ -351,30 +394,23 @@ fn time(
         }
         let base = draw(renderer, true)?;
         let frame = draw(renderer, floor)?;
-        let total: f64 = frame.gpu.iter().sum();
+        floor_frames.forward.push(base.gpu[0]);
+        floor_frames.gpu.push(base.gpu.iter().sum());
+        floor_frames.work.push(base.work);
+        totals.push(frame.gpu.iter().sum());
         cpu.push(frame.wall);
         work.push(frame.work);
-        forward_ratio.push(frame.gpu[0] / base.gpu[0]);
-        gpu_ratio.push(total / base.gpu.iter().sum::<f64>());
-        work_ratio.push(frame.work / base.work);
-        floor_forward.push(base.gpu[0]);
-        totals.push(total);
         for (pass, t) in passes.iter_mut().zip(frame.gpu) {
             pass.push(t);
         }
     }
-    let frames = series[0].len() as u32;
-    let [totals, cpu, work, floor_forward, forward_ratio, gpu_ratio, work_ratio] = series.map(|s| Summary::of(&s));
     Ok(Timing {
-        frames,
+        frames: totals.len() as u32,
         passes: passes.iter().map(|p| Summary::of(p)).collect(),
-        gpu_total: totals,
-        cpu,
-        work,
-        floor_forward,
-        forward_ratio,
-        gpu_ratio,
-        work_ratio,
+        gpu_total: Summary::of(&totals),
+        cpu: Summary::of(&cpu),
+        work: Summary::of(&work),
+        floor: floor_frames,
     })
 }
 
@@ -402,4 +438,26 @@ fn commit() -> String {
         .map(|s| s.trim().to_owned())
         .filter(|s| !s.is_empty())
         .unwrap_or_else(|| "unknown".to_owned())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The floor is the median of every row's floor frames taken together: a fast row's
+    /// three frames and a slow row's two give the third smallest of the five, not a value
+    /// between the rows' medians (2 and 10.5).
+    #[test]
+    fn the_floor_pools_the_rows_frames() {
+        let frames = |forward: &[f64]| FloorFrames {
+            forward: forward.to_vec(),
+            gpu: forward.iter().map(|f| 2.0 * f).collect(),
+            work: forward.iter().map(|f| 3.0 * f).collect(),
+        };
+        let (fast, slow) = (frames(&[1.0, 2.0, 3.0]), frames(&[10.0, 11.0]));
+        let floor = Floor::pooled([&fast, &slow].into_iter());
+        assert_eq!((floor.forward, floor.gpu, floor.work), (3.0, 6.0, 9.0));
+        let alone = Floor::pooled([&slow].into_iter());
+        assert_eq!(alone.forward, 10.5);
+    }
 }

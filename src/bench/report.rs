@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::plan::{Configuration, FLOOR, REPORT};
 use super::plot::plot;
 use super::references::CachedReference;
-use super::Timing;
+use super::{Floor, Timing};
 use crate::atomic::write_bytes;
 use crate::compare::metrics::Metrics;
 use crate::render::PASS_NAMES;
@@ -44,8 +44,9 @@ impl Error {
     }
 }
 
-/// One scene × configuration × resolution. Milliseconds; ratios are medians over pairs of
-/// frames, each of the configuration against a floor frame drawn just before it.
+/// One scene × configuration × resolution. Milliseconds; ratios are the configuration's
+/// medians (and p95) over the floor's ([`Floor`]: every floor frame of the scene at this size
+/// in the run).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Row {
     pub scene: String,
@@ -61,7 +62,7 @@ pub struct Row {
     pub pass_ms_median: Vec<f64>,
     pub cpu_ms_median: f64,
     pub cpu_ms_p95: f64,
-    /// Median GPU milliseconds of the floor frames' forward pass.
+    /// Median GPU milliseconds of the floor frames' forward pass (the run's at this size).
     pub floor_forward_ms_median: f64,
     /// Forward pass against the floor's forward pass: what shading costs.
     pub forward_ratio_to_floor: f64,
@@ -71,7 +72,7 @@ pub struct Row {
     /// Median CPU milliseconds the process spent on a frame (every thread): on a software
     /// device, the rendering's work.
     pub work_ms_median: f64,
-    /// That work against the floor frame's: on a software device, the ratio that other
+    /// That work against the floor frames': on a software device, the ratio that other
     /// load on the machine leaves alone.
     pub work_ratio_to_floor: f64,
     /// Against the `full` and `shadows` references, at their size.
@@ -92,6 +93,7 @@ impl Row {
         configuration: &Configuration,
         extent: vk::Extent2D,
         timing: &Timing,
+        floor: &Floor,
         full: (&Metrics, &CachedReference),
         shadows: (&Metrics, &CachedReference),
         provenance: &Provenance,
@@ -108,12 +110,12 @@ impl Row {
             pass_ms_median: timing.passes.iter().map(|p| p.median).collect(),
             cpu_ms_median: timing.cpu.median,
             cpu_ms_p95: timing.cpu.p95,
-            floor_forward_ms_median: timing.floor_forward.median,
-            forward_ratio_to_floor: timing.forward_ratio.median,
-            forward_ratio_to_floor_p95: timing.forward_ratio.p95,
-            gpu_ratio_to_floor: timing.gpu_ratio.median,
+            floor_forward_ms_median: floor.forward,
+            forward_ratio_to_floor: timing.passes[0].median / floor.forward,
+            forward_ratio_to_floor_p95: timing.passes[0].p95 / floor.forward,
+            gpu_ratio_to_floor: timing.gpu_total.median / floor.gpu,
             work_ms_median: timing.work.median,
-            work_ratio_to_floor: timing.work_ratio.median,
+            work_ratio_to_floor: timing.work.median / floor.work,
             error_full: Error::new(full.0, full.1),
             error_shadows: Error::new(shadows.0, shadows.1),
             error_width: full.0.width,
@@ -295,10 +297,10 @@ pub fn markdown(rows: &[Row]) -> String {
         let _ = writeln!(
             text,
             "Measured on {} ({}), commit {}, {}. GPU and CPU milliseconds per frame: median (p95) \
-             of the row's steady frames; × floor: the forward pass against the trivial-shader floor's \
-             in the frame drawn just before, median of the pairs; × floor (work): the same ratio of the CPU time \
-             the process spent (on a software device the rendering's work, which other load on the machine \
-             does not stretch). Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `shadows` one ({} spp, \
+             of the row's steady frames; × floor: the forward pass's median against the trivial-shader floor's, \
+             the median of the floor frames drawn between every row's frames of the scene at that size in \
+             the run; × floor (work): the same ratio of the CPU time the process spent (on a software \
+             device the rendering's work, which other load on the machine does not stretch). Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `shadows` one ({} spp, \
              noise {:.2}%).\n",
             first.device,
             first.driver,
