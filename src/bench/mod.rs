@@ -226,7 +226,7 @@ fn bench_scene(
     provenance: &Provenance,
     rows: &mut Vec<Row>,
 ) -> Result<()> {
-    // Each row's times, then its ratios to the floor frames of every row at its size.
+    // Each row's times, then its ratios to the floor frames of the rows at its size.
     let mut measured = Vec::new();
     for configuration in &scene.configurations {
         let parsed = Scene::from_toml(&configuration.text, &configuration.name, Path::new(""))?;
@@ -256,7 +256,13 @@ fn bench_scene(
     renderer.floor = false;
     renderer.generic = false;
     for (configuration, extent, timing, full, shadows) in &measured {
-        let floor = Floor::pooled(measured.iter().filter(|m| m.1 == *extent).map(|m| &m.2.floor));
+        let at_size = || measured.iter().filter(|m| m.1 == *extent);
+        // The scene's own meshes' floor; a run of tessellation rows alone has only theirs.
+        let floor = if at_size().any(|m| m.0.own_meshes) {
+            Floor::pooled(at_size().filter(|m| m.0.own_meshes).map(|m| &m.2.floor))
+        } else {
+            Floor::pooled(at_size().map(|m| &m.2.floor))
+        };
         let row = Row::new(
             scene.name,
             configuration,
@@ -312,7 +318,7 @@ pub struct FloorFrames {
 }
 
 /// What every ratio divides by: the medians of the floor frames of every row of a scene at
-/// one size, in one run. The floor, a trivial shader, is bound by memory where the
+/// one size that draws its own meshes, in one run. The floor, a trivial shader, is bound by memory where the
 /// configurations are bound by shading, so the machine's noise moves it alone: on a
 /// shared 2-core machine one row's floor frames read 6–16 ms while the configurations'
 /// own times stayed within 3%. Pooled over the run, the floor is one yardstick for all

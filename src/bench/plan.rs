@@ -30,6 +30,9 @@ pub struct Configuration {
     pub floor: bool,
     /// Drawn with the generic pipelines (see `Renderer::generic`).
     pub generic: bool,
+    /// Draws the scene's own meshes, so its floor frames are the scene's floor
+    /// (`Floor::pooled`); a tessellation row's are of other meshes.
+    pub own_meshes: bool,
     /// Frame sizes it is timed at; the first is the headline.
     pub resolutions: Vec<vk::Extent2D>,
 }
@@ -344,6 +347,7 @@ fn bench_scene(
                 text: configured(file, c)?.to_toml()?,
                 floor: is_floor(c),
                 generic: is_generic(c),
+                own_meshes: !is_tessellation(c),
                 resolutions: sizes(c),
             })
         })
@@ -370,6 +374,11 @@ fn bench_scene(
 /// Whether configuration `name` is drawn with `floor.frag` (see [`Configuration::floor`]).
 pub fn is_floor(name: &str) -> bool {
     name == FLOOR
+}
+
+/// Whether configuration `name` retessellates the builtin spheres (`sphere-N`).
+fn is_tessellation(name: &str) -> bool {
+    name.starts_with("sphere-")
 }
 
 /// Whether configuration `name` is drawn with the generic pipelines.
@@ -461,7 +470,7 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
                     .and_then(|n| n.parse().ok())
                     .with_context(|| format!("unknown bench configuration {name:?}"))
             };
-            if name.starts_with("sphere-") {
+            if is_tessellation(name) {
                 set_sphere_subdivisions(&mut file, number("sphere-")?);
             } else {
                 set_reflection(
