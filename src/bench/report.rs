@@ -45,8 +45,8 @@ impl Error {
 }
 
 /// One scene × configuration × resolution. Milliseconds; ratios are the configuration's
-/// medians (and p95) over the floor's ([`Floor`]: every floor frame of the scene at this size
-/// in the run).
+/// medians (and p95) over the floor's ([`Floor`]: the floor frames of the scene's rows at
+/// this size that draw its own meshes, in the run).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Row {
     pub scene: String,
@@ -298,10 +298,11 @@ pub fn markdown(rows: &[Row]) -> String {
             text,
             "Measured on {} ({}), commit {}, {}. GPU and CPU milliseconds per frame: median (p95) \
              of the row's steady frames; × floor: the forward pass's median against the trivial-shader floor's, \
-             the median of the floor frames drawn between every row's frames of the scene at that size in \
-             the run; × floor (work): the same ratio of the CPU time the process spent (on a software \
-             device the rendering's work, which other load on the machine does not stretch). Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and the `shadows` one ({} spp, \
-             noise {:.2}%).\n",
+             the median of the floor frames drawn between the frames of the scene's rows at that size \
+             that draw its own meshes, in the run; × floor (work): the same ratio of the CPU time the \
+             process spent (on a software device the rendering's work, which other load on the machine \
+             does not stretch). Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and \
+             the `shadows` one ({} spp, noise {:.2}%).\n",
             first.device,
             first.driver,
             first.commit,
