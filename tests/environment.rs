@@ -445,7 +445,9 @@ fn render_error(scene: &Scene) -> String {
 }
 
 /// Broken, huge and wrong-format maps are errors naming the file, not panics; rendering
-/// goes on afterwards.
+/// goes on afterwards. What the map's headers show (not an HDR or EXR image, its size) refuses
+/// the scene as it loads, naming the scene's key too; what only decoding shows (a truncated
+/// body, a bad texel), the render.
 #[test]
 fn broken_environment_maps_are_clear_errors() {
     let dir = test_dir("bad-maps");
@@ -462,37 +464,52 @@ fn broken_environment_maps_are_clear_errors() {
     image::Rgb32FImage::new(24, 16)
         .save(dir.join("square.hdr"))
         .expect("hdr");
-    let files: [(&str, Vec<u8>, &str); 7] = [
+    // (file, its bytes where written here, the message, whether loading the scene refuses it)
+    let files: [(&str, Vec<u8>, &str, bool); 7] = [
         (
             "garbage.hdr",
             b"not an image at all".to_vec(),
             "cannot read it as a Radiance HDR or OpenEXR image",
+            true,
         ),
-        ("photo.hdr", std::fs::read(&png).expect("read png"), "is a Png image"),
+        ("photo.hdr", std::fs::read(&png).expect("read png"), "is a Png image", true),
         (
             "huge.hdr",
             b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 10000 +X 20000\n".to_vec(),
             "is 20000x10000",
+            true,
         ),
         (
             "truncated.hdr",
             b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 32 +X 64\n\x02\x02".to_vec(),
             "cannot decode",
+            false,
         ),
-        ("nan.exr", Vec::new(), "texel (3, 0) is not finite"),
-        ("negative.exr", Vec::new(), "texel (5, 2) has negative radiance"),
+        ("nan.exr", Vec::new(), "texel (3, 0) is not finite", false),
+        ("negative.exr", Vec::new(), "texel (5, 2) has negative radiance", false),
         (
             "square.hdr",
             Vec::new(),
             "is 24x16; an equirectangular map is twice as wide as tall",
+            true,
         ),
     ];
-    for (name, bytes, message) in files {
+    for (name, bytes, message, at_load) in files {
         if !bytes.is_empty() {
             std::fs::write(dir.join(name), bytes).expect("write");
         }
-        let scene = Scene::from_toml(&map_scene(name, ""), "bad map scene", &dir).expect("scene");
-        let error = render_error(&scene);
+        let loaded = Scene::from_toml(&map_scene(name, ""), "bad map scene", &dir);
+        let error = match (loaded, at_load) {
+            (Err(e), true) => {
+                let error = e.to_string();
+                let key = format!("bad map scene: environment.path = \"{name}\"");
+                assert!(error.starts_with(&key), "{name}: the error does not name the scene's key: {error}");
+                error
+            }
+            (Ok(scene), false) => render_error(&scene),
+            (Err(e), false) => panic!("{name}: the scene was refused as it loaded: {e}"),
+            (Ok(_), true) => panic!("{name}: the scene loaded"),
+        };
         eprintln!("{name}: {error}");
         assert!(
             error.contains(&dir.join(name).display().to_string()),

@@ -42,7 +42,7 @@ use crate::vk::{
     DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, Pipeline, PipelineLayout, Sampler,
     ShaderModule,
 };
-pub use equirect::{MAX_UPLOAD_WIDTH, MAX_WIDTH};
+pub use equirect::MAX_UPLOAD_WIDTH;
 pub use precompute::{Cost, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
 use precompute::{Precompute, SourceCube};
 use sun::Sun;

@@ -1,7 +1,7 @@
 //! How large an input argil accepts, checked before the input is parsed or decoded, so
 //! that an absurd file is refused with a message instead of exhausting memory. Images are
-//! limited from their headers in `texture.rs` and `render/environment/equirect.rs`, and
-//! OpenEXR files by [`check_exr_headers`] too.
+//! limited from their headers in `texture.rs` and, environment maps, by
+//! [`check_environment_map`], and OpenEXR files by [`check_exr_headers`] too.
 
 use std::path::Path;
 
@@ -61,6 +61,44 @@ pub fn obj_triangles(text: &[u8]) -> u64 {
             corners.saturating_sub(2)
         })
         .sum()
+}
+
+/// The widest environment map accepted: 8K, whose RGB f32 decode (384 MiB) stays within
+/// `image`'s default allocation limit.
+pub const MAX_ENVIRONMENT_WIDTH: u32 = 8192;
+/// The narrowest environment map accepted.
+pub const MIN_ENVIRONMENT_WIDTH: u32 = 8;
+
+/// The width and height of the equirectangular environment map at `path`, from its
+/// headers: a Radiance HDR or OpenEXR image (by content, whatever the extension says),
+/// twice as wide as tall, [`MIN_ENVIRONMENT_WIDTH`] to [`MAX_ENVIRONMENT_WIDTH`] wide. A
+/// scene checks its map with it when it loads; the renderer again before it decodes one.
+pub fn check_environment_map(path: &Path) -> Result<(u32, u32), String> {
+    let reader = || {
+        image::ImageReader::open(path)
+            .map_err(|e| format!("cannot open: {e}"))?
+            .with_guessed_format()
+            .map_err(|e| format!("cannot read: {e}"))
+    };
+    match reader()?.format() {
+        Some(image::ImageFormat::OpenExr) => check_exr_headers(path)?,
+        Some(image::ImageFormat::Hdr) => {}
+        Some(other) => return Err(format!("is a {other:?} image, not a Radiance HDR or OpenEXR one")),
+        None => return Err("is not a Radiance HDR or OpenEXR image".to_owned()),
+    }
+    let (width, height) = reader()?
+        .into_dimensions()
+        .map_err(|e| format!("cannot read it as a Radiance HDR or OpenEXR image: {e}"))?;
+    if !(MIN_ENVIRONMENT_WIDTH..=MAX_ENVIRONMENT_WIDTH).contains(&width) {
+        return Err(format!(
+            "is {width}x{height}; an environment map must be {MIN_ENVIRONMENT_WIDTH} to {MAX_ENVIRONMENT_WIDTH} \
+             texels wide"
+        ));
+    }
+    if width != 2 * height {
+        return Err(format!("is {width}x{height}; an equirectangular map is twice as wide as tall"));
+    }
+    Ok((width, height))
 }
 
 /// Refuses an OpenEXR file whose headers describe more than a texture may hold, before it

@@ -13,7 +13,7 @@ use super::file::{
     ShadowsDef,
 };
 use super::light::{Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE};
-use super::limits::{MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDIVISIONS_RANGE};
+use super::limits::{check_environment_map, MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDIVISIONS_RANGE};
 use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
 use super::mesh::SPHERE_SUBDIVISIONS;
 use super::{
@@ -454,6 +454,9 @@ fn environment(check: &Checker, def: &EnvironmentDef, base_dir: &Path) -> Result
                     path,
                     format!("no such file: {}", resolved.display()),
                 ));
+            }
+            if let Err(problem) = check_environment_map(&resolved) {
+                return Err(check.invalid("environment.path", path, format!("{}: {problem}", resolved.display())));
             }
             Environment::Map {
                 path: resolved,

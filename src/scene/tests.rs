@@ -29,6 +29,13 @@ impl TempDir {
         std::fs::write(&path, contents).unwrap();
         path
     }
+
+    /// A 16×8 equirectangular environment map, its format by `name`'s extension.
+    pub(crate) fn write_map(&self, name: &str) -> PathBuf {
+        let path = self.0.join(name);
+        image::Rgb32FImage::from_pixel(16, 8, image::Rgb([1.0, 1.0, 1.0])).save(&path).unwrap();
+        path
+    }
 }
 
 impl Drop for TempDir {
@@ -571,7 +578,7 @@ fn occlusion_keys_are_read_defaulted_and_saved() {
 fn saved_scene_reloads_identically_with_relative_paths() {
     let dir = TempDir::new();
     dir.write("pot.obj", TRIANGLE_OBJ);
-    dir.write("sky.hdr", "");
+    dir.write_map("sky.hdr");
     let path = dir.write(
         "scene.toml",
         &format!("{CUBE}[environment]\nkind = \"map\"\npath = \"sky.hdr\"\n[[objects]]\nmesh = \"pot.obj\"\n[[objects]]\nmesh = \"pot.obj\"\nscale = 2.0\n"),
@@ -627,7 +634,7 @@ fn edited_scene_saves_its_edits() {
 fn environment_map_is_resolved_and_checked() {
     let dir = TempDir::new();
     let scene = |env: &str| Scene::from_toml(&format!("{CUBE}[environment]\n{env}\n"), "s.toml", &dir.0);
-    dir.write("studio.EXR", "");
+    dir.write_map("studio.EXR");
     assert_eq!(
         scene("kind = \"map\"\npath = \"studio.EXR\"").unwrap().environment,
         Environment::Map {
@@ -647,6 +654,16 @@ fn environment_map_is_resolved_and_checked() {
     assert_eq!(
         scene("kind = \"map\"\npath = \"sky.png\"").unwrap_err().to_string(),
         "s.toml: environment.path = \"sky.png\": must be an equirectangular .hdr or .exr image"
+    );
+    // Its headers are read as the scene loads.
+    let square = dir.0.join("square.hdr");
+    image::Rgb32FImage::new(8, 8).save(&square).unwrap();
+    assert_eq!(
+        scene("kind = \"map\"\npath = \"square.hdr\"").unwrap_err().to_string(),
+        format!(
+            "s.toml: environment.path = \"square.hdr\": {}: is 8x8; an equirectangular map is twice as wide as tall",
+            square.display()
+        )
     );
     assert_eq!(scene("kind = \"none\"").unwrap().environment, Environment::None);
 }

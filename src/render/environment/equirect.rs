@@ -3,20 +3,15 @@
 
 use std::path::Path;
 
-use anyhow::{bail, ensure, Context, Result};
-use image::{ImageFormat, ImageReader};
+use anyhow::{bail, Context, Result};
+use image::ImageReader;
 
 use crate::error::InputError;
-use crate::scene::limits::check_exr_headers;
+use crate::scene::limits::check_environment_map;
 
-/// The largest map accepted: 8K, whose RGB f32 decode (384 MiB) stays within `image`'s
-/// default allocation limit.
-pub const MAX_WIDTH: u32 = 8192;
 /// Maps are box-filtered down to this width before upload: a 512² cube face, the largest
 /// argil builds, holds a quarter of it around the equator.
 pub const MAX_UPLOAD_WIDTH: u32 = 2048;
-/// The smallest map accepted.
-pub const MIN_WIDTH: u32 = 8;
 
 /// Linear RGB radiance, rows from the top (+y), twice as wide as tall.
 pub struct Equirect {
@@ -25,39 +20,16 @@ pub struct Equirect {
     pub texels: Vec<[f32; 4]>,
 }
 
-/// Loads and checks an equirectangular map: a Radiance HDR or OpenEXR image (by content,
-/// whatever the extension says), 2:1, at most `MAX_WIDTH` wide, with finite non-negative
-/// radiance. Errors name the file.
+/// Loads and checks an equirectangular map: one that `check_environment_map` accepts, with
+/// finite non-negative radiance. Errors name the file.
 pub fn load(path: &Path) -> Result<Equirect> {
     read(path).map_err(|e| InputError(format!("environment map {}: {e:#}", path.display())).into())
 }
 
 fn read(path: &Path) -> Result<Equirect> {
-    let reader = || -> Result<ImageReader<_>> {
-        ImageReader::open(path)
-            .context("cannot open")?
-            .with_guessed_format()
-            .context("cannot read")
-    };
-    match reader()?.format() {
-        Some(ImageFormat::OpenExr) => check_exr_headers(path).map_err(anyhow::Error::msg)?,
-        Some(ImageFormat::Hdr) => {}
-        Some(other) => bail!("is a {other:?} image, not a Radiance HDR or OpenEXR one"),
-        None => bail!("is not a Radiance HDR or OpenEXR image"),
-    }
-    // The size first, so a huge map is refused before it is decoded.
-    let (width, height) = reader()?
-        .into_dimensions()
-        .context("cannot read it as a Radiance HDR or OpenEXR image")?;
-    ensure!(
-        (MIN_WIDTH..=MAX_WIDTH).contains(&width),
-        "is {width}x{height}; an environment map must be {MIN_WIDTH} to {MAX_WIDTH} texels wide"
-    );
-    ensure!(
-        width == 2 * height,
-        "is {width}x{height}; an equirectangular map is twice as wide as tall"
-    );
-    let image = reader()?.decode().context("cannot decode")?.into_rgb32f();
+    let (width, height) = check_environment_map(path).map_err(anyhow::Error::msg)?;
+    let reader = ImageReader::open(path).context("cannot open")?.with_guessed_format().context("cannot read")?;
+    let image = reader.decode().context("cannot decode")?.into_rgb32f();
     let mut texels = Vec::with_capacity(image.pixels().len());
     for (x, y, p) in image.enumerate_pixels() {
         let [r, g, b] = p.0;
