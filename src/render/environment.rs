@@ -264,7 +264,7 @@ impl EnvironmentPass {
             }
             let size = cubes.radiance.image.extent.width;
             let sunless = match &sunny {
-                Some((_, map)) => Some(self.precompute.equirect(map, size, &mut self.costs)?),
+                Some((_, map)) => Some(self.precompute.sunless(map, size, &mut self.costs)?),
                 None => None,
             };
             cubes.prefiltered = Some(self.precompute.prefilter(

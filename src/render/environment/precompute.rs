@@ -335,12 +335,13 @@ impl Precompute {
     }
 
     /// Level 0 of a cube map of `size`² faces from `kind` (studio or equirect), then its
-    /// mip chain down to 1², left readable by shaders.
+    /// mip chain down to 1², left readable by shaders; `steps` names the two in `costs`.
     fn source(
         &mut self,
         kind: KernelKind,
         size: u32,
         map: Option<&Equirect>,
+        steps: [&'static str; 2],
         costs: &mut Vec<Cost>,
     ) -> Result<SourceCube> {
         let levels = crate::vk::mip_count(vk::Extent2D {
@@ -360,12 +361,7 @@ impl Precompute {
             })
             .transpose()?;
         let source_pool = self.pool(kind, 1)?;
-        let step = if kind == KernelKind::Studio {
-            "studio"
-        } else {
-            "equirect to cube"
-        };
-        self.timed(step, costs, |cmd| {
+        self.timed(steps[0], costs, |cmd| {
             transition_levels(
                 &self.device,
                 cmd,
@@ -383,7 +379,7 @@ impl Precompute {
             self.dispatch(cmd, kind, &source_pool, &resources, &push, cube_texels(size))
         })?;
         let mip_pool = self.pool(KernelKind::Downsample, levels.max(2) - 1)?;
-        self.timed("mips", costs, |cmd| {
+        self.timed(steps[1], costs, |cmd| {
             for level in 1..levels {
                 self.storage_barrier(cmd, &image);
                 let resources = [
@@ -427,12 +423,18 @@ impl Precompute {
 
     /// The studio's cube map.
     pub fn studio(&mut self, size: u32, costs: &mut Vec<Cost>) -> Result<SourceCube> {
-        self.source(KernelKind::Studio, size, None, costs)
+        self.source(KernelKind::Studio, size, None, ["studio", "mips"], costs)
     }
 
     /// An equirectangular map's cube map.
     pub fn equirect(&mut self, map: &Equirect, size: u32, costs: &mut Vec<Cost>) -> Result<SourceCube> {
-        self.source(KernelKind::Equirect, size, Some(map), costs)
+        self.source(KernelKind::Equirect, size, Some(map), ["equirect to cube", "mips"], costs)
+    }
+
+    /// The cube map of a map whose sun was taken out (`sun::extract`), which the
+    /// prefiltered cube is made from; its steps are named apart from the map's own cube's.
+    pub fn sunless(&mut self, map: &Equirect, size: u32, costs: &mut Vec<Cost>) -> Result<SourceCube> {
+        self.source(KernelKind::Equirect, size, Some(map), ["sunless equirect to cube", "sunless mips"], costs)
     }
 
     /// A cube map that compute shaders write level by level, with one view per level.
