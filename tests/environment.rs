@@ -523,6 +523,33 @@ fn broken_environment_maps_are_clear_errors() {
     assert!(centre(&render(&good, 16, 16))[0] > 1.9);
 }
 
+/// A map rewritten in place is read again when the renderer is told the scene was loaded
+/// again (as the viewer does when it reloads its scene), and only then: frames drawn in the
+/// meantime keep the cubes of the file as it was.
+#[test]
+fn a_map_rewritten_in_place_is_read_again() {
+    let dir = test_dir("rewritten-map");
+    let path = dir.join("sky.hdr");
+    write_test_map(&path);
+    let load = || Scene::from_toml(&map_scene("sky.hdr", ""), "map scene", &dir).expect("scene");
+    let (before, kept, after) = gpu().exclusive(|renderer| {
+        let before = try_render(renderer, &load(), 16, 16).expect("render");
+        image::Rgb32FImage::from_pixel(64, 32, image::Rgb([0.5, 0.25, 0.125]))
+            .save(&path)
+            .expect("rewrite the map");
+        let kept = try_render(renderer, &load(), 16, 16).expect("render");
+        renderer.reread_environment_map();
+        let after = try_render(renderer, &load(), 16, 16).expect("render");
+        (centre(&before), centre(&kept), centre(&after))
+    });
+    eprintln!("centre before {before:?}, kept {kept:?}, after {after:?}");
+    assert!((before[0] - 2.0).abs() < 1e-3, "{before:?}");
+    assert_eq!(kept, before);
+    for (c, expected) in [0.5, 0.25, 0.125].into_iter().enumerate() {
+        assert!((after[c] - expected).abs() < 1e-3, "{after:?}");
+    }
+}
+
 #[test]
 fn environment_keys_parse_validate_and_round_trip() {
     let parse = |env: &str| Scene::from_toml(&sphere_scene(env, ""), "env.toml", Path::new("."));

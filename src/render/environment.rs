@@ -139,6 +139,8 @@ pub struct EnvironmentPass {
     placeholder_cdfs: Buffer,
     precompute: Precompute,
     cubes: Option<Cubes>,
+    /// A map's cubes are built again from its file at the next `prepare` (`reread_map`).
+    reread_map: bool,
     brdf_lut: Option<Image>,
     /// The environment `data` and `set` describe.
     current: Option<Environment>,
@@ -181,6 +183,7 @@ impl EnvironmentPass {
             placeholder_cdfs,
             precompute,
             cubes: None,
+            reread_map: false,
             brdf_lut: None,
             current: None,
             skybox: None,
@@ -196,6 +199,14 @@ impl EnvironmentPass {
     /// The set to bind as set 2; valid after `prepare`.
     pub fn set(&self) -> vk::DescriptorSet {
         self.set
+    }
+
+    /// Reads a map again at the next `prepare`, rather than keeping the cubes built from
+    /// the file at the same path: a scene loaded again reads every file it names, one
+    /// rewritten in place too. Only then, so that a map half written by another program is
+    /// not read while frames are drawn.
+    pub fn reread_map(&mut self) {
+        self.reread_map = true;
     }
 
     /// The cost of each precomputation step run for the current environment (empty when
@@ -229,7 +240,8 @@ impl EnvironmentPass {
                 .any(|m| m.energy_compensation && m.specular != SpecularModel::None);
         }
         let built_source = self.cubes.as_ref().map(|c| &c.source);
-        let rebuild_source = source.is_some() && built_source != source.as_ref();
+        let stale_map = self.reread_map && matches!(source, Some(Source::Map(_)));
+        let rebuild_source = source.is_some() && (stale_map || built_source != source.as_ref());
         let add_prefiltered =
             needs_prefiltered && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.prefiltered.is_none()));
         let add_luminance =
@@ -251,6 +263,7 @@ impl EnvironmentPass {
             if let Some(source) = source {
                 self.cubes = Some(self.build_cubes(source)?);
             }
+            self.reread_map = false;
         }
         if let Some(cubes) = self.cubes.as_mut().filter(|_| add_prefiltered) {
             let start = Instant::now();

@@ -197,6 +197,12 @@ impl Renderer {
         self.forward.pipeline_time
     }
 
+    /// Reads the environment map again at the next frame (see `EnvironmentPass::reread_map`):
+    /// for a scene loaded again from its files.
+    pub fn reread_environment_map(&mut self) {
+        self.environment.reread_map();
+    }
+
     /// Uploads the scene's meshes.
     pub fn upload(&self, scene: &Scene) -> Result<GpuScene> {
         let id = self.uploads.replace(self.uploads.get() + 1);

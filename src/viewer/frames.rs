@@ -240,6 +240,7 @@ impl FrameLoop {
     /// Replaces the scene's meshes on the GPU (after a reload).
     pub fn set_scene(&mut self, scene: &Scene) -> Result<()> {
         self.device.wait_idle()?;
+        self.renderer.reread_environment_map();
         self.gpu = self.renderer.upload(scene)?;
         Ok(())
     }
