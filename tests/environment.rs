@@ -506,7 +506,14 @@ fn broken_environment_maps_are_clear_errors() {
                 assert!(error.starts_with(&key), "{name}: the error does not name the scene's key: {error}");
                 error
             }
-            (Ok(scene), false) => render_error(&scene),
+            (Ok(mut scene), false) => {
+                let file = dir.join("bad map scene.toml");
+                scene.source = Some(file.clone());
+                let error = render_error(&scene);
+                let key = format!("{}: environment.path: environment map ", file.display());
+                assert!(error.starts_with(&key), "{name}: the error does not name the scene file: {error}");
+                error
+            }
             (Err(e), false) => panic!("{name}: the scene was refused as it loaded: {e}"),
             (Ok(_), true) => panic!("{name}: the scene loaded"),
         };

@@ -257,7 +257,14 @@ fn viewer_rejects_scenes_it_cannot_render() {
         "{:#}",
         argil::viewer::load_scene(&path).expect_err("the map does not decode")
     );
-    assert!(error.contains("sky.hdr"), "{error}");
+    assert!(error.contains("map.toml: environment.path = \"sky.hdr\""), "{error}");
+    // Headers that read, then data that does not: found by decoding, after the scene file.
+    std::fs::write(dir.join("sky.hdr"), b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 32 +X 64\n\x02\x02").expect("write");
+    let error = format!(
+        "{:#}",
+        argil::viewer::load_scene(&path).expect_err("the map does not decode")
+    );
+    assert!(error.contains("map.toml: environment.path: environment map ") && error.contains("sky.hdr"), "{error}");
     std::fs::write(&path, "[[objects]]\nmesh = \"builtin:cube\"\nscale = -1\n").expect("write");
     let error = format!("{:#}", argil::viewer::load_scene(&path).expect_err("bad scale"));
     assert!(error.contains("map.toml") && error.contains("scale"), "{error}");
