@@ -1,6 +1,6 @@
 //! How large an input argil accepts, checked before the input is parsed or decoded, so
 //! that an absurd file is refused with a message instead of exhausting memory. Images are
-//! limited from their headers in `texture.rs` and, environment maps, by
+//! limited from their headers: textures in `texture.rs`, environment maps by
 //! [`check_environment_map`], and OpenEXR files by [`check_exr_headers`] too.
 
 use std::path::Path;

@@ -237,7 +237,8 @@ impl FrameLoop {
         frame
     }
 
-    /// Replaces the scene's meshes on the GPU (after a reload).
+    /// Replaces the scene's meshes and textures on the GPU and has its environment map read
+    /// again (after a reload, or an edit of what the scene loads: both checked the map).
     pub fn set_scene(&mut self, scene: &Scene) -> Result<()> {
         self.device.wait_idle()?;
         self.renderer.reread_environment_map();
