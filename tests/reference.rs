@@ -381,12 +381,21 @@ fn the_command_refuses_bad_input_before_rendering() {
     let dir = test_dir("bad");
     let broken = dir.join("broken.toml");
     std::fs::write(&broken, "[camera\n").expect("write");
+    // A map whose headers read but whose data does not: found as the reference decodes it.
+    std::fs::write(dir.join("sky.hdr"), b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 32 +X 64\n\x02\x02").expect("write");
+    let truncated = dir.join("map.toml");
+    let map_scene = format!("{LAMBERT_SPHERE}\n[environment]\nkind = \"map\"\npath = \"sky.hdr\"\n");
+    std::fs::write(&truncated, map_scene).expect("write");
     let out = dir.join("out.exr");
     let out_str = out.to_str().expect("utf-8");
     for (args, mention) in [
         (
             vec!["reference", broken.to_str().expect("utf-8"), "--out", out_str],
             "broken.toml",
+        ),
+        (
+            vec!["reference", truncated.to_str().expect("utf-8"), "--out", out_str, "--spp", "1"],
+            "map.toml: environment.path: environment map ",
         ),
         (
             vec!["reference", "--out", dir.join("out.jpg").to_str().expect("utf-8")],
@@ -405,7 +414,7 @@ fn the_command_refuses_bad_input_before_rendering() {
         assert!(stderr.contains(mention), "{args:?}: {stderr}");
         assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
     }
-    assert_eq!(std::fs::read_dir(&dir).expect("dir").count(), 1, "nothing was written");
+    assert_eq!(std::fs::read_dir(&dir).expect("dir").count(), 3, "nothing was written");
     std::fs::remove_dir_all(dir).expect("clean up");
 }
 

@@ -29,6 +29,7 @@ use anyhow::{bail, Context, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::render::environment::equirect;
 use crate::rng::Rng;
 use crate::scene::Scene;
 use environment::EnvironmentLight;
@@ -218,8 +219,9 @@ pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Re
     }
     let start = Instant::now();
     let world = World::new(scene);
-    let environment =
-        EnvironmentLight::new(&scene.environment).context("cannot prepare the environment for the reference")?;
+    let environment = EnvironmentLight::new(&scene.environment)
+        .map_err(|e| equirect::in_scene_file(e, scene))
+        .context("cannot prepare the environment for the reference")?;
     let integrator = Integrator::new(scene, &world, environment.as_ref(), settings);
     let camera = CameraRays::new(&scene.camera, settings.width, settings.height);
     let (width, height) = (settings.width as usize, settings.height as usize);

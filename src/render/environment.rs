@@ -36,7 +36,6 @@ use crate::brdf::environment::{irradiance_over_pi_cube, map_rotation, rotate_y, 
 use crate::brdf::luminance_distribution::{LuminanceDistribution, STUDIO_GRID};
 use crate::brdf::Vec3;
 use crate::cache::{self, DiskCache};
-use crate::error::InputError;
 use crate::scene::{Camera, DiffuseModel, Environment, Material, ReflectionMode, Scene, SpecularModel};
 use crate::vk::{
     begin_full_rendering, transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
@@ -262,7 +261,7 @@ impl EnvironmentPass {
         if rebuild_source {
             self.cubes = None;
             if let Some(source) = source {
-                self.cubes = Some(self.build_cubes(source).map_err(|e| in_scene_file(e, scene))?);
+                self.cubes = Some(self.build_cubes(source).map_err(|e| equirect::in_scene_file(e, scene))?);
             }
             self.reread_map = false;
         }
@@ -502,18 +501,6 @@ impl EnvironmentPass {
             .as_ref()
             .map(|i| self.precompute.read_level(i, 0))
             .transpose()
-    }
-}
-
-/// A map that cannot be used, after the scene file that names it, as the scene's own errors
-/// begin (the scene refused what the map's headers show as it loaded; what only decoding
-/// shows is found here).
-pub fn in_scene_file(error: anyhow::Error, scene: &Scene) -> anyhow::Error {
-    match (error.downcast_ref::<InputError>(), &scene.source) {
-        (Some(InputError(problem)), Some(file)) => {
-            InputError(format!("{}: environment.path: {problem}", file.display())).into()
-        }
-        _ => error,
     }
 }
 

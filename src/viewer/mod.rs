@@ -39,7 +39,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::render::environment::{equirect, in_scene_file};
+use crate::render::environment::equirect;
 use crate::render::gpu_scene::FrameData;
 use crate::render::DebugView;
 use crate::scene::{Camera, Environment, Scene};
@@ -125,7 +125,7 @@ pub fn load_document(path: &Path) -> Result<(Scene, Document)> {
 fn check_viewable(scene: &Scene) -> Result<()> {
     FrameData::new(scene, 1.0)?;
     if let Environment::Map { path, .. } = &scene.environment {
-        equirect::load(path).map_err(|e| in_scene_file(e, scene))?;
+        equirect::load(path).map_err(|e| equirect::in_scene_file(e, scene))?;
     }
     Ok(())
 }

@@ -8,6 +8,7 @@ use image::ImageReader;
 
 use crate::error::InputError;
 use crate::scene::limits::check_environment_map;
+use crate::scene::Scene;
 
 /// Maps are box-filtered down to this width before upload: a 512² cube face, the largest
 /// argil builds, holds a quarter of it around the equator.
@@ -24,6 +25,18 @@ pub struct Equirect {
 /// finite non-negative radiance. Errors name the file.
 pub fn load(path: &Path) -> Result<Equirect> {
     read(path).map_err(|e| InputError(format!("environment map {}: {e:#}", path.display())).into())
+}
+
+/// A map that cannot be used, after the scene file that names it, as the scene's own errors
+/// begin (the scene refused what the map's headers show as it loaded; what only decoding
+/// shows is found here).
+pub fn in_scene_file(error: anyhow::Error, scene: &Scene) -> anyhow::Error {
+    match (error.downcast_ref::<InputError>(), &scene.source) {
+        (Some(InputError(problem)), Some(file)) => {
+            InputError(format!("{}: environment.path: {problem}", file.display())).into()
+        }
+        _ => error,
+    }
 }
 
 fn read(path: &Path) -> Result<Equirect> {
