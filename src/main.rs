@@ -571,9 +571,12 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             check_exposure(exposure)?;
             let (loaded, document) = match scene.as_deref() {
                 Some(path) => argil::viewer::load_document(path)?,
-                None => (Scene::default_scene(), argil::viewer::save::Document::default_scene()),
+                None => (
+                    argil::viewer::Viewable::default_scene(),
+                    argil::viewer::save::Document::default_scene(),
+                ),
             };
-            loaded.print_warnings();
+            loaded.scene.print_warnings();
             let options = argil::viewer::ViewOptions {
                 device: choice,
                 validation,

@@ -451,17 +451,7 @@ fn view_screenshot_matches_the_headless_render_beside_the_ui() {
         "view {view_w}x{view_h} at x {left}"
     );
     let headless = dir.join("headless.png");
-    let (view_width, view_height) = (view_w.to_string(), view_h.to_string());
-    assert_clean_success(&argil(&[
-        "render",
-        path_str(&scene),
-        "--out",
-        path_str(&headless),
-        "--width",
-        &view_width,
-        "--height",
-        &view_height,
-    ]));
+    assert_clean_success(&render_at(&scene, &headless, (view_w, view_h), &[]));
 
     let window = image::open(&shot).expect("read screenshot").to_rgb8();
     assert_eq!(window.dimensions(), (w, h));
@@ -538,19 +528,9 @@ fn view_splits_the_view_between_two_configurations() {
     ]);
     assert_clean_success(&o);
     let (view_w, view_h, left) = view_area(&stderr(&o));
-    let (width, height) = (view_w.to_string(), view_h.to_string());
     let headless = |scene: &Path, name: &str| {
         let out = dir.join(name);
-        assert_clean_success(&argil(&[
-            "render",
-            path_str(scene),
-            "--out",
-            path_str(&out),
-            "--width",
-            &width,
-            "--height",
-            &height,
-        ]));
+        assert_clean_success(&render_at(scene, &out, (view_w, view_h), &[]));
         image::open(&out).expect("read render").to_rgb8()
     };
     let (as_is, composition) = (headless(&scene, "scene.png"), headless(&report, "report.png"));
@@ -734,89 +714,138 @@ diffuse_roughness = 0.5
 roughness = 0.7
 "#;
 
-#[test]
-fn view_reloads_the_scene_when_its_file_changes() {
-    use std::io::{BufRead, BufReader};
-    use std::process::Stdio;
-    let dir = test_dir("reload");
-    let scene = dir.join("scene.toml");
-    std::fs::write(&scene, RELOADED_SCENE).expect("write scene");
-    let shot = dir.join("window.png");
-    let runtime = test_dir("xvfb-runtime");
-    let mut child = Command::new("xvfb-run")
-        .args([
-            "-a",
-            "-s",
-            "-screen 0 1280x800x24",
-            env!("CARGO_BIN_EXE_argil"),
-            "view",
-            "--frames",
-            "80",
-        ])
-        .args([
-            "--width",
-            "480",
-            "--height",
-            "270",
-            "--screenshot",
-            path_str(&shot),
-            path_str(&scene),
-        ])
-        .env("ARGIL_VALIDATION", "1")
-        .env("XDG_RUNTIME_DIR", &runtime)
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run xvfb-run");
-    let mut lines = BufReader::new(child.stderr.take().expect("stderr"))
-        .lines()
-        .map_while(Result::ok);
-    let mut log = String::new();
-    let mut wait_for = |what: &str| {
-        for line in lines.by_ref() {
-            log.push_str(&line);
-            log.push('\n');
+/// `argil render` of `scene` into `out` at `size`, with `more` arguments.
+fn render_at(scene: &Path, out: &Path, size: (u32, u32), more: &[&str]) -> Output {
+    let (width, height) = (size.0.to_string(), size.1.to_string());
+    let mut args = vec!["render", path_str(scene), "--out", path_str(out)];
+    args.extend(["--width", &width, "--height", &height]);
+    args.extend(more);
+    argil(&args)
+}
+
+/// A viewer under Xvfb on a scene file, drawing `frames` frames in a 480×270 window and then
+/// writing its screenshot, its stderr read line by line as it runs.
+struct WatchedView {
+    child: std::process::Child,
+    lines: Box<dyn Iterator<Item = String>>,
+    log: String,
+    shot: std::path::PathBuf,
+    _runtime: argil::scratch::Scratch,
+}
+
+impl WatchedView {
+    fn start(scene: &Path, frames: u32) -> Self {
+        use std::io::{BufRead, BufReader};
+        use std::process::Stdio;
+        let shot = scene.with_file_name("window.png");
+        let runtime = test_dir("xvfb-runtime");
+        let frames = frames.to_string();
+        let mut child = Command::new("xvfb-run")
+            .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
+            .args(["--frames", &frames, "--width", "480", "--height", "270"])
+            .args(["--screenshot", path_str(&shot), path_str(scene)])
+            .env("ARGIL_VALIDATION", "1")
+            .env("XDG_RUNTIME_DIR", &runtime)
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run xvfb-run");
+        let lines = BufReader::new(child.stderr.take().expect("stderr")).lines().map_while(Result::ok);
+        Self {
+            child,
+            lines: Box::new(lines),
+            log: String::new(),
+            shot,
+            _runtime: runtime,
+        }
+    }
+
+    /// Reads the viewer's stderr up to a line containing `what`.
+    fn wait_for(&mut self, what: &str) {
+        for line in self.lines.by_ref() {
+            self.log.push_str(&line);
+            self.log.push('\n');
             if line.contains(what) {
                 return;
             }
         }
-        panic!("argil never printed {what:?}: {log}");
-    };
-    wait_for("rendering on");
+        panic!("argil never printed {what:?}: {}", self.log);
+    }
+
+    /// Waits for the viewer to close cleanly, with no validation message, and checks that
+    /// its last frame's view is exactly `argil render` of the scene file `expected`.
+    fn assert_shows(mut self, expected: &Path) {
+        self.wait_for("argil: wrote");
+        // Leaks are reported after the last line of the run, when the device is destroyed.
+        self.log.extend(self.lines.map(|l| l + "\n"));
+        let status = self.child.wait().expect("wait for argil");
+        assert!(status.success() && !self.log.contains("vulkan validation"), "{}", self.log);
+        let (w, h, left) = view_area(&self.log);
+        let headless = expected.with_file_name("headless.png");
+        assert_clean_success(&render_at(expected, &headless, (w, h), &[]));
+        let window = image::open(&self.shot).expect("read screenshot").to_rgb8();
+        let reference = image::open(&headless).expect("read render").to_rgb8();
+        let differing = (0..w)
+            .flat_map(|x| (0..h).map(move |y| (x, y)))
+            .filter(|&(x, y)| window.get_pixel(left + x, y) != reference.get_pixel(x, y))
+            .count();
+        assert_eq!(differing, 0, "the window does not show {}", expected.display());
+    }
+}
+
+#[test]
+fn view_reloads_the_scene_when_its_file_changes() {
+    let dir = test_dir("reload");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, RELOADED_SCENE).expect("write scene");
+    let mut view = WatchedView::start(&scene, 80);
+    view.wait_for("rendering on");
     let good = RELOADED_SCENE.replace("base_color = [0.6, 0.22, 0.1]", "base_color = [0.1, 0.5, 0.2]");
     std::fs::write(&scene, good.replace("roughness = 0.7", "roughness = 7.0")).expect("write a broken scene");
-    wait_for("materials.terracotta.roughness = 7.0");
+    view.wait_for("materials.terracotta.roughness = 7.0");
     // The file's camera moves too: the edit is applied.
     let good = good.replace("position = [0.0, 1.6, 7.5]", "position = [3.0, 3.0, 3.0]");
     std::fs::write(&scene, &good).expect("write");
-    wait_for("argil: reloaded");
-    wait_for("argil: wrote");
-    // Leaks are reported after the last line of the run, when the device is destroyed.
-    log.extend(lines.map(|l| l + "\n"));
-    let status = child.wait().expect("wait for argil");
-    assert!(status.success() && !log.contains("vulkan validation"), "{log}");
-    let (w, h, left) = view_area(&log);
-
+    view.wait_for("argil: reloaded");
     let expected = dir.join("expected.toml");
     std::fs::write(&expected, &good).expect("write");
-    let headless = dir.join("headless.png");
-    let (width, height) = (w.to_string(), h.to_string());
-    assert_clean_success(&argil(&[
-        "render",
-        path_str(&expected),
-        "--out",
-        path_str(&headless),
-        "--width",
-        &width,
-        "--height",
-        &height,
-    ]));
-    let window = image::open(&shot).expect("read screenshot").to_rgb8();
-    let reference = image::open(&headless).expect("read render").to_rgb8();
-    let differing = (0..w)
-        .flat_map(|x| (0..h).map(move |y| (x, y)))
-        .filter(|&(x, y)| window.get_pixel(left + x, y) != reference.get_pixel(x, y))
-        .count();
-    assert_eq!(differing, 0, "the window does not show the reloaded scene");
+    view.assert_shows(&expected);
+}
+
+/// A file the scene reads (a texture, the environment map) is read again when it changes
+/// on disk: one that no longer loads is reported and the last good scene stays on screen;
+/// the next good version is shown.
+#[test]
+fn view_reads_a_file_of_the_scene_again_when_it_changes() {
+    let dir = test_dir("inputs");
+    let texture = dir.join("colour.png");
+    let colour = |rgb| {
+        image::RgbImage::from_pixel(2, 2, image::Rgb(rgb))
+            .save(&texture)
+            .expect("write texture")
+    };
+    let map = dir.join("sky.hdr");
+    let sky = |rgb| {
+        image::Rgb32FImage::from_pixel(16, 8, image::Rgb(rgb))
+            .save(&map)
+            .expect("write map")
+    };
+    colour([200, 60, 30]);
+    sky([1.0, 1.0, 1.0]);
+    let text = format!(
+        "{RELOADED_SCENE}\n[materials.terracotta.base_color_map]\ntexture = \"colour.png\"\n\n\
+         [environment]\nkind = \"map\"\npath = \"sky.hdr\"\n"
+    );
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, &text).expect("write scene");
+    let mut view = WatchedView::start(&scene, 150);
+    view.wait_for("rendering on");
+    std::fs::write(&texture, "not an image").expect("write a broken texture");
+    view.wait_for("colour.png");
+    colour([30, 60, 200]);
+    view.wait_for("colour.png again");
+    sky([0.2, 0.4, 1.0]);
+    view.wait_for("sky.hdr again");
+    view.assert_shows(&scene);
 }
 
 /// Frames and lookups per pixel of the last view's running mean, from the viewer's closing
@@ -859,30 +888,10 @@ fn view_shows_the_accumulated_mean_of_a_still_sampled_view() {
     assert_eq!(lookups, 128);
     assert!((2..=8).contains(&frames), "{frames} frames in the mean: {err}");
     let headless = dir.join("headless.png");
-    let (width, height, accumulate) = (view_w.to_string(), view_h.to_string(), frames.to_string());
-    assert_clean_success(&argil(&[
-        "render",
-        path_str(&scene),
-        "--out",
-        path_str(&headless),
-        "--width",
-        &width,
-        "--height",
-        &height,
-        "--accumulate",
-        &accumulate,
-    ]));
+    let accumulate = frames.to_string();
+    assert_clean_success(&render_at(&scene, &headless, (view_w, view_h), &["--accumulate", &accumulate]));
     let single = dir.join("single.png");
-    assert_clean_success(&argil(&[
-        "render",
-        path_str(&scene),
-        "--out",
-        path_str(&single),
-        "--width",
-        &width,
-        "--height",
-        &height,
-    ]));
+    assert_clean_success(&render_at(&scene, &single, (view_w, view_h), &[]));
     let window = image::open(&shot).expect("read screenshot").to_rgb8();
     let (to_mean, to_single) = (view_rmse(&window, left, &headless), view_rmse(&window, left, &single));
     eprintln!(

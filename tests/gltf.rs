@@ -977,7 +977,7 @@ fn a_model_opens_alone_framed_in_the_studio() {
         assert!(out.exists());
     }
     let (viewed, _) = argil::viewer::load_document(&model).expect("the viewer opens it");
-    assert_eq!(viewed, small);
+    assert_eq!(viewed.scene, small);
 }
 
 /// The model's first camera, when it has one, is the view: its node's position and -z

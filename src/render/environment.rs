@@ -139,8 +139,8 @@ pub struct EnvironmentPass {
     placeholder_cdfs: Buffer,
     precompute: Precompute,
     cubes: Option<Cubes>,
-    /// A map's cubes are built again from its file at the next `prepare` (`reread_map`).
-    reread_map: bool,
+    /// A map decoded by the caller, with its path, for the next `prepare` (`use_map`).
+    given_map: Option<(PathBuf, equirect::Equirect)>,
     brdf_lut: Option<Image>,
     /// The environment `data` and `set` describe.
     current: Option<Environment>,
@@ -183,7 +183,7 @@ impl EnvironmentPass {
             placeholder_cdfs,
             precompute,
             cubes: None,
-            reread_map: false,
+            given_map: None,
             brdf_lut: None,
             current: None,
             skybox: None,
@@ -201,12 +201,13 @@ impl EnvironmentPass {
         self.set
     }
 
-    /// Reads a map again at the next `prepare`, rather than keeping the cubes built from
-    /// the file at the same path: a scene loaded again reads every file it names, one
-    /// rewritten in place too. Only then, so that a map half written by another program is
-    /// not read while frames are drawn.
-    pub fn reread_map(&mut self) {
-        self.reread_map = true;
+    /// Builds the cubes of the map at `path` from `map`, as the caller decoded it (to check
+    /// it), at the next `prepare` if the scene still names `path`, rather than keeping the
+    /// cubes built from the file at the same path: a scene loaded again reads every file it
+    /// names, one rewritten in place too. Only then, so that a map half written by another
+    /// program is not read while frames are drawn.
+    pub fn use_map(&mut self, path: PathBuf, map: equirect::Equirect) {
+        self.given_map = Some((path, map));
     }
 
     /// The cost of each precomputation step run for the current environment (empty when
@@ -240,8 +241,10 @@ impl EnvironmentPass {
                 .any(|m| m.energy_compensation && m.specular != SpecularModel::None);
         }
         let built_source = self.cubes.as_ref().map(|c| &c.source);
-        let stale_map = self.reread_map && matches!(source, Some(Source::Map(_)));
-        let rebuild_source = source.is_some() && (stale_map || built_source != source.as_ref());
+        let given_map = self.given_map.take()
+            .filter(|(path, _)| matches!(&source, Some(Source::Map(named)) if named == path))
+            .map(|(_, map)| map);
+        let rebuild_source = source.is_some() && (given_map.is_some() || built_source != source.as_ref());
         let add_prefiltered =
             needs_prefiltered && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.prefiltered.is_none()));
         let add_luminance =
@@ -261,9 +264,9 @@ impl EnvironmentPass {
         if rebuild_source {
             self.cubes = None;
             if let Some(source) = source {
-                self.cubes = Some(self.build_cubes(source).map_err(|e| equirect::in_scene_file(e, scene))?);
+                let cubes = self.build_cubes(source, given_map);
+                self.cubes = Some(cubes.map_err(|e| equirect::in_scene_file(e, scene))?);
             }
-            self.reread_map = false;
         }
         if let Some(cubes) = self.cubes.as_mut().filter(|_| add_prefiltered) {
             let start = Instant::now();
@@ -312,13 +315,17 @@ impl EnvironmentPass {
         self.skybox.insert(skybox).prepare(samples)
     }
 
-    /// The source's cubes, with the map they were made from if it is one.
-    fn build_cubes(&mut self, source: Source) -> Result<Cubes> {
+    /// The source's cubes, with the map they were made from if it is one (`given_map`, when
+    /// the caller decoded it).
+    fn build_cubes(&mut self, source: Source, given_map: Option<equirect::Equirect>) -> Result<Cubes> {
         let mut loaded_map = None;
         let radiance = match &source {
             Source::Studio => self.precompute.studio(STUDIO_SIZE, &mut self.costs)?,
             Source::Map(path) => {
-                let map = load_map(path, &mut self.costs)?;
+                let map = match given_map {
+                    Some(map) => map,
+                    None => load_map(path, &mut self.costs)?,
+                };
                 let size = (map.width / 4).clamp(MIN_MAP_SIZE, MAX_MAP_SIZE);
                 // The largest power of two within the bounds, so every mip halves exactly.
                 let size = 1 << (31 - size.leading_zeros());

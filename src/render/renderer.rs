@@ -2,6 +2,7 @@
 //! target, then through the display transform into an 8-bit image.
 
 use std::cell::Cell;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::Result;
@@ -9,6 +10,7 @@ use ash::vk;
 
 use super::accumulate::{AccumulatePass, Accumulated, Accumulation, View};
 use super::debug_view::DebugView;
+use super::environment::equirect::Equirect;
 use super::environment::EnvironmentPass;
 use super::exposure::ExposurePass;
 use super::forward::ForwardPass;
@@ -197,10 +199,10 @@ impl Renderer {
         self.forward.pipeline_time
     }
 
-    /// Reads the environment map again at the next frame (see `EnvironmentPass::reread_map`):
-    /// for a scene loaded again from its files.
-    pub fn reread_environment_map(&mut self) {
-        self.environment.reread_map();
+    /// Builds the environment from `map`, decoded from the file at `path`, at the next frame
+    /// (see `EnvironmentPass::use_map`): for a scene loaded again from its files.
+    pub fn use_environment_map(&mut self, path: PathBuf, map: Equirect) {
+        self.environment.use_map(path, map);
     }
 
     /// Uploads the scene's meshes.

@@ -139,6 +139,12 @@ impl Scene {
             .max_by(|a, b| a.scale.total_cmp(&b.scale))
     }
 
+    /// The folder its relative paths are resolved against: its file's, else the working
+    /// directory.
+    pub fn folder(&self) -> &Path {
+        self.source.as_deref().and_then(Path::parent).unwrap_or(Path::new(""))
+    }
+
     /// Prints [`Scene::warnings`] to stderr, one line each.
     pub fn print_warnings(&self) {
         for warning in &self.warnings {

@@ -13,8 +13,9 @@ use egui::{ClippedPrimitive, TexturesDelta};
 use super::overlay::Overlay;
 use crate::atomic::write_atomically;
 use crate::render::accumulate::{Accumulation, CONVERGED_LOOKUPS};
+use crate::render::environment::equirect::Equirect;
 use crate::render::{DebugView, DisplayOutput, GpuScene, OffscreenFrame, RenderTarget, Renderer, PASS_NAMES};
-use crate::scene::Scene;
+use crate::scene::{Environment, Scene};
 use crate::vk::{
     transition, Acquired, CommandPool, Device, Fence, ImageRegion, ImageUse, Readback, Semaphore, Swapchain, Timestamps,
 };
@@ -237,13 +238,21 @@ impl FrameLoop {
         frame
     }
 
-    /// Replaces the scene's meshes and textures on the GPU and has its environment map read
-    /// again (after a reload, or an edit of what the scene loads: both checked the map).
-    pub fn set_scene(&mut self, scene: &Scene) -> Result<()> {
+    /// Replaces the scene's meshes and textures on the GPU and its environment map with `map`,
+    /// as the viewer decoded it to check it (after a reload, or an edit of what the scene loads).
+    pub fn set_scene(&mut self, scene: &Scene, map: Option<Equirect>) -> Result<()> {
         self.device.wait_idle()?;
-        self.renderer.reread_environment_map();
+        self.use_environment_map(scene, map);
         self.gpu = self.renderer.upload(scene)?;
         Ok(())
+    }
+
+    /// Has the renderer build `scene`'s environment from `map`, the file it names as decoded,
+    /// rather than decoding it again.
+    pub fn use_environment_map(&mut self, scene: &Scene, map: Option<Equirect>) {
+        if let (Environment::Map { path, .. }, Some(map)) = (&scene.environment, map) {
+            self.renderer.use_environment_map(path.clone(), map);
+        }
     }
 
     fn recreate(&mut self) -> Result<()> {

@@ -1,7 +1,8 @@
 //! The interactive viewer: a window whose swapchain shows the same HDR frame that
 //! `argil render` writes, through the same display transform, with a UI over it to edit
 //! materials and lights live, switch debug views and watch timings. The scene file is
-//! reloaded when it changes on disk; Save writes the edited scene back.
+//! reloaded when it changes on disk, and the scene read again, its edits kept, when a file
+//! it reads changes; Save writes the edited scene back.
 
 mod antialiasing_panel;
 mod camera_control;
@@ -39,7 +40,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::render::environment::equirect;
+use crate::render::environment::equirect::{self, Equirect};
 use crate::render::gpu_scene::FrameData;
 use crate::render::DebugView;
 use crate::scene::{Camera, Environment, Scene};
@@ -55,7 +56,7 @@ use save::{Document, Refused};
 use soak::Soak;
 use storm::StormStep;
 use timings::{FrameTimes, Timings};
-use watch::FileWatch;
+use watch::{inputs_watch, FileWatch};
 
 pub use legend::curvature_legend_color;
 pub use panels::PANEL_WIDTH;
@@ -97,37 +98,60 @@ pub struct ViewOptions {
     pub split: Option<String>,
 }
 
+/// A scene the viewer can show, with its environment map as [`check_viewable`] decoded it,
+/// which the renderer takes rather than decoding the file again.
+pub struct Viewable {
+    pub scene: Scene,
+    map: Option<Equirect>,
+}
+
+impl Viewable {
+    /// The default scene, which names no file.
+    pub fn default_scene() -> Self {
+        Self {
+            scene: Scene::default_scene(),
+            map: None,
+        }
+    }
+
+    /// Checks `scene` as [`check_viewable`] does.
+    fn check(scene: Scene) -> Result<Self> {
+        let map = check_viewable(&scene)?;
+        Ok(Self { scene, map })
+    }
+}
+
 /// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
 /// with an environment map that decodes, so that a bad edit is reported while the last good
 /// scene stays on screen.
 pub fn load_scene(path: &Path) -> Result<Scene> {
-    load_document(path).map(|(scene, _)| scene)
+    load_document(path).map(|(viewable, _)| viewable.scene)
 }
 
 /// [`load_scene`], with the text it was read from, which Save edits.
-pub fn load_document(path: &Path) -> Result<(Scene, Document)> {
+pub fn load_document(path: &Path) -> Result<(Viewable, Document)> {
     if crate::scene::is_model(path) {
         // A model opens in the default scene's studio, whose text Save As starts from.
-        let scene = Scene::load(path)?;
-        check_viewable(&scene)?;
-        return Ok((scene, Document::default_scene()));
+        return Ok((Viewable::check(Scene::load(path)?)?, Document::default_scene()));
     }
     let document = Document::read(path)?;
     let base_dir = path.parent().unwrap_or(Path::new(""));
     let mut scene = Scene::from_toml(&document.text, &path.display().to_string(), base_dir)?;
     scene.source = Some(path.to_path_buf());
-    check_viewable(&scene)?;
-    Ok((scene, document))
+    Ok((Viewable::check(scene)?, document))
 }
 
 /// What the viewer checks beyond the scene file's own validation: the renderer's limits,
-/// and an environment map that decodes.
-fn check_viewable(scene: &Scene) -> Result<()> {
+/// and an environment map that decodes (returned decoded).
+fn check_viewable(scene: &Scene) -> Result<Option<Equirect>> {
     FrameData::new(scene, 1.0)?;
-    if let Environment::Map { path, .. } = &scene.environment {
-        equirect::load(path).map_err(|e| equirect::in_scene_file(e, scene))?;
+    match &scene.environment {
+        Environment::Map { path, .. } => {
+            let map = equirect::load(path).map_err(|e| equirect::in_scene_file(e, scene))?;
+            Ok(Some(map))
+        }
+        _ => Ok(None),
     }
-    Ok(())
 }
 
 /// What the panel says the scene file is.
@@ -142,7 +166,8 @@ fn file_label(document: &Document) -> String {
 }
 
 /// Opens a window on the scene, read from `document`, and runs until it is closed.
-pub fn run(scene: Scene, document: Document, options: ViewOptions) -> Result<()> {
+pub fn run(viewable: Viewable, document: Document, options: ViewOptions) -> Result<()> {
+    let Viewable { scene, map } = viewable;
     let event_loop = EventLoop::new().context("cannot open a window: no display?")?;
     event_loop.set_control_flow(ControlFlow::Poll);
     let now = Instant::now();
@@ -162,6 +187,8 @@ pub fn run(scene: Scene, document: Document, options: ViewOptions) -> Result<()>
         soak,
         view,
         watch: document.path.clone().map(|p| FileWatch::new(p, now)),
+        inputs: inputs_watch(&scene, now),
+        map,
         history: History::new(&scene),
         file_camera: scene.camera,
         document,
@@ -245,6 +272,11 @@ struct App {
     pending: Actions,
     egui: egui::Context,
     watch: Option<FileWatch>,
+    /// The files the scene reads (meshes, textures, the environment map): when one changes,
+    /// the scene as it stands is resolved again, its edits kept.
+    inputs: Vec<FileWatch>,
+    /// The environment map as loading decoded it, until the renderer takes it.
+    map: Option<Equirect>,
     /// The text the scene was read from, which Save edits.
     document: Document,
     history: History,
@@ -301,7 +333,7 @@ impl App {
             Some(device.limits.max_image_dimension2_d as usize),
         );
         let size = window.inner_size();
-        let frames = FrameLoop::new(
+        let mut frames = FrameLoop::new(
             device,
             &self.scene,
             vk::Extent2D {
@@ -309,6 +341,7 @@ impl App {
                 height: size.height,
             },
         )?;
+        frames.use_environment_map(&self.scene, self.map.take());
         self.state = Some(Running { frames, egui, window });
         Ok(())
     }
@@ -413,17 +446,14 @@ impl App {
             return Ok(());
         };
         match load_document(&path) {
-            Ok((mut scene, document)) => {
+            Ok((Viewable { mut scene, map }, document)) => {
                 // The viewer's camera stays unless the file's camera itself was edited.
                 let camera_edited = scene.camera != self.file_camera;
                 self.file_camera = scene.camera;
                 if !camera_edited {
                     scene.camera = self.scene.camera;
                 }
-                if let Some(state) = &mut self.state {
-                    state.frames.set_scene(&scene)?;
-                }
-                self.scene = scene;
+                self.set_scene(scene, map)?;
                 self.document = document;
                 self.history = History::new(&self.scene);
                 self.view.clamp_selection(&self.scene);
@@ -440,6 +470,20 @@ impl App {
                 eprintln!("argil: {e:#}");
                 self.view.error = Some(format!("{e:#} (the last good scene stays on screen)"));
             }
+        }
+        self.needs_redraw = true;
+        Ok(())
+    }
+
+    /// Resolves the scene as it stands again, its edits kept, after `changed` (files it
+    /// reads) changed on disk; a file that no longer loads is reported and the scene stays.
+    fn read_inputs_again(&mut self, changed: &[PathBuf]) -> Result<()> {
+        let names: Vec<String> = changed.iter().map(|p| p.display().to_string()).collect();
+        let names = names.join(", ");
+        self.rebuild(&Rebuild::ReadAgain)?;
+        if self.view.error.is_none() {
+            eprintln!("argil: read {names} again");
+            self.view.notice = Some(format!("read {names} again"));
         }
         self.needs_redraw = true;
         Ok(())
@@ -475,20 +519,27 @@ impl App {
     /// Makes an edit that changes what the scene loads, and uploads the new scene; a file
     /// that does not load is reported and the scene stays.
     fn rebuild(&mut self, edit: &Rebuild) -> Result<()> {
-        let scene = match rebuild::rebuild(&self.scene, edit) {
-            Ok(scene) => scene,
+        let Viewable { scene, map } = match rebuild::rebuild(&self.scene, edit) {
+            Ok(viewable) => viewable,
             Err(e) => {
                 eprintln!("argil: {e:#}");
                 self.view.error = Some(format!("{e:#}"));
                 return Ok(());
             }
         };
-        if let Some(state) = &mut self.state {
-            state.frames.set_scene(&scene)?;
-        }
-        self.scene = scene;
+        self.set_scene(scene, map)?;
         self.view.error = None;
         self.history.rebase(&self.scene);
+        Ok(())
+    }
+
+    /// Shows `scene`, checked with its environment map `map`, and watches the files it reads.
+    fn set_scene(&mut self, scene: Scene, map: Option<Equirect>) -> Result<()> {
+        if let Some(state) = &mut self.state {
+            state.frames.set_scene(&scene, map)?;
+        }
+        self.scene = scene;
+        self.inputs = inputs_watch(&self.scene, Instant::now());
         Ok(())
     }
 
@@ -837,6 +888,16 @@ impl ApplicationHandler for App {
         let now = Instant::now();
         if self.watch.as_mut().is_some_and(|w| w.poll(now)) {
             if let Err(e) = self.reload() {
+                self.fail(event_loop, e);
+                return;
+            }
+        }
+        // Every watch is polled, so that each takes in its file's change.
+        let changed: Vec<PathBuf> = (self.inputs.iter_mut())
+            .filter_map(|w| w.poll(now).then(|| w.path.clone()))
+            .collect();
+        if !changed.is_empty() {
+            if let Err(e) = self.read_inputs_again(&changed) {
                 self.fail(event_loop, e);
                 return;
             }

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 
 use crate::scene::file::{EnvironmentDef, MapDef, MaterialDef, ObjectDef, SceneFile};
+use super::Viewable;
 use crate::scene::{MapSlot, Preset, Scene};
 
 /// A file-level edit the panel asks for.
@@ -25,6 +26,8 @@ pub enum Rebuild {
     EnvironmentMap { path: String },
     /// Add an OBJ mesh at the origin with `material`.
     Mesh { material: String, path: String },
+    /// Read every file the scene names again (one changed on disk).
+    ReadAgain,
 }
 
 /// A path typed in the panel, relative to the working directory, as the file will hold it.
@@ -35,7 +38,7 @@ fn typed(path: &str) -> Result<String> {
 }
 
 /// `scene` with `edit` made, resolved and checked as the viewer checks a file it opens.
-pub fn rebuild(scene: &Scene, edit: &Rebuild) -> Result<Scene> {
+pub fn rebuild(scene: &Scene, edit: &Rebuild) -> Result<Viewable> {
     let mut file: SceneFile = scene.to_file();
     match edit {
         Rebuild::Preset { material: name, preset } => {
@@ -81,17 +84,17 @@ pub fn rebuild(scene: &Scene, edit: &Rebuild) -> Result<Scene> {
             material: Some(material.clone()),
             subdivisions: None,
         }),
+        Rebuild::ReadAgain => {}
     }
-    let base_dir = scene.source.as_deref().and_then(Path::parent).unwrap_or(Path::new(""));
+    let base_dir = scene.folder();
     let origin = scene
         .source
         .as_deref()
         .map_or_else(|| "the default scene".to_owned(), |p| p.display().to_string());
     let mut rebuilt = Scene::from_file(&file, &origin, base_dir)?;
-    super::check_viewable(&rebuilt)?;
     rebuilt.source = scene.source.clone();
     rebuilt.camera = scene.camera;
-    Ok(rebuilt)
+    Viewable::check(rebuilt)
 }
 
 #[cfg(test)]
@@ -107,7 +110,7 @@ mod tests {
             material: "terracotta".into(),
             preset: Some(Preset::Plasticine),
         };
-        let rebuilt = rebuild(&scene, &edit).unwrap();
+        let rebuilt = rebuild(&scene, &edit).unwrap().scene;
         let m = &rebuilt.materials[ring];
         assert_eq!((m.preset, m.roughness), (Some(Preset::Plasticine), 0.6));
         assert!(
@@ -125,7 +128,7 @@ mod tests {
             map: "normal_map",
             path: bad.display().to_string(),
         };
-        let error = format!("{:#}", rebuild(&scene, &edit).unwrap_err());
+        let error = format!("{:#}", rebuild(&scene, &edit).err().expect("an error"));
         assert!(error.contains("not-an-image.png"), "{error}");
 
         let obj = dir.join("tri.obj");
@@ -134,7 +137,7 @@ mod tests {
             material: "ground".into(),
             path: obj.display().to_string(),
         };
-        let rebuilt = rebuild(&scene, &edit).unwrap();
+        let rebuilt = rebuild(&scene, &edit).unwrap().scene;
         assert_eq!(rebuilt.objects.len(), scene.objects.len() + 1);
         let error = format!(
             "{:#}",
@@ -144,9 +147,47 @@ mod tests {
                     path: bad.display().to_string()
                 }
             )
-            .unwrap_err()
+            .err().expect("an error")
         );
         assert!(error.contains("not-an-image.png"), "{error}");
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// A texture and a map rewritten on disk are read again, with the scene's edits kept;
+    /// one that no longer loads is an error naming it.
+    #[test]
+    fn reading_again_takes_in_rewritten_files_and_keeps_the_edits() {
+        let dir = crate::scene::tests::TempDir::new();
+        let texture = dir.0.join("colour.png");
+        let colour = |rgb| image::RgbImage::from_pixel(2, 2, image::Rgb(rgb)).save(&texture).unwrap();
+        colour([255, 0, 0]);
+        let map = dir.0.join("sky.hdr");
+        let sky = |radiance| {
+            image::Rgb32FImage::from_pixel(16, 8, image::Rgb([radiance; 3]))
+                .save(&map)
+                .unwrap()
+        };
+        sky(1.0);
+        let path = dir.write(
+            "scene.toml",
+            "[environment]\nkind = \"map\"\npath = \"sky.hdr\"\n\n[[objects]]\nmesh = \"builtin:sphere\"\n\
+             material = \"clay\"\n\n[materials.clay.base_color_map]\ntexture = \"colour.png\"\n",
+        );
+        let (Viewable { mut scene, map: decoded }, _) = super::super::load_document(&path).unwrap();
+        assert_eq!(decoded.unwrap().texels[0][0], 1.0);
+        let files = scene.to_file().named_files();
+        assert_eq!(files, [PathBuf::from("colour.png"), PathBuf::from("sky.hdr")]);
+        scene.materials[0].roughness = 0.33;
+
+        colour([0, 255, 0]);
+        sky(0.5);
+        let again = rebuild(&scene, &Rebuild::ReadAgain).unwrap();
+        assert_eq!(again.scene.materials[0].roughness, 0.33, "the edit is kept");
+        assert_eq!(&again.scene.textures[0].pixels[..4], &[0, 255, 0, 255]);
+        assert_eq!(again.map.unwrap().texels[0][0], 0.5);
+
+        std::fs::write(&texture, "text").unwrap();
+        let error = format!("{:#}", rebuild(&scene, &Rebuild::ReadAgain).err().expect("an error"));
+        assert!(error.contains("colour.png"), "{error}");
     }
 }

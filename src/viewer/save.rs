@@ -118,7 +118,8 @@ mod tests {
     use crate::scene::tests::TempDir as Folder;
 
     fn load(path: &Path) -> (Scene, Document) {
-        super::super::load_document(path).unwrap()
+        let (viewable, document) = super::super::load_document(path).unwrap();
+        (viewable.scene, document)
     }
 
     fn material<'a>(scene: &'a mut Scene, name: &str) -> &'a mut crate::scene::Material {

@@ -4,7 +4,6 @@
 //! and subsurface). The renderer draws the two halves in one frame (src/render/split.rs),
 //! so only what the forward pass draws may differ: the materials and the reflection mode.
 
-use std::path::Path;
 
 use anyhow::{bail, Context, Result};
 use egui::{Color32, RichText, Stroke, Ui};
@@ -40,7 +39,7 @@ pub fn parse_configuration(name: &str) -> Result<String, String> {
 /// changes more than the forward pass can draw differently in one half.
 pub fn derive(scene: &Scene, configuration: &str) -> Result<(Vec<Material>, Environment)> {
     let file = plan::configured(&scene.to_file(), configuration)?;
-    let base_dir = scene.source.as_deref().and_then(Path::parent).unwrap_or(Path::new(""));
+    let base_dir = scene.folder();
     let mut right = Scene::from_file(&file, &format!("the {configuration} configuration"), base_dir)?;
     let materials = std::mem::replace(&mut right.materials, scene.materials.clone());
     let environment = std::mem::replace(&mut right.environment, scene.environment.clone());

@@ -1,8 +1,11 @@
-//! Noticing that the scene file changed on disk: its modification time, polled about twice
-//! a second (cheaper and simpler than an OS file-watching dependency).
+//! Noticing that the scene file, or a file it reads, changed on disk: its modification
+//! time, polled about twice a second (cheaper and simpler than an OS file-watching
+//! dependency).
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime};
+
+use crate::scene::Scene;
 
 pub const POLL_INTERVAL: Duration = Duration::from_millis(500);
 
@@ -51,6 +54,13 @@ impl FileWatch {
     pub fn mark_seen(&mut self) {
         self.seen = modified(&self.path);
     }
+}
+
+/// A watch on each file `scene` reads (meshes, textures, the environment map).
+pub fn inputs_watch(scene: &Scene, now: Instant) -> Vec<FileWatch> {
+    (scene.to_file().named_files().into_iter())
+        .map(|file| FileWatch::new(scene.folder().join(file), now))
+        .collect()
 }
 
 #[cfg(test)]
