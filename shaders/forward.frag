@@ -77,7 +77,7 @@ void main() {
 
     float visibility = ambient_visibility(gl_FragCoord.xy);
     vec4 occlusion = environment_occlusion(visibility, m.base_color.rgb);
-    if (OBJECT_OCCLUSION) occlusion.rgb *= object_occlusion(in_world_position, n, object.object_index);
+    if (OBJECT_OCCLUSION) occlusion.rgb *= object_occlusion(in_world_position, n, object.own_occluders);
     // The occlusion map's baked visibility multiplies the environment's light, occluded by
     // the screen-space visibility already, as glTF 2.0 applies it; the point lights it
     // micro-shadows (lights.glsl) where the material asks.

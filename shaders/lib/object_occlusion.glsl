@@ -29,19 +29,20 @@ vec3 env_cone_radiance(vec3 d, float sin_alpha) {
 // light on that side, reflected by its albedo; what lights that side is not occluded in
 // turn). Spheres combine by multiplying their visibilities, 1 − π F ΔL / E(n): exact for
 // disjoint caps of a uniform environment taking little each, and overlapping caps (the
-// torus's neighbouring spheres) count their overlap twice. Spheres of the object p is on
-// take nothing: the object's own occlusion is GTAO's. A point inside another object's
+// torus's neighbouring spheres) count their overlap twice. Spheres of the object p is on,
+// the run `own` (first, count) of frame.occluders, take nothing: the object's own occlusion
+// is GTAO's; skipped by the loop, they cost nothing. A point inside another object's
 // sphere (the ground under the torus's spheres, which reach below its tube) sees it as
 // touching, as on its surface, so that the occlusion is continuous there.
-vec3 object_occlusion(vec3 p, vec3 n, uint self_index) {
+vec3 object_occlusion(vec3 p, vec3 n, uvec2 own) {
     vec3 factor = vec3(1.0);
     if (!OBJECT_OCCLUSION || env_kind() == ENV_NONE) return factor;
     vec3 open = PI * env_irradiance_over_pi(n);
-    for (uint j = 0u; j < frame.counts.w; ++j) {
-        Occluder o = frame.occluders[j];
+    for (uint k = 0u; k < frame.counts.w - own.y; ++k) {
+        Occluder o = frame.occluders[k < own.x ? k : k + own.y];
         vec3 to_centre = o.sphere.xyz - p;
         float d2 = dot(to_centre, to_centre);
-        if (uint(o.albedo.w) == self_index || d2 == 0.0) continue;
+        if (d2 == 0.0) continue;
         float inv_d = inversesqrt(d2);
         vec3 w = to_centre * inv_d;
         float sin_alpha = min(o.sphere.w * inv_d, 1.0);

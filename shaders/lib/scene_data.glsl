@@ -12,7 +12,7 @@
 // A sphere of an object that hides the environment's light (object_occlusion.glsl).
 struct Occluder {
     vec4 sphere;  // xyz centre, w radius
-    vec4 albedo;  // rgb the light it reflects of what it receives, w the object's index
+    vec4 albedo;  // rgb the light it reflects of what it receives
 };
 
 struct PointLight {
@@ -41,7 +41,7 @@ layout(push_constant) uniform ObjectPush {
     mat4 model;
     vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3
     uint material_index;
-    uint object_index;  // in the scene's objects
+    uvec2 own_occluders;  // the run of frame.occluders that is this object: first, count
 } object;
 
 #endif

@@ -534,13 +534,14 @@ impl ForwardPass {
     ) -> Result<()> {
         let d = &self.device.handle;
         let mut bound = vk::Pipeline::null();
+        let occluders = scene.occluders();
         for (index, cull) in draw_order(scene, |mesh| gpu.meshes[mesh].solid, aspect) {
             let object = &scene.objects[index];
             let pipeline = *pipelines
                 .get(object.material)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
-            let mut push = ObjectPush::new(object, index);
+            let mut push = ObjectPush::new(object, scene.own_occluders(&occluders, index));
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {

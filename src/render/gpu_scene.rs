@@ -64,7 +64,7 @@ impl FrameData {
         let mut occluders = [[[0.0; 4]; 2]; MAX_OCCLUDERS];
         let spheres = scene.occluders();
         for (slot, s) in occluders.iter_mut().zip(&spheres) {
-            *slot = [s.centre.extend(s.radius).to_array(), s.albedo.extend(s.object as f32).to_array()];
+            *slot = [s.centre.extend(s.radius).to_array(), s.albedo.extend(0.0).to_array()];
         }
         Ok(Self {
             view_proj: view_proj.to_cols_array_2d(),
@@ -85,14 +85,16 @@ pub struct ObjectPush {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 3],
     pub material_index: u32,
-    /// The index of its file object's first part (`Object::first_part`): the occluders of
-    /// its own file object do not occlude it.
-    pub object_index: u32,
-    pub pad: [u32; 2],
+    pub pad: u32,
+    /// The run of `FrameData::occluders` that stands for its own file object, which does
+    /// not occlude it: (first, count).
+    pub own_occluders: [u32; 2],
 }
 
 impl ObjectPush {
-    pub fn new(object: &Object, index: usize) -> Self {
+    /// The draw of `object`, whose own spheres are the run `own_occluders` of the frame's
+    /// occluders (`Scene::own_occluders`).
+    pub fn new(object: &Object, own_occluders: (usize, usize)) -> Self {
         let model: Mat4 = object.model_matrix();
         // Normals transform by the inverse transpose; with a degenerate matrix, which the
         // scene loader rejects, this would be non-finite.
@@ -105,8 +107,8 @@ impl ObjectPush {
                 normal.z_axis.extend(0.0).to_array(),
             ],
             material_index: object.material as u32,
-            object_index: object.first_part(index) as u32,
-            pad: [0; 2],
+            pad: 0,
+            own_occluders: [own_occluders.0 as u32, own_occluders.1 as u32],
         }
     }
 }

@@ -39,8 +39,9 @@ impl Scene {
             .collect()
     }
 
-    /// The spheres of every object with `[occlusion] objects` on (none off), at most
-    /// [`MAX_OCCLUDERS`], the largest first.
+    /// The spheres of every object with `[occlusion] objects` on (none off): the largest
+    /// [`MAX_OCCLUDERS`], grouped by object in the scene's order, so that the spheres a
+    /// draw skips, its own object's, are one run ([`Scene::own_occluders`]).
     pub fn occluders(&self) -> Vec<Occluder> {
         if !self.occlusion.objects {
             return Vec::new();
@@ -78,7 +79,18 @@ impl Scene {
             .collect();
         spheres.sort_by(|a, b| b.radius.total_cmp(&a.radius));
         spheres.truncate(MAX_OCCLUDERS);
+        spheres.sort_by_key(|s| s.object);
         spheres
+    }
+
+    /// The run of `occluders` ([`Scene::occluders`]) that stands for object `index`'s file
+    /// object, which does not occlude it: (first, count), count 0 for an object without
+    /// spheres.
+    pub fn own_occluders(&self, occluders: &[Occluder], index: usize) -> (usize, usize) {
+        let object = self.objects[index].first_part(index);
+        let first = occluders.iter().position(|o| o.object == object).unwrap_or(0);
+        let count = occluders[first..].iter().take_while(|o| o.object == object).count();
+        (first, count)
     }
 }
 
@@ -134,6 +146,11 @@ position = [0.0, 1.0, -2.0]
         let spheres = model.occluders();
         assert!(spheres.iter().all(|s| s.object != 3));
         assert_eq!(spheres.iter().filter(|s| s.object == 2).count(), TORUS_SPHERES + 1);
-        assert_eq!(crate::render::gpu_scene::ObjectPush::new(&model.objects[3], 3).object_index, 2);
+        assert!(spheres.windows(2).all(|pair| pair[0].object <= pair[1].object), "grouped by object");
+        let torus = spheres.iter().position(|s| s.object == 2).expect("the torus");
+        assert_eq!(model.own_occluders(&spheres, 3), (torus, TORUS_SPHERES + 1));
+        assert_eq!(model.own_occluders(&spheres, 2), (torus, TORUS_SPHERES + 1));
+        assert_eq!(model.own_occluders(&spheres, 1), (0, 1));
+        assert_eq!(model.own_occluders(&spheres, 0).1, 0, "the ground has no spheres");
     }
 }
