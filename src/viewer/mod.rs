@@ -167,47 +167,9 @@ fn file_label(document: &Document) -> String {
 
 /// Opens a window on the scene, read from `document`, and runs until it is closed.
 pub fn run(viewable: Viewable, document: Document, options: ViewOptions) -> Result<()> {
-    let Viewable { scene, map } = viewable;
     let event_loop = EventLoop::new().context("cannot open a window: no display?")?;
     event_loop.set_control_flow(ControlFlow::Poll);
-    let now = Instant::now();
-    let mut view = ViewState::new(options.exposure, Timings::new(gpu_pass_names()), file_label(&document));
-    view.selected_material = scene.objects[0].material;
-    let soak = options
-        .soak_log
-        .clone()
-        .zip(options.frames)
-        .map(|(log, frames)| Soak::new(log, frames));
-    view.debug_view = options.debug_view;
-    if let Some(configuration) = &options.split {
-        view.split.on = true;
-        view.split.configuration.clone_from(configuration);
-    }
-    let mut app = App {
-        soak,
-        view,
-        watch: document.path.clone().map(|p| FileWatch::new(p, now)),
-        inputs: inputs_watch(&scene, now),
-        map,
-        history: History::new(&scene),
-        file_camera: scene.camera,
-        document,
-        scene,
-        options,
-        camera: CameraControl::default(),
-        input: InputState::default(),
-        pending: Actions::default(),
-        egui: egui::Context::default(),
-        state: None,
-        error: None,
-        last_frame: None,
-        next_idle_tick: now,
-        first_frame: None,
-        needs_redraw: true,
-        repaint_at: None,
-        ticks: 0,
-        final_screenshot_written: false,
-    };
+    let mut app = App::new(viewable, document, options, Instant::now());
     event_loop.run_app(&mut app).context("the window's event loop failed")?;
     match app.error {
         Some(e) => Err(e),
@@ -298,6 +260,48 @@ struct App {
 }
 
 impl App {
+    /// The viewer on `viewable`, read from `document`, before its window opens.
+    fn new(viewable: Viewable, document: Document, options: ViewOptions, now: Instant) -> Self {
+        let Viewable { scene, map } = viewable;
+        let mut view = ViewState::new(options.exposure, Timings::new(gpu_pass_names()), file_label(&document));
+        view.selected_material = scene.objects[0].material;
+        let soak = options
+            .soak_log
+            .clone()
+            .zip(options.frames)
+            .map(|(log, frames)| Soak::new(log, frames));
+        view.debug_view = options.debug_view;
+        if let Some(configuration) = &options.split {
+            view.split.on = true;
+            view.split.configuration.clone_from(configuration);
+        }
+        App {
+            soak,
+            view,
+            watch: document.path.clone().map(|p| FileWatch::new(p, now)),
+            inputs: inputs_watch(&scene, now),
+            map,
+            history: History::new(&scene),
+            file_camera: scene.camera,
+            document,
+            scene,
+            options,
+            camera: CameraControl::default(),
+            input: InputState::default(),
+            pending: Actions::default(),
+            egui: egui::Context::default(),
+            state: None,
+            error: None,
+            last_frame: None,
+            next_idle_tick: now,
+            first_frame: None,
+            needs_redraw: true,
+            repaint_at: None,
+            ticks: 0,
+            final_screenshot_written: false,
+        }
+    }
+
     fn start(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let title = match &self.document.path {
             Some(p) => format!("argil — {}", p.display()),
@@ -441,6 +445,24 @@ impl App {
         }
     }
 
+    /// The scene file changed on disk: it is read again, unless the scene has changes not
+    /// saved, which reading it would lose: then the user is asked first (Save, which would
+    /// overwrite the file's new text, refuses; Save As does not).
+    fn scene_file_changed(&mut self) -> Result<()> {
+        if !self.history.modified(&self.scene) {
+            return self.reload();
+        }
+        if let Some(watch) = &self.watch {
+            eprintln!(
+                "argil: {} changed on disk; the scene has unsaved changes: asking before reading it",
+                watch.path.display()
+            );
+        }
+        self.view.question = Some(Question::Reload);
+        self.needs_redraw = true;
+        Ok(())
+    }
+
     fn reload(&mut self) -> Result<()> {
         let Some(path) = self.watch.as_ref().map(|w| w.path.clone()) else {
             return Ok(());
@@ -568,6 +590,9 @@ impl App {
         }
         if let Some(edit) = &actions.rebuild {
             self.rebuild(edit)?;
+        }
+        if actions.reload {
+            self.reload()?;
         }
         if actions.save {
             let to = self
@@ -887,7 +912,7 @@ impl ApplicationHandler for App {
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         let now = Instant::now();
         if self.watch.as_mut().is_some_and(|w| w.poll(now)) {
-            if let Err(e) = self.reload() {
+            if let Err(e) = self.scene_file_changed() {
                 self.fail(event_loop, e);
                 return;
             }
@@ -961,5 +986,49 @@ impl App {
         self.view.view_rect.contains(egui::pos2(cursor.x / ppp, cursor.y / ppp))
             && !self.egui.is_pointer_over_egui()
             && self.view.question.is_none()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene file changed on disk is read again at once, unless the scene has unsaved
+    /// changes: then they stay until the user asks for the file.
+    #[test]
+    fn a_scene_file_changed_on_disk_asks_before_losing_unsaved_changes() {
+        let dir = crate::scene::tests::TempDir::new();
+        let text = |roughness| {
+            format!("[[objects]]\nmesh = \"builtin:sphere\"\nmaterial = \"clay\"\n[materials.clay]\nroughness = {roughness}\n")
+        };
+        let path = dir.write("scene.toml", &text(0.5));
+        let (viewable, document) = load_document(&path).unwrap();
+        let options = ViewOptions {
+            device: DeviceChoice::Best,
+            validation: false,
+            frames: None,
+            exposure: 1.0,
+            size: (320, 180),
+            screenshot: None,
+            resize_storm: false,
+            seconds: None,
+            soak_log: None,
+            debug_view: DebugView::default(),
+            split: None,
+        };
+        let mut app = App::new(viewable, document, options, Instant::now());
+        let roughness = |app: &App| app.scene.materials[0].roughness;
+
+        std::fs::write(&path, text(0.7)).unwrap();
+        app.scene_file_changed().unwrap();
+        assert_eq!((roughness(&app), &app.view.question), (0.7, &None), "nothing to lose: read");
+
+        app.scene.materials[0].roughness = 0.2;
+        std::fs::write(&path, text(0.9)).unwrap();
+        app.scene_file_changed().unwrap();
+        assert_eq!(app.view.question, Some(Question::Reload));
+        assert_eq!(roughness(&app), 0.2, "the unsaved change stays");
+        app.reload().unwrap();
+        assert_eq!(roughness(&app), 0.9);
     }
 }

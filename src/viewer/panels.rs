@@ -54,6 +54,8 @@ pub enum Question {
     Overwrite(PathBuf),
     /// Quitting would lose unsaved changes.
     Quit,
+    /// The scene file changed on disk; reading it would lose unsaved changes.
+    Reload,
 }
 
 /// What the UI shows and remembers besides the scene.
@@ -172,6 +174,8 @@ pub struct Actions {
     pub redo: bool,
     /// An edit of what the scene loads: a preset, a texture, an environment map, a mesh.
     pub rebuild: Option<Rebuild>,
+    /// Read the scene file again, losing unsaved changes (the user said so).
+    pub reload: bool,
 }
 
 impl Actions {
@@ -185,6 +189,7 @@ impl Actions {
             (a, b) => a.or(b),
         };
         self.screenshot |= other.screenshot;
+        self.reload |= other.reload;
         self.frame_scene |= other.frame_scene;
         self.reset_view |= other.reset_view;
         self.undo |= other.undo;
@@ -343,6 +348,18 @@ fn question_window(ui: &mut Ui, view: &mut ViewState, actions: &mut Actions) {
                         view.question = None;
                     }
                     if ui.button("Cancel").clicked() {
+                        view.question = None;
+                    }
+                });
+            }
+            Question::Reload => {
+                ui.label("The scene file changed on disk, and the scene has unsaved changes.");
+                ui.horizontal(|ui| {
+                    if ui.button("Read the file, losing the changes").clicked() {
+                        actions.reload = true;
+                        view.question = None;
+                    }
+                    if ui.button("Keep the changes").clicked() {
                         view.question = None;
                     }
                 });
