@@ -532,6 +532,10 @@ impl App {
                 eprintln!("argil: {e:#}");
                 match e.downcast_ref::<Refused>() {
                     Some(Refused::Exists { path }) => self.view.question = Some(Question::Overwrite(path.clone())),
+                    Some(Refused::Changed { .. }) => {
+                        self.view.error = Some(format!("{e:#}"));
+                        self.view.question = Some(Question::Reload);
+                    }
                     _ => self.view.error = Some(format!("{e:#}")),
                 }
             }
@@ -994,7 +998,8 @@ mod tests {
     use super::*;
 
     /// A scene file changed on disk is read again at once, unless the scene has unsaved
-    /// changes: then they stay until the user asks for the file.
+    /// changes: then they stay until the user asks for the file, and Save, which would
+    /// write over its new text, asks again.
     #[test]
     fn a_scene_file_changed_on_disk_asks_before_losing_unsaved_changes() {
         let dir = crate::scene::tests::TempDir::new();
@@ -1028,6 +1033,11 @@ mod tests {
         app.scene_file_changed().unwrap();
         assert_eq!(app.view.question, Some(Question::Reload));
         assert_eq!(roughness(&app), 0.2, "the unsaved change stays");
+        // Kept, it is not saved over the file's new text: Save asks again.
+        app.view.question = None;
+        app.save_to(path.clone(), false);
+        assert_eq!(app.view.question, Some(Question::Reload));
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), text(0.9));
         app.reload().unwrap();
         assert_eq!(roughness(&app), 0.9);
     }

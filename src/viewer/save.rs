@@ -51,8 +51,8 @@ pub enum Refused {
     )]
     Broken { path: PathBuf, reason: String },
     #[error(
-        "not saved: {} changed on disk since the viewer read it; it is reloaded now, save again \
-         after that, or use Save As",
+        "not saved: {} changed on disk since the viewer read it; read it again (losing the \
+         changes not saved), or use Save As",
         path.display()
     )]
     Changed { path: PathBuf },
