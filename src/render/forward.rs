@@ -178,6 +178,9 @@ pub struct ForwardPass {
     material_pipelines: Vec<vk::Pipeline>,
     /// The same for the right part of a split frame (split.rs); empty without one.
     split_pipelines: Vec<vk::Pipeline>,
+    /// Each object's own run of the frame's occluders (`Scene::own_occluders`), in
+    /// `Scene::objects` order, for the scene last prepared.
+    own_occluders: Vec<(usize, usize)>,
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
@@ -267,6 +270,7 @@ impl ForwardPass {
             floor: HashMap::new(),
             material_pipelines: Vec::new(),
             split_pipelines: Vec::new(),
+            own_occluders: Vec::new(),
             _pool: pool,
             slots,
             subsurface: None,
@@ -392,7 +396,9 @@ impl ForwardPass {
         objects: bool,
         one_shot: &OneShot,
     ) -> Result<()> {
-        let mut frame_data = FrameData::new(scene, aspect)?;
+        let occluders = scene.occluders();
+        self.own_occluders = (0..scene.objects.len()).map(|i| scene.own_occluders(&occluders, i)).collect();
+        let mut frame_data = FrameData::new(scene, &occluders, aspect)?;
         // Without spheres to read, the pipelines hold no object occlusion.
         let objects = objects && frame_data.counts[3] > 0;
         if !objects {
@@ -534,14 +540,17 @@ impl ForwardPass {
     ) -> Result<()> {
         let d = &self.device.handle;
         let mut bound = vk::Pipeline::null();
-        let occluders = scene.occluders();
         for (index, cull) in draw_order(scene, |mesh| gpu.meshes[mesh].solid, aspect) {
             let object = &scene.objects[index];
             let pipeline = *pipelines
                 .get(object.material)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
-            let mut push = ObjectPush::new(object, scene.own_occluders(&occluders, index));
+            let own_occluders = *self
+                .own_occluders
+                .get(index)
+                .context("object missing: prepare() was not called for this scene")?;
+            let mut push = ObjectPush::new(object, own_occluders);
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {

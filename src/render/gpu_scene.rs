@@ -10,6 +10,7 @@ use glam::{Mat3, Mat4, Vec3};
 
 use super::textures::{placeholder, GpuTexture};
 use crate::scene::limits::MAX_OCCLUDERS;
+use crate::scene::occluders::Occluder;
 use crate::scene::{MapSlot, Mesh, Object, Scene, TexelFormat, TextureData, TextureRole};
 use crate::vk::{Buffer, DescriptorPool, DescriptorSetLayout, DescriptorWriter, Device, OneShot, Sampler};
 
@@ -36,13 +37,15 @@ pub struct FrameData {
     pub ground: [f32; 4],
     /// rgb the ground's albedo.
     pub ground_albedo: [f32; 4],
-    /// The spheres of `[occlusion] objects` (`counts[3]` of them): centre and radius, then
-    /// albedo and the object's index.
+    /// The spheres of `[occlusion] objects` (`counts[3]` of them, as `Scene::occluders`
+    /// lists them): centre and radius, then albedo (w unused).
     pub occluders: [[[f32; 4]; 2]; MAX_OCCLUDERS],
 }
 
 impl FrameData {
-    pub fn new(scene: &Scene, aspect: f32) -> Result<Self> {
+    /// The frame's data for `scene`, whose occluding spheres are `spheres`
+    /// (`Scene::occluders`), in a view of `aspect`.
+    pub fn new(scene: &Scene, spheres: &[Occluder], aspect: f32) -> Result<Self> {
         ensure!(
             scene.lights.len() <= MAX_POINT_LIGHTS,
             "the scene has {} point lights; at most {MAX_POINT_LIGHTS} are supported",
@@ -62,8 +65,7 @@ impl FrameData {
             None => ([0.0; 4], [0.0; 4]),
         };
         let mut occluders = [[[0.0; 4]; 2]; MAX_OCCLUDERS];
-        let spheres = scene.occluders();
-        for (slot, s) in occluders.iter_mut().zip(&spheres) {
+        for (slot, s) in occluders.iter_mut().zip(spheres) {
             *slot = [s.centre.extend(s.radius).to_array(), s.albedo.extend(0.0).to_array()];
         }
         Ok(Self {

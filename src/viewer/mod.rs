@@ -144,7 +144,7 @@ pub fn load_document(path: &Path) -> Result<(Viewable, Document)> {
 /// What the viewer checks beyond the scene file's own validation: the renderer's limits,
 /// and an environment map that decodes (returned decoded).
 fn check_viewable(scene: &Scene) -> Result<Option<Equirect>> {
-    FrameData::new(scene, 1.0)?;
+    FrameData::new(scene, &scene.occluders(), 1.0)?;
     match &scene.environment {
         Environment::Map { path, .. } => {
             let map = equirect::load(path).map_err(|e| equirect::in_scene_file(e, scene))?;

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
-use crate::scene::file::{EnvironmentDef, MapDef, MaterialDef, ObjectDef, SceneFile};
 use super::Viewable;
+use crate::scene::file::{EnvironmentDef, MapDef, MaterialDef, ObjectDef, SceneFile};
 use crate::scene::{MapSlot, Preset, Scene};
 
 /// A file-level edit the panel asks for.
