@@ -12,10 +12,11 @@ const float RADICAL_INVERSE_SCALE = 2.3283064365386963e-10;
 
 // ---- Directions ----
 
-// The direction through (a, b) in [−1, 1]² on cube face `face` (+x, −x, +y, −y, +z, −z):
-// the inverse of Vulkan's cube map face selection (spec "Cube Map Face Selection",
-// s = (sc/|ma| + 1)/2, t = (tc/|ma| + 1)/2), so a = 2s − 1 and b = 2t − 1.
-vec3 cube_direction(uint face, vec2 ab) {
+// The point (a, b) in [−1, 1]² on cube face `face` (+x, −x, +y, −y, +z, −z) of the cube
+// of half-side 1: the inverse of Vulkan's cube map face selection (spec "Cube Map Face
+// Selection", s = (sc/|ma| + 1)/2, t = (tc/|ma| + 1)/2), so a = 2s − 1 and b = 2t − 1.
+// Its major component is ±1 exactly: the ray through it per unit major-axis distance.
+vec3 cube_face_point(uint face, vec2 ab) {
     float a = ab.x;
     float b = ab.y;
     vec3 d;
@@ -25,7 +26,12 @@ vec3 cube_direction(uint face, vec2 ab) {
     else if (face == 3u) d = vec3(a, -1.0, -b);
     else if (face == 4u) d = vec3(a, -b, 1.0);
     else d = vec3(-a, -b, -1.0);
-    return normalize(d);
+    return d;
+}
+
+// The unit direction through (a, b) on cube face `face` (cube_face_point).
+vec3 cube_direction(uint face, vec2 ab) {
+    return normalize(cube_face_point(face, ab));
 }
 
 // The solid angle of triangle (a, b, c) seen from the origin, given its triple product

@@ -54,11 +54,11 @@ float shadow_linear_depth(float depth, float near, float far) {
 }
 
 // Where the ray along c (major component 1) meets the receiver's plane through q with
-// normal n, as a major-axis distance, and no further than `receiver`, the ray's point as
-// far from the light as the receiver: what lies beyond cannot stand between them (a ray
-// past the plane's horizon, or grazing it, passes the receiver there).
-float receiver_plane_depth(vec3 c, float q_dot_n, vec3 n, float receiver) {
-    float depth = q_dot_n / dot(c, n);
+// normal n, as a major-axis distance, c·n given, and no further than `receiver`, the
+// ray's point as far from the light as the receiver: what lies beyond cannot stand
+// between them (a ray past the plane's horizon, or grazing it, passes the receiver there).
+float receiver_plane_depth(float c_dot_n, float q_dot_n, float receiver) {
+    float depth = q_dot_n / c_dot_n;
     return depth > 0.0 && depth < receiver ? depth : receiver;
 }
 
@@ -82,13 +82,15 @@ struct ShadowReceiver {
 float shadow_texel_blocker(ShadowReceiver r, uint face, ivec2 texel) {
     float size = float(shadow_data.settings.x);
     vec2 ab = (vec2(texel) + 0.5) / size * 2.0 - 1.0;
-    vec3 c = cube_direction(face, ab);
-    c /= max(max(abs(c.x), abs(c.y)), abs(c.z));
-    float plane = receiver_plane_depth(c, r.q_dot_n, r.n, r.distance / length(c));
+    // The texel's ray, at major-axis distance 1: the depth its face stores is along it.
+    vec3 c = cube_face_point(face, ab);
+    float inv_length = inversesqrt(dot(c, c));
+    float c_dot_n = dot(c, r.n);
+    float plane = receiver_plane_depth(c_dot_n, r.q_dot_n, r.distance * inv_length);
     float stored = shadow_linear_depth(texelFetch(shadow_maps, ivec3(texel, r.layer + int(face)), 0).r, r.near, r.far);
-    float cos_to_plane = abs(dot(c, r.n)) / length(c);
+    float cos_to_plane = abs(c_dot_n) * inv_length;
     float bias = SHADOW_DEPTH_BIAS + SHADOW_SLOPE_BIAS / max(cos_to_plane, 1e-4);
-    return stored * (1.0 + bias) < plane ? stored * length(c) : 0.0;
+    return stored * (1.0 + bias) < plane ? stored / inv_length : 0.0;
 }
 
 // The texel direction w falls in, and its fractional position from the texel centre below

@@ -27,17 +27,23 @@ fn normalize(a: Vec3) -> Vec3 {
 
 // ---- Directions ----
 
-/// The direction through (a, b) in [−1, 1]² on cube face `face` (+x, −x, +y, −y, +z, −z):
-/// the inverse of Vulkan's cube map face selection, a = 2s − 1, b = 2t − 1.
-pub fn cube_direction(face: u32, a: f64, b: f64) -> Vec3 {
-    normalize(match face {
+/// The point (a, b) in [−1, 1]² on cube face `face` (+x, −x, +y, −y, +z, −z) of the cube
+/// of half-side 1: the inverse of Vulkan's cube map face selection, a = 2s − 1,
+/// b = 2t − 1. Its major component is ±1: the ray through it per unit major-axis distance.
+pub fn cube_face_point(face: u32, a: f64, b: f64) -> Vec3 {
+    match face {
         0 => [1.0, -b, -a],
         1 => [-1.0, -b, a],
         2 => [a, 1.0, b],
         3 => [a, -1.0, -b],
         4 => [a, -b, 1.0],
         _ => [-a, -b, -1.0],
-    })
+    }
+}
+
+/// The unit direction through (a, b) on cube face `face` ([`cube_face_point`]).
+pub fn cube_direction(face: u32, a: f64, b: f64) -> Vec3 {
+    normalize(cube_face_point(face, a, b))
 }
 
 /// (a, b) of the centre of texel (x, y) on a face of `size`² texels.

@@ -51,13 +51,12 @@ pub fn shadow_linear_depth(depth: f64, near: f64, far: f64) -> f64 {
 }
 
 /// The major-axis distance at which the ray from the light along c (scaled to a major
-/// component of 1) meets the receiver's plane through q (relative to the light) with
-/// normal n: (q·n)/(c·n), and no further than `receiver`, the ray's point as far from
-/// the light as the receiver (|q|/|c|): what lies beyond cannot stand between them, so
-/// a ray that meets the plane there or not at all in front of the light (past its
-/// horizon) is compared there.
-pub fn receiver_plane_depth(c: Vec3, q_dot_n: f64, n: Vec3, receiver: f64) -> f64 {
-    let c_dot_n = c[0] * n[0] + c[1] * n[1] + c[2] * n[2];
+/// component of 1, [`super::environment::cube_face_point`]) meets the receiver's plane
+/// through q (relative to the light) with normal n, given c·n: (q·n)/(c·n), and no further
+/// than `receiver`, the ray's point as far from the light as the receiver (|q|/|c|): what
+/// lies beyond cannot stand between them, so a ray that meets the plane there or not at
+/// all in front of the light (past its horizon) is compared there.
+pub fn receiver_plane_depth(c_dot_n: f64, q_dot_n: f64, receiver: f64) -> f64 {
     let depth = q_dot_n / c_dot_n;
     if depth > 0.0 && depth < receiver {
         depth
@@ -76,7 +75,7 @@ pub fn penumbra_angle(radius: f64, receiver: f64, blocker: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::brdf::environment::cube_direction;
+    use crate::brdf::environment::{cube_direction, cube_face_point};
 
     fn normalize(v: Vec3) -> Vec3 {
         let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -88,7 +87,9 @@ mod tests {
         for (face, [f, a_axis, b_axis]) in CUBE_FACE_AXES.iter().enumerate() {
             for (a, b) in [(0.0, 0.0), (0.7, -0.2), (-0.99, 0.99), (0.3, 0.8)] {
                 let d = cube_direction(face as u32, a, b);
-                let from_axes = normalize(std::array::from_fn(|i| f[i] + a * a_axis[i] + b * b_axis[i]));
+                let point: Vec3 = std::array::from_fn(|i| f[i] + a * a_axis[i] + b * b_axis[i]);
+                assert_eq!(cube_face_point(face as u32, a, b), point, "face {face} ({a}, {b})");
+                let from_axes = normalize(point);
                 for i in 0..3 {
                     assert!((d[i] - from_axes[i]).abs() < 1e-15, "face {face} ({a}, {b})");
                 }
@@ -118,11 +119,12 @@ mod tests {
         let n = [0.0, 1.0, 0.0];
         let q_dot_n = -2.0; // q = (0.5, −2, 0.3)
         let length = |c: Vec3| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+        let dot = |c: Vec3| c[0] * n[0] + c[1] * n[1] + c[2] * n[2];
         let c = [0.25, -1.0, 0.1];
-        assert!((receiver_plane_depth(c, q_dot_n, n, 2.1 / length(c)) - 2.0).abs() < 1e-15);
+        assert!((receiver_plane_depth(dot(c), q_dot_n, 2.1 / length(c)) - 2.0).abs() < 1e-15);
         // Past the receiver's distance, grazing, or never reaching the plane.
         for c in [[1.0, -0.5, 0.0], [1.0, 0.0, 0.0], [1.0, 0.5, 0.0]] {
-            assert_eq!(receiver_plane_depth(c, q_dot_n, n, 2.1 / length(c)), 2.1 / length(c));
+            assert_eq!(receiver_plane_depth(dot(c), q_dot_n, 2.1 / length(c)), 2.1 / length(c));
         }
     }
 
