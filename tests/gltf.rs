@@ -650,6 +650,28 @@ fn add_maps(model: &mut Model, dir: &Path) {
     model.json["textures"] = json!([{"source": 0}, {"source": 1}, {"source": 2}]);
 }
 
+/// A scene's inputs, the files the viewer watches, are every file its loading read: a
+/// model's own file, its external buffer and the images its materials name; a model with
+/// a `data:` buffer brings no file but its own.
+#[test]
+fn a_scene_lists_every_file_a_model_read() {
+    let dir = test_dir("inputs");
+    let (nodes, _) = nodes();
+    let mut model = Model::new(&[octahedron(), tetrahedron()], nodes, &[0, 1]);
+    add_maps(&mut model, &dir);
+    model.json["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    model.json["meshes"][0]["primitives"][0]["material"] = json!(0);
+    model.write(&dir, "external", Storage::External);
+    model.write(&dir, "inline", Storage::DataUri);
+    let objects = ["external.gltf", "inline.gltf", "external.gltf"].map(|m| format!("\n[[objects]]\nmesh = {m:?}\n"));
+    let scene = load(&dir, "inputs.toml", &(scene_text(&[]) + &objects.concat()));
+    let albedo = std::path::absolute(dir.join("albedo map.png")).expect("absolute");
+    assert_eq!(
+        scene.inputs,
+        [dir.join("external.gltf"), dir.join("external data.bin"), dir.join("inline.gltf"), albedo]
+    );
+}
+
 /// A model's materials are argil materials: the base colour factor and texture, the
 /// metallic and roughness factors (both glTF's roughness and argil's are perceptual, α =
 /// roughness²) and their one texture as `roughness_map` and `metallic_map`, the normal

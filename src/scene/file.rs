@@ -7,15 +7,13 @@
 //! renderer's f32, and so that saved files print f32 values in their
 //! shortest form (0.6, not 0.6000000238418579).
 
-use std::collections::{BTreeMap, HashSet};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
 use super::light::ReflectionMode;
-use super::map_slots::MapSlot;
 pub use super::material_keys::MaterialDef;
-use super::mesh::BUILTIN_PREFIX;
 
 /// A whole scene file. Every section is optional; validation rejects a scene
 /// without objects.
@@ -52,25 +50,6 @@ impl SceneFile {
     /// The file as TOML, with one line per key (arrays inline).
     pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
         toml::to_string(self)
-    }
-
-    /// The files the scene reads, as written (relative to its folder, or absolute), each
-    /// once: the objects' meshes, the materials' textures and the environment map.
-    pub fn named_files(&self) -> Vec<PathBuf> {
-        let meshes = self.objects.iter().map(|o| o.mesh.as_str());
-        let textures = (self.materials.values())
-            .flat_map(|m| MapSlot::ALL.map(|slot| m.map(slot).as_ref().map(|map| map.texture.as_str())))
-            .flatten();
-        let mut files: Vec<PathBuf> = (meshes.chain(textures))
-            .filter(|name| !name.starts_with(BUILTIN_PREFIX))
-            .map(PathBuf::from)
-            .collect();
-        if let EnvironmentDef::Map { path, .. } = &self.environment {
-            files.push(path.clone());
-        }
-        let mut seen = HashSet::new();
-        files.retain(|file| seen.insert(file.clone()));
-        files
     }
 }
 

@@ -11,7 +11,7 @@
 
 use std::collections::BTreeSet;
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::buffer::Source;
@@ -51,6 +51,8 @@ pub struct Model {
     /// `"<absolute model path>#image<index>"`, is no file: these are decoded from the
     /// bytes, once per texture name and role as files are.
     pub images: Vec<Embedded>,
+    /// The files of its buffers that are not in the model's own file (nor `data:` URIs).
+    pub buffer_files: Vec<PathBuf>,
     /// One line each, starting with the file's name.
     pub warnings: Vec<String>,
 }
@@ -92,12 +94,16 @@ impl Model {
         }
         let document = Document::from_json(document.into_json()).map_err(|e| invalid(message(e)))?;
         let folder = path.parent().unwrap_or(Path::new(""));
+        let mut buffer_files = Vec::new();
         let buffers = document
             .buffers()
             .map(|buffer| {
                 let data = match buffer.source() {
                     Source::Bin => blob.clone().ok_or_else(|| "the file has no binary chunk".to_owned()),
-                    Source::Uri(uri) => read_uri(uri, folder),
+                    Source::Uri(uri) => read_uri(uri, folder).map(|(data, file)| {
+                        buffer_files.extend(file);
+                        data
+                    }),
                 };
                 let data = data.map_err(|problem| format!("buffer {}: {problem}", buffer.index()))?;
                 if data.len() < buffer.length() {
@@ -186,6 +192,7 @@ impl Model {
             parts,
             materials,
             images,
+            buffer_files,
             warnings: warnings.into_iter().map(|w| format!("{name}: {w}")).collect(),
         })
     }
@@ -223,14 +230,16 @@ fn check_glb_header(bytes: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
-/// The bytes a buffer's URI names: a base64 `data:` URI, or a file relative to `folder`.
-fn read_uri(uri: &str, folder: &Path) -> Result<Vec<u8>, String> {
+/// The bytes a buffer's URI names: a base64 `data:` URI, or a file relative to `folder`,
+/// with that file.
+fn read_uri(uri: &str, folder: &Path) -> Result<(Vec<u8>, Option<PathBuf>), String> {
     if let Some(data) = uri.strip_prefix("data:") {
         let (_, encoded) = data
             .split_once(";base64,")
             .ok_or("a data: URI that is not base64-encoded")?;
         return base64::engine::general_purpose::STANDARD
             .decode(encoded)
+            .map(|bytes| (bytes, None))
             .map_err(|e| format!("its data: URI is not valid base64: {e}"));
     }
     if uri.contains("://") {
@@ -243,7 +252,8 @@ fn read_uri(uri: &str, folder: &Path) -> Result<Vec<u8>, String> {
         .map_err(|_| format!("{uri:?} is not UTF-8 once percent-decoded"))?;
     let file = folder.join(decoded.as_ref());
     check_file_size(&file, MAX_GLTF_BYTES, "glTF buffers").map_err(|e| e.to_string())?;
-    std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))
+    let bytes = std::fs::read(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+    Ok((bytes, Some(file)))
 }
 
 /// The extensions argil reads (the `gltf` crate's features that parse them are on).
@@ -466,7 +476,9 @@ fn embedded_images(
         .map(|image| {
             let index = image.index();
             let bytes = match image.source() {
-                ::gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => read_uri(uri, folder).map(Some),
+                ::gltf::image::Source::Uri { uri, .. } if uri.starts_with("data:") => {
+                    read_uri(uri, folder).map(|(bytes, _)| Some(bytes))
+                }
                 ::gltf::image::Source::Uri { .. } => Ok(None),
                 ::gltf::image::Source::View { view, .. } => view_bytes(&view, buffers).map(|b| Some(b.to_vec())),
             };

@@ -110,6 +110,9 @@ pub struct Scene {
     pub textures: Vec<TextureData>,
     /// The file this scene was loaded from, if any.
     pub source: Option<PathBuf>,
+    /// Every file loading it read besides its own, each once, as opened: its meshes with a
+    /// glTF model's buffer files, the textures of its maps, its environment map.
+    pub inputs: Vec<PathBuf>,
     /// What loading left out or changed (a glTF model's unsupported parts), one line each,
     /// starting with the file concerned; the command line prints them.
     pub warnings: Vec<String>,

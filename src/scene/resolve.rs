@@ -1,7 +1,7 @@
 //! SceneFile ⇄ Scene: validation and mesh loading in one direction, the
 //! saveable file in the other.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Debug;
 use std::path::{Path, PathBuf};
 
@@ -184,6 +184,10 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
     let mut mesh_indices = HashMap::new();
     let mut objects = Vec::with_capacity(file.objects.len());
     let mut warnings = Vec::new();
+    let mut inputs: Vec<PathBuf> = match &environment {
+        Environment::Map { path, .. } => vec![path.clone()],
+        _ => Vec::new(),
+    };
     for (i, object) in file.objects.iter().enumerate() {
         let position = check.vector(&format!("objects[{i}].position"), object.position)?;
         let scale = check.positive(&format!("objects[{i}].scale"), object.scale)?;
@@ -216,6 +220,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
                     None => load_mesh(&check, &field, &object.mesh, base_dir, &mut warnings)?,
                 };
                 requests.embedded.extend(loaded.images);
+                inputs.extend(loaded.files);
                 let first_material = materials.len();
                 for (name, def) in &loaded.materials {
                     materials.push(material(&check, name, def, &mut requests)?);
@@ -261,6 +266,13 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         .iter()
         .map(|(field, texture, role)| load_map_texture(&check, field, texture, *role, base_dir, &requests.embedded))
         .collect::<Result<_, _>>()?;
+    let texture_files = (requests.pending.iter())
+        .map(|(_, texture, _)| texture)
+        .filter(|texture| !texture.starts_with(BUILTIN_PREFIX) && !requests.embedded.contains_key(*texture))
+        .map(|texture| base_dir.join(texture));
+    inputs.extend(texture_files);
+    let mut seen = HashSet::new();
+    inputs.retain(|file| seen.insert(file.clone()));
 
     Ok(Scene {
         camera,
@@ -275,6 +287,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         materials,
         textures,
         source: None,
+        inputs,
         warnings,
     })
 }
@@ -657,6 +670,8 @@ struct Loaded {
     materials: Vec<(String, MaterialDef)>,
     /// The model's embedded images the materials name, by texture name.
     images: Vec<(String, Vec<u8>)>,
+    /// The files read: the mesh's own and a glTF model's buffer files.
+    files: Vec<PathBuf>,
 }
 
 impl Loaded {
@@ -665,6 +680,7 @@ impl Loaded {
             parts: vec![(mesh, None)],
             materials: Vec::new(),
             images: Vec::new(),
+            files: Vec::new(),
         }
     }
 }
@@ -696,10 +712,14 @@ fn load_mesh(
                 parts: model.parts.into_iter().map(|p| (p.mesh, p.material)).collect(),
                 materials: model.materials,
                 images: model.images,
+                files: std::iter::once(path.clone()).chain(model.buffer_files).collect(),
             }
         })
     } else {
-        Mesh::load_obj(&path).map(Loaded::one)
+        Mesh::load_obj(&path).map(|mesh| Loaded {
+            files: vec![path.clone()],
+            ..Loaded::one(mesh)
+        })
     };
     loaded.map_err(|error| SceneError::ObjectMesh {
         origin: check.origin.to_owned(),

@@ -175,8 +175,7 @@ mod tests {
         );
         let (Viewable { mut scene, map: decoded }, _) = super::super::load_document(&path).unwrap();
         assert_eq!(decoded.unwrap().texels[0][0], 1.0);
-        let files = scene.to_file().named_files();
-        assert_eq!(files, [PathBuf::from("colour.png"), PathBuf::from("sky.hdr")]);
+        assert_eq!(scene.inputs, [map.clone(), texture.clone()], "the files to watch");
         scene.materials[0].roughness = 0.33;
 
         colour([0, 255, 0]);

@@ -56,11 +56,9 @@ impl FileWatch {
     }
 }
 
-/// A watch on each file `scene` reads (meshes, textures, the environment map).
+/// A watch on each file loading `scene` read ([`Scene::inputs`]).
 pub fn inputs_watch(scene: &Scene, now: Instant) -> Vec<FileWatch> {
-    (scene.to_file().named_files().into_iter())
-        .map(|file| FileWatch::new(scene.folder().join(file), now))
-        .collect()
+    (scene.inputs.iter()).map(|file| FileWatch::new(file.clone(), now)).collect()
 }
 
 #[cfg(test)]
