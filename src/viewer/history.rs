@@ -100,6 +100,15 @@ impl History {
         self.saved = Edits::of(scene);
     }
 
+    /// Takes `scene`, resolved again from the same text after files it reads changed on
+    /// disk: with the same edits, which name the same files, every step still applies
+    /// and is kept; otherwise (a model that now brings other materials) it starts over.
+    pub fn reread(&mut self, scene: &Scene) {
+        if Edits::of(scene) != self.current {
+            self.rebase(scene);
+        }
+    }
+
     /// Starts over from `scene`, which was rebuilt (its textures may have changed, so
     /// older steps no longer apply); the file's state stays what it was.
     pub fn rebase(&mut self, scene: &Scene) {
@@ -148,5 +157,19 @@ mod tests {
         history.undo(&mut scene);
         assert!(history.can_redo(), "an edit not yet observed is a step of its own");
         assert_eq!(scene.materials[0].f0, Scene::default_scene().materials[0].f0);
+    }
+
+    #[test]
+    fn a_scene_read_again_keeps_its_steps_unless_its_edits_changed() {
+        let mut scene = Scene::default_scene();
+        let mut history = History::new(&scene);
+        scene.materials[0].roughness = 0.7;
+        history.observe(&scene, true);
+        history.reread(&scene);
+        assert!(history.can_undo(), "the same edits: the steps apply");
+        let mut other = scene.clone();
+        other.materials[0].base_color.x = 0.25;
+        history.reread(&other);
+        assert!(!history.can_undo(), "other materials: starts over");
     }
 }

@@ -555,7 +555,10 @@ impl App {
         };
         self.set_scene(scene, map)?;
         self.view.error = None;
-        self.history.rebase(&self.scene);
+        match edit {
+            Rebuild::ReadAgain => self.history.reread(&self.scene),
+            _ => self.history.rebase(&self.scene),
+        }
         Ok(())
     }
 
@@ -997,18 +1000,8 @@ impl App {
 mod tests {
     use super::*;
 
-    /// A scene file changed on disk is read again at once, unless the scene has unsaved
-    /// changes: then they stay until the user asks for the file, and Save, which would
-    /// write over its new text, asks again.
-    #[test]
-    fn a_scene_file_changed_on_disk_asks_before_losing_unsaved_changes() {
-        let dir = crate::scene::tests::TempDir::new();
-        let text = |roughness| {
-            format!("[[objects]]\nmesh = \"builtin:sphere\"\nmaterial = \"clay\"\n[materials.clay]\nroughness = {roughness}\n")
-        };
-        let path = dir.write("scene.toml", &text(0.5));
-        let (viewable, document) = load_document(&path).unwrap();
-        let options = ViewOptions {
+    fn view_options() -> ViewOptions {
+        ViewOptions {
             device: DeviceChoice::Best,
             validation: false,
             frames: None,
@@ -1020,8 +1013,21 @@ mod tests {
             soak_log: None,
             debug_view: DebugView::default(),
             split: None,
+        }
+    }
+
+    /// A scene file changed on disk is read again at once, unless the scene has unsaved
+    /// changes: then they stay until the user asks for the file, and Save, which would
+    /// write over its new text, asks again.
+    #[test]
+    fn a_scene_file_changed_on_disk_asks_before_losing_unsaved_changes() {
+        let dir = crate::scene::tests::TempDir::new();
+        let text = |roughness| {
+            format!("[[objects]]\nmesh = \"builtin:sphere\"\nmaterial = \"clay\"\n[materials.clay]\nroughness = {roughness}\n")
         };
-        let mut app = App::new(viewable, document, options, Instant::now());
+        let path = dir.write("scene.toml", &text(0.5));
+        let (viewable, document) = load_document(&path).unwrap();
+        let mut app = App::new(viewable, document, view_options(), Instant::now());
         let roughness = |app: &App| app.scene.materials[0].roughness;
 
         std::fs::write(&path, text(0.7)).unwrap();
@@ -1040,5 +1046,31 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&path).unwrap(), text(0.9));
         app.reload().unwrap();
         assert_eq!(roughness(&app), 0.9);
+    }
+
+    /// A texture rewritten on disk is read again without losing the edits' undo steps,
+    /// which still apply: the scene names the same files.
+    #[test]
+    fn reading_a_rewritten_texture_again_keeps_the_undo_steps() {
+        let dir = crate::scene::tests::TempDir::new();
+        let texture = dir.0.join("colour.png");
+        let colour = |rgb| image::RgbImage::from_pixel(2, 2, image::Rgb(rgb)).save(&texture).unwrap();
+        colour([255, 0, 0]);
+        let path = dir.write(
+            "scene.toml",
+            "[[objects]]\nmesh = \"builtin:sphere\"\nmaterial = \"clay\"\n\n\
+             [materials.clay]\nroughness = 0.5\n[materials.clay.base_color_map]\ntexture = \"colour.png\"\n",
+        );
+        let (viewable, document) = load_document(&path).unwrap();
+        let mut app = App::new(viewable, document, view_options(), Instant::now());
+        app.scene.materials[0].roughness = 0.2;
+        app.history.observe(&app.scene, true);
+
+        colour([0, 255, 0]);
+        app.read_inputs_again(&[texture.clone()]).unwrap();
+        assert_eq!(&app.scene.textures[0].pixels[..4], &[0, 255, 0, 255], "the new texels");
+        assert_eq!(app.scene.materials[0].roughness, 0.2, "the edit is kept");
+        app.history.undo(&mut app.scene);
+        assert_eq!(app.scene.materials[0].roughness, 0.5, "and can be undone");
     }
 }
