@@ -190,10 +190,12 @@ fn a_light_with_a_radius_casts_a_penumbra() {
 
 /// The maps are rendered when the scene changes, not every frame: two frames of the same
 /// scene render them once, moving the light renders them again, and the frame is the same
-/// either way.
+/// either way. So is the ground's light map of the bounce, which a light's intensity
+/// changes too.
 #[test]
 fn shadow_maps_render_only_when_the_scene_changes() {
-    let mut s = scene(&plane_scene("radius = 0.2", SPHERE));
+    let toml = plane_scene("radius = 0.2", SPHERE).replace("resolution = 2048", "resolution = 2048\nbounce = true");
+    let mut s = scene(&toml);
     gpu().exclusive(|renderer| {
         let gpu_scene = renderer.upload(&s).expect("upload");
         let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
@@ -201,19 +203,26 @@ fn shadow_maps_render_only_when_the_scene_changes() {
             let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
             renderer.read_offscreen(&offscreen, ms).expect("read").hdr
         };
-        let before = renderer.shadow_map_renders();
+        let renders = |renderer: &argil::render::Renderer| {
+            [renderer.shadow_map_renders(), renderer.ground_light_renders()]
+        };
+        let [shadows, ground] = renders(renderer);
         let first = frame(renderer, &s);
         let second = frame(renderer, &s);
-        assert_eq!(renderer.shadow_map_renders(), before + 1);
+        assert_eq!(renders(renderer), [shadows + 1, ground + 1]);
         assert_eq!(first, second);
         s.lights[0].position.x += 0.5;
         let moved = frame(renderer, &s);
-        assert_eq!(renderer.shadow_map_renders(), before + 2);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 2]);
         assert_ne!(moved, second);
         // Changing only the radius needs no new map.
         s.lights[0].radius = 0.4;
         frame(renderer, &s);
-        assert_eq!(renderer.shadow_map_renders(), before + 2);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 2]);
+        // The intensity changes the ground's light, not the shadows.
+        s.lights[0].intensity *= 0.5;
+        frame(renderer, &s);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 3]);
     });
 }
 
@@ -333,4 +342,71 @@ fn bounce_lights_the_sphere_from_the_ground_and_leaves_the_ground_alone() {
         .filter(|(a, b)| b[1] > a[1] * 1.05)
         .count();
     assert!(brighter > 50, "{brighter} pixels brightened by the bounce");
+}
+
+/// The bounce view of a sphere over a lit ground (its light casting no shadow) is the f64
+/// gather (src/brdf/bounce.rs) at the sphere's exact surface under each pixel's centre,
+/// with the ground's exact light: the ground's light map read bilinearly, and the GLSL
+/// gather, agree with their twins. The ground reaches 40 from the sphere, so that the
+/// taps a tilt of the mesh's normals moves across its edge are few; its light map's texels
+/// are 0.31 wide there, where the light's irradiance, 4 above, bends by 2e-3 of itself.
+#[test]
+fn the_bounce_is_the_f64_gather_of_the_grounds_light() {
+    use argil::brdf::bounce::{ground_bounce_irradiance, ground_lights_irradiance, BounceLight, Ground, BOUNCE_TAPS};
+    let toml = plane_scene("shadows = false", SPHERE)
+        .replace("scale = 4.0", "scale = 40.0")
+        .replace("resolution = 2048", "resolution = 2048\nbounce = true");
+    let scene = scene(&toml);
+    let frame = gpu().exclusive(|renderer| {
+        renderer.debug_view = argil::render::DebugView::Bounce;
+        let frame = common::try_render(renderer, &scene, SIZE.0, SIZE.1);
+        renderer.debug_view = argil::render::DebugView::Shaded;
+        frame.expect("render").hdr
+    });
+    let rays = CameraRays::new(&scene.camera, SIZE.0, SIZE.1);
+    let ground = Ground {
+        centre: [0.0; 3],
+        half_side: 40.0,
+        albedo: [0.6; 3],
+    };
+    let light = BounceLight {
+        position: LIGHT.to_array(),
+        intensity: [20.0, 18.0, 16.0],
+    };
+    let mut errors = Vec::new();
+    for y in 0..SIZE.1 {
+        for x in 0..SIZE.0 {
+            let (o, d) = rays.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, SIZE.0, SIZE.1);
+            let d = d.normalize();
+            // Pixels well inside the silhouette, where mesh and sphere cover the centre alike.
+            let oc = o - SPHERE_CENTRE;
+            let b = oc.dot(d);
+            let miss2 = oc.length_squared() - b * b;
+            if miss2 > (0.9 * SPHERE_RADIUS).powi(2) || b > 0.0 {
+                continue;
+            }
+            let p = o + d * (-b - (SPHERE_RADIUS * SPHERE_RADIUS - miss2).sqrt());
+            let n = (p - SPHERE_CENTRE) / SPHERE_RADIUS;
+            let gathered = ground_bounce_irradiance(
+                p.to_array(),
+                n.to_array(),
+                &ground,
+                |g| ground_lights_irradiance(g, &[light], |_, _| 1.0),
+                |_| [0.1, 0.1, 0.12],
+                BOUNCE_TAPS,
+            );
+            let expected = gathered[1] * 0.6 / std::f64::consts::PI;
+            if expected <= 0.0 {
+                continue;
+            }
+            let i = 4 * (y * SIZE.0 + x) as usize;
+            errors.push((f64::from(frame[i + 1]) - expected).abs() / expected);
+        }
+    }
+    errors.sort_by(f64::total_cmp);
+    let median = errors[errors.len() / 2];
+    let p95 = errors[errors.len() * 95 / 100];
+    assert!(errors.len() > 300, "{} sphere pixels lit by the bounce", errors.len());
+    eprintln!("{} px: median {median:.2e}, p95 {p95:.2e}, max {:.2e}", errors.len(), errors[errors.len() - 1]);
+    assert!(median < 2e-3 && p95 < 1e-2, "relative error: median {median:.2e}, p95 {p95:.2e}");
 }

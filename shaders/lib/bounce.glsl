@@ -2,8 +2,8 @@
 // src/render/gpu_scene.rs picks the ground: the largest builtin:plane). The environment's
 // light (environment.glsl) arrives from every direction, the ground's too; the ground is
 // instead a Lambertian emitter of radiance ρ_g/π (E_lights(x) + E_env), E_lights the point
-// lights' irradiance at x as their shadow maps see it and E_env the environment's on an
-// open upward plane. A surface point above it gathers the difference of the two radiances
+// lights' irradiance at x as their shadow maps see it (the ground's light map,
+// ground_light.glsl) and E_env the environment's on an open upward plane. A surface point above it gathers the difference of the two radiances
 // over its hemisphere with cosine-weighted taps (the estimator E = π/K Σ ΔL(x_k), pbrt-v4
 // §13.2), each tap where its ray meets the ground, none where it misses the ground's
 // square; the environment's radiance along a tap is its cosine-blurred irradiance E(d)/π,
@@ -13,26 +13,15 @@
 #define ARGIL_BOUNCE_GLSL
 #include "scene_data.glsl"
 #include "shading.glsl"
-#include "shadows.glsl"
+#include "ground_light.glsl"
 #include "environment.glsl"
 
 // Taps of the gather (sampling.glsl's cosine_hemisphere_tap): src/brdf/bounce.rs's
 // BOUNCE_TAPS.
 const uint BOUNCE_TAPS = 8u;
 
-// The fraction of point light i reaching ground point x: one bilinear lookup of its map
-// against the ground's own plane (the bounce's source needs no penumbra).
-float ground_light_visibility(uint i, vec3 x) {
-    ShadowLight s = shadow_data.lights[i];
-    if (s.map.x < 0.0) return 1.0;
-    vec3 q = x - frame.lights[i].position.xyz;
-    vec3 m = abs(q);
-    float q_major = max(max(m.x, m.y), m.z);
-    if (q_major <= s.map.z || q_major >= s.map.w) return 1.0;
-    float d = length(q);
-    ShadowReceiver r = ShadowReceiver(int(s.map.x), s.map.z, s.map.w, vec3(0.0, 1.0, 0.0), q.y, d);
-    return shadow_bilinear(r, q / d);
-}
+// The ground's light map (ground_light.glsl), E_lights over the ground's square.
+layout(set = 5, binding = 0) uniform sampler2D ground_light_map;
 
 // The environment's irradiance over π on a surface facing d (its blurred radiance along d).
 vec3 bounce_environment(vec3 d) {
@@ -56,13 +45,8 @@ vec3 ground_bounce_irradiance(vec3 p, vec3 n) {
         vec3 x = p + d * (height / -d.y);
         vec2 offset = abs(x.xz - frame.ground.xz);
         if (max(offset.x, offset.y) > frame.ground.w) continue;
-        lights += ground_environment;
+        lights += ground_environment + textureLod(ground_light_map, ground_light_uv(x), 0.0).rgb;
         environment += PI * bounce_environment(d);
-        for (uint i = 0u; i < frame.counts.x; ++i) {
-            vec3 to_light = frame.lights[i].position.xyz - x;
-            float e = plane_point_irradiance(to_light.y, max(dot(to_light, to_light), MIN_LIGHT_DISTANCE2));
-            if (e > 0.0) lights += frame.lights[i].intensity.rgb * (e * ground_light_visibility(i, x));
-        }
     }
     return (frame.ground_albedo.rgb * lights - environment) / float(BOUNCE_TAPS);
 }

@@ -21,9 +21,10 @@ vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
 vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec3 p,
                            float curvature, bool seed_horizon, float ao) {
     vec3 radiance = vec3(0.0);
+    vec3 face_normal = cross(dFdx(p), dFdy(p));
     for (uint i = 0; i < frame.counts.x; ++i) {
         vec3 l;
-        vec3 irradiance = point_light_irradiance(i, p, l) * point_light_shadow(i, p, gl_FragCoord.xy)
+        vec3 irradiance = point_light_irradiance(i, p, l) * point_light_shadow(i, p, face_normal, gl_FragCoord.xy)
                         * micro_shadowing(dot(n, l), ao);
         radiance += irradiance * (seed_horizon ? brdf_cos_seed(models, m, n, v, l, curvature)
                                                : brdf_cos(models, m, n, n_geometric, v, l, curvature));

@@ -1,7 +1,8 @@
 // Shadows of the point lights: a cube depth map per shadowed light, rendered by
 // src/render/shadow.rs (shaders/shadow.vert), its six faces layers of one 2D array.
-// Soft by the light's radius with PCSS (Fernando 2005). Fragment shaders only (the
-// receiver's plane comes from derivatives). The f64 twins are in src/brdf/shadow.rs.
+// Soft by the light's radius with PCSS (Fernando 2005); the receiver's plane comes from
+// the fragment shader's derivatives (point_light_shadow's `face_normal`). The f64 twins
+// are in src/brdf/shadow.rs.
 #ifndef ARGIL_SHADOWS_GLSL
 #define ARGIL_SHADOWS_GLSL
 #include "scene_data.glsl"
@@ -164,10 +165,9 @@ ivec2 shadow_nearest_texel(vec3 w, out uint face) {
 // The fraction of point light i that reaches p, 1 without a map: PCSS, the blockers'
 // mean distance searched in the cone from p towards the light's sphere, then the
 // comparisons filtered over the penumbra they give. A light of radius 0 has the hard
-// shadow of one bilinear lookup.
-float point_light_shadow(uint i, vec3 p, vec2 pixel) {
-    // The receiver's triangle, which is what the map stores (derivatives before any branch).
-    vec3 face_normal = cross(dFdx(p), dFdy(p));
+// shadow of one bilinear lookup. `face_normal` is the receiver's triangle's, which is what
+// the map stores: cross(dFdx(p), dFdy(p)), taken in uniform control flow.
+float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
     ShadowReceiver r;
     vec3 w;
     if (!shadow_receiver(i, p, face_normal, r, w)) return 1.0;

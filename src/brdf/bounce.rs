@@ -1,6 +1,6 @@
-//! Light bounced once off the ground, in f64: the twins of `shaders/lib/bounce.glsl`'s gather
-//! and of the tap patterns of `shaders/lib/sampling.glsl` (and `plane_point_irradiance` of
-//! shading.glsl).
+//! Light bounced once off the ground, in f64: the twins of `shaders/lib/bounce.glsl`'s gather,
+//! of `shaders/lib/ground_light.glsl`'s ground light and its map's coordinates, and of the
+//! tap patterns of `shaders/lib/sampling.glsl` (and `plane_point_irradiance` of shading.glsl).
 
 use super::environment::{tangent_frame, to_world};
 use super::{Vec3, PI};
@@ -50,18 +50,61 @@ pub struct BounceLight {
     pub intensity: Vec3,
 }
 
+/// ground_light.glsl's `ground_lights_irradiance`: E_lights(x), the lights' irradiance at
+/// ground point x, `visibility(i, x)` the share of light i reaching it.
+pub fn ground_lights_irradiance(x: Vec3, lights: &[BounceLight], visibility: impl Fn(usize, Vec3) -> f64) -> Vec3 {
+    let mut lit = [0.0; 3];
+    for (i, light) in lights.iter().enumerate() {
+        let to_light = [
+            light.position[0] - x[0],
+            light.position[1] - x[1],
+            light.position[2] - x[2],
+        ];
+        let distance2 = super::dot(to_light, to_light).max(MIN_LIGHT_DISTANCE2);
+        let e = plane_point_irradiance(to_light[1], distance2);
+        if e > 0.0 {
+            let v = visibility(i, x);
+            for (l, intensity) in lit.iter_mut().zip(light.intensity) {
+                *l += intensity * e * v;
+            }
+        }
+    }
+    lit
+}
+
+/// ground_light.glsl's `ground_light_point`: the ground point at the centre of texel
+/// (column, row) of a map `size` texels on a side over the ground's square.
+pub fn ground_light_point(texel: [u32; 2], size: u32, ground: &Ground) -> Vec3 {
+    let at = |i: u32| (f64::from(i) + 0.5) / f64::from(size) * 2.0 - 1.0;
+    [
+        ground.centre[0] + at(texel[0]) * ground.half_side,
+        ground.centre[1],
+        ground.centre[2] + at(texel[1]) * ground.half_side,
+    ]
+}
+
+/// ground_light.glsl's `ground_light_uv`: where ground point x falls on the map, (0, 0) to
+/// (1, 1) over the ground's square.
+pub fn ground_light_uv(x: Vec3, ground: &Ground) -> [f64; 2] {
+    let side = 2.0 * ground.half_side;
+    [
+        (x[0] - ground.centre[0]) / side + 0.5,
+        (x[2] - ground.centre[2]) / side + 0.5,
+    ]
+}
+
 /// bounce.glsl's `ground_bounce_irradiance` with `taps` taps: what the ground below p (unit
 /// normal n) adds to the environment's irradiance, the ground a Lambertian emitter of
 /// ρ_g/π (E_lights + E_env(+y)) in place of the environment's radiance E_env(d)/π along
-/// each tap d; `environment_over_pi(d)` is E_env(d)/π and `visibility(i, x)` the share of
-/// light i reaching ground point x.
+/// each tap d; `environment_over_pi(d)` is E_env(d)/π and `ground_light(x)` E_lights at
+/// ground point x (on the GPU the ground's light map read bilinearly, of
+/// [`ground_lights_irradiance`] at its texel centres).
 pub fn ground_bounce_irradiance(
     p: Vec3,
     n: Vec3,
     ground: &Ground,
-    lights: &[BounceLight],
+    ground_light: impl Fn(Vec3) -> Vec3,
     environment_over_pi: impl Fn(Vec3) -> Vec3,
-    visibility: impl Fn(usize, Vec3) -> f64,
     taps: u32,
 ) -> Vec3 {
     let height = p[1] - ground.centre[1];
@@ -84,24 +127,10 @@ pub fn ground_bounce_irradiance(
             continue;
         }
         let sky = environment_over_pi(d);
+        let light = ground_light(x);
         for c in 0..3 {
-            lit[c] += ground_environment[c];
+            lit[c] += ground_environment[c] + light[c];
             environment[c] += PI * sky[c];
-        }
-        for (i, light) in lights.iter().enumerate() {
-            let to_light = [
-                light.position[0] - x[0],
-                light.position[1] - x[1],
-                light.position[2] - x[2],
-            ];
-            let distance2 = super::dot(to_light, to_light).max(MIN_LIGHT_DISTANCE2);
-            let e = plane_point_irradiance(to_light[1], distance2);
-            if e > 0.0 {
-                let v = visibility(i, x);
-                for (l, intensity) in lit.iter_mut().zip(light.intensity) {
-                    *l += intensity * e * v;
-                }
-            }
         }
     }
     std::array::from_fn(|c| (ground.albedo[c] * lit[c] - environment[c]) / f64::from(taps))
@@ -121,7 +150,7 @@ mod tests {
             half_side: f64::INFINITY,
             albedo: [albedo; 3],
         };
-        ground_bounce_irradiance(p, n, &ground, &[], |_| [1.0; 3], |_, _| 1.0, taps)[0]
+        ground_bounce_irradiance(p, n, &ground, |_| [0.0; 3], |_| [1.0; 3], taps)[0]
     }
 
     fn normal(theta: f64, phi: f64) -> Vec3 {
@@ -173,9 +202,8 @@ mod tests {
             [0.0, 1.0, 0.0],
             [0.0, -1.0, 0.0],
             &small,
-            &[],
+            |_| [0.0; 3],
             |_| [1.0; 3],
-            |_, _| 1.0,
             8,
         );
         assert_eq!(far, [0.0; 3]);
@@ -200,9 +228,8 @@ mod tests {
                 [0.0, 1.0, 0.0],
                 [0.0, -1.0, 0.0],
                 &ground,
-                &[light],
+                |x| ground_lights_irradiance(x, &[light], |_, _| share),
                 |_| [0.0; 3],
-                |_, _| share,
                 64,
             )
         };
@@ -212,6 +239,28 @@ mod tests {
             assert!((full[c] - ground.albedo[c]).abs() < 1e-6, "{full:?}");
         }
         assert_eq!(gather(0.0), [0.0; 3]);
+    }
+
+    /// The map's texel centres cover the ground's square, and a point at a texel's centre
+    /// falls there on the map.
+    #[test]
+    fn map_coordinates_invert_the_texel_centres() {
+        let ground = Ground {
+            centre: [1.5, -1.0, -2.0],
+            half_side: 8.0,
+            albedo: [0.5; 3],
+        };
+        let size = 256;
+        for texel in [[0, 0], [17, 200], [255, 255]] {
+            let x = ground_light_point(texel, size, &ground);
+            assert_eq!(x[1], ground.centre[1]);
+            let uv = ground_light_uv(x, &ground);
+            for (t, u) in texel.into_iter().zip(uv) {
+                assert!((u * f64::from(size) - (f64::from(t) + 0.5)).abs() < 1e-9, "{texel:?}: {uv:?}");
+            }
+        }
+        let corner = ground_light_uv([-6.5, -1.0, 6.0], &ground);
+        assert_eq!(corner, [0.0, 1.0]);
     }
 
     #[test]

@@ -164,7 +164,7 @@ struct FrameSlot {
 pub struct ForwardPass {
     device: Arc<Device>,
     /// Kept alive for the sets allocated with it.
-    _set_layout: DescriptorSetLayout,
+    set_layout: DescriptorSetLayout,
     /// Set 1: a material's maps (material_maps.glsl); its sets belong to a `GpuScene`.
     material_layout: DescriptorSetLayout,
     layout: PipelineLayout,
@@ -200,11 +200,13 @@ impl ForwardPass {
         environment_layout: &DescriptorSetLayout,
         shadow_layout: &DescriptorSetLayout,
         occlusion_layout: &DescriptorSetLayout,
+        ground_light_layout: &DescriptorSetLayout,
     ) -> Result<Self> {
+        // The ground's light map is computed from the frame data too (ground_light.rs).
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(
                 vk::DescriptorType::UNIFORM_BUFFER,
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE,
             )
             .binding(
                 vk::DescriptorType::STORAGE_BUFFER,
@@ -232,6 +234,7 @@ impl ForwardPass {
                 environment_layout,
                 shadow_layout,
                 occlusion_layout,
+                ground_light_layout,
             ],
             std::mem::size_of::<ObjectPush>() as u32,
             vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
@@ -261,7 +264,7 @@ impl ForwardPass {
             .collect::<Result<_>>()?;
         Ok(Self {
             device: device.clone(),
-            _set_layout: set_layout,
+            set_layout,
             material_layout,
             layout,
             vertex,
@@ -277,6 +280,16 @@ impl ForwardPass {
             placeholder,
             pipeline_time: Duration::ZERO,
         })
+    }
+
+    /// The layout of set 0: the frame's data, materials and subsurface table.
+    pub fn frame_layout(&self) -> &DescriptorSetLayout {
+        &self.set_layout
+    }
+
+    /// Set 0 of `slot`.
+    pub fn frame_set(&self, slot: usize) -> vk::DescriptorSet {
+        self.slots[slot].set
     }
 
     /// The layout of set 1, for the scene's material sets.
@@ -470,6 +483,7 @@ impl ForwardPass {
         environment_set: vk::DescriptorSet,
         shadow_set: vk::DescriptorSet,
         occlusion_set: vk::DescriptorSet,
+        ground_light_set: vk::DescriptorSet,
     ) -> Result<()> {
         let d = &self.device.handle;
         let color = [vk::RenderingAttachmentInfo::default()
@@ -503,7 +517,7 @@ impl ForwardPass {
                 vk::PipelineBindPoint::GRAPHICS,
                 self.layout.handle,
                 2,
-                &[environment_set, shadow_set, occlusion_set],
+                &[environment_set, shadow_set, occlusion_set, ground_light_set],
                 &[],
             );
         }

@@ -17,6 +17,7 @@ use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
 use super::occlusion::{OcclusionMode, OcclusionPass};
+use super::ground_light::GroundLightPass;
 use super::shadow::ShadowPass;
 use super::split::Split;
 use super::target::RenderTarget;
@@ -79,6 +80,7 @@ pub struct Renderer {
     one_shot: OneShot,
     environment: EnvironmentPass,
     shadow: ShadowPass,
+    ground_light: GroundLightPass,
     occlusion_pass: OcclusionPass,
     forward: ForwardPass,
     msaa: MsaaPass,
@@ -162,16 +164,28 @@ impl Renderer {
         let one_shot = OneShot::new(&device)?;
         let shadow = ShadowPass::new(&device, frames_in_flight)?;
         let occlusion_pass = OcclusionPass::new(&device, &one_shot)?;
+        let ground_light_layout = GroundLightPass::forward_set_layout(&device)?;
+        let forward = ForwardPass::new(
+            &device,
+            &one_shot,
+            frames_in_flight,
+            environment.set_layout(),
+            shadow.set_layout(),
+            occlusion_pass.set_layout(),
+            &ground_light_layout,
+        )?;
+        let ground_light = GroundLightPass::new(
+            &device,
+            &one_shot,
+            ground_light_layout,
+            forward.frame_layout(),
+            environment.set_layout(),
+            shadow.set_layout(),
+        )?;
         Ok(Self {
-            forward: ForwardPass::new(
-                &device,
-                &one_shot,
-                frames_in_flight,
-                environment.set_layout(),
-                shadow.set_layout(),
-                occlusion_pass.set_layout(),
-            )?,
+            forward,
             shadow,
+            ground_light,
             msaa: MsaaPass::new(&device, frames_in_flight)?,
             occlusion_pass,
             one_shot,
@@ -227,6 +241,12 @@ impl Renderer {
         self.shadow.renders()
     }
 
+    /// How many times the ground's light map has been computed: once per change of the
+    /// lights, the ground or the shadow maps, not per frame.
+    pub fn ground_light_renders(&self) -> u64 {
+        self.ground_light.renders()
+    }
+
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has
     /// waited for the slot's previous frame.
     pub fn prepare(
@@ -247,6 +267,7 @@ impl Renderer {
         self.environment.prepare_skybox(sample_flag(samples))?;
         self.msaa.prepare(slot, target, samples)?;
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
+        self.ground_light.prepare(scene, self.shadow.pending());
         // The floor measures geometry and targets alone: no occlusion under it.
         let occlusion = OcclusionMode::of(&scene.occlusion, self.occlusion && !self.floor);
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
@@ -316,7 +337,11 @@ impl Renderer {
             ImageUse::UNDEFINED,
             ImageUse::DEPTH_ATTACHMENT,
         );
-        self.timed(cmd, slot, PASS_SHADOW, || self.shadow.record(cmd, scene, gpu))?;
+        self.timed(cmd, slot, PASS_SHADOW, || {
+            self.shadow.record(cmd, scene, gpu)?;
+            self.ground_light.record(cmd, self.forward.frame_set(slot), self.shadow.set(slot));
+            Ok(())
+        })?;
         self.timed(cmd, slot, PASS_OCCLUSION, || {
             self.occlusion_pass.record(cmd, scene, gpu)
         })?;
@@ -332,6 +357,7 @@ impl Renderer {
                 self.environment.set(),
                 self.shadow.set(slot),
                 self.occlusion_pass.set(),
+                self.ground_light.set(),
             )
         })?;
         self.timed(cmd, slot, PASS_SKYBOX, || {

@@ -24,3 +24,4 @@ pub const SHADOW_VERT: &[u8] = spirv!("shadow.vert");
 pub const MSAA_RESOLVE_FRAG: &[u8] = spirv!("msaa_resolve.frag");
 pub const GTAO_COMP: &[u8] = spirv!("gtao.comp");
 pub const GTAO_DENOISE_COMP: &[u8] = spirv!("gtao_denoise.comp");
+pub const GROUND_LIGHT_COMP: &[u8] = spirv!("ground_light.comp");

@@ -2,7 +2,7 @@
 //! six faces layers of one 2D array image, rendered only when the lights, the objects or
 //! the settings change (a frame that changes nothing records no draw). Set 3 of the
 //! forward pass (shaders/lib/shadows.glsl): binding 0 the `ShadowData` uniform buffer,
-//! binding 1 the maps.
+//! binding 1 the maps; the ground's light map is computed from them too (ground_light.rs).
 
 use std::cell::Cell;
 use std::sync::Arc;
@@ -114,12 +114,10 @@ pub struct ShadowPass {
 
 impl ShadowPass {
     pub fn new(device: &Arc<Device>, frames_in_flight: u32) -> Result<Self> {
+        let stages = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
         let set_layout = DescriptorSetLayoutBuilder::default()
-            .binding(vk::DescriptorType::UNIFORM_BUFFER, vk::ShaderStageFlags::FRAGMENT)
-            .binding(
-                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                vk::ShaderStageFlags::FRAGMENT,
-            )
+            .binding(vk::DescriptorType::UNIFORM_BUFFER, stages)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages)
             .build(device, "shadow set")?;
         let (layout, pipeline) = depth_pipeline(device, "shadow map")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
@@ -249,13 +247,18 @@ impl ShadowPass {
         Ok(())
     }
 
+    /// Whether the next recorded frame renders the maps.
+    pub fn pending(&self) -> bool {
+        self.pending.get()
+    }
+
     /// Frames that have rendered the maps.
     pub fn renders(&self) -> u64 {
         self.renders.get()
     }
 
     /// Renders the maps if [`Self::prepare`] found them out of date, leaving them readable
-    /// by fragment shaders; records nothing otherwise.
+    /// by fragment and compute shaders; records nothing otherwise.
     pub fn record(&self, cmd: vk::CommandBuffer, scene: &Scene, gpu: &GpuScene) -> Result<()> {
         if !self.pending.replace(false) {
             return Ok(());
@@ -269,7 +272,7 @@ impl ShadowPass {
         let range = maps.image.all_levels();
         // The old contents go, once the frames before this one have read them.
         let discard = ImageUse {
-            stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            stage: ImageUse::SHADER_READ.stage,
             ..ImageUse::UNDEFINED
         };
         transition_levels(
@@ -303,7 +306,7 @@ impl ShadowPass {
             maps.image.handle,
             range,
             ImageUse::DEPTH_ATTACHMENT,
-            ImageUse::FRAGMENT_READ,
+            ImageUse::SHADER_READ,
         );
         Ok(())
     }

@@ -1067,7 +1067,7 @@ mod tests {
         app.history.observe(&app.scene, true);
 
         colour([0, 255, 0]);
-        app.read_inputs_again(&[texture.clone()]).unwrap();
+        app.read_inputs_again(std::slice::from_ref(&texture)).unwrap();
         assert_eq!(&app.scene.textures[0].pixels[..4], &[0, 255, 0, 255], "the new texels");
         assert_eq!(app.scene.materials[0].roughness, 0.2, "the edit is kept");
         app.history.undo(&mut app.scene);

@@ -143,6 +143,12 @@ impl ImageUse {
         ),
         access: vk::AccessFlags2::SHADER_SAMPLED_READ,
     };
+    /// Cleared by `vkCmdClearColorImage`.
+    pub const CLEAR_DST: Self = Self {
+        layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        stage: vk::PipelineStageFlags2::CLEAR,
+        access: vk::AccessFlags2::TRANSFER_WRITE,
+    };
     pub const TRANSFER_DST: Self = Self {
         layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
         stage: vk::PipelineStageFlags2::from_raw(

@@ -104,12 +104,6 @@ fn cube_texels(side: u32) -> vk::Extent3D {
     }
 }
 
-/// An image being cleared.
-const CLEAR_DST: ImageUse = ImageUse {
-    layout: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-    stage: vk::PipelineStageFlags2::CLEAR,
-    access: vk::AccessFlags2::TRANSFER_WRITE,
-};
 /// Where every finished image is left: sampled by shaders (the prefilter kernel reads the
 /// source cube in a later submission, which the fence orders).
 pub const SHADING_READ: ImageUse = ImageUse::FRAGMENT_READ;
@@ -759,7 +753,8 @@ impl Precompute {
         self.one_shot.run(|cmd| {
             for image in [&cube, &table] {
                 let range = image.all_levels();
-                transition_levels(&self.device, cmd, image.handle, range, ImageUse::UNDEFINED, CLEAR_DST);
+                let (undefined, clear) = (ImageUse::UNDEFINED, ImageUse::CLEAR_DST);
+                transition_levels(&self.device, cmd, image.handle, range, undefined, clear);
                 let black = vk::ClearColorValue { float32: [0.0; 4] };
                 unsafe {
                     self.device.handle.cmd_clear_color_image(
@@ -770,7 +765,7 @@ impl Precompute {
                         &[range],
                     )
                 };
-                transition_levels(&self.device, cmd, image.handle, range, CLEAR_DST, SHADING_READ);
+                transition_levels(&self.device, cmd, image.handle, range, ImageUse::CLEAR_DST, SHADING_READ);
             }
         })?;
         Ok((cube, table))
