@@ -264,13 +264,10 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
     let textures = requests
         .pending
         .iter()
-        .map(|(field, texture, role)| load_map_texture(&check, field, texture, *role, base_dir, &requests.embedded))
+        .map(|(field, texture, role)| {
+            load_map_texture(&check, field, texture, *role, base_dir, &requests.embedded, &mut inputs)
+        })
         .collect::<Result<_, _>>()?;
-    let texture_files = (requests.pending.iter())
-        .map(|(_, texture, _)| texture)
-        .filter(|texture| !texture.starts_with(BUILTIN_PREFIX) && !requests.embedded.contains_key(*texture))
-        .map(|texture| base_dir.join(texture));
-    inputs.extend(texture_files);
     let mut seen = HashSet::new();
     inputs.retain(|file| seen.insert(file.clone()));
 
@@ -625,6 +622,8 @@ fn check_map(
     })
 }
 
+/// The texture of a map, built in, embedded in a model, or read from a file, which joins
+/// `files`.
 fn load_map_texture(
     check: &Checker,
     field: &str,
@@ -632,6 +631,7 @@ fn load_map_texture(
     role: TextureRole,
     base_dir: &Path,
     embedded: &HashMap<String, Vec<u8>>,
+    files: &mut Vec<PathBuf>,
 ) -> Result<TextureData, SceneError> {
     if texture.starts_with(BUILTIN_PREFIX) {
         // Names were checked with the map; this only avoids an unwrap.
@@ -639,7 +639,12 @@ fn load_map_texture(
     }
     let loaded = match embedded.get(texture) {
         Some(bytes) => decode_texture(bytes, texture, role),
-        None => load_texture(&base_dir.join(texture), role),
+        None => {
+            let file = base_dir.join(texture);
+            let loaded = load_texture(&file, role);
+            files.push(file);
+            loaded
+        }
     };
     loaded.map_err(|error| SceneError::MaterialTexture {
         origin: check.origin.to_owned(),
