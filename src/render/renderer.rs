@@ -337,6 +337,7 @@ impl Renderer {
             ImageUse::UNDEFINED,
             ImageUse::DEPTH_ATTACHMENT,
         );
+        // The ground's light map is computed from the shadow maps, and timed with them.
         self.timed(cmd, slot, PASS_SHADOW, || {
             self.shadow.record(cmd, scene, gpu)?;
             self.ground_light.record(cmd, self.forward.frame_set(slot), self.shadow.set(slot));
