@@ -4,7 +4,8 @@
 //! taps meet the ground (set 5 of the forward pass; shaders/lib/bounce.glsl), rather than
 //! every light's shadow map at every tap of every pixel. It is computed again only when
 //! the lights, the ground or the shadow maps change; without a ground nothing is
-//! recorded, and the map, cleared to 0 at the start, is not read.
+//! recorded, and the map, cleared to 0 at the start, counts for nothing (the gather
+//! returns before its taps).
 
 use std::cell::Cell;
 use std::sync::Arc;
