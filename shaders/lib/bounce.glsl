@@ -3,12 +3,13 @@
 // light (environment.glsl) arrives from every direction, the ground's too; the ground is
 // instead a Lambertian emitter of radiance ρ_g/π (E_lights(x) + E_env), E_lights the point
 // lights' irradiance at x as their shadow maps see it (the ground's light map,
-// ground_light.glsl) and E_env the environment's on an open upward plane. A surface point above it gathers the difference of the two radiances
-// over its hemisphere with cosine-weighted taps (the estimator E = π/K Σ ΔL(x_k), pbrt-v4
-// §13.2), each tap where its ray meets the ground, none where it misses the ground's
-// square; the environment's radiance along a tap is its cosine-blurred irradiance E(d)/π,
-// which its diffuse light is made of. Occlusion of the ground by other objects is not
-// traced. The f64 twin is in src/brdf/bounce.rs; the gather measured in docs/scene-format.md.
+// ground_light.glsl) and E_env the environment's on an open upward plane. A surface point
+// above it gathers the difference of the two radiances over its hemisphere with
+// cosine-weighted taps (the estimator E = π/K Σ ΔL(x_k), pbrt-v4 §13.2), each tap where
+// its ray meets the ground, none where it misses the ground's square; the environment's
+// radiance along a tap is its cosine-blurred irradiance E(d)/π, which its diffuse light
+// is made of. Occlusion of the ground by other objects is not traced. The f64 twin is in
+// src/brdf/bounce.rs; the gather measured in docs/scene-format.md.
 #ifndef ARGIL_BOUNCE_GLSL
 #define ARGIL_BOUNCE_GLSL
 #include "scene_data.glsl"

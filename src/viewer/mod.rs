@@ -1023,7 +1023,8 @@ mod tests {
     fn a_scene_file_changed_on_disk_asks_before_losing_unsaved_changes() {
         let dir = crate::scene::tests::TempDir::new();
         let text = |roughness| {
-            format!("[[objects]]\nmesh = \"builtin:sphere\"\nmaterial = \"clay\"\n[materials.clay]\nroughness = {roughness}\n")
+            let object = "[[objects]]\nmesh = \"builtin:sphere\"\nmaterial = \"clay\"\n";
+            format!("{object}[materials.clay]\nroughness = {roughness}\n")
         };
         let path = dir.write("scene.toml", &text(0.5));
         let (viewable, document) = load_document(&path).unwrap();
