@@ -7,7 +7,7 @@ use glam::Vec3;
 
 use super::limits::MAX_OCCLUDERS;
 use super::mesh::TORUS_RADII;
-use super::{Mesh, Scene};
+use super::Scene;
 
 /// Spheres a builtin torus becomes: with 9 along the ring, each of the tube's volume share
 /// (radius ∛(π R r² / 6) = 0.40 for R = 1, r = 0.35), neighbours overlap slightly, so the
@@ -27,16 +27,16 @@ pub struct Occluder {
 }
 
 impl Scene {
+    /// Object `index`'s bounding sphere in world space: (centre, radius).
+    pub fn bounding_sphere(&self, index: usize) -> (Vec3, f32) {
+        let o = &self.objects[index];
+        let (centre, radius) = self.meshes[o.mesh].bounding_sphere();
+        (o.position + centre * o.scale, radius * o.scale)
+    }
+
     /// Each object's bounding sphere in world space: (centre, radius).
     pub fn bounding_spheres(&self) -> Vec<(Vec3, f32)> {
-        let meshes: Vec<(Vec3, f32)> = self.meshes.iter().map(Mesh::bounding_sphere).collect();
-        self.objects
-            .iter()
-            .map(|o| {
-                let (centre, radius) = meshes[o.mesh];
-                (o.position + centre * o.scale, radius * o.scale)
-            })
-            .collect()
+        (0..self.objects.len()).map(|i| self.bounding_sphere(i)).collect()
     }
 
     /// The spheres of every object with `[occlusion] objects` on (none off): the largest
@@ -46,7 +46,8 @@ impl Scene {
         if !self.occlusion.objects {
             return Vec::new();
         }
-        let bounds = self.bounding_spheres();
+        // Every frame lists them: a mesh's vertices are walked only for a mesh that is
+        // its bounding sphere, not for the builtins, whose spheres are known.
         let mut spheres: Vec<Occluder> = self
             .objects
             .iter()
@@ -73,7 +74,10 @@ impl Scene {
                             })
                             .collect()
                     }
-                    _ => vec![sphere(bounds[i].0, bounds[i].1)],
+                    _ => {
+                        let (centre, radius) = self.bounding_sphere(i);
+                        vec![sphere(centre, radius)]
+                    }
                 }
             })
             .collect();
