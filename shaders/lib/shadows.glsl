@@ -78,9 +78,10 @@ struct ShadowReceiver {
     float distance; // |q|
 };
 
-// The distance from the light of what texel `texel` of face `face` stores, when it lies in
-// front of the receiver's plane along that texel's ray; 0 when nothing does.
-float shadow_texel_blocker(ShadowReceiver r, uint face, ivec2 texel) {
+// The distance from the light of the surface that texel `texel` of face `face` stores at
+// depth `depth`, when it lies in front of the receiver's plane along that texel's ray; 0
+// when nothing does.
+float shadow_depth_blocker(ShadowReceiver r, uint face, ivec2 texel, float depth) {
     float size = float(shadow_data.settings.x);
     vec2 ab = (vec2(texel) + 0.5) / size * 2.0 - 1.0;
     // The texel's ray, at major-axis distance 1: the depth its face stores is along it.
@@ -88,10 +89,16 @@ float shadow_texel_blocker(ShadowReceiver r, uint face, ivec2 texel) {
     float inv_length = inversesqrt(dot(c, c));
     float c_dot_n = dot(c, r.n);
     float plane = receiver_plane_depth(c_dot_n, r.q_dot_n, r.distance * inv_length);
-    float stored = shadow_linear_depth(texelFetch(shadow_maps, ivec3(texel, r.layer + int(face)), 0).r, r.near, r.far);
+    float stored = shadow_linear_depth(depth, r.near, r.far);
     float cos_to_plane = abs(c_dot_n) * inv_length;
     float bias = SHADOW_DEPTH_BIAS + SHADOW_SLOPE_BIAS / max(cos_to_plane, 1e-4);
     return stored * (1.0 + bias) < plane ? stored / inv_length : 0.0;
+}
+
+// shadow_depth_blocker of what texel `texel` of face `face` stores.
+float shadow_texel_blocker(ShadowReceiver r, uint face, ivec2 texel) {
+    float depth = texelFetch(shadow_maps, ivec3(texel, r.layer + int(face)), 0).r;
+    return shadow_depth_blocker(r, face, texel, depth);
 }
 
 // The texel direction w falls in, and its fractional position from the texel centre below
@@ -107,18 +114,24 @@ ivec2 shadow_texel(vec3 w, out uint face, out vec2 fraction) {
 
 // The fraction of the light's point arriving along w: the texels' comparisons weighted
 // bilinearly (percentage-closer filtering, Reeves et al. 1987), clamped at the face's edge.
+// One gather reads the 2×2 texels, at the corner they share: the sampler's clamp to the
+// edge picks the same texels as clamping their indices, and sampling at the footprint's
+// centre leaves no rounding to move it.
 float shadow_bilinear(ShadowReceiver r, vec3 w) {
     uint face;
     vec2 f;
     ivec2 base = shadow_texel(w, face, f);
     int last = int(shadow_data.settings.x) - 1;
+    vec2 corner = (vec2(base) + 1.0) / float(shadow_data.settings.x);
+    // Gather order is (0, 1), (1, 1), (1, 0), (0, 0) from base; wzxy puts it in rows.
+    vec4 depths = textureGather(shadow_maps, vec3(corner, float(r.layer + int(face)))).wzxy;
     float lit = 0.0;
     uint blocked = 0u;
     for (int j = 0; j < 2; ++j) {
         for (int i = 0; i < 2; ++i) {
             float weight = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
             ivec2 texel = clamp(base + ivec2(i, j), ivec2(0), ivec2(last));
-            bool blocker = shadow_texel_blocker(r, face, texel) > 0.0;
+            bool blocker = shadow_depth_blocker(r, face, texel, depths[2 * j + i]) > 0.0;
             lit += blocker ? 0.0 : weight;
             blocked += blocker ? 1u : 0u;
         }
