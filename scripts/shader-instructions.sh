@@ -6,21 +6,26 @@
 # 0.01% between runs), so two variants of a scene, or two builds of the shaders, can be
 # compared on a busy machine: their difference is what the variant costs to shade.
 #
-#   scripts/shader-instructions.sh [--size WxH] [--argil PATH] SCENE.toml...
+#   scripts/shader-instructions.sh [--size WxH] [--frames N] [--argil PATH] SCENE.toml...
 #
 # Prints one line per scene: its shader instructions and the whole process's. The shader
 # count covers every pass of the frame (shadow maps, forward, skybox, tone map) and the
-# environment precompute where the disk cache does not hold it. Needs valgrind (Debian:
+# environment precompute where the disk cache does not hold it. With --frames N, N frames
+# are drawn (accumulated, as `argil render --accumulate N`): what is computed once per
+# scene (shadow maps, the ground's maps) counts once, so the difference of the counts at
+# N = 2 and N = 1 is a steady frame's. Needs valgrind (Debian:
 # apt install valgrind); each scene takes about 3 minutes at the default 320×180.
 set -euo pipefail
 
 size=320x180
+frames=1
 argil="$(dirname "$0")/../target/release/argil"
 while [ $# -gt 0 ]; do
   case "$1" in
     --size) size="$2"; shift 2 ;;
+    --frames) frames="$2"; shift 2 ;;
     --argil) argil="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) break ;;
   esac
 done
@@ -40,7 +45,7 @@ trap 'rm -rf "$work"' EXIT
 printf '%-40s %18s %18s\n' scene shader_instructions all_instructions
 for scene in "$@"; do
   valgrind --tool=callgrind --callgrind-out-file="$work/out" \
-    "$argil" render "$scene" --width "${size%x*}" --height "${size#*x}" --out "$work/frame.exr" \
+    "$argil" render "$scene" --width "${size%x*}" --height "${size#*x}" --out "$work/frame.exr" --accumulate "$frames" \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
   # Functions of no object file ([???]) are the run-time compiled shaders.
   shaders=$(callgrind_annotate --inclusive=no --threshold=100 "$work/out" |
