@@ -15,6 +15,7 @@
 #include "occlusion_map.glsl"
 #include "bounce.glsl"
 #include "object_occlusion.glsl"
+#include "ground_occlusion.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
 layout(constant_id = 1) const uint SPECULAR_MODEL = 0;
@@ -77,7 +78,11 @@ void main() {
 
     float visibility = ambient_visibility(gl_FragCoord.xy);
     vec4 occlusion = environment_occlusion(visibility, m.base_color.rgb);
-    if (OBJECT_OCCLUSION) occlusion.rgb *= object_occlusion(in_world_position, n, object.own_occluders);
+    if (OBJECT_OCCLUSION) {
+        occlusion.rgb *= object.own_occluders.x == OWN_GROUND_MAP
+                             ? ground_map_occlusion(in_world_position)
+                             : object_occlusion(in_world_position, n, object.own_occluders);
+    }
     // The occlusion map's baked visibility multiplies the environment's light, occluded by
     // the screen-space visibility already, as glTF 2.0 applies it; the point lights it
     // micro-shadows (lights.glsl) where the material asks.

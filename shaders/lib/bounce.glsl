@@ -32,10 +32,10 @@ vec3 bounce_environment(vec3 d) {
 
 // The irradiance that the ground below p, of unit normal n, adds to the environment's (or
 // takes from it, where the ground is darker than the sky); 0 on the ground itself and
-// below it, or without a ground.
+// below it, or without a bounce.
 vec3 ground_bounce_irradiance(vec3 p, vec3 n) {
     float height = p.y - frame.ground.y;
-    if (frame.ground.w <= 0.0 || height <= 0.0 || n.y >= 1.0) return vec3(0.0);
+    if (frame.ground_albedo.a <= 0.0 || height <= 0.0 || n.y >= 1.0) return vec3(0.0);
     mat3 basis = tangent_frame(n);
     vec3 ground_environment = PI * bounce_environment(vec3(0.0, 1.0, 0.0));
     vec3 lights = vec3(0.0);

@@ -27,9 +27,9 @@ layout(set = 0, binding = 0, std140) uniform FrameData {
                             // z = the sampled reflection's sample set (environment.glsl),
                             // w = occluders in use (object_occlusion.glsl)
     PointLight lights[MAX_POINT_LIGHTS];
-    vec4 ground;         // the ground that bounces light (bounce.glsl): xyz its centre,
-                         // w its half side, 0 without a bounce
-    vec4 ground_albedo;  // rgb its albedo
+    vec4 ground;         // the ground, the largest builtin:plane (ground_light.glsl): xyz
+                         // its centre, w its half side, 0 without a ground
+    vec4 ground_albedo;  // rgb its albedo, a 1 where it bounces light (bounce.glsl), else 0
     Occluder occluders[MAX_OCCLUDERS];
 } frame;
 

@@ -144,20 +144,23 @@ pub struct EnvironmentPass {
     brdf_lut: Option<Image>,
     /// The environment `data` and `set` describe.
     current: Option<Environment>,
+    /// Counts the changes of what `set` holds.
+    generation: u64,
     skybox: Option<Skybox>,
     costs: Vec<Cost>,
 }
 
 impl EnvironmentPass {
     pub fn new(device: &Arc<Device>) -> Result<Self> {
-        let fragment = vk::ShaderStageFlags::FRAGMENT;
+        // The ground's occlusion map is computed from it too (ground_maps.rs).
+        let stages = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
         let set_layout = DescriptorSetLayoutBuilder::default()
-            .binding(vk::DescriptorType::UNIFORM_BUFFER, fragment)
-            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
-            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
-            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
-            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, fragment)
-            .binding(vk::DescriptorType::STORAGE_BUFFER, fragment)
+            .binding(vk::DescriptorType::UNIFORM_BUFFER, stages)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages)
+            .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages)
+            .binding(vk::DescriptorType::STORAGE_BUFFER, stages)
             .build(device, "environment set")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, 1)?;
         let set = pool.allocate(&set_layout)?;
@@ -186,6 +189,7 @@ impl EnvironmentPass {
             given_map: None,
             brdf_lut: None,
             current: None,
+            generation: 0,
             skybox: None,
             costs: Vec::new(),
         })
@@ -199,6 +203,12 @@ impl EnvironmentPass {
     /// The set to bind as set 2; valid after `prepare`.
     pub fn set(&self) -> vk::DescriptorSet {
         self.set
+    }
+
+    /// Changes when the environment `set` describes changes (its settings, or its map read
+    /// again), and only then.
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// Builds the cubes of the map at `path` from `map`, as the caller decoded it (to check
@@ -258,6 +268,7 @@ impl EnvironmentPass {
         if !changed {
             return Ok(());
         }
+        self.generation += 1;
         self.device.wait_idle()?;
         self.current = None;
         self.costs.clear();

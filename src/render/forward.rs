@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use super::debug_view::DebugView;
 use super::environment::{environment_kind, reflection_code};
-use super::gpu_scene::{FrameData, GpuScene, ObjectPush};
+use super::gpu_scene::{FrameData, GpuScene, ObjectPush, OWN_GROUND_MAP};
 use super::material_data::MaterialData;
 use super::occlusion::OcclusionMode;
 use super::shaders;
@@ -200,9 +200,9 @@ impl ForwardPass {
         environment_layout: &DescriptorSetLayout,
         shadow_layout: &DescriptorSetLayout,
         occlusion_layout: &DescriptorSetLayout,
-        ground_light_layout: &DescriptorSetLayout,
+        ground_maps_layout: &DescriptorSetLayout,
     ) -> Result<Self> {
-        // The ground's light map is computed from the frame data too (ground_light.rs).
+        // The ground's maps are computed from the frame data too (ground_maps.rs).
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(
                 vk::DescriptorType::UNIFORM_BUFFER,
@@ -234,7 +234,7 @@ impl ForwardPass {
                 environment_layout,
                 shadow_layout,
                 occlusion_layout,
-                ground_light_layout,
+                ground_maps_layout,
             ],
             std::mem::size_of::<ObjectPush>() as u32,
             vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
@@ -391,7 +391,8 @@ impl ForwardPass {
     /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
     /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
     /// `occlusion`: how the environment's light is occluded, `objects` whether by the
-    /// scene's objects as spheres (`[occlusion] objects`) too. A `split` frame's materials
+    /// scene's objects as spheres (`[occlusion] objects`) too, and `ground_map` the object
+    /// that reads theirs from the ground's occlusion map (ground_maps.rs). A `split` frame's materials
     /// follow the scene's in the buffer, with pipelines of their own.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
@@ -407,10 +408,16 @@ impl ForwardPass {
         samples: vk::SampleCountFlags,
         occlusion: OcclusionMode,
         objects: bool,
+        ground_map: Option<usize>,
         one_shot: &OneShot,
     ) -> Result<()> {
         let occluders = scene.occluders();
-        self.own_occluders = (0..scene.objects.len()).map(|i| scene.own_occluders(&occluders, i)).collect();
+        self.own_occluders = (0..scene.objects.len())
+            .map(|i| match ground_map {
+                Some(ground) if ground == i => (OWN_GROUND_MAP as usize, occluders.len()),
+                _ => scene.own_occluders(&occluders, i),
+            })
+            .collect();
         let mut frame_data = FrameData::new(scene, &occluders, aspect)?;
         // Without spheres to read, the pipelines hold no object occlusion.
         let objects = objects && frame_data.counts[3] > 0;
@@ -483,7 +490,7 @@ impl ForwardPass {
         environment_set: vk::DescriptorSet,
         shadow_set: vk::DescriptorSet,
         occlusion_set: vk::DescriptorSet,
-        ground_light_set: vk::DescriptorSet,
+        ground_maps_set: vk::DescriptorSet,
     ) -> Result<()> {
         let d = &self.device.handle;
         let color = [vk::RenderingAttachmentInfo::default()
@@ -517,7 +524,7 @@ impl ForwardPass {
                 vk::PipelineBindPoint::GRAPHICS,
                 self.layout.handle,
                 2,
-                &[environment_set, shadow_set, occlusion_set, ground_light_set],
+                &[environment_set, shadow_set, occlusion_set, ground_maps_set],
                 &[],
             );
         }

@@ -32,10 +32,11 @@ pub struct FrameData {
     pub camera_position: [f32; 4],
     pub counts: [u32; 4],
     pub lights: [PointLightData; MAX_POINT_LIGHTS],
-    /// The ground that bounces the lights' light (shaders/lib/bounce.glsl): xyz its centre,
-    /// w its half side, 0 without a bounce.
+    /// The ground (`Scene::ground`; shaders/lib/ground_light.glsl): xyz its centre, w its
+    /// half side, 0 without a ground.
     pub ground: [f32; 4],
-    /// rgb the ground's albedo.
+    /// rgb the ground's albedo, a 1 where it bounces the lights' light
+    /// (shaders/lib/bounce.glsl), else 0.
     pub ground_albedo: [f32; 4],
     /// The spheres of `[occlusion] objects` (`counts[3]` of them, as `Scene::occluders`
     /// lists them): centre and radius, then albedo (w unused).
@@ -57,10 +58,12 @@ impl FrameData {
             slot.position = light.position.extend(1.0).to_array();
             slot.intensity = light.intensity.extend(0.0).to_array();
         }
-        let (ground, ground_albedo) = match scene.bounce_ground() {
+        let (ground, ground_albedo) = match scene.ground() {
             Some(object) => (
                 object.position.extend(object.scale).to_array(),
-                scene.materials[object.material].base_color.extend(0.0).to_array(),
+                (scene.materials[object.material].base_color)
+                    .extend(if scene.bounce { 1.0 } else { 0.0 })
+                    .to_array(),
             ),
             None => ([0.0; 4], [0.0; 4]),
         };
@@ -89,9 +92,14 @@ pub struct ObjectPush {
     pub material_index: u32,
     pub pad: u32,
     /// The run of `FrameData::occluders` that stands for its own file object, which does
-    /// not occlude it: (first, count).
+    /// not occlude it: (first, count); ([`OWN_GROUND_MAP`], every sphere) for the ground
+    /// whose occlusion the ground's map holds.
     pub own_occluders: [u32; 2],
 }
+
+/// The first of the ground's own occluders when the ground's occlusion map holds its
+/// occlusion (src/render/ground_maps.rs): shaders/lib/ground_occlusion.glsl's OWN_GROUND_MAP.
+pub const OWN_GROUND_MAP: u32 = u32::MAX;
 
 impl ObjectPush {
     /// The draw of `object`, whose own spheres are the run `own_occluders` of the frame's
@@ -245,12 +253,21 @@ mod tests {
         let glsl = include_str!("../../shaders/lib/scene_data.glsl");
         assert!(glsl.contains(&format!("#define MAX_POINT_LIGHTS {MAX_POINT_LIGHTS}\n")));
         assert!(glsl.contains(&format!("#define MAX_OCCLUDERS {MAX_OCCLUDERS}\n")));
-        assert!(glsl.contains("    vec4 ground_albedo;  // rgb its albedo\n    Occluder occluders[MAX_OCCLUDERS];\n} frame;"));
+        assert!(glsl.contains(concat!(
+            "    vec4 ground_albedo;  // rgb its albedo, a 1 where it bounces light (bounce.glsl), else 0\n",
+            "    Occluder occluders[MAX_OCCLUDERS];\n} frame;"
+        )));
         assert_eq!(
             std::mem::offset_of!(FrameData, occluders),
             std::mem::offset_of!(FrameData, ground_albedo) + 16
         );
         assert_eq!(std::mem::size_of::<FrameData>() - std::mem::offset_of!(FrameData, occluders), 32 * MAX_OCCLUDERS);
+    }
+
+    #[test]
+    fn the_ground_maps_run_is_the_shaders() {
+        let glsl = include_str!("../../shaders/lib/ground_occlusion.glsl");
+        assert!(glsl.contains(&format!("const uint OWN_GROUND_MAP = {OWN_GROUND_MAP:#x}u;")));
     }
 
 }

@@ -1,47 +1,70 @@
-//! The ground's light map (`[shadows] bounce`): the point lights' irradiance on the ground,
-//! each light's through its shadow map, at the texel centres of a square image over the
-//! ground (shaders/ground_light.comp). The bounce's gather reads it bilinearly where its
-//! taps meet the ground (set 5 of the forward pass; shaders/lib/bounce.glsl), rather than
-//! every light's shadow map at every tap of every pixel. It is computed again only when
-//! the lights, the ground or the shadow maps change; without a ground nothing is
-//! recorded, and the map, cleared to 0 at the start, counts for nothing (the gather
-//! returns before its taps).
+//! The ground's maps: square images over the ground's square (`Scene::ground`), computed at
+//! their texel centres (shaders/lib/ground_light.glsl's `ground_light_point`) and read
+//! bilinearly through set 5 of the forward pass, each computed again only when what it is
+//! made of changes, and recording nothing in steady frames:
+//! - the light map (`[shadows] bounce`, binding 0): the point lights' irradiance on the
+//!   ground, each light's through its shadow map (shaders/ground_light.comp). The bounce's
+//!   gather reads it where its taps meet the ground (shaders/lib/bounce.glsl), rather than
+//!   every light's shadow map at every tap of every pixel. It follows the lights, the
+//!   ground and the shadow maps.
+//! - the occlusion map (`[occlusion] objects` and `ground_map`, binding 1): what the
+//!   objects' spheres make of the environment's diffuse light on the ground
+//!   (shaders/ground_occlusion.comp), which the ground reads at its pixels
+//!   (shaders/lib/ground_occlusion.glsl) rather than every sphere at every one of them. It
+//!   follows the objects, the ground and the environment.
+//!
+//! Both start cleared to 0, which a frame that does not use a map never reads.
 
 use std::cell::Cell;
 use std::sync::Arc;
 
 use anyhow::Result;
 use ash::vk;
+use bytemuck::Zeroable;
 
+use super::forward::{ForwardConstants, FROM_UNIFORM};
 use super::gpu_scene::MAX_POINT_LIGHTS;
 use super::shaders;
-use crate::scene::Scene;
+use crate::scene::{Environment, MapSlot, Scene};
 use crate::vk::{
     transition, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device, Image,
     ImageUse, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
 };
 
-/// Texels on a side of the map: 6.25 cm on the default scene's 16 m ground, finer than the
-/// gather's eight taps resolve.
+/// Texels on a side of the light map: 6.25 cm on the default scene's 16 m ground, finer
+/// than the gather's eight taps resolve.
 pub const GROUND_LIGHT_SIZE: u32 = 256;
-/// fp16: an irradiance to 2⁻¹¹ of itself, which Vulkan requires to filter and store.
+/// Texels on a side of the occlusion map, which is seen directly: 3.1 cm on the default
+/// scene's ground, a tenth of the radius of the torus's spheres.
+pub const GROUND_OCCLUSION_SIZE: u32 = 512;
+/// fp16: a value to 2⁻¹¹ of itself, which Vulkan requires to filter and store.
 const FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-/// ground_light.comp's `local_size_x` and `local_size_y`.
+/// The compute shaders' `local_size_x` and `local_size_y`.
 const WORKGROUP: u32 = 8;
 
-pub struct GroundLightPass {
-    device: Arc<Device>,
-    /// Set 5 of the forward pass: the map, sampled.
-    _set_layout: DescriptorSetLayout,
-    set: vk::DescriptorSet,
-    _compute_set_layout: DescriptorSetLayout,
+/// The object whose occlusion the forward pass reads from the ground's occlusion map: the
+/// ground, when the objects occlude the environment's light (`objects`: on for the frame,
+/// with spheres to occlude) and the scene asks for the map, the ground's material bends
+/// no normal (the map is the plane's), the camera sees its upper side, and the frame is
+/// not split (whose parts may light the ground differently).
+pub fn occlusion_ground(scene: &Scene, objects: bool, split: bool) -> Option<usize> {
+    let index = scene.ground_index()?;
+    let ground = &scene.objects[index];
+    let maps = &scene.materials[ground.material].maps;
+    let flat = maps[MapSlot::Normal].is_none() && maps[MapSlot::Detail].is_none();
+    let above = scene.camera.position.y > ground.position.y;
+    let lit = scene.environment != Environment::None;
+    (objects && scene.occlusion.ground_map && flat && above && lit && !split).then_some(index)
+}
+
+/// One map: its image, written through `compute_set` by `pipeline`, and what it was last
+/// computed from.
+struct GroundMap {
+    image: Image,
+    size: u32,
     compute_set: vk::DescriptorSet,
-    _pools: [DescriptorPool; 2],
-    layout: PipelineLayout,
     pipeline: Pipeline,
-    _sampler: Sampler,
-    map: Image,
-    /// The lights and the ground the map was last computed for.
+    /// What the map was last computed from; empty when no frame uses it.
     key: Vec<u32>,
     /// Whether the next recorded frame computes the map.
     pending: Cell<bool>,
@@ -49,7 +72,128 @@ pub struct GroundLightPass {
     renders: Cell<u64>,
 }
 
-impl GroundLightPass {
+impl GroundMap {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        device: &Arc<Device>,
+        one_shot: &OneShot,
+        layout: &PipelineLayout,
+        compute_set: vk::DescriptorSet,
+        shader: &[u8],
+        specialization: &Specialization,
+        size: u32,
+        name: &str,
+    ) -> Result<Self> {
+        let module = ShaderModule::new(device, shader, name)?;
+        let pipeline = Pipeline::compute(device, layout, &module, specialization, name)?;
+        let extent = vk::Extent2D {
+            width: size,
+            height: size,
+        };
+        let image = Image::new_2d(
+            device,
+            extent,
+            FORMAT,
+            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            vk::ImageAspectFlags::COLOR,
+            name,
+        )?;
+        one_shot.run(|cmd| {
+            transition(device, cmd, image.handle, image.aspect, ImageUse::UNDEFINED, ImageUse::CLEAR_DST);
+            let black = vk::ClearColorValue { float32: [0.0; 4] };
+            let range = image.all_levels();
+            unsafe {
+                device.handle.cmd_clear_color_image(
+                    cmd,
+                    image.handle,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &black,
+                    &[range],
+                )
+            };
+            transition(device, cmd, image.handle, image.aspect, ImageUse::CLEAR_DST, ImageUse::FRAGMENT_READ);
+        })?;
+        DescriptorWriter::default()
+            .image(
+                0,
+                vk::DescriptorType::STORAGE_IMAGE,
+                image.view,
+                vk::ImageLayout::GENERAL,
+                vk::Sampler::null(),
+            )
+            .write(device, compute_set);
+        Ok(Self {
+            image,
+            size,
+            compute_set,
+            pipeline,
+            key: Vec::new(),
+            pending: Cell::new(false),
+            renders: Cell::new(0),
+        })
+    }
+
+    /// Has the next recorded frame compute the map when it is made of `key` (None: no
+    /// frame reads it) and that differs from what it was computed from, or `changed`.
+    fn prepare(&mut self, key: Option<Vec<u32>>, changed: bool) {
+        let Some(key) = key else {
+            self.key.clear();
+            return;
+        };
+        if changed || key != self.key {
+            self.key = key;
+            self.pending.set(true);
+        }
+    }
+
+    /// Computes the map if [`Self::prepare`] found it out of date, with the other sets of
+    /// `layout` bound, leaving it readable by fragment shaders.
+    fn record(&self, device: &Device, cmd: vk::CommandBuffer, layout: &PipelineLayout) {
+        if !self.pending.replace(false) {
+            return;
+        }
+        self.renders.set(self.renders.get() + 1);
+        let image = &self.image;
+        // The old map goes once the frames before this one have read it.
+        let after_reads = ImageUse {
+            stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            ..ImageUse::UNDEFINED
+        };
+        transition(device, cmd, image.handle, image.aspect, after_reads, ImageUse::COMPUTE_STORAGE);
+        let d = &device.handle;
+        let groups = self.size.div_ceil(WORKGROUP);
+        unsafe {
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::COMPUTE,
+                layout.handle,
+                1,
+                &[self.compute_set],
+                &[],
+            );
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.handle);
+            d.cmd_dispatch(cmd, groups, groups, 1);
+        }
+        transition(device, cmd, image.handle, image.aspect, ImageUse::COMPUTE_STORAGE, ImageUse::FRAGMENT_READ);
+    }
+}
+
+pub struct GroundMaps {
+    device: Arc<Device>,
+    /// Set 5 of the forward pass: the maps, sampled.
+    _set_layout: DescriptorSetLayout,
+    set: vk::DescriptorSet,
+    _compute_set_layout: DescriptorSetLayout,
+    _pools: [DescriptorPool; 2],
+    /// The forward pass's set 0 (frame data), set 1 a map's storage image, set 2 the
+    /// environment's, set 3 the shadows'.
+    layout: PipelineLayout,
+    _sampler: Sampler,
+    light: GroundMap,
+    occlusion: GroundMap,
+}
+
+impl GroundMaps {
     /// The layout of set 5 of the forward pass, which [`Self::new`] takes over.
     pub fn forward_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout> {
         DescriptorSetLayoutBuilder::default()
@@ -57,12 +201,16 @@ impl GroundLightPass {
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 vk::ShaderStageFlags::FRAGMENT,
             )
-            .build(device, "ground light set")
+            .binding(
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::ShaderStageFlags::FRAGMENT,
+            )
+            .build(device, "ground maps set")
     }
 
-    /// The compute shader reads the lights and the ground from the forward pass's set 0
-    /// (`frame_layout`) and the shadow maps from its set 3 (`shadow_layout`); its set 2 is
-    /// the environment's (`environment_layout`), which it does not read.
+    /// The compute shaders read the lights, the ground and the occluders from the forward
+    /// pass's set 0 (`frame_layout`), the environment from its set 2 (`environment_layout`)
+    /// and the shadow maps from its set 3 (`shadow_layout`).
     pub fn new(
         device: &Arc<Device>,
         one_shot: &OneShot,
@@ -73,81 +221,68 @@ impl GroundLightPass {
     ) -> Result<Self> {
         let compute_set_layout = DescriptorSetLayoutBuilder::default()
             .binding(vk::DescriptorType::STORAGE_IMAGE, vk::ShaderStageFlags::COMPUTE)
-            .build(device, "ground light compute set")?;
+            .build(device, "ground map compute set")?;
         let pools = [
             DescriptorPool::for_layout(device, &set_layout, 1)?,
-            DescriptorPool::for_layout(device, &compute_set_layout, 1)?,
+            DescriptorPool::for_layout(device, &compute_set_layout, 2)?,
         ];
         let set = pools[0].allocate(&set_layout)?;
-        let compute_set = pools[1].allocate(&compute_set_layout)?;
         let layout = PipelineLayout::new(
             device,
             &[frame_layout, &compute_set_layout, environment_layout, shadow_layout],
             0,
             vk::ShaderStageFlags::empty(),
         )?;
-        let compute = ShaderModule::new(device, shaders::GROUND_LIGHT_COMP, "ground_light.comp")?;
-        let pipeline = Pipeline::compute(device, &layout, &compute, &Specialization::default(), "ground light")?;
-        let extent = vk::Extent2D {
-            width: GROUND_LIGHT_SIZE,
-            height: GROUND_LIGHT_SIZE,
-        };
-        let map = Image::new_2d(
+        let light = GroundMap::new(
             device,
-            extent,
-            FORMAT,
-            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
-            vk::ImageAspectFlags::COLOR,
+            one_shot,
+            &layout,
+            pools[1].allocate(&compute_set_layout)?,
+            shaders::GROUND_LIGHT_COMP,
+            &Specialization::default(),
+            GROUND_LIGHT_SIZE,
             "ground light",
         )?;
-        one_shot.run(|cmd| {
-            transition(device, cmd, map.handle, map.aspect, ImageUse::UNDEFINED, ImageUse::CLEAR_DST);
-            let black = vk::ClearColorValue { float32: [0.0; 4] };
-            let range = map.all_levels();
-            unsafe {
-                device.handle.cmd_clear_color_image(
-                    cmd,
-                    map.handle,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &black,
-                    &[range],
-                )
-            };
-            transition(device, cmd, map.handle, map.aspect, ImageUse::CLEAR_DST, ImageUse::FRAGMENT_READ);
-        })?;
+        // object_occlusion.glsl's code on, the environment's kind from its uniform.
+        let constants = ForwardConstants {
+            environment_kind: FROM_UNIFORM,
+            reflection_mode: FROM_UNIFORM,
+            debug_view: FROM_UNIFORM,
+            object_occlusion: 1,
+            ..ForwardConstants::zeroed()
+        };
+        let occlusion = GroundMap::new(
+            device,
+            one_shot,
+            &layout,
+            pools[1].allocate(&compute_set_layout)?,
+            shaders::GROUND_OCCLUSION_COMP,
+            &constants.specialization(),
+            GROUND_OCCLUSION_SIZE,
+            "ground occlusion",
+        )?;
         let sampler = Sampler::clamped(device)?;
-        DescriptorWriter::default()
-            .image(
-                0,
+        let sampled = |writer: DescriptorWriter, binding: u32, map: &GroundMap| {
+            writer.image(
+                binding,
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                map.view,
+                map.image.view,
                 vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                 sampler.handle,
             )
-            .write(device, set);
-        DescriptorWriter::default()
-            .image(
-                0,
-                vk::DescriptorType::STORAGE_IMAGE,
-                map.view,
-                vk::ImageLayout::GENERAL,
-                vk::Sampler::null(),
-            )
-            .write(device, compute_set);
+        };
+        let writer = sampled(DescriptorWriter::default(), 0, &light);
+        sampled(writer, 1, &occlusion).write(device, set);
         Ok(Self {
             device: device.clone(),
             _set_layout: set_layout,
             set,
             _compute_set_layout: compute_set_layout,
-            compute_set,
             _pools: pools,
             layout,
-            pipeline,
             _sampler: sampler,
-            map,
-            key: Vec::new(),
-            pending: Cell::new(false),
-            renders: Cell::new(0),
+            light,
+            occlusion,
         })
     }
 
@@ -156,57 +291,84 @@ impl GroundLightPass {
         self.set
     }
 
-    /// Has the next recorded frame compute the map when the scene has a ground to bounce
-    /// light and its lights or ground changed since, or `shadows_change` (the shadow maps
-    /// are rendered again, or switched on or off).
-    pub fn prepare(&mut self, scene: &Scene, shadows_change: bool) {
-        let Some(ground) = scene.bounce_ground() else {
-            self.key.clear();
-            return;
+    /// Has the next recorded frame compute each map the frame reads whose inputs changed:
+    /// the light map when the scene bounces light and its lights or ground changed, or
+    /// `shadows_change` (the shadow maps are rendered again, or switched on or off); the
+    /// occlusion map when `occlusion_ground` (see [`occlusion_ground`]) reads it and the
+    /// ground, the objects' spheres or the environment (its `environment_generation`)
+    /// changed.
+    pub fn prepare(
+        &mut self,
+        scene: &Scene,
+        shadows_change: bool,
+        occlusion_ground: Option<usize>,
+        environment_generation: u64,
+    ) {
+        let bits = |values: &mut dyn Iterator<Item = f32>| values.map(f32::to_bits).collect::<Vec<u32>>();
+        let ground = |index: usize| {
+            let object = &scene.objects[index];
+            object.position.extend(object.scale).to_array()
         };
-        let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
-        let key: Vec<u32> = (ground.position.extend(ground.scale).to_array().into_iter())
-            .chain(lights.flat_map(|l| l.position.to_array().into_iter().chain(l.intensity.to_array())))
-            .map(f32::to_bits)
-            .collect();
-        if shadows_change || key != self.key {
-            self.key = key;
-            self.pending.set(true);
-        }
+        let light_key = scene.bounce_ground().map(|object| {
+            let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
+            bits(
+                &mut (object.position.extend(object.scale).to_array().into_iter())
+                    .chain(lights.flat_map(|l| l.position.to_array().into_iter().chain(l.intensity.to_array()))),
+            )
+        });
+        self.light.prepare(light_key, shadows_change);
+        let occlusion_key = occlusion_ground.map(|index| {
+            let spheres = scene.occluders();
+            let mut key = bits(
+                &mut (ground(index).into_iter())
+                    .chain(spheres.iter().flat_map(|s| s.centre.extend(s.radius).to_array().into_iter()))
+                    .chain(spheres.iter().flat_map(|s| s.albedo.to_array())),
+            );
+            key.extend([environment_generation as u32, (environment_generation >> 32) as u32]);
+            key
+        });
+        self.occlusion.prepare(occlusion_key, false);
     }
 
-    /// Frames that have computed the map.
-    pub fn renders(&self) -> u64 {
-        self.renders.get()
+    /// Frames that have computed the light map.
+    pub fn light_renders(&self) -> u64 {
+        self.light.renders.get()
     }
 
-    /// Computes the map if [`Self::prepare`] found it out of date, from the frame's set 0
-    /// (`frame_set`) and shadow set (`shadow_set`), leaving it readable by fragment
-    /// shaders; records nothing otherwise.
-    pub fn record(&self, cmd: vk::CommandBuffer, frame_set: vk::DescriptorSet, shadow_set: vk::DescriptorSet) {
-        if !self.pending.replace(false) {
-            return;
+    /// Frames that have computed the occlusion map.
+    pub fn occlusion_renders(&self) -> u64 {
+        self.occlusion.renders.get()
+    }
+
+    /// Computes the light map if [`Self::prepare`] found it out of date, from the frame's
+    /// set 0 (`frame_set`) and shadow set (`shadow_set`); records nothing otherwise.
+    pub fn record_light(&self, cmd: vk::CommandBuffer, frame_set: vk::DescriptorSet, shadow_set: vk::DescriptorSet) {
+        if self.light.pending.get() {
+            self.bind(cmd, 0, &[frame_set]);
+            self.bind(cmd, 3, &[shadow_set]);
         }
-        self.renders.set(self.renders.get() + 1);
-        let map = &self.map;
-        // The old map goes once the frames before this one have read it.
-        let after_reads = ImageUse {
-            stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
-            ..ImageUse::UNDEFINED
-        };
-        transition(&self.device, cmd, map.handle, map.aspect, after_reads, ImageUse::COMPUTE_STORAGE);
-        let d = &self.device.handle;
-        let groups = GROUND_LIGHT_SIZE.div_ceil(WORKGROUP);
-        let bind = |first: u32, sets: &[vk::DescriptorSet]| unsafe {
-            d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, self.layout.handle, first, sets, &[]);
-        };
-        bind(0, &[frame_set, self.compute_set]);
-        bind(3, &[shadow_set]);
-        unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.handle);
-            d.cmd_dispatch(cmd, groups, groups, 1);
+        self.light.record(&self.device, cmd, &self.layout);
+    }
+
+    /// Computes the occlusion map if [`Self::prepare`] found it out of date, from the
+    /// frame's set 0 (`frame_set`) and the environment's set (`environment_set`); records
+    /// nothing otherwise.
+    pub fn record_occlusion(
+        &self,
+        cmd: vk::CommandBuffer,
+        frame_set: vk::DescriptorSet,
+        environment_set: vk::DescriptorSet,
+    ) {
+        if self.occlusion.pending.get() {
+            self.bind(cmd, 0, &[frame_set]);
+            self.bind(cmd, 2, &[environment_set]);
         }
-        transition(&self.device, cmd, map.handle, map.aspect, ImageUse::COMPUTE_STORAGE, ImageUse::FRAGMENT_READ);
+        self.occlusion.record(&self.device, cmd, &self.layout);
+    }
+
+    fn bind(&self, cmd: vk::CommandBuffer, first: u32, sets: &[vk::DescriptorSet]) {
+        let (d, layout) = (&self.device.handle, self.layout.handle);
+        unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, first, sets, &[]) };
     }
 }
 
@@ -216,8 +378,12 @@ mod tests {
 
     #[test]
     fn the_workgroup_and_format_are_the_shaders() {
-        let glsl = include_str!("../../shaders/ground_light.comp");
-        assert!(glsl.contains(&format!("local_size_x = {WORKGROUP}, local_size_y = {WORKGROUP}")));
-        assert!(glsl.contains("rgba16f") && FORMAT == vk::Format::R16G16B16A16_SFLOAT);
+        for glsl in [
+            include_str!("../../shaders/ground_light.comp"),
+            include_str!("../../shaders/ground_occlusion.comp"),
+        ] {
+            assert!(glsl.contains(&format!("local_size_x = {WORKGROUP}, local_size_y = {WORKGROUP}")));
+            assert!(glsl.contains("rgba16f") && FORMAT == vk::Format::R16G16B16A16_SFLOAT);
+        }
     }
 }

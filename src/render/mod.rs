@@ -7,7 +7,7 @@ pub mod exposure;
 pub mod forward;
 pub mod fullscreen;
 pub mod gpu_scene;
-pub mod ground_light;
+pub mod ground_maps;
 pub mod material_data;
 pub mod msaa;
 pub mod occlusion;

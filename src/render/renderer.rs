@@ -15,7 +15,7 @@ use super::environment::EnvironmentPass;
 use super::exposure::ExposurePass;
 use super::forward::ForwardPass;
 use super::gpu_scene::GpuScene;
-use super::ground_light::GroundLightPass;
+use super::ground_maps::{occlusion_ground, GroundMaps};
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
 use super::occlusion::{OcclusionMode, OcclusionPass};
 use super::shadow::ShadowPass;
@@ -80,7 +80,7 @@ pub struct Renderer {
     one_shot: OneShot,
     environment: EnvironmentPass,
     shadow: ShadowPass,
-    ground_light: GroundLightPass,
+    ground_maps: GroundMaps,
     occlusion_pass: OcclusionPass,
     forward: ForwardPass,
     msaa: MsaaPass,
@@ -164,7 +164,7 @@ impl Renderer {
         let one_shot = OneShot::new(&device)?;
         let shadow = ShadowPass::new(&device, frames_in_flight)?;
         let occlusion_pass = OcclusionPass::new(&device, &one_shot)?;
-        let ground_light_layout = GroundLightPass::forward_set_layout(&device)?;
+        let ground_maps_layout = GroundMaps::forward_set_layout(&device)?;
         let forward = ForwardPass::new(
             &device,
             &one_shot,
@@ -172,12 +172,12 @@ impl Renderer {
             environment.set_layout(),
             shadow.set_layout(),
             occlusion_pass.set_layout(),
-            &ground_light_layout,
+            &ground_maps_layout,
         )?;
-        let ground_light = GroundLightPass::new(
+        let ground_maps = GroundMaps::new(
             &device,
             &one_shot,
-            ground_light_layout,
+            ground_maps_layout,
             forward.frame_layout(),
             environment.set_layout(),
             shadow.set_layout(),
@@ -185,7 +185,7 @@ impl Renderer {
         Ok(Self {
             forward,
             shadow,
-            ground_light,
+            ground_maps,
             msaa: MsaaPass::new(&device, frames_in_flight)?,
             occlusion_pass,
             one_shot,
@@ -244,7 +244,13 @@ impl Renderer {
     /// How many times the ground's light map has been computed: once per change of the
     /// lights, the ground or the shadow maps, not per frame.
     pub fn ground_light_renders(&self) -> u64 {
-        self.ground_light.renders()
+        self.ground_maps.light_renders()
+    }
+
+    /// How many times the ground's occlusion map has been computed: once per change of the
+    /// objects, the ground or the environment, not per frame.
+    pub fn ground_occlusion_renders(&self) -> u64 {
+        self.ground_maps.occlusion_renders()
     }
 
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has
@@ -267,9 +273,12 @@ impl Renderer {
         self.environment.prepare_skybox(sample_flag(samples))?;
         self.msaa.prepare(slot, target, samples)?;
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
-        self.ground_light.prepare(scene, self.shadow.pending());
         // The floor measures geometry and targets alone: no occlusion under it.
         let occlusion = OcclusionMode::of(&scene.occlusion, self.occlusion && !self.floor);
+        let objects = self.occlusion && !self.floor && scene.occlusion.objects && !scene.occluders().is_empty();
+        let ground = occlusion_ground(scene, objects, self.split.is_some());
+        let environment = self.environment.generation();
+        self.ground_maps.prepare(scene, self.shadow.pending(), ground, environment);
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
         let switches = [self.shadows, self.floor, self.generic, self.occlusion];
         let view = (self.accumulation != Accumulation::Off)
@@ -296,7 +305,8 @@ impl Renderer {
             !self.generic,
             sample_flag(samples),
             occlusion,
-            self.occlusion && !self.floor && scene.occlusion.objects,
+            objects,
+            ground,
             &self.one_shot,
         )?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
@@ -337,13 +347,16 @@ impl Renderer {
             ImageUse::UNDEFINED,
             ImageUse::DEPTH_ATTACHMENT,
         );
-        // The ground's light map is computed from the shadow maps, and timed with them.
+        // The ground's light map is computed from the shadow maps, and timed with them; its
+        // occlusion map with the occlusion.
         self.timed(cmd, slot, PASS_SHADOW, || {
             self.shadow.record(cmd, scene, gpu)?;
-            self.ground_light.record(cmd, self.forward.frame_set(slot), self.shadow.set(slot));
+            self.ground_maps.record_light(cmd, self.forward.frame_set(slot), self.shadow.set(slot));
             Ok(())
         })?;
         self.timed(cmd, slot, PASS_OCCLUSION, || {
+            let frame_set = self.forward.frame_set(slot);
+            self.ground_maps.record_occlusion(cmd, frame_set, self.environment.set());
             self.occlusion_pass.record(cmd, scene, gpu)
         })?;
         self.timed(cmd, slot, PASS_FORWARD, || {
@@ -358,7 +371,7 @@ impl Renderer {
                 self.environment.set(),
                 self.shadow.set(slot),
                 self.occlusion_pass.set(),
-                self.ground_light.set(),
+                self.ground_maps.set(),
             )
         })?;
         self.timed(cmd, slot, PASS_SKYBOX, || {

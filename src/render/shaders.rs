@@ -25,3 +25,4 @@ pub const MSAA_RESOLVE_FRAG: &[u8] = spirv!("msaa_resolve.frag");
 pub const GTAO_COMP: &[u8] = spirv!("gtao.comp");
 pub const GTAO_DENOISE_COMP: &[u8] = spirv!("gtao_denoise.comp");
 pub const GROUND_LIGHT_COMP: &[u8] = spirv!("ground_light.comp");
+pub const GROUND_OCCLUSION_COMP: &[u8] = spirv!("ground_occlusion.comp");

@@ -2,7 +2,7 @@
 //! six faces layers of one 2D array image, rendered only when the lights, the objects or
 //! the settings change (a frame that changes nothing records no draw). Set 3 of the
 //! forward pass (shaders/lib/shadows.glsl): binding 0 the `ShadowData` uniform buffer,
-//! binding 1 the maps; the ground's light map is computed from them too (ground_light.rs).
+//! binding 1 the maps; the ground's light map is computed from them too (ground_maps.rs).
 
 use std::cell::Cell;
 use std::sync::Arc;

@@ -136,6 +136,9 @@ pub struct OcclusionDef {
     /// Occlusion by the objects as spheres (absent: false).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub objects: Option<bool>,
+    /// The objects' occlusion of the ground read from a map over it (absent: true).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground_map: Option<bool>,
 }
 
 /// `[environment]`, selected by `kind`. Optional keys are `None` when absent

@@ -130,16 +130,23 @@ impl Scene {
         self.lights.iter().take(limits::MAX_LIGHTS).position(|l| l.shadows)
     }
 
-    /// The ground that bounces the lights' light when `bounce` is on: the largest
-    /// `builtin:plane` (a 2 × 2 square facing +y, scaled).
+    /// The index of the ground: the largest `builtin:plane` (a 2 × 2 square facing +y,
+    /// scaled), the last of the largest.
+    pub fn ground_index(&self) -> Option<usize> {
+        (self.objects.iter().enumerate())
+            .filter(|(_, o)| self.meshes[o.mesh].name == "builtin:plane")
+            .max_by(|(_, a), (_, b)| a.scale.total_cmp(&b.scale))
+            .map(|(index, _)| index)
+    }
+
+    /// The ground (see [`Self::ground_index`]).
+    pub fn ground(&self) -> Option<&Object> {
+        self.ground_index().map(|index| &self.objects[index])
+    }
+
+    /// The ground that bounces the lights' light when `bounce` is on.
     pub fn bounce_ground(&self) -> Option<&Object> {
-        if !self.bounce {
-            return None;
-        }
-        self.objects
-            .iter()
-            .filter(|o| self.meshes[o.mesh].name == "builtin:plane")
-            .max_by(|a, b| a.scale.total_cmp(&b.scale))
+        self.ground().filter(|_| self.bounce)
     }
 
     /// The folder its relative paths are resolved against: its file's, else the working

@@ -17,6 +17,10 @@ pub struct Occlusion {
     /// Whether the objects, seen as spheres, hide the environment's light beyond the
     /// screen-space radius (shaders/lib/object_occlusion.glsl); independent of `enabled`.
     pub objects: bool,
+    /// Whether the objects' occlusion of the ground is read from a map over the ground,
+    /// computed once per change (src/render/ground_maps.rs), rather than from every sphere
+    /// at every pixel of the ground.
+    pub ground_map: bool,
 }
 
 impl Default for Occlusion {
@@ -28,6 +32,7 @@ impl Default for Occlusion {
             steps: 8,
             multi_bounce: true,
             objects: false,
+            ground_map: true,
         }
     }
 }

@@ -371,6 +371,7 @@ fn occlusion(check: &Checker, def: Option<&OcclusionDef>) -> Result<Occlusion, S
         steps: samples("occlusion.steps", def.steps, defaults.steps)?,
         multi_bounce: def.multi_bounce.unwrap_or(defaults.multi_bounce),
         objects: def.objects.unwrap_or(defaults.objects),
+        ground_map: def.ground_map.unwrap_or(defaults.ground_map),
     })
 }
 
@@ -385,6 +386,7 @@ fn occlusion_def(occlusion: &Occlusion) -> Option<OcclusionDef> {
         steps: (occlusion.steps != defaults.steps).then_some(occlusion.steps),
         multi_bounce: (occlusion.multi_bounce != defaults.multi_bounce).then_some(occlusion.multi_bounce),
         objects: (occlusion.objects != defaults.objects).then_some(occlusion.objects),
+        ground_map: (occlusion.ground_map != defaults.ground_map).then_some(occlusion.ground_map),
     };
     (def != OcclusionDef::default()).then_some(def)
 }

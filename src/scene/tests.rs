@@ -554,13 +554,16 @@ fn antialiasing_keys_are_read_defaulted_validated_and_saved() {
 /// keys that differ from the defaults are saved.
 #[test]
 fn occlusion_keys_are_read_defaulted_and_saved() {
-    let text = format!("{CUBE}[occlusion]\nenabled = true\nsteps = 12\nmulti_bounce = false\nobjects = true\n");
+    let text = format!(
+        "{CUBE}[occlusion]\nenabled = true\nsteps = 12\nmulti_bounce = false\nobjects = true\nground_map = false\n"
+    );
     let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
     let expected = crate::scene::Occlusion {
         enabled: true,
         steps: 12,
         multi_bounce: false,
         objects: true,
+        ground_map: false,
         ..Default::default()
     };
     assert_eq!(scene.occlusion, expected);
@@ -570,7 +573,7 @@ fn occlusion_keys_are_read_defaulted_and_saved() {
     let reread = Scene::from_toml(&saved, "saved.toml", Path::new("")).unwrap();
     assert_eq!(reread.occlusion, expected);
     let defaults = Scene::from_toml(CUBE, "scene.toml", Path::new("")).unwrap();
-    assert!(!defaults.occlusion.enabled && !defaults.occlusion.objects);
+    assert!(!defaults.occlusion.enabled && !defaults.occlusion.objects && defaults.occlusion.ground_map);
     assert!(!defaults.to_file().to_toml().unwrap().contains("[occlusion]"));
 }
 

@@ -37,5 +37,11 @@ pub fn occlusion_section(ui: &mut Ui, scene: &mut Scene, allowed: &mut bool) {
                 .on_hover_text("[occlusion] objects: each object, as spheres, hides the environment's light it subtends (Snyder 1996's clipped cap) and reflects its own");
             ui.checkbox(&mut occlusion.objects, "occlude as spheres");
             ui.end_row();
+            ui.label("ground map").on_hover_text(
+                "[occlusion] ground_map: the objects' occlusion of the ground read from a map over it, computed \
+                 once per change, rather than from every sphere at every pixel",
+            );
+            ui.add_enabled(occlusion.objects, egui::Checkbox::new(&mut occlusion.ground_map, "from a map"));
+            ui.end_row();
         });
 }
