@@ -327,10 +327,11 @@ fn studio_pixel(rays: &CameraRays, x: u32, y: u32) -> Option<Option<usize>> {
 }
 
 /// The ground's occlusion map is what every sphere makes of the ground's light at each
-/// pixel, to its bilinear interpolation over 512² texels and fp16: the ground's pixels
-/// within 0.3% of those of the frame without the map (their median within 0.05%), where
-/// the spheres take up to a third of the light. The balls' pixels are the same bit for
-/// bit.
+/// pixel, to its bilinear interpolation over 256² texels (4.7 cm here) and fp16: the
+/// ground's pixels within 0.6% of those of the frame without the map (0.45% measured,
+/// next to the contacts, where the occlusion bends fastest; 0.2% with 512² texels) and
+/// their median within 0.05% (2.7e-4, fp16's rounding), where the spheres take up to half
+/// of the light. The balls' pixels are the same bit for bit.
 #[test]
 fn the_grounds_occlusion_map_is_the_occlusion_at_each_pixel() {
     let s = scene(&studio_ground(true));
@@ -362,8 +363,8 @@ fn the_grounds_occlusion_map_is_the_occlusion_at_each_pixel() {
     let ground = errors.len();
     eprintln!("{ground} ground pixels: relative error median {median:.2e}, max {max:.2e}; darkest kept {darkest}");
     assert!(ground > 5000 && balls > 1000, "{ground} ground pixels, {balls} of the balls");
-    assert!(darkest < 0.7, "the spheres take little of the ground's light: {darkest}");
-    assert!(median < 5e-4 && max < 3e-3, "median {median:.2e}, max {max:.2e}");
+    assert!(darkest < 0.6, "the spheres take little of the ground's light: {darkest}");
+    assert!(median < 5e-4 && max < 6e-3, "median {median:.2e}, max {max:.2e}");
 }
 
 /// The occlusion map is computed when what it is made of changes, not every frame: once
