@@ -101,8 +101,8 @@ float shadow_texel_blocker(ShadowReceiver r, uint face, ivec2 texel) {
     return shadow_depth_blocker(r, face, texel, depth);
 }
 
-// The texel direction w falls in, and its fractional position from the texel centre below
-// and left of it (for bilinear weights).
+// The texel direction w (of any length: the face's axes divide it) falls in, and its
+// fractional position from the texel centre below and left of it (for bilinear weights).
 ivec2 shadow_texel(vec3 w, out uint face, out vec2 fraction) {
     vec2 ab;
     face = cube_face(w, ab);
@@ -199,7 +199,7 @@ float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
     for (uint k = 0u; k < SHADOW_TAPS; ++k) {
         vec2 o = vogel_disk(k, SHADOW_TAPS, rotation) * search;
         uint face;
-        ivec2 nearest = shadow_nearest_texel(normalize(w + tangent[0] * o.x + tangent[1] * o.y), face);
+        ivec2 nearest = shadow_nearest_texel(w + tangent[0] * o.x + tangent[1] * o.y, face);
         float blocker = shadow_texel_blocker(r, face, nearest);
         blockers += blocker;
         count += blocker > 0.0 ? 1.0 : 0.0;
@@ -209,7 +209,7 @@ float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
     float lit = 0.0;
     for (uint k = 0u; k < SHADOW_TAPS; ++k) {
         vec2 o = vogel_disk(k, SHADOW_TAPS, rotation) * filter_radius;
-        lit += shadow_bilinear(r, normalize(w + tangent[0] * o.x + tangent[1] * o.y));
+        lit += shadow_bilinear(r, w + tangent[0] * o.x + tangent[1] * o.y);
     }
     return lit / float(SHADOW_TAPS);
 }
