@@ -29,6 +29,7 @@ use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::scene::map_slots::MAP_COUNT;
+use crate::scene::occluders::Occluder;
 use crate::scene::{
     DetailBlend, Environment, MapRef, MapSlot, Material, ReflectionMode, Scene, SpecularModel, Subsurface, Vertex,
 };
@@ -391,9 +392,10 @@ impl ForwardPass {
     /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
     /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
     /// `occlusion`: how the environment's light is occluded, `objects` whether by the
-    /// scene's objects as spheres (`[occlusion] objects`) too, and `ground_map` the object
-    /// that reads theirs from the ground's occlusion map (ground_maps.rs). A `split` frame's materials
-    /// follow the scene's in the buffer, with pipelines of their own.
+    /// frame's `occluders` (`Scene::occluders`, `[occlusion] objects`) too, which the caller
+    /// leaves off without any, and `ground_map` the object that reads theirs from the
+    /// ground's occlusion map (ground_maps.rs). A `split` frame's materials follow the
+    /// scene's in the buffer, with pipelines of their own.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
@@ -407,20 +409,18 @@ impl ForwardPass {
         specialize: bool,
         samples: vk::SampleCountFlags,
         occlusion: OcclusionMode,
+        occluders: &[Occluder],
         objects: bool,
         ground_map: Option<usize>,
         one_shot: &OneShot,
     ) -> Result<()> {
-        let occluders = scene.occluders();
         self.own_occluders = (0..scene.objects.len())
             .map(|i| match ground_map {
                 Some(ground) if ground == i => (OWN_GROUND_MAP as usize, occluders.len()),
-                _ => scene.own_occluders(&occluders, i),
+                _ => scene.own_occluders(occluders, i),
             })
             .collect();
-        let mut frame_data = FrameData::new(scene, &occluders, aspect)?;
-        // Without spheres to read, the pipelines hold no object occlusion.
-        let objects = objects && frame_data.counts[3] > 0;
+        let mut frame_data = FrameData::new(scene, occluders, aspect)?;
         if !objects {
             frame_data.counts[3] = 0;
         }

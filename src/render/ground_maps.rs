@@ -25,7 +25,8 @@ use bytemuck::Zeroable;
 use super::forward::{ForwardConstants, FROM_UNIFORM};
 use super::gpu_scene::MAX_POINT_LIGHTS;
 use super::shaders;
-use crate::scene::{Environment, MapSlot, Scene};
+use crate::scene::occluders::Occluder;
+use crate::scene::{Environment, MapSlot, Object, Scene};
 use crate::vk::{
     transition, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device, Image,
     ImageUse, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
@@ -298,35 +299,29 @@ impl GroundMaps {
     /// the light map when the scene bounces light and its lights or ground changed, or
     /// `shadows_change` (the shadow maps are rendered again, or switched on or off); the
     /// occlusion map when `occlusion_ground` (see [`occlusion_ground`]) reads it and the
-    /// ground, the objects' spheres or the environment (its `environment_generation`)
+    /// ground, the frame's `occluders` or the environment (its `environment_generation`)
     /// changed.
     pub fn prepare(
         &mut self,
         scene: &Scene,
+        occluders: &[Occluder],
         shadows_change: bool,
         occlusion_ground: Option<usize>,
         environment_generation: u64,
     ) {
-        let bits = |values: &mut dyn Iterator<Item = f32>| values.map(f32::to_bits).collect::<Vec<u32>>();
-        let ground = |index: usize| {
-            let object = &scene.objects[index];
-            object.position.extend(object.scale).to_array()
+        // A map's inputs bit for bit, the ground's square first.
+        let key = |ground: &Object, inputs: &mut dyn Iterator<Item = f32>| -> Vec<u32> {
+            let square = ground.position.extend(ground.scale).to_array();
+            square.into_iter().chain(inputs).map(f32::to_bits).collect()
         };
-        let light_key = scene.bounce_ground().map(|object| {
+        let light_key = scene.bounce_ground().map(|ground| {
             let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
-            bits(
-                &mut (object.position.extend(object.scale).to_array().into_iter())
-                    .chain(lights.flat_map(|l| l.position.to_array().into_iter().chain(l.intensity.to_array()))),
-            )
+            key(ground, &mut lights.flat_map(|l| [l.position, l.intensity]).flat_map(|v| v.to_array()))
         });
         self.light.prepare(light_key, shadows_change);
         let occlusion_key = occlusion_ground.map(|index| {
-            let spheres = scene.occluders();
-            let mut key = bits(
-                &mut (ground(index).into_iter())
-                    .chain(spheres.iter().flat_map(|s| s.centre.extend(s.radius).to_array().into_iter()))
-                    .chain(spheres.iter().flat_map(|s| s.albedo.to_array())),
-            );
+            let spheres = occluders.iter().flat_map(|s| [s.centre.extend(s.radius), s.albedo.extend(0.0)]);
+            let mut key = key(&scene.objects[index], &mut spheres.flat_map(|v| v.to_array()));
             key.extend([environment_generation as u32, (environment_generation >> 32) as u32]);
             key
         });

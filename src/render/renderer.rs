@@ -275,10 +275,12 @@ impl Renderer {
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         // The floor measures geometry and targets alone: no occlusion under it.
         let occlusion = OcclusionMode::of(&scene.occlusion, self.occlusion && !self.floor);
-        let objects = self.occlusion && !self.floor && scene.occlusion.objects && !scene.occluders().is_empty();
+        let occluders = scene.occluders();
+        // Without spheres to read, the pipelines hold no object occlusion.
+        let objects = self.occlusion && !self.floor && scene.occlusion.objects && !occluders.is_empty();
         let ground = occlusion_ground(scene, objects, self.split.is_some());
         let environment = self.environment.generation();
-        self.ground_maps.prepare(scene, self.shadow.pending(), ground, environment);
+        self.ground_maps.prepare(scene, &occluders, self.shadow.pending(), ground, environment);
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
         let switches = [self.shadows, self.floor, self.generic, self.occlusion];
         let view = (self.accumulation != Accumulation::Off)
@@ -305,6 +307,7 @@ impl Renderer {
             !self.generic,
             sample_flag(samples),
             occlusion,
+            &occluders,
             objects,
             ground,
             &self.one_shot,
