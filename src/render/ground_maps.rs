@@ -13,7 +13,7 @@
 //!   (shaders/lib/ground_occlusion.glsl) rather than every sphere at every one of them. It
 //!   follows the objects, the ground and the environment.
 //!
-//! Both start cleared to 0, which a frame that does not use a map never reads.
+//! Both start cleared to 0, which a frame that does not use a map never uses.
 
 use std::cell::Cell;
 use std::sync::Arc;
@@ -102,21 +102,7 @@ impl GroundMap {
             vk::ImageAspectFlags::COLOR,
             name,
         )?;
-        one_shot.run(|cmd| {
-            transition(device, cmd, image.handle, image.aspect, ImageUse::UNDEFINED, ImageUse::CLEAR_DST);
-            let black = vk::ClearColorValue { float32: [0.0; 4] };
-            let range = image.all_levels();
-            unsafe {
-                device.handle.cmd_clear_color_image(
-                    cmd,
-                    image.handle,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &black,
-                    &[range],
-                )
-            };
-            transition(device, cmd, image.handle, image.aspect, ImageUse::CLEAR_DST, ImageUse::FRAGMENT_READ);
-        })?;
+        one_shot.run(|cmd| image.record_clear(cmd, ImageUse::FRAGMENT_READ))?;
         DescriptorWriter::default()
             .image(
                 0,

@@ -9,6 +9,7 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
 use super::device::Device;
+use super::sync::{transition_levels, ImageUse};
 
 pub struct Image {
     device: Arc<Device>,
@@ -230,6 +231,18 @@ impl Image {
         image.view = image.create_view(view_type, image.all_levels())?;
         device.set_name(handle, name);
         Ok(image)
+    }
+
+    /// Records clearing every level and layer to 0, whatever they held, leaving the image in
+    /// `then` (its usage must include `TRANSFER_DST`).
+    pub fn record_clear(&self, cmd: vk::CommandBuffer, then: ImageUse) {
+        let range = self.all_levels();
+        let d = &self.device;
+        transition_levels(d, cmd, self.handle, range, ImageUse::UNDEFINED, ImageUse::CLEAR_DST);
+        let zero = vk::ClearColorValue { float32: [0.0; 4] };
+        let layout = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+        unsafe { d.handle.cmd_clear_color_image(cmd, self.handle, layout, &zero, &[range]) };
+        transition_levels(d, cmd, self.handle, range, ImageUse::CLEAR_DST, then);
     }
 
     /// Every level and layer.

@@ -751,22 +751,8 @@ impl Precompute {
         let cube = Image::cube(&self.device, 1, 1, FORMAT, usage, "environment placeholder cube")?;
         let table = Image::array_2d(&self.device, unit, 1, FORMAT, usage, "environment placeholder table")?;
         self.one_shot.run(|cmd| {
-            for image in [&cube, &table] {
-                let range = image.all_levels();
-                let (undefined, clear) = (ImageUse::UNDEFINED, ImageUse::CLEAR_DST);
-                transition_levels(&self.device, cmd, image.handle, range, undefined, clear);
-                let black = vk::ClearColorValue { float32: [0.0; 4] };
-                unsafe {
-                    self.device.handle.cmd_clear_color_image(
-                        cmd,
-                        image.handle,
-                        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                        &black,
-                        &[range],
-                    )
-                };
-                transition_levels(&self.device, cmd, image.handle, range, ImageUse::CLEAR_DST, SHADING_READ);
-            }
+            cube.record_clear(cmd, SHADING_READ);
+            table.record_clear(cmd, SHADING_READ);
         })?;
         Ok((cube, table))
     }
