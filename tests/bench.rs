@@ -73,6 +73,8 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
             assert!(pass.as_f64().is_some_and(f64::is_finite), "pass time {pass}");
         }
         assert!(row["commit"].as_str().is_some_and(|c| !c.is_empty()));
+        // The rows' turns add up to --quick's 10 frames.
+        assert_eq!(row["frames"], Value::from(10), "{}", row["configuration"]);
     }
     // The floor against itself: 1 within the noise of one frame to the next.
     assert!(rows.iter().any(|r| r["configuration"] == "floor"), "a floor row");

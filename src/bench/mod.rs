@@ -1,7 +1,8 @@
 //! `argil bench`: run time against error. For each scene × configuration × resolution, the
 //! GPU time per pass of steady frames (after a warm-up that absorbs the driver's first-draw
 //! shader compile), the CPU time per frame, the GPU time as a ratio to the trivial-shader
-//! floor (drawn in alternation with every row, pooled per scene and size: [`Floor`]), and
+//! floor (drawn in alternation with every row, pooled per scene and size: [`Floor`]), the
+//! rows of a scene and size timed in turns, and
 //! the frame's error against the scene's `full` and `shadows` references (cached, see
 //! [`references`]).
 //!
@@ -31,14 +32,14 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 
 use crate::atomic::write_bytes;
-use crate::compare::metrics::{compare, Rgba32};
+use crate::compare::metrics::{compare, Metrics, Rgba32};
 use crate::error::InputError;
 use crate::reference::{Stop, Transport};
 use crate::render::msaa::supported_samples;
-use crate::render::{OffscreenTarget, Renderer, PASS_NAMES};
+use crate::render::{GpuScene, OffscreenTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
 use crate::vk::Device;
-use plan::BenchScene;
+use plan::{BenchScene, Configuration};
 use references::CachedReference;
 use report::{Provenance, Row};
 use stats::Summary;
@@ -216,6 +217,17 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     Ok(out)
 }
 
+/// A configuration ready to time: its scene, uploaded, and the error of its frame.
+struct Prepared<'a> {
+    /// Its place in the scene's plan, which the rows keep.
+    index: usize,
+    configuration: &'a Configuration,
+    scene: Scene,
+    gpu: GpuScene,
+    full: Metrics,
+    shadows: Metrics,
+}
+
 /// Times and measures every configuration of `scene`.
 fn bench_scene(
     renderer: &mut Renderer,
@@ -226,9 +238,8 @@ fn bench_scene(
     provenance: &Provenance,
     rows: &mut Vec<Row>,
 ) -> Result<()> {
-    // Each row's times, then its ratios to the floor frames of the rows at its size.
-    let mut measured = Vec::new();
-    for configuration in &scene.configurations {
+    let mut prepared = Vec::new();
+    for (index, configuration) in scene.configurations.iter().enumerate() {
         let parsed = Scene::from_toml(&configuration.text, &configuration.name, Path::new(""))?;
         let samples = supported_samples(&renderer.device, parsed.antialiasing.msaa);
         if samples != parsed.antialiasing.msaa {
@@ -243,34 +254,61 @@ fn bench_scene(
         renderer.generic = configuration.generic;
         let error_frame = frame(renderer, &parsed, &gpu, spec.extent)?;
         let [full, shadows] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
-        let (full, shadows) = (full?, shadows?);
-        for &extent in &configuration.resolutions {
-            let timing = time(renderer, &parsed, &gpu, extent, configuration.floor, options)?;
+        prepared.push(Prepared {
+            index,
+            configuration,
+            scene: parsed,
+            gpu,
+            full: full?,
+            shadows: shadows?,
+        });
+    }
+    // Each row's times, then its ratios to the floor frames of the rows at its size.
+    let mut extents = Vec::new();
+    for extent in prepared.iter().flat_map(|p| &p.configuration.resolutions) {
+        if !extents.contains(extent) {
+            extents.push(*extent);
+        }
+    }
+    let mut measured = Vec::new();
+    for extent in extents {
+        let at_size: Vec<&Prepared> =
+            prepared.iter().filter(|p| p.configuration.resolutions.contains(&extent)).collect();
+        let timings = time_in_turns(renderer, &at_size, extent, options)?;
+        for (p, timing) in at_size.into_iter().zip(timings) {
             eprintln!(
                 "{} {} {}x{}: GPU {:.2} ms, work {:.2} ms",
-                scene.name, configuration.name, extent.width, extent.height, timing.gpu_total.median, timing.work.median
+                scene.name,
+                p.configuration.name,
+                extent.width,
+                extent.height,
+                timing.gpu_total.median,
+                timing.work.median
             );
-            measured.push((configuration, extent, timing, full.clone(), shadows.clone()));
+            measured.push((p, extent, timing));
         }
     }
     renderer.floor = false;
     renderer.generic = false;
-    for (configuration, extent, timing, full, shadows) in &measured {
+    measured.sort_by_key(|(p, extent, _)| {
+        (p.index, p.configuration.resolutions.iter().position(|r| r == extent))
+    });
+    for (prepared, extent, timing) in &measured {
         let at_size = || measured.iter().filter(|m| m.1 == *extent);
         // The scene's own meshes' floor; a run of tessellation rows alone has only theirs.
-        let floor = if at_size().any(|m| m.0.own_meshes) {
-            Floor::pooled(at_size().filter(|m| m.0.own_meshes).map(|m| &m.2.floor))
+        let floor = if at_size().any(|m| m.0.configuration.own_meshes) {
+            Floor::pooled(at_size().filter(|m| m.0.configuration.own_meshes).map(|m| &m.2.floor))
         } else {
             Floor::pooled(at_size().map(|m| &m.2.floor))
         };
         let row = Row::new(
             scene.name,
-            configuration,
+            prepared.configuration,
             *extent,
             timing,
             &floor,
-            (full, refs[0]),
-            (shadows, refs[1]),
+            (&prepared.full, refs[0]),
+            (&prepared.shadows, refs[1]),
             provenance,
         );
         eprintln!("{}", row.line());
@@ -280,12 +318,7 @@ fn bench_scene(
 }
 
 /// One frame at `extent`, read back as linear radiance with coverage in alpha.
-fn frame(
-    renderer: &mut Renderer,
-    scene: &Scene,
-    gpu: &crate::render::GpuScene,
-    extent: vk::Extent2D,
-) -> Result<Rgba32> {
+fn frame(renderer: &mut Renderer, scene: &Scene, gpu: &GpuScene, extent: vk::Extent2D) -> Result<Rgba32> {
     let frame = renderer.render_offscreen(scene, gpu, extent, 1.0)?;
     Ok(Rgba32 {
         width: frame.width as usize,
@@ -353,26 +386,79 @@ struct FrameTimes {
     work: f64,
 }
 
-/// Renders warm-up frames, then pairs of timed frames into the same target without
-/// reading them back: a floor frame, then a frame of the configuration (itself the floor
-/// when `floor`). GPU milliseconds per pass from the timestamps, CPU milliseconds of
-/// writing the uniforms, recording, submitting and waiting for each frame, and the CPU
-/// time of the process meanwhile; the floor frames' for [`Floor::pooled`]. Alternating
-/// spreads the floor's frames over the run as the configurations' are.
-fn time(
+/// A row's timed frames so far.
+struct Recorded {
+    passes: Vec<Vec<f64>>,
+    totals: Vec<f64>,
+    cpu: Vec<f64>,
+    work: Vec<f64>,
+    floor: FloorFrames,
+}
+
+impl Recorded {
+    fn new() -> Self {
+        Self {
+            passes: vec![Vec::new(); PASS_NAMES.len()],
+            totals: Vec::new(),
+            cpu: Vec::new(),
+            work: Vec::new(),
+            floor: FloorFrames::default(),
+        }
+    }
+
+    fn frames(&self) -> u32 {
+        self.totals.len() as u32
+    }
+
+    fn push(&mut self, base: FrameTimes, frame: FrameTimes) {
+        self.floor.forward.push(base.gpu[0]);
+        self.floor.gpu.push(base.gpu.iter().sum());
+        self.floor.work.push(base.work);
+        self.totals.push(frame.gpu.iter().sum());
+        self.cpu.push(frame.wall);
+        self.work.push(frame.work);
+        for (pass, t) in self.passes.iter_mut().zip(frame.gpu) {
+            pass.push(t);
+        }
+    }
+
+    fn timing(self) -> Timing {
+        Timing {
+            frames: self.frames(),
+            passes: self.passes.iter().map(|p| Summary::of(p)).collect(),
+            gpu_total: Summary::of(&self.totals),
+            cpu: Summary::of(&self.cpu),
+            work: Summary::of(&self.work),
+            floor: self.floor,
+        }
+    }
+}
+
+/// Turns each row of a size has: a machine's speed drifts over the minutes of a run, and
+/// rows timed one after the other would each see a different machine.
+const TURNS: u32 = 5;
+
+/// Times `rows` at `extent` in [`TURNS`] rounds, the order reversed every other round,
+/// each row timing a share of its frames and seconds in each: so the drift of the machine
+/// falls on every row alike, and rows a few percent apart keep their order. A turn draws
+/// pairs of frames into the same target without reading them back: a floor frame, then a
+/// frame of the configuration (itself the floor for the floor row); the floor frames go
+/// to [`Floor::pooled`]. GPU milliseconds per pass from the timestamps, CPU milliseconds
+/// of writing the uniforms, recording, submitting and waiting for each frame, and the CPU
+/// time of the process meanwhile.
+fn time_in_turns(
     renderer: &mut Renderer,
-    scene: &Scene,
-    gpu: &crate::render::GpuScene,
+    rows: &[&Prepared],
     extent: vk::Extent2D,
-    floor: bool,
     options: &Options,
-) -> Result<Timing> {
+) -> Result<Vec<Timing>> {
     let offscreen = OffscreenTarget::new(&renderer.device, extent)?;
-    let draw = |renderer: &mut Renderer, as_floor: bool| -> Result<FrameTimes> {
+    let draw = |renderer: &mut Renderer, row: &Prepared, as_floor: bool| -> Result<FrameTimes> {
         renderer.floor = as_floor;
+        renderer.generic = row.configuration.generic;
         let (wall, work) = (Instant::now(), cpu_time::ProcessTime::now());
         let gpu = renderer
-            .draw_offscreen(scene, gpu, &offscreen, 1.0)?
+            .draw_offscreen(&row.scene, &row.gpu, &offscreen, 1.0)?
             .context("the device stopped reporting timestamps")?;
         Ok(FrameTimes {
             gpu,
@@ -380,44 +466,51 @@ fn time(
             work: work.elapsed().as_secs_f64() * 1e3,
         })
     };
-    // The error frame drawn before has compiled the pipeline already; what is left to warm
-    // up (caches, the new target) takes a frame, so slow rows stop after one.
-    let warming = Instant::now();
-    for i in 0..options.warmup {
-        if i >= 1 && warming.elapsed().as_secs_f64() > WARMUP_SECONDS {
-            break;
+    let turn_frames = options.frames.div_ceil(TURNS);
+    let turn_min_frames = MIN_FRAMES.div_ceil(TURNS);
+    let turn_seconds = options.max_seconds / f64::from(TURNS);
+    let mut recorded: Vec<Recorded> = rows.iter().map(|_| Recorded::new()).collect();
+    for turn in 0..TURNS {
+        let mut order: Vec<usize> = (0..rows.len()).collect();
+        if turn % 2 == 1 {
+            order.reverse();
         }
-        draw(renderer, true)?;
-        draw(renderer, floor)?;
+        for i in order {
+            let (row, record) = (rows[i], &mut recorded[i]);
+            if record.frames() >= options.frames {
+                continue;
+            }
+            if turn == 0 {
+                // The error frame drawn before has compiled the pipeline already; what is
+                // left to warm up (caches, the new target) takes a frame, so slow rows stop
+                // after one.
+                let warming = Instant::now();
+                for i in 0..options.warmup {
+                    if i >= 1 && warming.elapsed().as_secs_f64() > WARMUP_SECONDS {
+                        break;
+                    }
+                    draw(renderer, row, true)?;
+                    draw(renderer, row, row.configuration.floor)?;
+                }
+            } else if options.warmup > 0 {
+                // What the rows between rebuilt for their own scenes (the environment, the
+                // shadow and ground maps) is built again for this one.
+                draw(renderer, row, row.configuration.floor)?;
+            }
+            let start = Instant::now();
+            for i in 0..turn_frames {
+                if record.frames() >= options.frames
+                    || (i >= turn_min_frames && start.elapsed().as_secs_f64() > turn_seconds)
+                {
+                    break;
+                }
+                let base = draw(renderer, row, true)?;
+                let frame = draw(renderer, row, row.configuration.floor)?;
+                record.push(base, frame);
+            }
+        }
     }
-    let mut passes = vec![Vec::new(); PASS_NAMES.len()];
-    let (mut totals, mut cpu, mut work) = (Vec::new(), Vec::new(), Vec::new());
-    let mut floor_frames = FloorFrames::default();
-    let start = Instant::now();
-    for i in 0..options.frames {
-        if i >= MIN_FRAMES && start.elapsed().as_secs_f64() > options.max_seconds {
-            break;
-        }
-        let base = draw(renderer, true)?;
-        let frame = draw(renderer, floor)?;
-        floor_frames.forward.push(base.gpu[0]);
-        floor_frames.gpu.push(base.gpu.iter().sum());
-        floor_frames.work.push(base.work);
-        totals.push(frame.gpu.iter().sum());
-        cpu.push(frame.wall);
-        work.push(frame.work);
-        for (pass, t) in passes.iter_mut().zip(frame.gpu) {
-            pass.push(t);
-        }
-    }
-    Ok(Timing {
-        frames: totals.len() as u32,
-        passes: passes.iter().map(|p| Summary::of(p)).collect(),
-        gpu_total: Summary::of(&totals),
-        cpu: Summary::of(&cpu),
-        work: Summary::of(&work),
-        floor: floor_frames,
-    })
+    Ok(recorded.into_iter().map(Recorded::timing).collect())
 }
 
 /// `name` with every character but ASCII letters, digits, `-` and `.` as `_`.
