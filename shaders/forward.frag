@@ -37,6 +37,7 @@ layout(location = 2) in vec2 in_uv;
 layout(location = 3) in vec4 in_tangent;
 layout(location = 4) in float in_curvature;
 layout(location = 5) in vec2 in_map_uv[MAP_COUNT];
+layout(location = 5 + MAP_COUNT) in vec3 in_objects_take;
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -79,9 +80,12 @@ void main() {
     float visibility = ambient_visibility(gl_FragCoord.xy);
     vec4 occlusion = environment_occlusion(visibility, m.base_color.rgb);
     if (OBJECT_OCCLUSION) {
-        occlusion.rgb *= object.own_occluders.x == OWN_GROUND_MAP
-                             ? ground_map_occlusion(in_world_position)
-                             : object_occlusion(in_world_position, n, object.own_occluders);
+        // From the ground's map, the vertices' (reading no sphere here) or every pixel's.
+        bool at_vertices = object.at_vertices != 0u;
+        uvec2 own = at_vertices ? uvec2(0u, frame.counts.w) : object.own_occluders;
+        occlusion.rgb *= object.own_occluders.x == OWN_GROUND_MAP ? ground_map_occlusion(in_world_position)
+                         : at_vertices                           ? 1.0 - in_objects_take
+                                                                 : object_occlusion(in_world_position, n, own);
     }
     // The occlusion map's baked visibility multiplies the environment's light, occluded by
     // the screen-space visibility already, as glTF 2.0 applies it; the point lights it

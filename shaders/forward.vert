@@ -1,5 +1,6 @@
 #version 460
 #include "scene_data.glsl"
+#include "object_occlusion.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -16,6 +17,11 @@ layout(location = 4) out float out_curvature;
 // interpolates the same, and lavapipe's helper invocations read storage buffers as zero,
 // which gave fragment-side uvs wrong derivatives, so wrong mip levels, along triangle edges.
 layout(location = 5) out vec2 out_map_uv[MAP_COUNT];
+// What the other objects take of the environment's light, 1 − object_occlusion, where it
+// is computed at the vertices (ObjectPush.at_vertices, src/scene/occluders.rs's
+// Scene::occlusion_at_vertices), else 0: interpolating zeros gives 0 exactly, where ones
+// would round to 1 − 2⁻²⁴ here and there.
+layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
 
 void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
@@ -33,5 +39,12 @@ void main() {
     // have one); under a non-uniform scale it is only an average.
     float scale = pow(abs(determinant(mat3(object.model))), 1.0 / 3.0);
     out_curvature = scale > 0.0 ? in_curvature / scale : 0.0;
+    if (OBJECT_OCCLUSION) {
+        // At the mesh's own normal, the side a closed mesh shows. Elsewhere, no sphere.
+        float len2 = dot(out_normal, out_normal);
+        vec3 n = len2 > MIN_NORMAL_LENGTH2 ? out_normal * inversesqrt(len2) : vec3(0.0);
+        uvec2 own = object.at_vertices != 0u ? object.own_occluders : uvec2(0u, frame.counts.w);
+        out_objects_take = 1.0 - object_occlusion(world.xyz, n, own);
+    }
     gl_Position = frame.view_proj * world;
 }

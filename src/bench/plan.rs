@@ -199,6 +199,7 @@ pub fn configuration_names() -> Vec<String> {
         "no-bounce",
         "no-objects",
         "no-ground-map",
+        "per-pixel",
     ];
     let mut names: Vec<String> = base.map(str::to_owned).into();
     names.extend(SAMPLED.iter().map(|n| format!("sampled-{n}")));
@@ -431,6 +432,8 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         "no-bounce" => file.shadows.get_or_insert_with(Default::default).bounce = Some(false),
         // The objects' occlusion of the ground at every pixel, not from the ground's map.
         "no-ground-map" => file.occlusion.get_or_insert_with(Default::default).ground_map = Some(false),
+        // The objects' occlusion of each other at every pixel, not at their vertices.
+        "per-pixel" => file.occlusion.get_or_insert_with(Default::default).per_vertex = Some(false),
         // A feature added: every property map, the builtin noise's channels as one packed
         // occlusion-roughness-metallic texture and as the scatter map.
         PROPERTY_MAPS => file.materials.values_mut().for_each(|m| {

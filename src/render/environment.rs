@@ -152,8 +152,9 @@ pub struct EnvironmentPass {
 
 impl EnvironmentPass {
     pub fn new(device: &Arc<Device>) -> Result<Self> {
-        // The ground's occlusion map is computed from it too (ground_maps.rs).
-        let stages = vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
+        // The ground's occlusion map is computed from it too (ground_maps.rs), and the
+        // objects' occlusion at their vertices (forward.vert).
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE;
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(vk::DescriptorType::UNIFORM_BUFFER, stages)
             .binding(vk::DescriptorType::COMBINED_IMAGE_SAMPLER, stages)

@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use super::debug_view::DebugView;
 use super::environment::{environment_kind, reflection_code};
-use super::gpu_scene::{FrameData, GpuScene, ObjectPush, OWN_GROUND_MAP};
+use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, OWN_GROUND_MAP};
 use super::material_data::MaterialData;
 use super::occlusion::OcclusionMode;
 use super::shaders;
@@ -179,9 +179,9 @@ pub struct ForwardPass {
     material_pipelines: Vec<vk::Pipeline>,
     /// The same for the right part of a split frame (split.rs); empty without one.
     split_pipelines: Vec<vk::Pipeline>,
-    /// Each object's own run of the frame's occluders (`Scene::own_occluders`), in
-    /// `Scene::objects` order, for the scene last prepared.
-    own_occluders: Vec<(usize, usize)>,
+    /// How each object reads the other objects' occlusion, in `Scene::objects` order, for
+    /// the scene last prepared.
+    object_occlusion: Vec<ObjectOcclusion>,
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
@@ -274,7 +274,7 @@ impl ForwardPass {
             floor: HashMap::new(),
             material_pipelines: Vec::new(),
             split_pipelines: Vec::new(),
-            own_occluders: Vec::new(),
+            object_occlusion: Vec::new(),
             _pool: pool,
             slots,
             subsurface: None,
@@ -393,14 +393,16 @@ impl ForwardPass {
     /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
     /// `occlusion`: how the environment's light is occluded, `objects` whether by the
     /// frame's `occluders` (`Scene::occluders`, `[occlusion] objects`) too, which the caller
-    /// leaves off without any, and `ground_map` the object that reads theirs from the
-    /// ground's occlusion map (ground_maps.rs). A `split` frame's materials follow the
-    /// scene's in the buffer, with pipelines of their own.
+    /// leaves off without any, `ground_map` the object that reads theirs from the
+    /// ground's occlusion map (ground_maps.rs), and `gpu`'s meshes whether an object's is
+    /// computed at its vertices (`Scene::occlusion_at_vertices`). A `split` frame's
+    /// materials follow the scene's in the buffer, with pipelines of their own.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
         slot: usize,
         scene: &Scene,
+        gpu: &GpuScene,
         split: Option<&Split>,
         aspect: f32,
         debug_view: DebugView,
@@ -414,10 +416,17 @@ impl ForwardPass {
         ground_map: Option<usize>,
         one_shot: &OneShot,
     ) -> Result<()> {
-        self.own_occluders = (0..scene.objects.len())
+        self.object_occlusion = (0..scene.objects.len())
             .map(|i| match ground_map {
-                Some(ground) if ground == i => (OWN_GROUND_MAP as usize, occluders.len()),
-                _ => scene.own_occluders(occluders, i),
+                Some(ground) if ground == i => ObjectOcclusion {
+                    own: (OWN_GROUND_MAP as usize, occluders.len()),
+                    at_vertices: false,
+                },
+                _ => ObjectOcclusion {
+                    own: scene.own_occluders(occluders, i),
+                    at_vertices: objects
+                        && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent),
+                },
             })
             .collect();
         let mut frame_data = FrameData::new(scene, occluders, aspect)?;
@@ -567,11 +576,11 @@ impl ForwardPass {
                 .get(object.material)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
-            let own_occluders = *self
-                .own_occluders
+            let occlusion = *self
+                .object_occlusion
                 .get(index)
                 .context("object missing: prepare() was not called for this scene")?;
-            let mut push = ObjectPush::new(object, own_occluders);
+            let mut push = ObjectPush::new(object, occlusion);
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {

@@ -11,7 +11,7 @@ use glam::{Mat3, Mat4, Vec3};
 use super::textures::{placeholder, GpuTexture};
 use crate::scene::limits::MAX_OCCLUDERS;
 use crate::scene::occluders::Occluder;
-use crate::scene::{MapSlot, Mesh, Object, Scene, TexelFormat, TextureData, TextureRole};
+use crate::scene::{MapSlot, Mesh, MeshExtent, Object, Scene, TexelFormat, TextureData, TextureRole};
 use crate::vk::{Buffer, DescriptorPool, DescriptorSetLayout, DescriptorWriter, Device, OneShot, Sampler};
 
 /// `MAX_POINT_LIGHTS` in scene_data.glsl.
@@ -90,11 +90,22 @@ pub struct ObjectPush {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 3],
     pub material_index: u32,
-    pub pad: u32,
+    /// 1 where the vertex shader computes the object's occlusion by the others, else 0.
+    pub at_vertices: u32,
     /// The run of `FrameData::occluders` that stands for its own file object, which does
     /// not occlude it: (first, count); ([`OWN_GROUND_MAP`], every sphere) for the ground
     /// whose occlusion the ground's map holds.
     pub own_occluders: [u32; 2],
+}
+
+/// How a draw reads its occlusion by the other objects (`[occlusion] objects`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ObjectOcclusion {
+    /// Its own file object's run of the frame's occluders (`Scene::own_occluders`), which
+    /// it skips.
+    pub own: (usize, usize),
+    /// Computed at its vertices and interpolated (`Scene::occlusion_at_vertices`).
+    pub at_vertices: bool,
 }
 
 /// The first of the ground's own occluders when the ground's occlusion map holds its
@@ -102,9 +113,8 @@ pub struct ObjectPush {
 pub const OWN_GROUND_MAP: u32 = u32::MAX;
 
 impl ObjectPush {
-    /// The draw of `object`, whose own spheres are the run `own_occluders` of the frame's
-    /// occluders (`Scene::own_occluders`).
-    pub fn new(object: &Object, own_occluders: (usize, usize)) -> Self {
+    /// The draw of `object`, which reads the other objects' occlusion as `occlusion` says.
+    pub fn new(object: &Object, occlusion: ObjectOcclusion) -> Self {
         let model: Mat4 = object.model_matrix();
         // Normals transform by the inverse transpose; with a degenerate matrix, which the
         // scene loader rejects, this would be non-finite.
@@ -117,8 +127,8 @@ impl ObjectPush {
                 normal.z_axis.extend(0.0).to_array(),
             ],
             material_index: object.material as u32,
-            pad: 0,
-            own_occluders: [own_occluders.0 as u32, own_occluders.1 as u32],
+            at_vertices: u32::from(occlusion.at_vertices),
+            own_occluders: [occlusion.own.0 as u32, occlusion.own.1 as u32],
         }
     }
 }
@@ -130,6 +140,7 @@ pub struct GpuMesh {
     /// Where the mesh bounds a solid (`Mesh::bounds_solid`), its bounding sphere in object
     /// space: seen from outside it, its back faces are culled.
     pub solid: Option<(Vec3, f32)>,
+    pub extent: MeshExtent,
 }
 
 impl GpuMesh {
@@ -152,6 +163,7 @@ impl GpuMesh {
             )?,
             index_count: mesh.indices.len() as u32,
             solid: mesh.bounds_solid().then(|| mesh.bounding_sphere()),
+            extent: mesh.extent(),
         })
     }
 }
@@ -262,6 +274,23 @@ mod tests {
             std::mem::offset_of!(FrameData, ground_albedo) + 16
         );
         assert_eq!(std::mem::size_of::<FrameData>() - std::mem::offset_of!(FrameData, occluders), 32 * MAX_OCCLUDERS);
+    }
+
+    /// The push constants' fields sit where the shaders' block has them.
+    #[test]
+    fn object_push_is_the_shaders_block() {
+        let glsl = include_str!("../../shaders/lib/scene_data.glsl");
+        assert!(glsl.contains(concat!(
+            "    mat4 model;\n",
+            "    vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3\n",
+            "    uint material_index;\n",
+            "    uint at_vertices;",
+        )));
+        assert!(glsl.contains("    uvec2 own_occluders;  // the run of frame.occluders that is this object"));
+        assert_eq!(std::mem::offset_of!(ObjectPush, at_vertices), 116);
+        // std430 aligns a uvec2 to 8 bytes.
+        assert_eq!(std::mem::offset_of!(ObjectPush, own_occluders), 120);
+        assert_eq!(std::mem::size_of::<ObjectPush>(), 128, "Vulkan's least maxPushConstantsSize");
     }
 
     #[test]

@@ -299,6 +299,7 @@ impl Renderer {
         self.forward.prepare(
             slot,
             scene,
+            gpu,
             self.split.as_ref(),
             target.aspect(),
             self.debug_view,

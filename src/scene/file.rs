@@ -139,6 +139,9 @@ pub struct OcclusionDef {
     /// The objects' occlusion of the ground read from a map over it (absent: true).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground_map: Option<bool>,
+    /// The objects' occlusion of each other computed at their vertices (absent: true).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub per_vertex: Option<bool>,
 }
 
 /// `[environment]`, selected by `kind`. Optional keys are `None` when absent

@@ -44,6 +44,15 @@ pub struct Mesh {
     pub subdivisions: Option<u32>,
 }
 
+/// A mesh's size in its own units ([`Mesh::extent`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshExtent {
+    /// Its bounding sphere ([`Mesh::bounding_sphere`]).
+    pub centre: Vec3,
+    pub radius: f32,
+    pub longest_edge: f32,
+}
+
 /// Prefix of the mesh names that [`Mesh::builtin`] understands.
 pub const BUILTIN_PREFIX: &str = "builtin:";
 
@@ -290,6 +299,23 @@ impl Mesh {
             subdivisions: None,
         }
         .with_curvature()
+    }
+
+    /// Its bounding sphere and longest edge, kept where choices are made every frame.
+    pub fn extent(&self) -> MeshExtent {
+        let (centre, radius) = self.bounding_sphere();
+        let position = |i: u32| Vec3::from(self.vertices[i as usize].position);
+        let longest_edge = self
+            .indices
+            .chunks_exact(3)
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .map(|(a, b)| position(a).distance(position(b)))
+            .fold(0.0, f32::max);
+        MeshExtent {
+            centre,
+            radius,
+            longest_edge,
+        }
     }
 
     /// A sphere holding every vertex: (centre of the bounding box, radius).

@@ -45,7 +45,7 @@ pub use material::{
     DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, MapSlot, Material, MaterialMaps, SpecularModel,
     Subsurface,
 };
-pub use mesh::{Mesh, Vertex, BUILTIN_PREFIX};
+pub use mesh::{Mesh, MeshExtent, Vertex, BUILTIN_PREFIX};
 pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
 pub use preset::Preset;
 pub use procedural::{builtin_texture, BUILTIN_TEXTURES};

@@ -6,13 +6,17 @@
 use glam::Vec3;
 
 use super::limits::MAX_OCCLUDERS;
-use super::mesh::TORUS_RADII;
+use super::mesh::{MeshExtent, TORUS_RADII};
 use super::Scene;
 
 /// Spheres a builtin torus becomes: with 9 along the ring, each of the tube's volume share
 /// (radius ∛(π R r² / 6) = 0.40 for R = 1, r = 0.35), neighbours overlap slightly, so the
 /// ring has no gaps a ray passes through between them.
 pub const TORUS_SPHERES: usize = 9;
+
+/// The share of its gap to the nearest other sphere an object's longest edge may span for
+/// its occlusion to be computed at its vertices ([`Scene::occlusion_at_vertices`]).
+pub const VERTEX_OCCLUSION_GAP_SHARE: f32 = 0.25;
 
 /// One sphere of an object, in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,6 +100,24 @@ impl Scene {
         let count = occluders[first..].iter().take_while(|o| o.object == object).count();
         (first, count)
     }
+
+    /// Whether object `index`, of mesh size `extent`, has its occlusion by the other
+    /// objects' spheres computed at its vertices and interpolated (`[occlusion]
+    /// per_vertex`): not the ground, whose square spans the scene, and only where its
+    /// longest edge is at most [`VERTEX_OCCLUSION_GAP_SHARE`] of the gap between its
+    /// bounding sphere and every other sphere. A sphere's cap, (r/d)² cos θ, bends over
+    /// lengths of its distance d, so a straight line across an edge h misses it by about
+    /// (3/4)(h/d)² of itself: 5% of the occlusion at the largest edge allowed.
+    pub fn occlusion_at_vertices(&self, occluders: &[Occluder], index: usize, extent: MeshExtent) -> bool {
+        let o = &self.objects[index];
+        let (centre, radius) = (o.position + extent.centre * o.scale, extent.radius * o.scale);
+        let own = o.first_part(index);
+        let least_gap = extent.longest_edge * o.scale / VERTEX_OCCLUSION_GAP_SHARE;
+        self.occlusion.per_vertex
+            && self.ground_index() != Some(index)
+            && (occluders.iter().filter(|s| s.object != own))
+                .all(|s| s.centre.distance(centre) - s.radius - radius >= least_gap)
+    }
 }
 
 #[cfg(test)]
@@ -156,5 +178,40 @@ position = [0.0, 1.0, -2.0]
         assert_eq!(model.own_occluders(&spheres, 2), (torus, TORUS_SPHERES + 1));
         assert_eq!(model.own_occluders(&spheres, 1), (0, 1));
         assert_eq!(model.own_occluders(&spheres, 0).1, 0, "the ground has no spheres");
+    }
+
+    /// An object's occlusion is computed at its vertices with `per_vertex`, where its
+    /// longest edge is at most a quarter of its gap to every other object's sphere, and
+    /// never on the ground.
+    #[test]
+    fn occlusion_is_at_vertices_where_edges_are_small_against_the_gaps() {
+        let text = |x: f32| {
+            format!(
+                "[camera]\nposition = [0.0, 2.0, 9.0]\ntarget = [0.0, 0.0, 0.0]\n\
+                 [occlusion]\nobjects = true\nper_vertex = true\n\
+                 [[objects]]\nmesh = \"builtin:plane\"\nscale = 5.0\n\
+                 [[objects]]\nmesh = \"builtin:sphere\"\nposition = [0.0, 1.0, 0.0]\n\
+                 [[objects]]\nmesh = \"builtin:sphere\"\nposition = [{x}, 1.0, 0.0]\nscale = 0.5\n"
+            )
+        };
+        let scene = Scene::from_toml(&text(3.5), "scene.toml", Path::new("")).expect("scene");
+        let extents: Vec<MeshExtent> = scene.objects.iter().map(|o| scene.meshes[o.mesh].extent()).collect();
+        let sphere = extents[1];
+        // 32 cells along each edge of the cube the sphere is made from.
+        assert!(sphere.longest_edge > 0.02 && sphere.longest_edge < 0.1, "{sphere:?}");
+        let at_vertices = |scene: &Scene| {
+            let occluders = scene.occluders();
+            (0..3).map(|i| scene.occlusion_at_vertices(&occluders, i, extents[i])).collect::<Vec<_>>()
+        };
+        assert_eq!(at_vertices(&scene), [false, true, true], "a gap of 2");
+        // The gap at which the big ball's edges are a quarter of it.
+        let least = 1.5 + sphere.longest_edge / VERTEX_OCCLUSION_GAP_SHARE;
+        let near = |x: f32| Scene::from_toml(&text(x), "scene.toml", Path::new("")).expect("scene");
+        assert_eq!(at_vertices(&near(least + 0.01)), [false, true, true]);
+        assert_eq!(at_vertices(&near(least - 0.01)), [false, false, true], "the small ball's edges are half");
+        assert_eq!(at_vertices(&near(1.4)), [false, false, false], "overlapping");
+        let mut off = scene;
+        off.occlusion.per_vertex = false;
+        assert_eq!(at_vertices(&off), [false; 3]);
     }
 }

@@ -21,6 +21,10 @@ pub struct Occlusion {
     /// computed once per change (src/render/ground_maps.rs), rather than from every sphere
     /// at every pixel of the ground.
     pub ground_map: bool,
+    /// Whether an object's occlusion by the others is computed at its vertices and
+    /// interpolated where its triangles are small against its distance to them
+    /// (`Scene::occlusion_at_vertices`), rather than at every pixel.
+    pub per_vertex: bool,
 }
 
 impl Default for Occlusion {
@@ -33,6 +37,7 @@ impl Default for Occlusion {
             multi_bounce: true,
             objects: false,
             ground_map: true,
+            per_vertex: true,
         }
     }
 }

@@ -372,6 +372,7 @@ fn occlusion(check: &Checker, def: Option<&OcclusionDef>) -> Result<Occlusion, S
         multi_bounce: def.multi_bounce.unwrap_or(defaults.multi_bounce),
         objects: def.objects.unwrap_or(defaults.objects),
         ground_map: def.ground_map.unwrap_or(defaults.ground_map),
+        per_vertex: def.per_vertex.unwrap_or(defaults.per_vertex),
     })
 }
 
@@ -387,6 +388,7 @@ fn occlusion_def(occlusion: &Occlusion) -> Option<OcclusionDef> {
         multi_bounce: (occlusion.multi_bounce != defaults.multi_bounce).then_some(occlusion.multi_bounce),
         objects: (occlusion.objects != defaults.objects).then_some(occlusion.objects),
         ground_map: (occlusion.ground_map != defaults.ground_map).then_some(occlusion.ground_map),
+        per_vertex: (occlusion.per_vertex != defaults.per_vertex).then_some(occlusion.per_vertex),
     };
     (def != OcclusionDef::default()).then_some(def)
 }

@@ -555,7 +555,8 @@ fn antialiasing_keys_are_read_defaulted_validated_and_saved() {
 #[test]
 fn occlusion_keys_are_read_defaulted_and_saved() {
     let text = format!(
-        "{CUBE}[occlusion]\nenabled = true\nsteps = 12\nmulti_bounce = false\nobjects = true\nground_map = false\n"
+        "{CUBE}[occlusion]\nenabled = true\nsteps = 12\nmulti_bounce = false\nobjects = true\nground_map = false\n\
+         per_vertex = false\n"
     );
     let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
     let expected = crate::scene::Occlusion {
@@ -564,6 +565,7 @@ fn occlusion_keys_are_read_defaulted_and_saved() {
         multi_bounce: false,
         objects: true,
         ground_map: false,
+        per_vertex: false,
         ..Default::default()
     };
     assert_eq!(scene.occlusion, expected);
@@ -573,7 +575,8 @@ fn occlusion_keys_are_read_defaulted_and_saved() {
     let reread = Scene::from_toml(&saved, "saved.toml", Path::new("")).unwrap();
     assert_eq!(reread.occlusion, expected);
     let defaults = Scene::from_toml(CUBE, "scene.toml", Path::new("")).unwrap();
-    assert!(!defaults.occlusion.enabled && !defaults.occlusion.objects && defaults.occlusion.ground_map);
+    let o = &defaults.occlusion;
+    assert!(!o.enabled && !o.objects && o.ground_map && o.per_vertex);
     assert!(!defaults.to_file().to_toml().unwrap().contains("[occlusion]"));
 }
 

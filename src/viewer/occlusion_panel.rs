@@ -43,5 +43,12 @@ pub fn occlusion_section(ui: &mut Ui, scene: &mut Scene, allowed: &mut bool) {
             );
             ui.add_enabled(occlusion.objects, egui::Checkbox::new(&mut occlusion.ground_map, "from a map"));
             ui.end_row();
+            ui.label("per vertex").on_hover_text(
+                "[occlusion] per_vertex: each object's occlusion by the others computed at its vertices and \
+                 interpolated, where its triangles are small against its distance to them, rather than at \
+                 every pixel",
+            );
+            ui.add_enabled(occlusion.objects, egui::Checkbox::new(&mut occlusion.per_vertex, "at vertices"));
+            ui.end_row();
         });
 }

@@ -135,11 +135,14 @@ impl ImageUse {
         stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
         access: vk::AccessFlags2::SHADER_SAMPLED_READ,
     };
-    /// Sampled by fragment and compute shaders alike (the tone map and the exposure measure).
+    /// Sampled by shaders of every stage a frame runs: the environment's images by the
+    /// forward pass's vertex shader too, the frame by the tone map and the exposure measure.
     pub const SHADER_READ: Self = Self {
         layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         stage: vk::PipelineStageFlags2::from_raw(
-            vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw() | vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw(),
+            vk::PipelineStageFlags2::VERTEX_SHADER.as_raw()
+                | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw()
+                | vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw(),
         ),
         access: vk::AccessFlags2::SHADER_SAMPLED_READ,
     };

@@ -106,7 +106,7 @@ fn cube_texels(side: u32) -> vk::Extent3D {
 
 /// Where every finished image is left: sampled by shaders (the prefilter kernel reads the
 /// source cube in a later submission, which the fence orders).
-pub const SHADING_READ: ImageUse = ImageUse::FRAGMENT_READ;
+pub const SHADING_READ: ImageUse = ImageUse::SHADER_READ;
 
 /// One step's cost.
 #[derive(Clone, Debug, PartialEq)]
