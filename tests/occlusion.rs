@@ -421,8 +421,9 @@ fn objects_occlusion_at_vertices_is_the_occlusion_at_each_pixel() {
 }
 
 /// The occlusion map is computed when what it is made of changes, not every frame: once
-/// for two frames of the same scene, again when an object moves or the environment
-/// changes, not when the camera moves; without `ground_map`, never.
+/// for two frames of the same scene, even with a floor frame between, again when an
+/// object moves or the environment changes, not when the camera moves; without
+/// `ground_map`, never.
 #[test]
 fn the_grounds_occlusion_map_is_computed_only_when_the_scene_changes() {
     let mut s = scene(&studio_ground(true));
@@ -435,6 +436,11 @@ fn the_grounds_occlusion_map_is_computed_only_when_the_scene_changes() {
         };
         let before = renderer.ground_occlusion_renders();
         frame(renderer, &s);
+        assert_eq!(frame(renderer, &s), before + 1);
+        // The bench's floor frames between the scene's read no map and leave it as it is.
+        renderer.floor = true;
+        frame(renderer, &s);
+        renderer.floor = false;
         assert_eq!(frame(renderer, &s), before + 1);
         s.camera.position.x += 0.5;
         assert_eq!(frame(renderer, &s), before + 1);

@@ -68,7 +68,8 @@ struct GroundMap {
     size: u32,
     compute_set: vk::DescriptorSet,
     pipeline: Pipeline,
-    /// What the map was last computed from; empty when no frame uses it.
+    /// What the map was last computed from; empty before the first and after a change the
+    /// key does not hold.
     key: Vec<u32>,
     /// Whether the next recorded frame computes the map.
     pending: Cell<bool>,
@@ -123,16 +124,20 @@ impl GroundMap {
         })
     }
 
-    /// Has the next recorded frame compute the map when it is made of `key` (None: no
-    /// frame reads it) and that differs from what it was computed from, or `changed`.
+    /// Has the next recorded frame compute the map when it is made of `key` (None: this
+    /// frame does not read it) and that differs from what it was computed from, or
+    /// `changed`. A frame that does not read it leaves it as it is (a floor frame of the
+    /// bench between two frames of the scene), but for a change the key does not hold,
+    /// which makes the next frame that reads it compute it again.
     fn prepare(&mut self, key: Option<Vec<u32>>, changed: bool) {
-        let Some(key) = key else {
-            self.key.clear();
-            return;
-        };
-        if changed || key != self.key {
-            self.key = key;
-            self.pending.set(true);
+        match key {
+            None if changed => self.key.clear(),
+            None => {}
+            Some(key) if changed || key != self.key => {
+                self.key = key;
+                self.pending.set(true);
+            }
+            Some(_) => {}
         }
     }
 
