@@ -332,6 +332,47 @@ fn studio_pixel(rays: &CameraRays, x: u32, y: u32) -> Option<Option<usize>> {
     (on_ground && !STUDIO_BALLS.iter().any(|&ball| meets(ball, 1.05))).then_some(None)
 }
 
+/// Frame `a` of the studio's balls against frame `b`, which differ on one kind of surface
+/// only (`ground_differs`: the ground, else the balls).
+struct StudioComparison {
+    /// The relative differences of the clear pixels of that kind, sorted.
+    errors: Vec<f32>,
+    /// The least share of its light `b` keeps there against the frame without the objects'
+    /// occlusion.
+    darkest: f32,
+    /// Clear pixels of the other kind, each the same in both frames bit for bit.
+    same: usize,
+}
+
+impl StudioComparison {
+    fn new(s: &Scene, a: &[f32], b: &[f32], ground_differs: bool) -> Self {
+        let mut open = s.clone();
+        open.occlusion.objects = false;
+        let open = render(&open, SIZE.0, SIZE.1).hdr;
+        let rays = CameraRays::new(&s.camera, SIZE.0, SIZE.1);
+        let (mut errors, mut same, mut darkest) = (Vec::new(), 0, 1.0f32);
+        for y in 0..SIZE.1 {
+            for x in 0..SIZE.0 {
+                let i = 4 * (y * SIZE.0 + x) as usize;
+                let Some(pixel) = studio_pixel(&rays, x, y) else { continue };
+                if pixel.is_none() == ground_differs {
+                    errors.push(((a[i] - b[i]) / b[i]).abs());
+                    darkest = darkest.min(b[i] / open[i]);
+                } else {
+                    assert_eq!(a[i..i + 3], b[i..i + 3], "pixel ({x}, {y}) changed");
+                    same += 1;
+                }
+            }
+        }
+        errors.sort_by(f32::total_cmp);
+        Self { errors, darkest, same }
+    }
+
+    fn median_and_max(&self) -> (f32, f32) {
+        (self.errors[self.errors.len() / 2], self.errors[self.errors.len() - 1])
+    }
+}
+
 /// The ground's occlusion map is what every sphere makes of the ground's light at each
 /// pixel, to its bilinear interpolation over 256² texels (4.7 cm here) and fp16: the
 /// ground's pixels within 0.6% of those of the frame without the map (0.45% measured,
@@ -341,77 +382,30 @@ fn studio_pixel(rays: &CameraRays, x: u32, y: u32) -> Option<Option<usize>> {
 #[test]
 fn the_grounds_occlusion_map_is_the_occlusion_at_each_pixel() {
     let s = scene(&studio_ground(true));
-    let mapped = hdr(&studio_ground(true));
-    let every_pixel = hdr(&studio_ground(false));
-    let mut open = s.clone();
-    open.occlusion.objects = false;
-    let open = render(&open, SIZE.0, SIZE.1).hdr;
-    let rays = CameraRays::new(&s.camera, SIZE.0, SIZE.1);
-    let (mut errors, mut balls, mut darkest) = (Vec::new(), 0, 1.0f32);
-    for y in 0..SIZE.1 {
-        for x in 0..SIZE.0 {
-            let i = 4 * (y * SIZE.0 + x) as usize;
-            match studio_pixel(&rays, x, y) {
-                Some(None) => {
-                    errors.push(((mapped[i] - every_pixel[i]) / every_pixel[i]).abs());
-                    darkest = darkest.min(every_pixel[i] / open[i]);
-                }
-                Some(Some(_)) => {
-                    assert_eq!(mapped[i..i + 3], every_pixel[i..i + 3], "a ball's pixel ({x}, {y}) changed");
-                    balls += 1;
-                }
-                None => {}
-            }
-        }
-    }
-    errors.sort_by(f32::total_cmp);
-    let (median, max) = (errors[errors.len() / 2], errors[errors.len() - 1]);
-    let ground = errors.len();
+    let c = StudioComparison::new(&s, &hdr(&studio_ground(true)), &hdr(&studio_ground(false)), true);
+    let ((median, max), ground, darkest) = (c.median_and_max(), c.errors.len(), c.darkest);
     eprintln!("{ground} ground pixels: relative error median {median:.2e}, max {max:.2e}; darkest kept {darkest}");
-    assert!(ground > 5000 && balls > 1000, "{ground} ground pixels, {balls} of the balls");
+    assert!(ground > 5000 && c.same > 1000, "{ground} ground pixels, {} of the balls", c.same);
     assert!(darkest < 0.6, "the spheres take little of the ground's light: {darkest}");
     assert!(median < 5e-4 && max < 6e-3, "median {median:.2e}, max {max:.2e}");
 }
 
 /// The objects' occlusion computed at the balls' vertices is the one computed at each of
-/// their pixels, to the interpolation across their triangles (edges 8 cm at most, a
+/// their pixels, to the interpolation across their triangles (edges 8 cm at most, an
 /// eighteenth of the 1.4 gap, so within (3/4)(1/18)² = 0.23% of the occlusion): the balls'
 /// pixels within 0.2% of those of the frame that computes it at each pixel (5.3e-4
 /// measured), where the other ball takes up to a third of the light. The ground's pixels,
-/// which read the map, are the same
-/// bit for bit; and where the balls come closer than four of their edges, every pixel
-/// computes it again, so the frame is the per-pixel frame.
+/// which read the map, are the same bit for bit; and where the balls come closer than four
+/// of their edges, every pixel computes it again, so the frame is the per-pixel frame.
 #[test]
 fn objects_occlusion_at_vertices_is_the_occlusion_at_each_pixel() {
     let s = scene(&studio_ground(true));
     let at_vertices = hdr(&studio(&STUDIO_BALLS, "per_vertex = true"));
     let every_pixel = hdr(&studio(&STUDIO_BALLS, "per_vertex = false"));
-    let mut open = s.clone();
-    open.occlusion.objects = false;
-    let open = render(&open, SIZE.0, SIZE.1).hdr;
-    let rays = CameraRays::new(&s.camera, SIZE.0, SIZE.1);
-    let (mut errors, mut ground, mut darkest) = (Vec::new(), 0, 1.0f32);
-    for y in 0..SIZE.1 {
-        for x in 0..SIZE.0 {
-            let i = 4 * (y * SIZE.0 + x) as usize;
-            match studio_pixel(&rays, x, y) {
-                Some(Some(_)) => {
-                    errors.push(((at_vertices[i] - every_pixel[i]) / every_pixel[i]).abs());
-                    darkest = darkest.min(every_pixel[i] / open[i]);
-                }
-                Some(None) => {
-                    assert_eq!(at_vertices[i..i + 3], every_pixel[i..i + 3], "a ground pixel ({x}, {y}) changed");
-                    ground += 1;
-                }
-                None => {}
-            }
-        }
-    }
-    errors.sort_by(f32::total_cmp);
-    let (median, max) = (errors[errors.len() / 2], errors[errors.len() - 1]);
-    let balls = errors.len();
+    let c = StudioComparison::new(&s, &at_vertices, &every_pixel, false);
+    let ((median, max), balls, darkest) = (c.median_and_max(), c.errors.len(), c.darkest);
     eprintln!("{balls} ball pixels: relative error median {median:.2e}, max {max:.2e}; darkest kept {darkest}");
-    assert!(ground > 5000 && balls > 1000, "{ground} ground pixels, {balls} of the balls");
+    assert!(c.same > 5000 && balls > 1000, "{} ground pixels, {balls} of the balls", c.same);
     assert!(darkest < 0.75, "the balls take little of each other's light: {darkest}");
     assert!(max < 2e-3, "max {max:.2e}");
 
