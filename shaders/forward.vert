@@ -18,7 +18,7 @@ layout(location = 4) out float out_curvature;
 // which gave fragment-side uvs wrong derivatives, so wrong mip levels, along triangle edges.
 layout(location = 5) out vec2 out_map_uv[MAP_COUNT];
 // What the other objects take of the environment's light, 1 − object_occlusion, where it
-// is computed at the vertices (ObjectPush.at_vertices, src/scene/occluders.rs's
+// is computed at the vertices (OBJECTS_OCCLUSION_FROM_VERTICES, src/scene/occluders.rs's
 // Scene::occlusion_at_vertices), else 0: interpolating zeros gives 0 exactly, where ones
 // would round to 1 − 2⁻²⁴ here and there.
 layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
@@ -43,8 +43,8 @@ void main() {
         // At the mesh's own normal, the side a closed mesh shows. Elsewhere, no sphere.
         float len2 = dot(out_normal, out_normal);
         vec3 n = len2 > MIN_NORMAL_LENGTH2 ? out_normal * inversesqrt(len2) : vec3(0.0);
-        uvec2 own = object.at_vertices != 0u ? object.own_occluders : uvec2(0u, frame.counts.w);
-        out_objects_take = 1.0 - object_occlusion(world.xyz, n, own);
+        uvec2 skipped = skipped_occluders(OBJECTS_OCCLUSION_FROM_VERTICES);
+        out_objects_take = 1.0 - object_occlusion(world.xyz, n, skipped);
     }
     gl_Position = frame.view_proj * world;
 }

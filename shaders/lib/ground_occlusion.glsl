@@ -7,11 +7,6 @@
 #define ARGIL_GROUND_OCCLUSION_GLSL
 #include "ground_light.glsl"
 
-// The ground's run of occluders (ObjectPush.own_occluders.x) when the map holds its
-// occlusion: its count is every sphere, so that object_occlusion reads none.
-// src/render/gpu_scene.rs's OWN_GROUND_MAP.
-const uint OWN_GROUND_MAP = 0xffffffffu;
-
 layout(set = 5, binding = 1) uniform sampler2D ground_occlusion_map;
 
 // What the occluders make of the environment's diffuse light at ground point p.

@@ -12,6 +12,20 @@
 // Whether the frame has occluders (src/render/forward.rs); off, no code reads them.
 layout(constant_id = 13) const bool OBJECT_OCCLUSION = false;
 
+// Where a draw's occlusion by the other objects comes from (ObjectPush.objects_occlusion_from;
+// src/render/gpu_scene.rs's ObjectsOcclusionFrom): every pixel's spheres, its vertices'
+// (forward.vert), or the ground's occlusion map (ground_occlusion.glsl).
+const uint OBJECTS_OCCLUSION_FROM_PIXELS = 0u;
+const uint OBJECTS_OCCLUSION_FROM_VERTICES = 1u;
+const uint OBJECTS_OCCLUSION_FROM_GROUND_MAP = 2u;
+
+// The run of the frame's occluders a shader stage skips for the current draw: its own
+// object's where the stage reads the spheres (`from`), else all of them, so that its loop
+// reads none.
+uvec2 skipped_occluders(uint from) {
+    return object.objects_occlusion_from == from ? object.own_occluders : uvec2(0u, frame.counts.w);
+}
+
 // The environment's radiance averaged over the cone of angular radius α about d: the
 // radiance map's mip whose texels have the cone's solid angle, 2π (1 − cos α), with
 // 1 − cos α written sin²α/(1 + cos α), exact for small cones.

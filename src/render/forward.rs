@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use super::debug_view::DebugView;
 use super::environment::{environment_kind, reflection_code};
-use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, OWN_GROUND_MAP};
+use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom};
 use super::material_data::MaterialData;
 use super::occlusion::OcclusionMode;
 use super::shaders;
@@ -416,16 +416,18 @@ impl ForwardPass {
         ground_map: Option<usize>,
         one_shot: &OneShot,
     ) -> Result<()> {
+        let at_vertices = |i: usize| {
+            objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
+        };
         self.object_occlusion = (0..scene.objects.len())
-            .map(|i| match ground_map {
-                Some(ground) if ground == i => ObjectOcclusion {
-                    own: (OWN_GROUND_MAP as usize, occluders.len()),
-                    at_vertices: false,
-                },
-                _ => ObjectOcclusion {
-                    own: scene.own_occluders(occluders, i),
-                    at_vertices: objects
-                        && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent),
+            .map(|i| ObjectOcclusion {
+                own: scene.own_occluders(occluders, i),
+                from: if ground_map == Some(i) {
+                    ObjectsOcclusionFrom::GroundMap
+                } else if at_vertices(i) {
+                    ObjectsOcclusionFrom::Vertices
+                } else {
+                    ObjectsOcclusionFrom::Pixels
                 },
             })
             .collect();

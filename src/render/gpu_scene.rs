@@ -90,27 +90,35 @@ pub struct ObjectPush {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 3],
     pub material_index: u32,
-    /// 1 where the vertex shader computes the object's occlusion by the others, else 0.
-    pub at_vertices: u32,
+    /// [`ObjectsOcclusionFrom`] as a number.
+    pub objects_occlusion_from: u32,
     /// The run of `FrameData::occluders` that stands for its own file object, which does
-    /// not occlude it: (first, count); ([`OWN_GROUND_MAP`], every sphere) for the ground
-    /// whose occlusion the ground's map holds.
+    /// not occlude it: (first, count).
     pub own_occluders: [u32; 2],
 }
 
-/// How a draw reads its occlusion by the other objects (`[occlusion] objects`).
+/// Where a draw's occlusion by the other objects (`[occlusion] objects`) comes from:
+/// shaders/lib/object_occlusion.glsl's OBJECTS_OCCLUSION_FROM_*.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ObjectsOcclusionFrom {
+    /// The spheres read at every pixel.
+    #[default]
+    Pixels = 0,
+    /// The spheres read at its vertices and interpolated (`Scene::occlusion_at_vertices`).
+    Vertices = 1,
+    /// The ground's occlusion map (ground_maps.rs).
+    GroundMap = 2,
+}
+
+/// How a draw reads its occlusion by the other objects.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ObjectOcclusion {
     /// Its own file object's run of the frame's occluders (`Scene::own_occluders`), which
     /// it skips.
     pub own: (usize, usize),
-    /// Computed at its vertices and interpolated (`Scene::occlusion_at_vertices`).
-    pub at_vertices: bool,
+    pub from: ObjectsOcclusionFrom,
 }
-
-/// The first of the ground's own occluders when the ground's occlusion map holds its
-/// occlusion (src/render/ground_maps.rs): shaders/lib/ground_occlusion.glsl's OWN_GROUND_MAP.
-pub const OWN_GROUND_MAP: u32 = u32::MAX;
 
 impl ObjectPush {
     /// The draw of `object`, which reads the other objects' occlusion as `occlusion` says.
@@ -127,7 +135,7 @@ impl ObjectPush {
                 normal.z_axis.extend(0.0).to_array(),
             ],
             material_index: object.material as u32,
-            at_vertices: u32::from(occlusion.at_vertices),
+            objects_occlusion_from: occlusion.from as u32,
             own_occluders: [occlusion.own.0 as u32, occlusion.own.1 as u32],
         }
     }
@@ -284,19 +292,26 @@ mod tests {
             "    mat4 model;\n",
             "    vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3\n",
             "    uint material_index;\n",
-            "    uint at_vertices;",
+            "    uint objects_occlusion_from;",
         )));
         assert!(glsl.contains("    uvec2 own_occluders;  // the run of frame.occluders that is this object"));
-        assert_eq!(std::mem::offset_of!(ObjectPush, at_vertices), 116);
+        assert_eq!(std::mem::offset_of!(ObjectPush, objects_occlusion_from), 116);
         // std430 aligns a uvec2 to 8 bytes.
         assert_eq!(std::mem::offset_of!(ObjectPush, own_occluders), 120);
         assert_eq!(std::mem::size_of::<ObjectPush>(), 128, "Vulkan's least maxPushConstantsSize");
     }
 
     #[test]
-    fn the_ground_maps_run_is_the_shaders() {
-        let glsl = include_str!("../../shaders/lib/ground_occlusion.glsl");
-        assert!(glsl.contains(&format!("const uint OWN_GROUND_MAP = {OWN_GROUND_MAP:#x}u;")));
+    fn where_the_objects_occlusion_comes_from_is_the_shaders() {
+        let glsl = include_str!("../../shaders/lib/object_occlusion.glsl");
+        for (from, name) in [
+            (ObjectsOcclusionFrom::Pixels, "PIXELS"),
+            (ObjectsOcclusionFrom::Vertices, "VERTICES"),
+            (ObjectsOcclusionFrom::GroundMap, "GROUND_MAP"),
+        ] {
+            let line = format!("const uint OBJECTS_OCCLUSION_FROM_{name} = {}u;", from as u32);
+            assert!(glsl.contains(&line), "{line}");
+        }
     }
 
 }
