@@ -4,6 +4,7 @@
 // itself, so Lambert reflects exactly ρL.
 #ifndef ARGIL_ENVIRONMENT_GLSL
 #define ARGIL_ENVIRONMENT_GLSL
+#extension GL_EXT_control_flow_attributes : require
 #include "env_math.glsl"
 #include "specialization.glsl"
 #include "env_tables.glsl"
@@ -225,6 +226,9 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
         vec3 taps = prefiltered_taps(n_dot_v);
         float lod = prefiltered_lod(alpha * taps.y, env.params.w);
         prefiltered = vec3(0.0);
+        // The count varies by pixel. Unrolled, lavapipe would run all eight lookups for
+        // every pixel; as a loop it stops once no pixel of its batch has one left.
+        [[dont_unroll]]
         for (float i = 0.0; i < taps.x; ++i) {
             float offset = alpha * taps.z * (i - 0.5 * (taps.x - 1.0));
             prefiltered += env_prefiltered(normalize(mean + offset * along), lod);
