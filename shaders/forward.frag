@@ -80,12 +80,11 @@ void main() {
     float visibility = ambient_visibility(gl_FragCoord.xy);
     vec4 occlusion = environment_occlusion(visibility, m.base_color.rgb);
     if (OBJECT_OCCLUSION) {
-        // Every branch runs on lavapipe: those not taken read no sphere.
-        uint from = object.objects_occlusion_from;
-        uvec2 skipped = skipped_occluders(OBJECTS_OCCLUSION_FROM_PIXELS);
+        uint from = OBJECTS_OCCLUSION_FROM;
         occlusion.rgb *= from == OBJECTS_OCCLUSION_FROM_GROUND_MAP ? ground_map_occlusion(in_world_position)
-                         : from == OBJECTS_OCCLUSION_FROM_VERTICES ? 1.0 - in_objects_take
-                                                                   : object_occlusion(in_world_position, n, skipped);
+                         : from == OBJECTS_OCCLUSION_FROM_VERTICES
+                             ? 1.0 - in_objects_take
+                             : object_occlusion(in_world_position, n, object.own_occluders);
     }
     // The occlusion map's baked visibility multiplies the environment's light, occluded by
     // the screen-space visibility already, as glTF 2.0 applies it; the point lights it

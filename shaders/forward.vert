@@ -19,8 +19,8 @@ layout(location = 4) out float out_curvature;
 layout(location = 5) out vec2 out_map_uv[MAP_COUNT];
 // What the other objects take of the environment's light, 1 − object_occlusion, where it
 // is computed at the vertices (OBJECTS_OCCLUSION_FROM_VERTICES, src/scene/occluders.rs's
-// Scene::occlusion_at_vertices), else 0: interpolating zeros gives 0 exactly, where ones
-// would round to 1 − 2⁻²⁴ here and there.
+// Scene::occlusion_at_vertices): interpolating zeros gives 0 exactly, where ones would
+// round to 1 − 2⁻²⁴ here and there.
 layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
 
 void main() {
@@ -39,12 +39,11 @@ void main() {
     // have one); under a non-uniform scale it is only an average.
     float scale = pow(abs(determinant(mat3(object.model))), 1.0 / 3.0);
     out_curvature = scale > 0.0 ? in_curvature / scale : 0.0;
-    if (OBJECT_OCCLUSION) {
-        // At the mesh's own normal, the side a closed mesh shows. Elsewhere, no sphere.
+    if (OBJECT_OCCLUSION && OBJECTS_OCCLUSION_FROM == OBJECTS_OCCLUSION_FROM_VERTICES) {
+        // At the mesh's own normal, the side a closed mesh shows.
         float len2 = dot(out_normal, out_normal);
         vec3 n = len2 > MIN_NORMAL_LENGTH2 ? out_normal * inversesqrt(len2) : vec3(0.0);
-        uvec2 skipped = skipped_occluders(OBJECTS_OCCLUSION_FROM_VERTICES);
-        out_objects_take = 1.0 - object_occlusion(world.xyz, n, skipped);
+        out_objects_take = 1.0 - object_occlusion(world.xyz, n, object.own_occluders);
     }
     gl_Position = frame.view_proj * world;
 }

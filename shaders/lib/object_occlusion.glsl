@@ -12,19 +12,15 @@
 // Whether the frame has occluders (src/render/forward.rs); off, no code reads them.
 layout(constant_id = 13) const bool OBJECT_OCCLUSION = false;
 
-// Where a draw's occlusion by the other objects comes from (ObjectPush.objects_occlusion_from;
-// src/render/gpu_scene.rs's ObjectsOcclusionFrom): every pixel's spheres, its vertices'
-// (forward.vert), or the ground's occlusion map (ground_occlusion.glsl).
+// Where a draw's occlusion by the other objects comes from (src/render/gpu_scene.rs's
+// ObjectsOcclusionFrom): every pixel's spheres, its vertices' (forward.vert), or the
+// ground's occlusion map (ground_occlusion.glsl). A constant, so that a pipeline holds
+// one of the three: lavapipe runs every branch, and each of the others reads the
+// environment, spheres or a map.
+layout(constant_id = 14) const uint OBJECTS_OCCLUSION_FROM = 0u;
 const uint OBJECTS_OCCLUSION_FROM_PIXELS = 0u;
 const uint OBJECTS_OCCLUSION_FROM_VERTICES = 1u;
 const uint OBJECTS_OCCLUSION_FROM_GROUND_MAP = 2u;
-
-// The run of the frame's occluders a shader stage skips for the current draw: its own
-// object's where the stage reads the spheres (`from`), else all of them, so that its loop
-// reads none.
-uvec2 skipped_occluders(uint from) {
-    return object.objects_occlusion_from == from ? object.own_occluders : uvec2(0u, frame.counts.w);
-}
 
 // The environment's radiance averaged over the cone of angular radius α about d: the
 // radiance map's mip whose texels have the cone's solid angle, 2π (1 − cos α), with

@@ -41,7 +41,6 @@ layout(push_constant) uniform ObjectPush {
     mat4 model;
     vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3
     uint material_index;
-    uint objects_occlusion_from;  // OBJECTS_OCCLUSION_FROM_* (object_occlusion.glsl)
     uvec2 own_occluders;  // the run of frame.occluders that is this object: first, count
 } object;
 

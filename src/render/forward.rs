@@ -47,8 +47,9 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// material_maps.glsl) and how the detail map blends, its horizon and
 /// subsurface model, the debug view (debug_views.glsl), the environment's kind and
 /// reflection mode (environment.glsl), specular anti-aliasing (specular_aa.glsl), and how
-/// the environment's light is occluded (`OcclusionMode`, occlusion_map.glsl; always
-/// specialised) and whether the objects occlude it (object_occlusion.glsl).
+/// the environment's light is occluded (`OcclusionMode`, occlusion_map.glsl), whether the
+/// objects occlude it and where the draw reads that from (`ObjectsOcclusionFrom`,
+/// object_occlusion.glsl); the last three always specialised.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -66,11 +67,12 @@ pub struct ForwardConstants {
     pub specular_aa: u32,
     pub occlusion: u32,
     pub object_occlusion: u32,
+    pub objects_occlusion_from: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 14] = [
+    pub const NAMES: [&'static str; 15] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -85,6 +87,7 @@ impl ForwardConstants {
         "SPECULAR_AA",
         "OCCLUSION",
         "OBJECT_OCCLUSION",
+        "OBJECTS_OCCLUSION_FROM",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -140,6 +143,7 @@ impl ForwardConstants {
             specular_aa: u32::from(specular_aa),
             occlusion: 0,
             object_occlusion: 0,
+            objects_occlusion_from: ObjectsOcclusionFrom::Pixels as u32,
         }
     }
 
@@ -175,8 +179,9 @@ pub struct ForwardPass {
     pipelines: HashMap<(vk::SampleCountFlags, Specialization), Pipeline>,
     /// `floor.frag`'s pipeline by sample count, created the first time a frame asks for it.
     floor: HashMap<vk::SampleCountFlags, Pipeline>,
-    /// The pipeline of each material of the scene last prepared, in `Scene::materials` order.
-    material_pipelines: Vec<vk::Pipeline>,
+    /// The pipeline of each object of the scene last prepared, in `Scene::objects` order:
+    /// its material's, specialised to where it reads the other objects' occlusion.
+    object_pipelines: Vec<vk::Pipeline>,
     /// The same for the right part of a split frame (split.rs); empty without one.
     split_pipelines: Vec<vk::Pipeline>,
     /// How each object reads the other objects' occlusion, in `Scene::objects` order, for
@@ -272,7 +277,7 @@ impl ForwardPass {
             fragment,
             pipelines: HashMap::new(),
             floor: HashMap::new(),
-            material_pipelines: Vec::new(),
+            object_pipelines: Vec::new(),
             split_pipelines: Vec::new(),
             object_occlusion: Vec::new(),
             _pool: pool,
@@ -444,26 +449,31 @@ impl ForwardPass {
             .chain(split_materials)
             .map(MaterialData::from)
             .collect();
+        let parts = 1 + usize::from(split.is_some());
         let pipelines = if floor {
-            vec![self.floor_pipeline(samples)?; materials.len()]
+            vec![self.floor_pipeline(samples)?; parts * scene.objects.len()]
         } else {
             let split_parts = split.map(|s| (s.materials.as_slice(), &s.environment));
             let specializations: Vec<Specialization> = std::iter::once((scene.materials.as_slice(), &scene.environment))
                 .chain(split_parts)
-                .flat_map(|(materials, environment)| materials.iter().map(move |m| (m, environment)))
-                .map(|(m, environment)| {
+                .flat_map(|(materials, environment)| {
+                    let draws = scene.objects.iter().zip(&self.object_occlusion);
+                    draws.map(move |(object, occlusion)| (&materials[object.material], environment, occlusion.from))
+                })
+                .map(|(m, environment, from)| {
                     let specular_aa = scene.antialiasing.specular;
                     let mut constants = ForwardConstants::new(m, environment, debug_view, specialize, specular_aa);
                     constants.occlusion = occlusion as u32;
                     constants.object_occlusion = u32::from(objects);
+                    constants.objects_occlusion_from = from as u32;
                     constants.specialization()
                 })
                 .collect();
             self.pipelines_for(samples, &specializations)?
         };
-        // The buffer's order: the scene's materials, then the split's.
-        let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.materials.len());
-        (self.material_pipelines, self.split_pipelines) = (scene_pipelines.to_vec(), split_pipelines.to_vec());
+        // The objects with the scene's materials, then with the split's.
+        let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
+        (self.object_pipelines, self.split_pipelines) = (scene_pipelines.to_vec(), split_pipelines.to_vec());
         let preintegrated = |m: &Material| m.subsurface == Subsurface::PreIntegrated;
         let needs_table = scene.needs_preintegrated_table() || split_materials.iter().any(preintegrated);
         if needs_table && self.subsurface.is_none() {
@@ -541,11 +551,11 @@ impl ForwardPass {
         }
         let aspect = target.extent().width as f32 / target.extent().height as f32;
         match split {
-            None => self.draw_objects(cmd, scene, gpu, aspect, &self.material_pipelines, 0)?,
+            None => self.draw_objects(cmd, scene, gpu, aspect, &self.object_pipelines, 0)?,
             Some(split) => {
                 let [left, right] = split.scissors(target.extent());
                 let parts = [
-                    (left, &self.material_pipelines, 0),
+                    (left, &self.object_pipelines, 0),
                     (right, &self.split_pipelines, scene.materials.len()),
                 ];
                 for (scissor, pipelines, first_material) in parts {
@@ -558,7 +568,7 @@ impl ForwardPass {
         Ok(())
     }
 
-    /// Draws every object of `scene` with `pipelines` (one per material), reading its
+    /// Draws every object of `scene` with `pipelines` (one per object), reading its
     /// material at `first_material` + its index in the materials buffer, in
     /// [`draw_order`], culling the back faces it allows.
     fn draw_objects(
@@ -575,7 +585,7 @@ impl ForwardPass {
         for (index, cull) in draw_order(scene, |mesh| gpu.meshes[mesh].solid, aspect) {
             let object = &scene.objects[index];
             let pipeline = *pipelines
-                .get(object.material)
+                .get(index)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
             let occlusion = *self

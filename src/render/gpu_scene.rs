@@ -90,15 +90,16 @@ pub struct ObjectPush {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 3],
     pub material_index: u32,
-    /// [`ObjectsOcclusionFrom`] as a number.
-    pub objects_occlusion_from: u32,
+    /// std430 aligns `own_occluders` to 8 bytes.
+    pub pad: u32,
     /// The run of `FrameData::occluders` that stands for its own file object, which does
     /// not occlude it: (first, count).
     pub own_occluders: [u32; 2],
 }
 
 /// Where a draw's occlusion by the other objects (`[occlusion] objects`) comes from:
-/// shaders/lib/object_occlusion.glsl's OBJECTS_OCCLUSION_FROM_*.
+/// shaders/lib/object_occlusion.glsl's OBJECTS_OCCLUSION_FROM_*, a specialization constant
+/// of its pipeline (`ForwardConstants::objects_occlusion_from`).
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ObjectsOcclusionFrom {
@@ -121,7 +122,7 @@ pub struct ObjectOcclusion {
 }
 
 impl ObjectPush {
-    /// The draw of `object`, which reads the other objects' occlusion as `occlusion` says.
+    /// The draw of `object`, which skips the occluders `occlusion.own`.
     pub fn new(object: &Object, occlusion: ObjectOcclusion) -> Self {
         let model: Mat4 = object.model_matrix();
         // Normals transform by the inverse transpose; with a degenerate matrix, which the
@@ -135,7 +136,7 @@ impl ObjectPush {
                 normal.z_axis.extend(0.0).to_array(),
             ],
             material_index: object.material as u32,
-            objects_occlusion_from: occlusion.from as u32,
+            pad: 0,
             own_occluders: [occlusion.own.0 as u32, occlusion.own.1 as u32],
         }
     }
@@ -292,10 +293,8 @@ mod tests {
             "    mat4 model;\n",
             "    vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3\n",
             "    uint material_index;\n",
-            "    uint objects_occlusion_from;",
+            "    uvec2 own_occluders;  // the run of frame.occluders that is this object",
         )));
-        assert!(glsl.contains("    uvec2 own_occluders;  // the run of frame.occluders that is this object"));
-        assert_eq!(std::mem::offset_of!(ObjectPush, objects_occlusion_from), 116);
         // std430 aligns a uvec2 to 8 bytes.
         assert_eq!(std::mem::offset_of!(ObjectPush, own_occluders), 120);
         assert_eq!(std::mem::size_of::<ObjectPush>(), 128, "Vulkan's least maxPushConstantsSize");
