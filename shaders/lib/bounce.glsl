@@ -21,6 +21,11 @@
 // BOUNCE_TAPS.
 const uint BOUNCE_TAPS = 8u;
 
+// Whether the pipeline holds the gather (src/render/forward.rs): off, a frame without a
+// bounce runs none of it, which lavapipe would do behind the uniform flag below. The
+// generic pipeline holds it and reads the flag.
+layout(constant_id = 15) const bool BOUNCE = false;
+
 // The ground's light map (ground_light.glsl), E_lights over the ground's square.
 layout(set = 5, binding = 0) uniform sampler2D ground_light_map;
 
@@ -35,7 +40,7 @@ vec3 bounce_environment(vec3 d) {
 // below it, or without a bounce.
 vec3 ground_bounce_irradiance(vec3 p, vec3 n) {
     float height = p.y - frame.ground.y;
-    if (frame.ground_albedo.a <= 0.0 || height <= 0.0 || n.y >= 1.0) return vec3(0.0);
+    if (!BOUNCE || frame.ground_albedo.a <= 0.0 || height <= 0.0 || n.y >= 1.0) return vec3(0.0);
     mat3 basis = tangent_frame(n);
     vec3 ground_environment = PI * bounce_environment(vec3(0.0, 1.0, 0.0));
     vec3 lights = vec3(0.0);

@@ -49,7 +49,8 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// reflection mode (environment.glsl), specular anti-aliasing (specular_aa.glsl), and how
 /// the environment's light is occluded (`OcclusionMode`, occlusion_map.glsl), whether the
 /// objects occlude it and where the draw reads that from (`ObjectsOcclusionFrom`,
-/// object_occlusion.glsl); the last three always specialised.
+/// object_occlusion.glsl), those three always specialised; and whether the pipeline holds
+/// the ground's bounce (bounce.glsl), which the generic pipeline always does.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -68,11 +69,12 @@ pub struct ForwardConstants {
     pub occlusion: u32,
     pub object_occlusion: u32,
     pub objects_occlusion_from: u32,
+    pub bounce: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 15] = [
+    pub const NAMES: [&'static str; 16] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -88,6 +90,7 @@ impl ForwardConstants {
         "OCCLUSION",
         "OBJECT_OCCLUSION",
         "OBJECTS_OCCLUSION_FROM",
+        "BOUNCE",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -144,6 +147,7 @@ impl ForwardConstants {
             occlusion: 0,
             object_occlusion: 0,
             objects_occlusion_from: ObjectsOcclusionFrom::Pixels as u32,
+            bounce: u32::from(!specialize),
         }
     }
 
@@ -450,6 +454,7 @@ impl ForwardPass {
             .map(MaterialData::from)
             .collect();
         let parts = 1 + usize::from(split.is_some());
+        let bounces = scene.bounce && scene.ground().is_some();
         let pipelines = if floor {
             vec![self.floor_pipeline(samples)?; parts * scene.objects.len()]
         } else {
@@ -466,6 +471,7 @@ impl ForwardPass {
                     constants.occlusion = occlusion as u32;
                     constants.object_occlusion = u32::from(objects);
                     constants.objects_occlusion_from = from as u32;
+                    constants.bounce |= u32::from(bounces);
                     constants.specialization()
                 })
                 .collect();
@@ -681,6 +687,7 @@ mod tests {
             include_str!("../../shaders/lib/environment.glsl"),
             include_str!("../../shaders/lib/occlusion_map.glsl"),
             include_str!("../../shaders/lib/object_occlusion.glsl"),
+            include_str!("../../shaders/lib/bounce.glsl"),
         ];
         sources
             .iter()
