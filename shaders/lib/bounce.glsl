@@ -21,9 +21,9 @@
 // BOUNCE_TAPS.
 const uint BOUNCE_TAPS = 8u;
 
-// Whether the pipeline holds the gather (src/render/forward.rs): off, a frame without a
-// bounce runs none of it, which lavapipe would do behind the uniform flag below. The
-// generic pipeline holds it and reads the flag.
+// Whether the pipeline holds the gather (src/render/forward.rs). Off, a frame without a
+// bounce holds none of it, which lavapipe would otherwise run behind the uniform flag
+// below; the generic pipeline holds it and reads the flag.
 layout(constant_id = 15) const bool BOUNCE = false;
 
 // The ground's light map (ground_light.glsl), E_lights over the ground's square.
