@@ -147,7 +147,7 @@ impl ForwardConstants {
             occlusion: 0,
             object_occlusion: 0,
             objects_occlusion_from: ObjectsOcclusionFrom::Pixels as u32,
-            bounce: u32::from(!specialize),
+            bounce: 0,
         }
     }
 
@@ -471,7 +471,7 @@ impl ForwardPass {
                     constants.occlusion = occlusion as u32;
                     constants.object_occlusion = u32::from(objects);
                     constants.objects_occlusion_from = from as u32;
-                    constants.bounce |= u32::from(bounces);
+                    constants.bounce = u32::from(bounces || !specialize);
                     constants.specialization()
                 })
                 .collect();

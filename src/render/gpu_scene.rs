@@ -101,10 +101,9 @@ pub struct ObjectPush {
 /// shaders/lib/object_occlusion.glsl's OBJECTS_OCCLUSION_FROM_*, a specialization constant
 /// of its pipeline (`ForwardConstants::objects_occlusion_from`).
 #[repr(u32)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ObjectsOcclusionFrom {
     /// The spheres read at every pixel.
-    #[default]
     Pixels = 0,
     /// The spheres read at its vertices and interpolated (`Scene::occlusion_at_vertices`).
     Vertices = 1,
@@ -113,7 +112,7 @@ pub enum ObjectsOcclusionFrom {
 }
 
 /// How a draw reads its occlusion by the other objects.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ObjectOcclusion {
     /// Its own file object's run of the frame's occluders (`Scene::own_occluders`), which
     /// it skips.
