@@ -5,6 +5,7 @@
 // are in src/brdf/shadow.rs.
 #ifndef ARGIL_SHADOWS_GLSL
 #define ARGIL_SHADOWS_GLSL
+#extension GL_EXT_control_flow_attributes : require
 #include "scene_data.glsl"
 #include "env_math.glsl"
 #include "sampling.glsl"
@@ -177,16 +178,21 @@ ivec2 shadow_nearest_texel(vec3 w, out uint face) {
 
 // The fraction of point light i that reaches p, 1 without a map: PCSS, the blockers'
 // mean distance searched in the cone from p towards the light's sphere, then the
-// comparisons filtered over the penumbra they give. A light of radius 0 has the hard
-// shadow of one bilinear lookup. `face_normal` is the receiver's triangle's, which is what
-// the map stores: cross(dFdx(p), dFdy(p)), taken in uniform control flow.
+// comparisons filtered over the penumbra they give; 1 where the search finds none. A
+// light of radius 0 has the hard shadow of one bilinear lookup, the filter's one tap at
+// w. `face_normal` is the receiver's triangle's, which is what the map stores:
+// cross(dFdx(p), dFdy(p)), taken in uniform control flow.
+// The hard shadow is the filter's tap rather than a branch of its own: lavapipe runs both
+// sides of a branch, so its lookup would run for every pixel beside PCSS's. The loops'
+// counts vary by pixel; kept as loops, each stops once no pixel of its batch has an
+// iteration left.
 float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
     ShadowReceiver r;
     vec3 w;
-    if (!shadow_receiver(i, p, face_normal, r, w)) return 1.0;
+    bool receives = shadow_receiver(i, p, face_normal, r, w);
     float d = r.distance;
     float radius = shadow_data.lights[i].map.y;
-    if (radius <= 0.0) return shadow_bilinear(r, w);
+    bool soft = radius > 0.0;
 
     mat3 tangent = tangent_frame(w);
     float texel_angle = 2.0 / float(shadow_data.settings.x);
@@ -196,7 +202,8 @@ float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
     float search = max(2.0 * radius / d, texel_angle);
     float blockers = 0.0;
     float count = 0.0;
-    for (uint k = 0u; k < SHADOW_TAPS; ++k) {
+    [[dont_unroll]]
+    for (uint k = 0u; k < (receives && soft ? SHADOW_TAPS : 0u); ++k) {
         vec2 o = vogel_disk(k, SHADOW_TAPS, rotation) * search;
         uint face;
         ivec2 nearest = shadow_nearest_texel(w + tangent[0] * o.x + tangent[1] * o.y, face);
@@ -204,14 +211,15 @@ float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
         blockers += blocker;
         count += blocker > 0.0 ? 1.0 : 0.0;
     }
-    if (count == 0.0) return 1.0;
-    float filter_radius = max(penumbra_angle(radius, d, blockers / count), texel_angle);
+    uint taps = !receives ? 0u : !soft ? 1u : count > 0.0 ? SHADOW_TAPS : 0u;
+    float filter_radius = soft ? max(penumbra_angle(radius, d, blockers / count), texel_angle) : 0.0;
     float lit = 0.0;
-    for (uint k = 0u; k < SHADOW_TAPS; ++k) {
-        vec2 o = vogel_disk(k, SHADOW_TAPS, rotation) * filter_radius;
+    [[dont_unroll]]
+    for (uint k = 0u; k < taps; ++k) {
+        vec2 o = vogel_disk(k, taps, rotation) * filter_radius;
         lit += shadow_bilinear(r, w + tangent[0] * o.x + tangent[1] * o.y);
     }
-    return lit / float(SHADOW_TAPS);
+    return taps == 0u ? 1.0 : lit / float(taps);
 }
 
 #endif
