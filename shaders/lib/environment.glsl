@@ -41,6 +41,11 @@ layout(set = ENV_SET, binding = 0, std140) uniform EnvironmentData {
 // generic pipeline) reads them from env.mode.
 layout(constant_id = 9) const uint ENVIRONMENT_KIND = FROM_UNIFORM;
 layout(constant_id = 10) const uint REFLECTION_MODE = FROM_UNIFORM;
+// Whether the pipeline holds a map's sun (env.sun, split-sum reflection): set where the
+// map has one (src/render/environment/sun.rs) and in the generic pipeline, which reads
+// env.sun.w. Off, a sunless frame holds none of its lobe, which lavapipe would otherwise
+// run behind the uniform for every pixel.
+layout(constant_id = 16) const bool ENV_SUN = false;
 
 uint env_kind() {
     return ENVIRONMENT_KIND == FROM_UNIFORM ? env.mode.x : ENVIRONMENT_KIND;
@@ -236,7 +241,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
         prefiltered /= taps.x;
         // A map's sun lights as one direction (sun_alpha widens the lobe by its disc).
         float n_dot_sun = dot(n, env.sun.xyz);
-        if (env.sun.w > 0.0 && n_dot_sun > 0.0) {
+        if (ENV_SUN && env.sun.w > 0.0 && n_dot_sun > 0.0) {
             Material sunlit = m;
             sunlit.roughness = sqrt(sun_alpha(alpha, env.sun.w));
             sunlight = env.radiance.rgb * env.sun_irradiance.rgb * n_dot_sun

@@ -479,6 +479,13 @@ impl EnvironmentPass {
         Ok(())
     }
 
+    /// Whether the current environment is a map with a sun, lifted out of its prefiltered
+    /// cube for split-sum reflection to light as one direction (env.sun in environment.glsl).
+    pub fn has_sun(&self) -> bool {
+        let map = matches!(self.current, Some(Environment::Map { .. }));
+        map && self.cubes.as_ref().is_some_and(|c| c.sun.is_some())
+    }
+
     /// Whether the current environment is drawn behind the objects (a cube map; a uniform
     /// one is the target's clear colour).
     pub fn draws_skybox(&self) -> bool {

@@ -50,7 +50,8 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// the environment's light is occluded (`OcclusionMode`, occlusion_map.glsl), whether the
 /// objects occlude it and where the draw reads that from (`ObjectsOcclusionFrom`,
 /// object_occlusion.glsl), those three always specialised; and whether the pipeline holds
-/// the ground's bounce (bounce.glsl), which the generic pipeline always does.
+/// the ground's bounce (bounce.glsl) and a map's sun (environment.glsl), which the generic
+/// pipeline always does.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -70,11 +71,12 @@ pub struct ForwardConstants {
     pub object_occlusion: u32,
     pub objects_occlusion_from: u32,
     pub bounce: u32,
+    pub sun: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 16] = [
+    pub const NAMES: [&'static str; 17] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -91,6 +93,7 @@ impl ForwardConstants {
         "OBJECT_OCCLUSION",
         "OBJECTS_OCCLUSION_FROM",
         "BOUNCE",
+        "ENV_SUN",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -148,6 +151,7 @@ impl ForwardConstants {
             object_occlusion: 0,
             objects_occlusion_from: ObjectsOcclusionFrom::Pixels as u32,
             bounce: 0,
+            sun: 0,
         }
     }
 
@@ -404,7 +408,8 @@ impl ForwardPass {
     /// frame's `occluders` (`Scene::occluders`, `[occlusion] objects`) too, which the caller
     /// leaves off without any, `ground_map` the object that reads theirs from the
     /// ground's occlusion map (ground_maps.rs), and `gpu`'s meshes whether an object's is
-    /// computed at its vertices (`Scene::occlusion_at_vertices`). A `split` frame's
+    /// computed at its vertices (`Scene::occlusion_at_vertices`); `sun`: whether the
+    /// environment's map has a sun lifted out of it (environment.rs). A `split` frame's
     /// materials follow the scene's in the buffer, with pipelines of their own.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
@@ -423,6 +428,7 @@ impl ForwardPass {
         occluders: &[Occluder],
         objects: bool,
         ground_map: Option<usize>,
+        sun: bool,
         one_shot: &OneShot,
     ) -> Result<()> {
         let at_vertices = |i: usize| {
@@ -472,6 +478,7 @@ impl ForwardPass {
                     constants.object_occlusion = u32::from(objects);
                     constants.objects_occlusion_from = from as u32;
                     constants.bounce = u32::from(bounces || !specialize);
+                    constants.sun = u32::from(sun || !specialize);
                     constants.specialization()
                 })
                 .collect();

@@ -311,6 +311,7 @@ impl Renderer {
             &occluders,
             objects,
             ground,
+            self.environment.has_sun(),
             &self.one_shot,
         )?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
