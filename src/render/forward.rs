@@ -50,8 +50,8 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// the environment's light is occluded (`OcclusionMode`, occlusion_map.glsl), whether the
 /// objects occlude it and where the draw reads that from (`ObjectsOcclusionFrom`,
 /// object_occlusion.glsl), those three always specialised; and whether the pipeline holds
-/// the ground's bounce (bounce.glsl) and a map's sun (environment.glsl), which the generic
-/// pipeline always does.
+/// the ground's bounce (bounce.glsl), a map's sun and the material's energy compensation
+/// (environment.glsl), which the generic pipeline always does.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -72,11 +72,12 @@ pub struct ForwardConstants {
     pub objects_occlusion_from: u32,
     pub bounce: u32,
     pub sun: u32,
+    pub energy_compensation: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 17] = [
+    pub const NAMES: [&'static str; 18] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -94,6 +95,7 @@ impl ForwardConstants {
         "OBJECTS_OCCLUSION_FROM",
         "BOUNCE",
         "ENV_SUN",
+        "ENERGY_COMPENSATION",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -152,6 +154,7 @@ impl ForwardConstants {
             objects_occlusion_from: ObjectsOcclusionFrom::Pixels as u32,
             bounce: 0,
             sun: 0,
+            energy_compensation: u32::from(m.energy_compensation || !specialize),
         }
     }
 
