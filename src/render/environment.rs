@@ -419,7 +419,7 @@ impl EnvironmentPass {
             } => ([*intensity; 3], *rotation_degrees),
         };
         let rotation = map_rotation(f64::from(rotation_degrees));
-        let cubes = self.cubes.as_ref().filter(|_| kind == KIND_CUBE);
+        let cubes = cubes_of(&self.cubes, environment);
         // Sampled reflection alone reads it, in either part of a split frame.
         let luminance = cubes.and_then(|c| c.luminance.as_ref());
         // Uniform radiance reads no texel: any positive solid angle keeps the lod finite.
@@ -479,11 +479,12 @@ impl EnvironmentPass {
         Ok(())
     }
 
-    /// Whether the current environment is a map with a sun, lifted out of its prefiltered
-    /// cube for split-sum reflection to light as one direction (env.sun in environment.glsl).
+    /// Whether the current environment's uniforms carry a sun (env.sun in environment.glsl):
+    /// its map's, lifted out of the prefiltered cube for split-sum reflection to light as
+    /// one direction.
     pub fn has_sun(&self) -> bool {
-        let map = matches!(self.current, Some(Environment::Map { .. }));
-        map && self.cubes.as_ref().is_some_and(|c| c.sun.is_some())
+        let cubes = self.current.as_ref().and_then(|e| cubes_of(&self.cubes, e));
+        cubes.is_some_and(|c| c.sun.is_some())
     }
 
     /// Whether the current environment is drawn behind the objects (a cube map; a uniform
@@ -583,6 +584,11 @@ pub(super) fn reflection_code(mode: ReflectionMode) -> u32 {
 }
 
 /// `EnvironmentData.mode.x`, and the forward pass's `ENVIRONMENT_KIND` constant.
+/// The cubes that `environment` reads of those built: none without a cube map.
+fn cubes_of<'a>(cubes: &'a Option<Cubes>, environment: &Environment) -> Option<&'a Cubes> {
+    cubes.as_ref().filter(|_| environment_kind(environment) == KIND_CUBE)
+}
+
 pub(super) fn environment_kind(environment: &Environment) -> u32 {
     match environment {
         Environment::None => KIND_NONE,

@@ -464,6 +464,9 @@ impl ForwardPass {
             .collect();
         let parts = 1 + usize::from(split.is_some());
         let bounces = scene.bounce && scene.ground().is_some();
+        // What a specialised pipeline holds only when the frame uses it; the generic one
+        // always holds it and reads the frame's uniforms.
+        let held = |used: bool| u32::from(used || !specialize);
         let pipelines = if floor {
             vec![self.floor_pipeline(samples)?; parts * scene.objects.len()]
         } else {
@@ -480,8 +483,8 @@ impl ForwardPass {
                     constants.occlusion = occlusion as u32;
                     constants.object_occlusion = u32::from(objects);
                     constants.objects_occlusion_from = from as u32;
-                    constants.bounce = u32::from(bounces || !specialize);
-                    constants.sun = u32::from(sun || !specialize);
+                    constants.bounce = held(bounces);
+                    constants.sun = held(sun);
                     constants.specialization()
                 })
                 .collect();
