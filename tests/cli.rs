@@ -7,7 +7,7 @@ mod common;
 
 use std::process::{Command, Output};
 
-use common::{argil, argil_with, gpu, sampled_sphere_toml, test_dir};
+use common::{argil, argil_with, gpu, sampled_sphere_toml, test_dir, Xvfb};
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -318,23 +318,7 @@ fn the_shadow_map_view_needs_a_light_that_casts_shadows() {
 /// The window path: a real X server (Xvfb), a swapchain, a few frames, a clean exit.
 #[test]
 fn view_opens_a_window_under_xvfb() {
-    let status = Command::new("xvfb-run").arg("--help").output();
-    assert!(status.is_ok(), "xvfb-run is missing: `make setup` installs it");
-    let runtime = test_dir("xvfb-runtime");
-    let o = Command::new("xvfb-run")
-        .args([
-            "-a",
-            "-s",
-            "-screen 0 1280x800x24",
-            env!("CARGO_BIN_EXE_argil"),
-            "view",
-            "--frames",
-            "5",
-        ])
-        .env("ARGIL_VALIDATION", "1")
-        .env("XDG_RUNTIME_DIR", &runtime)
-        .output()
-        .expect("run xvfb-run");
+    let o = view_under_xvfb(&["--frames", "5"]);
     assert_clean_success(&o);
 }
 
@@ -350,16 +334,9 @@ fn bench_soak_viewer_needs_a_display_and_samples_the_viewer() {
         .env_remove("WAYLAND_DISPLAY");
     assert_clean_failure(&common::run(headless), &["display", "xvfb-run"]);
 
-    let mut windowed = Command::new("xvfb-run");
-    windowed.args([
-        "-a",
-        "-s",
-        "-screen 0 1280x800x24",
-        env!("CARGO_BIN_EXE_argil"),
-        "bench",
-        "--soak-viewer",
-        "40",
-    ]);
+    let xvfb = Xvfb::start();
+    let mut windowed = xvfb.command(env!("CARGO_BIN_EXE_argil"));
+    windowed.args(["bench", "--soak-viewer", "40"]);
     let o = common::run(windowed);
     assert_clean_success(&o);
     let out = String::from_utf8_lossy(&o.stdout);
@@ -373,13 +350,13 @@ fn bench_soak_viewer_needs_a_display_and_samples_the_viewer() {
 /// `argil view` under Xvfb with its own arguments; validation on.
 fn view_under_xvfb(args: &[&str]) -> Output {
     let runtime = test_dir("xvfb-runtime");
-    Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
+    Xvfb::start()
+        .view()
         .args(args)
         .env("ARGIL_VALIDATION", "1")
         .env("XDG_RUNTIME_DIR", &runtime)
         .output()
-        .expect("run xvfb-run")
+        .expect("run argil view")
 }
 
 /// Where the viewer drew the 3D view, from its closing line "view WxH at x X": the window
@@ -605,12 +582,13 @@ fn slow_frames_are_reduced_while_the_ui_is_in_use() {
         env!("CARGO_BIN_EXE_argil"),
         path_str(&script)
     );
-    let o = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &viewer])
+    let o = Xvfb::start()
+        .command("sh")
+        .args(["-c", &viewer])
         .env("ARGIL_VALIDATION", "1")
         .env("XDG_RUNTIME_DIR", &runtime)
         .output()
-        .expect("run xvfb-run");
+        .expect("run sh");
     assert_clean_success(&o);
     let err = stderr(&o);
     let line = err
@@ -731,6 +709,7 @@ struct WatchedView {
     log: String,
     shot: std::path::PathBuf,
     _runtime: argil::scratch::Scratch,
+    _xvfb: Xvfb,
 }
 
 impl WatchedView {
@@ -740,15 +719,16 @@ impl WatchedView {
         let shot = scene.with_file_name("window.png");
         let runtime = test_dir("xvfb-runtime");
         let frames = frames.to_string();
-        let mut child = Command::new("xvfb-run")
-            .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
+        let xvfb = Xvfb::start();
+        let mut child = xvfb
+            .view()
             .args(["--frames", &frames, "--width", "480", "--height", "270"])
             .args(["--screenshot", path_str(&shot), path_str(scene)])
             .env("ARGIL_VALIDATION", "1")
             .env("XDG_RUNTIME_DIR", &runtime)
             .stderr(Stdio::piped())
             .spawn()
-            .expect("run xvfb-run");
+            .expect("run argil view");
         let lines = BufReader::new(child.stderr.take().expect("stderr")).lines().map_while(Result::ok);
         Self {
             child,
@@ -756,6 +736,7 @@ impl WatchedView {
             log: String::new(),
             shot,
             _runtime: runtime,
+            _xvfb: xvfb,
         }
     }
 

@@ -7,9 +7,9 @@
 
 mod common;
 
-use std::process::{Command, Output};
+use std::process::Output;
 
-use common::{argil_with, run, test_dir};
+use common::{argil_with, run, test_dir, Xvfb};
 
 fn assert_machine_failure(o: &Output, fault: &str) {
     let err = String::from_utf8_lossy(&o.stderr);
@@ -72,9 +72,9 @@ fn verify_fails_cleanly() {
 /// finishes its frames; the window is never resized, so the recreation is the fault's.
 #[test]
 fn view_recovers_from_a_lost_swapchain() {
-    let mut command = Command::new("xvfb-run");
+    let xvfb = Xvfb::start();
+    let mut command = xvfb.view();
     command
-        .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
         .args(["--frames", "20", "--width", "320", "--height", "200"])
         .env("ARGIL_FAULT", "present:5");
     let o = run(command);
@@ -89,9 +89,9 @@ fn view_recovers_from_a_lost_swapchain() {
 #[test]
 fn view_fails_cleanly() {
     for fault in ["alloc:2", "alloc:40", "submit:30", "device-lost:30", "device-lost:45"] {
-        let mut command = Command::new("xvfb-run");
+        let xvfb = Xvfb::start();
+        let mut command = xvfb.view();
         command
-            .args(["-a", "-s", "-screen 0 1280x800x24", env!("CARGO_BIN_EXE_argil"), "view"])
             .args(["--frames", "60", "--width", "320", "--height", "200"])
             .env("ARGIL_FAULT", fault);
         assert_machine_failure(&run(command), fault);

@@ -206,6 +206,60 @@ pub fn run(mut command: Command) -> Output {
     }
 }
 
+/// A private X server for the viewer's tests, stopped when dropped. The server chooses a
+/// free display itself (`-displayfd`), so tests starting servers at once never race for a
+/// number, and argil's exit code reaches the test with no wrapper script (`xvfb-run`) whose
+/// own clean-up can replace it.
+pub struct Xvfb {
+    server: std::process::Child,
+    display: String,
+}
+
+impl Xvfb {
+    pub fn start() -> Self {
+        use std::io::{BufRead, BufReader};
+        use std::process::Stdio;
+        let mut server = Command::new("Xvfb")
+            .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp", "-noreset"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("run Xvfb (`make setup` installs it)");
+        // The server writes its display number once it accepts connections.
+        let mut number = String::new();
+        let stdout = server.stdout.take().expect("Xvfb's stdout");
+        BufReader::new(stdout).read_line(&mut number).expect("read Xvfb's display");
+        let number = number.trim();
+        assert!(!number.is_empty(), "Xvfb ended before it opened a display");
+        Self {
+            server,
+            display: format!(":{number}"),
+        }
+    }
+
+    /// `program` as a client of this server.
+    pub fn command(&self, program: &str) -> Command {
+        let mut command = Command::new(program);
+        command.env("DISPLAY", &self.display).env_remove("WAYLAND_DISPLAY");
+        command
+    }
+
+    /// argil's `view` on this server.
+    pub fn view(&self) -> Command {
+        let mut command = self.command(env!("CARGO_BIN_EXE_argil"));
+        command.arg("view");
+        command
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        // SIGTERM, so that the server removes its lock file and socket.
+        let _ = Command::new("kill").arg(self.server.id().to_string()).status();
+        let _ = self.server.wait();
+    }
+}
+
 /// Longer than any command of the tests takes on lavapipe with the machine busy (the
 /// slowest, the viewer's reload test, takes about a minute).
 pub const HANG: std::time::Duration = std::time::Duration::from_secs(600);
