@@ -188,6 +188,41 @@ fn a_light_with_a_radius_casts_a_penumbra() {
     assert!(soft_umbra < hard_umbra, "the umbra did not shrink");
 }
 
+/// `[shadows] taps` sets a soft shadow's taps: the fewer, the noisier its penumbra (each
+/// pixel turns the taps by its own angle), measured as the mean square of the second
+/// difference along rows (which a smooth penumbra's gradient hardly moves) at the 16-tap
+/// frame's penumbra.
+#[test]
+fn fewer_taps_give_a_noisier_penumbra() {
+    let soft = plane_scene("radius = 0.3", SPHERE);
+    let unshadowed = hdr(&plane_scene("radius = 0.3\nshadows = false", SPHERE));
+    let sixteen = hdr(&soft);
+    let penumbra: Vec<bool> = (0..sixteen.len() / 4)
+        .map(|p| sixteen[4 * p + 1] < unshadowed[4 * p + 1] && sixteen[4 * p + 1] > 0.05 * unshadowed[4 * p + 1])
+        .collect();
+    let roughness = |frame: &[f32]| {
+        let (mut sum, mut n) = (0.0, 0);
+        let green = |p: usize| f64::from(frame[4 * p + 1]);
+        for y in 0..SIZE.1 as usize {
+            for x in 1..SIZE.0 as usize - 1 {
+                let p = y * SIZE.0 as usize + x;
+                if penumbra[p] {
+                    sum += (green(p - 1) - 2.0 * green(p) + green(p + 1)).powi(2);
+                    n += 1;
+                }
+            }
+        }
+        sum / f64::from(n.max(1))
+    };
+    let taps = |n: u32| hdr(&soft.replace("resolution = 2048", &format!("resolution = 2048\ntaps = {n}")));
+    let (four, sixty_four) = (roughness(&taps(4)), roughness(&taps(64)));
+    let default = roughness(&sixteen);
+    eprintln!("penumbra roughness: 4 taps {four:.3e}, 16 {default:.3e}, 64 {sixty_four:.3e}");
+    assert!(penumbra.iter().filter(|&&p| p).count() > 100, "no penumbra");
+    // Noise variance goes as 1/taps: 4× and 4× here; measured 10× and 3.5×.
+    assert!(four > 4.0 * default && default > 2.0 * sixty_four, "{four} {default} {sixty_four}");
+}
+
 /// The maps are rendered when the scene changes, not every frame: two frames of the same
 /// scene render them once, moving the light renders them again, and the frame is the same
 /// either way. So is the ground's light map of the bounce, which a light's intensity

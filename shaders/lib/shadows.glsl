@@ -32,8 +32,9 @@ layout(set = 3, binding = 1) uniform sampler2DArray shadow_maps;
 // (the slope-scaled term), ×10. At 7 m the constant term is 3.5 mm, far below a texel.
 const float SHADOW_DEPTH_BIAS = 5e-4;
 const float SHADOW_SLOPE_BIAS = 1e-4;
-// Taps of the blocker search and of the filter when the light has a radius.
-const uint SHADOW_TAPS = 16u;
+// Taps of the blocker search and of the filter when the light has a radius ([shadows]
+// taps): a constant, so that the compiler folds the taps' radii (src/render/forward.rs).
+layout(constant_id = 18) const uint SHADOW_TAPS = 16u;
 
 // The face that direction d falls in and (a, b) on it: the inverse of cube_direction.
 uint cube_face(vec3 d, out vec2 ab) {

@@ -169,6 +169,10 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     ground_names.extend(BOUNCE_CONFIGURATIONS);
     ground_names.extend(OBJECT_CONFIGURATIONS);
     scenes.push(bench_scene("ball-on-ground", &ground, &ground_names, headline)?);
+    let penumbra = parse(PENUMBRA_TOML, "bench/scenes/penumbra.toml")?;
+    let mut penumbra_names = vec![FLOOR, "split-sum"];
+    penumbra_names.extend(SHADOW_CONFIGURATIONS);
+    scenes.push(bench_scene("penumbra", &penumbra, &penumbra_names, headline)?);
     let ball = parse(SUBSURFACE_BALL_TOML, "bench/scenes/subsurface-ball.toml")?;
     let subsurface = [FLOOR, "split-sum", "no-subsurface", REPORT];
     scenes.push(bench_scene("subsurface-ball", &ball, &subsurface, headline)?);
@@ -217,6 +221,7 @@ pub fn configuration_names() -> Vec<String> {
 const SPHERE_TOML: &str = include_str!("../../bench/scenes/sphere.toml");
 const CLOSE_UP_TOML: &str = include_str!("../../bench/scenes/close-up.toml");
 const BALL_ON_GROUND_TOML: &str = include_str!("../../bench/scenes/ball-on-ground.toml");
+const PENUMBRA_TOML: &str = include_str!("../../bench/scenes/penumbra.toml");
 const SUBSURFACE_BALL_TOML: &str = include_str!("../../bench/scenes/subsurface-ball.toml");
 
 /// The sphere of each BRDF model, Oren-Nayar and EON at σ = 0.5, the lobes at roughness 0.3.
@@ -491,10 +496,21 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
 }
 
 /// What shadows cost and change: `no-shadows` turns every light's shadows off (the
-/// renderer before them), `hard-shadows` makes every light a point (one lookup, no PCSS).
-const SHADOW_CONFIGURATIONS: [&str; 2] = ["no-shadows", "hard-shadows"];
+/// renderer before them), `hard-shadows` makes every light a point (one lookup, no PCSS),
+/// `shadow-taps-N` gives a soft shadow N taps to search and N to filter (argil's 16).
+const SHADOW_CONFIGURATIONS: [&str; 5] = [
+    "no-shadows",
+    "hard-shadows",
+    "shadow-taps-4",
+    "shadow-taps-8",
+    "shadow-taps-32",
+];
 
 fn shadow_configured(file: &mut SceneFile, name: &str) {
+    if let Some(taps) = name.strip_prefix("shadow-taps-").and_then(|n| n.parse().ok()) {
+        file.shadows.get_or_insert_with(Default::default).taps = Some(taps);
+        return;
+    }
     for light in &mut file.lights {
         let crate::scene::file::LightDef::Point { radius, shadows, .. } = light;
         match name {
@@ -669,6 +685,18 @@ mod tests {
         assert!(both.antialiasing.is_some());
         assert_eq!(both.environment, seed.environment);
         assert_ne!(both.environment, msaa.environment);
+    }
+
+    /// Each taps row gives the penumbra scene's soft light its count of taps.
+    #[test]
+    fn shadow_taps_rows_set_a_soft_shadows_taps() {
+        let penumbra = scenes(false, None).unwrap().into_iter().find(|s| s.name == "penumbra").unwrap();
+        for n in [4, 8, 32] {
+            let row = penumbra.configurations.iter().find(|c| c.name == format!("shadow-taps-{n}"));
+            let scene = crate::scene::Scene::from_toml(&row.unwrap().text, "row", Path::new("")).unwrap();
+            assert_eq!(scene.shadow_taps, n);
+            assert!(scene.lights[0].radius > 0.0);
+        }
     }
 
     #[test]

@@ -32,6 +32,7 @@ use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::occluders::Occluder;
 use crate::scene::{
     DetailBlend, Environment, MapRef, MapSlot, Material, ReflectionMode, Scene, SpecularModel, Subsurface, Vertex,
+    DEFAULT_SHADOW_TAPS,
 };
 use crate::vk::{
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
@@ -51,7 +52,8 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// objects occlude it and where the draw reads that from (`ObjectsOcclusionFrom`,
 /// object_occlusion.glsl), those three always specialised; and whether the pipeline holds
 /// the ground's bounce (bounce.glsl), a map's sun and the material's energy compensation
-/// (environment.glsl), which the generic pipeline always does.
+/// (environment.glsl), which the generic pipeline always does; and a soft shadow's taps
+/// (`[shadows] taps`, shadows.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -73,11 +75,12 @@ pub struct ForwardConstants {
     pub bounce: u32,
     pub sun: u32,
     pub energy_compensation: u32,
+    pub shadow_taps: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 18] = [
+    pub const NAMES: [&'static str; 19] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -96,6 +99,7 @@ impl ForwardConstants {
         "BOUNCE",
         "ENV_SUN",
         "ENERGY_COMPENSATION",
+        "SHADOW_TAPS",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -155,6 +159,7 @@ impl ForwardConstants {
             bounce: 0,
             sun: 0,
             energy_compensation: u32::from(m.energy_compensation || !specialize),
+            shadow_taps: DEFAULT_SHADOW_TAPS,
         }
     }
 
@@ -485,6 +490,7 @@ impl ForwardPass {
                     constants.objects_occlusion_from = from as u32;
                     constants.bounce = held(bounces);
                     constants.sun = held(sun);
+                    constants.shadow_taps = scene.shadow_taps;
                     constants.specialization()
                 })
                 .collect();
@@ -701,6 +707,7 @@ mod tests {
             include_str!("../../shaders/lib/occlusion_map.glsl"),
             include_str!("../../shaders/lib/object_occlusion.glsl"),
             include_str!("../../shaders/lib/bounce.glsl"),
+            include_str!("../../shaders/lib/shadows.glsl"),
         ];
         sources
             .iter()
@@ -730,6 +737,8 @@ mod tests {
         );
         let glsl = include_str!("../../shaders/lib/specialization.glsl");
         assert!(glsl.contains(&format!("FROM_UNIFORM = 0x{FROM_UNIFORM:X}u;")));
+        let glsl = include_str!("../../shaders/lib/shadows.glsl");
+        assert!(glsl.contains(&format!("const uint SHADOW_TAPS = {DEFAULT_SHADOW_TAPS}u;")));
         let glsl = include_str!("../../shaders/lib/occlusion_map.glsl");
         for (mode, name) in [
             (OcclusionMode::Off, "OCCLUSION_OFF"),

@@ -97,6 +97,9 @@ pub struct ShadowsDef {
     /// Texels on a side of each cube face (absent: 1024).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub resolution: Option<u32>,
+    /// Taps of a soft shadow's blocker search and of its filter (absent: 16).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub taps: Option<u32>,
     /// Whether the lights' light bounces off the ground onto the objects (absent: false).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bounce: Option<bool>,

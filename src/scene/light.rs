@@ -35,6 +35,12 @@ pub const DEFAULT_SHADOW_RESOLUTION: u32 = 1024;
 /// a 4096² cube is 400 MB of depth per light.
 pub const SHADOW_RESOLUTION_RANGE: std::ops::RangeInclusive<u32> = 16..=4096;
 
+/// `[shadows] taps`: a soft shadow's taps, as many in its blocker search as in its filter.
+pub const DEFAULT_SHADOW_TAPS: u32 = 16;
+/// The range `[shadows] taps` accepts: one tap is a hard shadow's lookup, and 64 (128
+/// lookups a light and pixel) is past where more taps change a penumbra visibly.
+pub const SHADOW_TAPS_RANGE: std::ops::RangeInclusive<u32> = 1..=64;
+
 /// Light arriving from infinitely far away.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Environment {

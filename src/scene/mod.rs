@@ -39,7 +39,8 @@ pub use error::SceneError;
 pub use file::SceneFile;
 pub use gltf::is_model;
 pub use light::{
-    Environment, PointLight, Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE,
+    Environment, PointLight, Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, DEFAULT_SHADOW_TAPS,
+    SHADOW_RESOLUTION_RANGE, SHADOW_TAPS_RANGE,
 };
 pub use material::{
     DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, MapSlot, Material, MaterialMaps, SpecularModel,
@@ -93,6 +94,8 @@ pub struct Scene {
     pub lights: Vec<PointLight>,
     /// Texels on a side of each face of a light's cube shadow map.
     pub shadow_resolution: u32,
+    /// Taps of a soft shadow's blocker search and of its filter (PCSS).
+    pub shadow_taps: u32,
     /// Whether the lights' light bounces off the ground onto the objects (`[shadows] bounce`).
     pub bounce: bool,
     pub antialiasing: Antialiasing,

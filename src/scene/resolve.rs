@@ -3,6 +3,7 @@
 
 use std::collections::{HashMap, HashSet};
 use std::fmt::Debug;
+use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
@@ -12,7 +13,10 @@ use super::file::{
     AntialiasingDef, CameraDef, EnvironmentDef, Green, LightDef, MapDef, MaterialDef, ObjectDef, OcclusionDef,
     ShadowsDef,
 };
-use super::light::{Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, SHADOW_RESOLUTION_RANGE};
+use super::light::{
+    Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, DEFAULT_SHADOW_TAPS, SHADOW_RESOLUTION_RANGE,
+    SHADOW_TAPS_RANGE,
+};
 use super::limits::{check_environment_map, MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDIVISIONS_RANGE};
 use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
 use super::mesh::SPHERE_SUBDIVISIONS;
@@ -45,6 +49,15 @@ impl Checker<'_> {
             field: field.to_owned(),
             value: format!("{value:?}"),
             reason: reason.into(),
+        }
+    }
+
+    fn integer_in(&self, field: &str, value: u32, range: RangeInclusive<u32>) -> Result<u32, SceneError> {
+        if range.contains(&value) {
+            Ok(value)
+        } else {
+            let reason = format!("must be an integer in [{}, {}]", range.start(), range.end());
+            Err(self.invalid(field, value, reason))
         }
     }
 
@@ -163,6 +176,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         })
         .collect::<Result<_, _>>()?;
     let shadow_resolution = shadow_resolution(&check, file.shadows.as_ref())?;
+    let shadow_taps = shadow_taps(&check, file.shadows.as_ref())?;
     let bounce = file.shadows.as_ref().and_then(|d| d.bounce).unwrap_or(false);
     let antialiasing = antialiasing(&check, file.antialiasing.as_ref())?;
     let occlusion = occlusion(&check, file.occlusion.as_ref())?;
@@ -275,6 +289,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         camera,
         lights,
         shadow_resolution,
+        shadow_taps,
         bounce,
         antialiasing,
         occlusion,
@@ -293,6 +308,7 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
 fn shadows_def(scene: &Scene) -> Option<ShadowsDef> {
     let def = ShadowsDef {
         resolution: (scene.shadow_resolution != DEFAULT_SHADOW_RESOLUTION).then_some(scene.shadow_resolution),
+        taps: (scene.shadow_taps != DEFAULT_SHADOW_TAPS).then_some(scene.shadow_taps),
         bounce: scene.bounce.then_some(true),
     };
     (def != ShadowsDef::default()).then_some(def)
@@ -312,28 +328,17 @@ fn subdivisions(check: &Checker, i: usize, object: &ObjectDef) -> Result<Option<
         );
         return Err(check.invalid(&field, n, reason));
     }
-    if !SPHERE_SUBDIVISIONS_RANGE.contains(&n) {
-        let (low, high) = (SPHERE_SUBDIVISIONS_RANGE.start(), SPHERE_SUBDIVISIONS_RANGE.end());
-        return Err(check.invalid(&field, n, format!("must be an integer in [{low}, {high}]")));
-    }
-    Ok(Some(n))
+    check.integer_in(&field, n, SPHERE_SUBDIVISIONS_RANGE).map(Some)
 }
 
 fn shadow_resolution(check: &Checker, def: Option<&ShadowsDef>) -> Result<u32, SceneError> {
     let resolution = def.and_then(|d| d.resolution).unwrap_or(DEFAULT_SHADOW_RESOLUTION);
-    if SHADOW_RESOLUTION_RANGE.contains(&resolution) {
-        Ok(resolution)
-    } else {
-        Err(check.invalid(
-            "shadows.resolution",
-            resolution,
-            format!(
-                "must be an integer in [{}, {}]",
-                SHADOW_RESOLUTION_RANGE.start(),
-                SHADOW_RESOLUTION_RANGE.end()
-            ),
-        ))
-    }
+    check.integer_in("shadows.resolution", resolution, SHADOW_RESOLUTION_RANGE)
+}
+
+fn shadow_taps(check: &Checker, def: Option<&ShadowsDef>) -> Result<u32, SceneError> {
+    let taps = def.and_then(|d| d.taps).unwrap_or(DEFAULT_SHADOW_TAPS);
+    check.integer_in("shadows.taps", taps, SHADOW_TAPS_RANGE)
 }
 
 fn antialiasing(check: &Checker, def: Option<&AntialiasingDef>) -> Result<Antialiasing, SceneError> {
@@ -356,13 +361,7 @@ fn occlusion(check: &Checker, def: Option<&OcclusionDef>) -> Result<Occlusion, S
     let defaults = Occlusion::default();
     let Some(def) = def else { return Ok(defaults) };
     let samples = |field: &str, value: Option<u32>, default: u32| {
-        let value = value.unwrap_or(default);
-        if OCCLUSION_SAMPLES_RANGE.contains(&value) {
-            Ok(value)
-        } else {
-            let (lo, hi) = (OCCLUSION_SAMPLES_RANGE.start(), OCCLUSION_SAMPLES_RANGE.end());
-            Err(check.invalid(field, value, format!("must be an integer in [{lo}, {hi}]")))
-        }
+        check.integer_in(field, value.unwrap_or(default), OCCLUSION_SAMPLES_RANGE)
     };
     Ok(Occlusion {
         enabled: def.enabled.unwrap_or(defaults.enabled),

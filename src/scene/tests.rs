@@ -333,6 +333,8 @@ fn out_of_range_values_name_the_field() {
         ("[[lights]]\nkind = \"point\"\nposition = [0.0, 1.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = inf", "lights[0].radius = inf: must be a finite number >= 0"),
         ("[shadows]\nresolution = 8", "shadows.resolution = 8: must be an integer in [16, 4096]"),
         ("[shadows]\nresolution = 8192", "shadows.resolution = 8192: must be an integer in [16, 4096]"),
+        ("[shadows]\ntaps = 0", "shadows.taps = 0: must be an integer in [1, 64]"),
+        ("[shadows]\ntaps = 65", "shadows.taps = 65: must be an integer in [1, 64]"),
         ("[occlusion]\nslices = 0", "occlusion.slices = 0: must be an integer in [1, 32]"),
         ("[occlusion]\nradius = 0.0", "occlusion.radius = 0.0: must be a finite number > 0"),
         ("[environment]\nkind = \"uniform\"\nradiance = [-1.0, 0.0, 0.0]", "environment.radiance = [-1.0, 0.0, 0.0]: every component must be a finite number >= 0"),
@@ -484,22 +486,24 @@ fn scene_file_round_trips_through_toml() {
     assert!(matches!(file.environment, EnvironmentDef::Studio { .. }));
 }
 
-/// A light's radius and shadows and the maps' resolution are read, default to a point
-/// that casts shadows at 1024, and are saved only when not the default.
+/// A light's radius and shadows, the maps' resolution and a soft shadow's taps are read,
+/// default to a point that casts shadows at 1024 with 16 taps, and are saved only when not
+/// the default.
 #[test]
 fn shadow_keys_are_read_defaulted_and_saved() {
     let text = format!(
-        "{CUBE}[shadows]\nresolution = 512\n[[lights]]\nkind = \"point\"\nposition = [0.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = 0.25\nshadows = false\n[[lights]]\nkind = \"point\"\nposition = [1.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\n"
+        "{CUBE}[shadows]\nresolution = 512\ntaps = 8\n[[lights]]\nkind = \"point\"\nposition = [0.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = 0.25\nshadows = false\n[[lights]]\nkind = \"point\"\nposition = [1.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\n"
     );
     let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
-    assert_eq!(scene.shadow_resolution, 512);
+    assert_eq!((scene.shadow_resolution, scene.shadow_taps), (512, 8));
     assert_eq!((scene.lights[0].radius, scene.lights[0].shadows), (0.25, false));
     assert_eq!((scene.lights[1].radius, scene.lights[1].shadows), (0.0, true));
     let saved = scene.to_file().to_toml().unwrap();
     let reread = Scene::from_toml(&saved, "saved.toml", Path::new("")).unwrap();
-    assert_eq!((reread.lights, reread.shadow_resolution), (scene.lights.clone(), 512));
+    assert_eq!((reread.lights, reread.shadow_resolution, reread.shadow_taps), (scene.lights.clone(), 512, 8));
     let defaults = Scene::from_toml(CUBE, "scene.toml", Path::new("")).unwrap();
     assert_eq!(defaults.shadow_resolution, crate::scene::DEFAULT_SHADOW_RESOLUTION);
+    assert_eq!(defaults.shadow_taps, crate::scene::DEFAULT_SHADOW_TAPS);
     let saved = defaults.to_file().to_toml().unwrap();
     let keys: Vec<&str> = saved.lines().filter_map(|l| l.split(" =").next()).collect();
     assert!(

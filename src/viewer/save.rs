@@ -200,6 +200,7 @@ mod tests {
         scene.lights[0].radius = 0.25;
         scene.lights[0].shadows = false;
         scene.shadow_resolution = 512;
+        scene.shadow_taps = 8;
         scene.antialiasing.msaa = 8;
         scene.antialiasing.specular = false;
         scene.environment = Environment::Studio {
@@ -225,7 +226,7 @@ mod tests {
         save(&scene, &document, &path, false).unwrap();
         let (reloaded, _) = load(&path);
         assert_eq!(reloaded.lights, scene.lights);
-        assert_eq!(reloaded.shadow_resolution, 512);
+        assert_eq!((reloaded.shadow_resolution, reloaded.shadow_taps), (512, 8));
         assert_eq!((reloaded.antialiasing.msaa, reloaded.antialiasing.specular), (8, false));
     }
 

@@ -1,9 +1,10 @@
-//! The viewer's shadow settings: the renderer-wide toggle, the maps' resolution, the light
-//! bounced off the ground, and each light's `shadows` and `radius` (saved with the scene).
+//! The viewer's shadow settings: the renderer-wide toggle, the maps' resolution, a soft
+//! shadow's taps, the light bounced off the ground, and each light's `shadows` and
+//! `radius` (saved with the scene).
 
 use egui::Ui;
 
-use crate::scene::{Scene, SHADOW_RESOLUTION_RANGE};
+use crate::scene::{Scene, SHADOW_RESOLUTION_RANGE, SHADOW_TAPS_RANGE};
 
 /// The "Shadows" section; `enabled` is the renderer's toggle (not saved).
 pub fn shadows_section(ui: &mut Ui, scene: &mut Scene, enabled: &mut bool) {
@@ -16,6 +17,9 @@ pub fn shadows_section(ui: &mut Ui, scene: &mut Scene, enabled: &mut bool) {
                 .speed(16.0)
                 .suffix(" texels"),
         );
+        ui.end_row();
+        ui.label("soft-shadow taps");
+        ui.add(egui::DragValue::new(&mut scene.shadow_taps).range(SHADOW_TAPS_RANGE).speed(0.25));
         ui.end_row();
         ui.label("bounce");
         ui.checkbox(&mut scene.bounce, "light bounced off the ground");
