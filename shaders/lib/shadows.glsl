@@ -80,10 +80,11 @@ struct ShadowReceiver {
     float distance; // |q|
 };
 
-// The distance from the light of the surface that texel `texel` of face `face` stores at
-// depth `depth`, when it lies in front of the receiver's plane along that texel's ray; 0
-// when nothing does.
-float shadow_depth_blocker(ShadowReceiver r, uint face, ivec2 texel, float depth) {
+// Whether the surface that texel `texel` of face `face` stores at depth `depth` lies in
+// front of the receiver's plane along that texel's ray, and its distance from the light:
+// the bilinear filter, which asks only whether, leaves that division for the compiler to
+// drop.
+bool shadow_depth_blocks(ShadowReceiver r, uint face, ivec2 texel, float depth, out float distance) {
     float size = float(shadow_data.settings.x);
     vec2 ab = (vec2(texel) + 0.5) / size * 2.0 - 1.0;
     // The texel's ray, at major-axis distance 1: the depth its face stores is along it.
@@ -94,7 +95,15 @@ float shadow_depth_blocker(ShadowReceiver r, uint face, ivec2 texel, float depth
     float stored = shadow_linear_depth(depth, r.near, r.far);
     float cos_to_plane = abs(c_dot_n) * inv_length;
     float bias = SHADOW_DEPTH_BIAS + SHADOW_SLOPE_BIAS / max(cos_to_plane, 1e-4);
-    return stored * (1.0 + bias) < plane ? stored / inv_length : 0.0;
+    distance = stored / inv_length;
+    return stored * (1.0 + bias) < plane;
+}
+
+// The distance from the light of what texel `texel` stores at `depth` where it blocks the
+// receiver (shadow_depth_blocks), 0 where nothing does.
+float shadow_depth_blocker(ShadowReceiver r, uint face, ivec2 texel, float depth) {
+    float distance;
+    return shadow_depth_blocks(r, face, texel, depth, distance) ? distance : 0.0;
 }
 
 // shadow_depth_blocker of what texel `texel` of face `face` stores.
@@ -133,7 +142,8 @@ float shadow_bilinear(ShadowReceiver r, vec3 w) {
         for (int i = 0; i < 2; ++i) {
             float weight = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
             ivec2 texel = clamp(base + ivec2(i, j), ivec2(0), ivec2(last));
-            bool blocker = shadow_depth_blocker(r, face, texel, depths[2 * j + i]) > 0.0;
+            float distance;
+            bool blocker = shadow_depth_blocks(r, face, texel, depths[2 * j + i], distance);
             lit += blocker ? 0.0 : weight;
             blocked += blocker ? 1u : 0u;
         }
