@@ -157,14 +157,15 @@ vec4 brdf_table(uint layer, float n_dot_v, float y) {
     return textureLod(brdf_lut, vec3(xy, float(layer)), 0.0);
 }
 
+// Whether the pipeline holds energy compensation: set for a material that asks and in the
+// generic pipeline, which reads the material's flag; off, a material that does not ask
+// reads no table, which lavapipe would otherwise do behind the flag for every pixel.
+layout(constant_id = 17) const bool ENERGY_COMPENSATION = false;
+
 // The material's specular tint with the lobe's multiple scattering compensated where the
 // material asks for it (energy_compensation): E = A + B, the lobe's albedo at F0 = 1, is
 // the split sum's own table (twin: SpecularAlbedoTable in src/brdf/energy.rs), so point
 // lights and the environment, which both read the tint, are compensated alike.
-// ENERGY_COMPENSATION: whether the pipeline holds it, set for a material that asks and in
-// the generic pipeline, which reads the material's flag; off, a material that does not ask
-// reads no table, which lavapipe would otherwise do behind the flag for every pixel.
-layout(constant_id = 17) const bool ENERGY_COMPENSATION = false;
 vec3 compensated_specular_color(ShadingModels models, Material m, float n_dot_v) {
     if (!ENERGY_COMPENSATION || m.energy_compensation == 0.0 || models.specular == SPECULAR_NONE)
         return m.specular_color.rgb;

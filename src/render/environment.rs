@@ -583,12 +583,12 @@ pub(super) fn reflection_code(mode: ReflectionMode) -> u32 {
     }
 }
 
-/// `EnvironmentData.mode.x`, and the forward pass's `ENVIRONMENT_KIND` constant.
 /// The cubes that `environment` reads of those built: none without a cube map.
 fn cubes_of<'a>(cubes: &'a Option<Cubes>, environment: &Environment) -> Option<&'a Cubes> {
     cubes.as_ref().filter(|_| environment_kind(environment) == KIND_CUBE)
 }
 
+/// `EnvironmentData.mode.x`, and the forward pass's `ENVIRONMENT_KIND` constant.
 pub(super) fn environment_kind(environment: &Environment) -> u32 {
     match environment {
         Environment::None => KIND_NONE,
