@@ -353,7 +353,6 @@ fn view_under_xvfb(args: &[&str]) -> Output {
     Xvfb::start()
         .view()
         .args(args)
-        .env("ARGIL_VALIDATION", "1")
         .env("XDG_RUNTIME_DIR", &runtime)
         .output()
         .expect("run argil view")
@@ -591,7 +590,6 @@ fn slow_frames_are_reduced_while_the_ui_is_in_use() {
     let o = Xvfb::start()
         .command("sh")
         .args(["-c", &viewer])
-        .env("ARGIL_VALIDATION", "1")
         .env("XDG_RUNTIME_DIR", &runtime)
         .output()
         .expect("run sh");
@@ -730,7 +728,6 @@ impl WatchedView {
             .view()
             .args(["--frames", &frames, "--width", "480", "--height", "270"])
             .args(["--screenshot", path_str(&shot), path_str(scene)])
-            .env("ARGIL_VALIDATION", "1")
             .env("XDG_RUNTIME_DIR", &runtime)
             .stderr(Stdio::piped())
             .spawn()

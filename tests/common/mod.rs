@@ -237,10 +237,13 @@ impl Xvfb {
         }
     }
 
-    /// `program` as a client of this server.
+    /// `program` as a client of this server, with the validation layer on.
     pub fn command(&self, program: &str) -> Command {
         let mut command = Command::new(program);
-        command.env("DISPLAY", &self.display).env_remove("WAYLAND_DISPLAY");
+        command
+            .env("DISPLAY", &self.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env("ARGIL_VALIDATION", "1");
         command
     }
 
