@@ -26,6 +26,16 @@ pub fn tonemap_pbr_neutral(color: Vec3) -> Vec3 {
     c.map(|v| v * new_peak / peak * (1.0 - g) + new_peak * g)
 }
 
+/// sRGB EOTF, IEC 61966-2-1 (as Vulkan decodes `_SRGB` formats): E/12.92 up to 0.04045,
+/// else ((E + 0.055)/1.055)^2.4; E in [0, 1].
+pub fn srgb_eotf(encoded: f64) -> f64 {
+    if encoded <= 0.04045 {
+        encoded / 12.92
+    } else {
+        ((encoded + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// sRGB OETF, IEC 61966-2-1: 12.92 L below 0.0031308, else 1.055 L^(1/2.4) − 0.055; L in [0, 1].
 pub fn srgb_oetf(linear: f64) -> f64 {
     let l = linear.clamp(0.0, 1.0);

@@ -6,7 +6,7 @@
 
 use glam::DVec2;
 
-use crate::scene::{TexelFormat, TextureData};
+use crate::scene::{TexelReader, TextureData};
 
 pub struct Texture {
     width: usize,
@@ -15,34 +15,11 @@ pub struct Texture {
     texels: Vec<[f64; 4]>,
 }
 
-/// The sRGB EOTF (IEC 61966-2-1), as Vulkan decodes `_SRGB` formats.
-fn srgb_to_linear(c: f64) -> f64 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 impl Texture {
     pub fn new(data: &TextureData) -> Self {
-        let bytes = data.format.bytes_per_texel();
-        let texels = data
-            .pixels
-            .chunks_exact(bytes)
-            .map(|t| match data.format {
-                TexelFormat::Rgba8Srgb => {
-                    let c = |i: usize| srgb_to_linear(f64::from(t[i]) / 255.0);
-                    [c(0), c(1), c(2), f64::from(t[3]) / 255.0]
-                }
-                TexelFormat::Rgba8Unorm => std::array::from_fn(|i| f64::from(t[i]) / 255.0),
-                TexelFormat::Rgba16Unorm => {
-                    std::array::from_fn(|i| f64::from(u16::from_ne_bytes([t[2 * i], t[2 * i + 1]])) / 65535.0)
-                }
-                TexelFormat::Rgba32Float => std::array::from_fn(|i| {
-                    f64::from(f32::from_ne_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]))
-                }),
-            })
+        let reader = TexelReader::new(data.format);
+        let texels = (0..data.pixels.len() / data.format.bytes_per_texel())
+            .map(|i| reader.read(&data.pixels, i))
             .collect();
         Self {
             width: data.width as usize,
@@ -74,6 +51,7 @@ impl Texture {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::TexelFormat;
 
     fn texture(width: u32, height: u32, values: &[u8]) -> Texture {
         Texture::new(&TextureData {

@@ -1,5 +1,5 @@
-//! Material textures on the GPU: uploaded once with a full mip chain made by blits; tables
-//! read by texel, their top level alone.
+//! Material textures on the GPU: uploaded once with the full mip chain made on the CPU
+//! (scene/mips.rs); tables read by texel, their top level alone.
 
 use std::sync::Arc;
 
@@ -7,8 +7,9 @@ use anyhow::{bail, ensure, Context, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
+use crate::scene::mips::{level_side, mip_levels};
 use crate::scene::{TexelFormat, TextureData};
-use crate::vk::{copy_region, full_range, mip_count, transition_levels, Buffer, Device, Image, ImageUse, OneShot};
+use crate::vk::{copy_region, full_range, transition_levels, Buffer, Device, Image, ImageUse, OneShot};
 
 fn vk_format(format: TexelFormat) -> (vk::Format, u32) {
     match format {
@@ -24,15 +25,13 @@ pub struct GpuTexture {
 }
 
 impl GpuTexture {
-    /// Uploads `texture` and builds its mip chain on the GPU (linear blits, which average
-    /// sRGB texels in linear space as the format says).
+    /// Uploads `texture` with its mip chain.
     pub fn upload(device: &Arc<Device>, one_shot: &OneShot, texture: &TextureData) -> Result<Self> {
         Self::upload_levels(device, one_shot, texture, true)
     }
 
     /// Uploads `texture` as its top level alone: a table that shaders read by texel, which
-    /// no mip would serve (and whose first blit of a format makes lavapipe compile a blit
-    /// shader: 75 ms of every start for the RGBA32F subsurface table).
+    /// no mip would serve.
     pub fn upload_table(device: &Arc<Device>, one_shot: &OneShot, texture: &TextureData) -> Result<Self> {
         Self::upload_levels(device, one_shot, texture, false)
     }
@@ -67,117 +66,62 @@ impl GpuTexture {
                 texture.name
             );
         }
-        // Without blits, the texture has its top level only (filtering still works).
-        let blits = vk::FormatFeatureFlags::BLIT_SRC | vk::FormatFeatureFlags::BLIT_DST;
-        let levels = if mips && features.contains(blits) { mip_count(extent) } else { 1 };
-
+        let below = if mips { mip_levels(texture) } else { Vec::new() };
+        let levels = [texture.pixels.as_slice()].into_iter().chain(below.iter().map(Vec::as_slice));
         let mut staging = Buffer::new(
             device,
-            expected,
+            levels.clone().map(|l| l.len() as u64).sum(),
             vk::BufferUsageFlags::TRANSFER_SRC,
             MemoryLocation::CpuToGpu,
             "texture staging",
         )?;
-        staging.write(&texture.pixels)?;
+        let mut regions = Vec::new();
+        let mut offset = 0;
+        for (level, bytes) in (0..).zip(levels) {
+            staging.write_at(offset, bytes)?;
+            let extent = vk::Extent2D {
+                width: level_side(extent.width, level),
+                height: level_side(extent.height, level),
+            };
+            regions.push(copy_region(vk::ImageAspectFlags::COLOR, level, 1, extent).buffer_offset(offset as u64));
+            offset += bytes.len();
+        }
         let image = Image::with_mips(
             device,
             extent,
-            levels,
+            regions.len() as u32,
             format,
-            vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST | vk::ImageUsageFlags::TRANSFER_SRC,
+            vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
             vk::ImageAspectFlags::COLOR,
             &texture.name,
         )?;
         one_shot
-            .run(|cmd| record_upload(device, cmd, &staging, &image))
+            .run(|cmd| record_upload(device, cmd, &staging, &image, &regions))
             .with_context(|| format!("uploading texture '{}'", texture.name))?;
         Ok(Self { image })
     }
 }
 
-fn level(image: &Image, level: u32) -> vk::ImageSubresourceRange {
-    full_range(image.aspect).base_mip_level(level)
-}
-
-fn level_extent(extent: vk::Extent2D, level: u32) -> vk::Offset3D {
-    vk::Offset3D {
-        x: (extent.width >> level).max(1) as i32,
-        y: (extent.height >> level).max(1) as i32,
-        z: 1,
-    }
-}
-
-/// Copy into level 0, then each level is blitted from the one above it, which is left
-/// readable by fragment shaders once used.
-fn record_upload(device: &Device, cmd: vk::CommandBuffer, staging: &Buffer, image: &Image) {
+/// Copies every level from `staging` and leaves them readable by fragment shaders.
+fn record_upload(
+    device: &Device,
+    cmd: vk::CommandBuffer,
+    staging: &Buffer,
+    image: &Image,
+    regions: &[vk::BufferImageCopy],
+) {
     let all = full_range(image.aspect).level_count(image.mip_levels);
-    transition_levels(
-        device,
-        cmd,
-        image.handle,
-        all,
-        ImageUse::UNDEFINED,
-        ImageUse::TRANSFER_DST,
-    );
-    let region = copy_region(image.aspect, 0, 1, image.extent);
+    transition_levels(device, cmd, image.handle, all, ImageUse::UNDEFINED, ImageUse::TRANSFER_DST);
     unsafe {
         device.handle.cmd_copy_buffer_to_image(
             cmd,
             staging.handle,
             image.handle,
             vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            &[region],
+            regions,
         )
     };
-    for i in 1..image.mip_levels {
-        transition_levels(
-            device,
-            cmd,
-            image.handle,
-            level(image, i - 1),
-            ImageUse::TRANSFER_DST,
-            ImageUse::TRANSFER_SRC,
-        );
-        let layers = |mip| {
-            vk::ImageSubresourceLayers::default()
-                .aspect_mask(image.aspect)
-                .mip_level(mip)
-                .layer_count(1)
-        };
-        let blit = vk::ImageBlit::default()
-            .src_subresource(layers(i - 1))
-            .src_offsets([vk::Offset3D::default(), level_extent(image.extent, i - 1)])
-            .dst_subresource(layers(i))
-            .dst_offsets([vk::Offset3D::default(), level_extent(image.extent, i)]);
-        unsafe {
-            device.handle.cmd_blit_image(
-                cmd,
-                image.handle,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                image.handle,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[blit],
-                vk::Filter::LINEAR,
-            )
-        };
-        transition_levels(
-            device,
-            cmd,
-            image.handle,
-            level(image, i - 1),
-            ImageUse::TRANSFER_SRC,
-            ImageUse::FRAGMENT_READ,
-        );
-    }
-    let last = level(image, image.mip_levels - 1);
-    transition_levels(
-        device,
-        cmd,
-        image.handle,
-        last,
-        ImageUse::TRANSFER_DST,
-        ImageUse::FRAGMENT_READ,
-    );
+    transition_levels(device, cmd, image.handle, all, ImageUse::TRANSFER_DST, ImageUse::FRAGMENT_READ);
 }
 
 /// A 1×1 stand-in bound where a material has no map, so every material binds the same

@@ -16,6 +16,7 @@ pub mod occluders;
 mod material;
 pub mod material_keys;
 mod mesh;
+pub mod mips;
 mod mikktspace;
 mod obj;
 mod occlusion;
@@ -50,7 +51,9 @@ pub use mesh::{Mesh, MeshExtent, Vertex, BUILTIN_PREFIX};
 pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
 pub use preset::Preset;
 pub use procedural::{builtin_texture, BUILTIN_TEXTURES};
-pub use texture::{decode_texture, load_texture, TexelFormat, TextureData, TextureRole, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE};
+pub use texture::{
+    decode_texture, load_texture, TexelFormat, TexelReader, TextureData, TextureRole, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE,
+};
 
 /// The scene used when none is given; it needs no files on disk.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");

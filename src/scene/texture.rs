@@ -7,6 +7,7 @@ use std::path::Path;
 use image::{ColorType, DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader, Limits};
 
 use super::SceneError;
+use crate::brdf::tonemap::srgb_eotf;
 
 /// Largest width or height accepted, in texels (Vulkan's guaranteed
 /// `maxImageDimension2D` is 4096; 16384 is what desktop GPUs offer).
@@ -50,6 +51,44 @@ pub enum TextureRole {
     Normal,
     /// Linear data: noise and the property maps.
     Data,
+}
+
+/// Reads texels of one format as linear RGBA, sRGB colour decoded as the GPU decodes it.
+pub struct TexelReader {
+    format: TexelFormat,
+    /// The linear value of each 8-bit sRGB code: a table, as a whole texture is read.
+    srgb: Vec<f64>,
+}
+
+impl TexelReader {
+    pub fn new(format: TexelFormat) -> TexelReader {
+        let srgb = if format == TexelFormat::Rgba8Srgb {
+            (0..256).map(|code| srgb_eotf(f64::from(code) / 255.0)).collect()
+        } else {
+            Vec::new()
+        };
+        TexelReader { format, srgb }
+    }
+
+    /// Texel `index` of tightly packed `pixels`.
+    pub fn read(&self, pixels: &[u8], index: usize) -> [f64; 4] {
+        let size = self.format.bytes_per_texel();
+        let t = &pixels[index * size..(index + 1) * size];
+        let unorm8 = |c: u8| f64::from(c) / 255.0;
+        match self.format {
+            TexelFormat::Rgba8Srgb => {
+                let colour = |c: u8| self.srgb[usize::from(c)];
+                [colour(t[0]), colour(t[1]), colour(t[2]), unorm8(t[3])]
+            }
+            TexelFormat::Rgba8Unorm => std::array::from_fn(|c| unorm8(t[c])),
+            TexelFormat::Rgba16Unorm => {
+                std::array::from_fn(|c| f64::from(u16::from_ne_bytes([t[2 * c], t[2 * c + 1]])) / 65535.0)
+            }
+            TexelFormat::Rgba32Float => std::array::from_fn(|c| {
+                f64::from(f32::from_ne_bytes([t[4 * c], t[4 * c + 1], t[4 * c + 2], t[4 * c + 3]]))
+            }),
+        }
+    }
 }
 
 /// A decoded 2D texture: tightly packed rows, RGBA; row 0 is sampled at v = 0, which for
@@ -236,13 +275,7 @@ fn srgb16_to_linear(texels: &[u16]) -> Vec<u8> {
     // A table is ~100× faster than powf per channel on a 16k × 16k image.
     let table: Vec<f32> = (0..=u16::MAX)
         .map(|code| {
-            let c = f64::from(code) / f64::from(u16::MAX);
-            let linear = if c <= 0.04045 {
-                c / 12.92
-            } else {
-                ((c + 0.055) / 1.055).powf(2.4)
-            };
-            linear as f32
+            srgb_eotf(f64::from(code) / f64::from(u16::MAX)) as f32
         })
         .collect();
     let linear: Vec<f32> = texels

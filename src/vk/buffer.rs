@@ -108,18 +108,23 @@ impl Buffer {
 
     /// Writes `bytes` at the start of a mapped buffer.
     pub fn write(&mut self, bytes: &[u8]) -> Result<()> {
+        self.write_at(0, bytes)
+    }
+
+    /// Writes `bytes` at byte `offset` of a mapped buffer.
+    pub fn write_at(&mut self, offset: usize, bytes: &[u8]) -> Result<()> {
         let slice = self
             .allocation
             .as_mut()
             .and_then(|a| a.mapped_slice_mut())
             .context("buffer is not host-visible")?;
         anyhow::ensure!(
-            bytes.len() <= slice.len(),
-            "write of {} bytes into a {}-byte buffer",
+            offset + bytes.len() <= slice.len(),
+            "write of {} bytes at {offset} into a {}-byte buffer",
             bytes.len(),
             slice.len()
         );
-        slice[..bytes.len()].copy_from_slice(bytes);
+        slice[offset..offset + bytes.len()].copy_from_slice(bytes);
         Ok(())
     }
 

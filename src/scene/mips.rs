@@ -1,0 +1,188 @@
+//! A texture's mip chain, made on the CPU: each level from the one above it as a linear
+//! blit (`vkCmdBlitImage`, `VK_FILTER_LINEAR`) makes it, with sRGB colour averaged in
+//! linear space. Made here rather than by blits on the device, every device samples the
+//! same levels, and a start does not wait while lavapipe compiles its blit shader (50 ms).
+
+use rayon::prelude::*;
+
+use super::{TexelFormat, TexelReader, TextureData};
+use crate::brdf::tonemap::srgb_eotf;
+
+/// Width or height of level `level` of a side of `side` texels.
+pub fn level_side(side: u32, level: u32) -> u32 {
+    (side >> level).max(1)
+}
+
+/// Levels 1 and below of `texture`'s full chain (level 0 is its own texels), each tightly
+/// packed in its format; level i is `level_side(width, i)` × `level_side(height, i)`.
+pub fn mip_levels(texture: &TextureData) -> Vec<Vec<u8>> {
+    let codec = Codec::new(texture.format);
+    let (mut width, mut height) = (texture.width, texture.height);
+    let mut levels: Vec<Vec<u8>> = Vec::new();
+    while width > 1 || height > 1 {
+        let above = levels.last().unwrap_or(&texture.pixels);
+        let level = codec.downsample(above, width, height);
+        (width, height) = (level_side(width, 1), level_side(height, 1));
+        levels.push(level);
+    }
+    levels
+}
+
+/// Reads and writes texels of one format as linear RGBA.
+struct Codec {
+    format: TexelFormat,
+    reader: TexelReader,
+    /// The linear values halfway between consecutive 8-bit sRGB codes: a value's code is
+    /// how many of them it reaches, which rounding its encoding to 8 bits gives.
+    srgb_midpoints: Vec<f64>,
+}
+
+impl Codec {
+    fn new(format: TexelFormat) -> Codec {
+        let srgb_midpoints = if format == TexelFormat::Rgba8Srgb {
+            (0..255).map(|code| srgb_eotf((f64::from(code) + 0.5) / 255.0)).collect()
+        } else {
+            Vec::new()
+        };
+        Codec {
+            format,
+            reader: TexelReader::new(format),
+            srgb_midpoints,
+        }
+    }
+
+    fn write(&self, value: [f64; 4], out: &mut [u8]) {
+        // Unorm conversion rounds to nearest, as Vulkan's float-to-normalized conversion.
+        let unorm = |v: f64, max: f64| (v.clamp(0.0, 1.0) * max).round();
+        match self.format {
+            TexelFormat::Rgba8Srgb => {
+                let colour = |v: f64| self.srgb_midpoints.partition_point(|&m| m <= v) as u8;
+                let alpha = unorm(value[3], 255.0) as u8;
+                out.copy_from_slice(&[colour(value[0]), colour(value[1]), colour(value[2]), alpha]);
+            }
+            TexelFormat::Rgba8Unorm => out.copy_from_slice(&value.map(|v| unorm(v, 255.0) as u8)),
+            TexelFormat::Rgba16Unorm => {
+                for (bytes, v) in out.chunks_exact_mut(2).zip(value) {
+                    bytes.copy_from_slice(&(unorm(v, 65535.0) as u16).to_ne_bytes());
+                }
+            }
+            TexelFormat::Rgba32Float => {
+                for (bytes, v) in out.chunks_exact_mut(4).zip(value) {
+                    bytes.copy_from_slice(&(v as f32).to_ne_bytes());
+                }
+            }
+        }
+    }
+
+    /// The level below a `width` × `height` level `above`.
+    fn downsample(&self, above: &[u8], width: u32, height: u32) -> Vec<u8> {
+        let (to_width, to_height) = (level_side(width, 1), level_side(height, 1));
+        let size = self.format.bytes_per_texel();
+        let (columns, rows) = (blit_taps(width, to_width), blit_taps(height, to_height));
+        let mut level = vec![0; to_width as usize * to_height as usize * size];
+        let lerp = |a: [f64; 4], b: [f64; 4], t: f64| std::array::from_fn(|c| a[c] + (b[c] - a[c]) * t);
+        level
+            .par_chunks_mut(to_width as usize * size)
+            .zip(rows)
+            .for_each(|(out, (y0, y1, ty))| {
+                let row = |y: usize, x: usize| self.reader.read(above, y * width as usize + x);
+                for (texel, &(x0, x1, tx)) in out.chunks_exact_mut(size).zip(&columns) {
+                    let top = lerp(row(y0, x0), row(y0, x1), tx);
+                    let bottom = lerp(row(y1, x0), row(y1, x1), tx);
+                    self.write(lerp(top, bottom, ty), texel);
+                }
+            });
+        level
+    }
+}
+
+/// Where a linear blit from `from` texels to `to` samples each destination texel: the
+/// source texels either side of its centre's image and the second's weight, clamped to the
+/// edge. Halving an even side averages each pair.
+fn blit_taps(from: u32, to: u32) -> Vec<(usize, usize, f64)> {
+    let last = f64::from(from - 1);
+    (0..to)
+        .map(|i| {
+            let u = ((f64::from(i) + 0.5) * f64::from(from) / f64::from(to) - 0.5).clamp(0.0, last);
+            let below = u.floor();
+            (below as usize, (below + 1.0).min(last) as usize, u - below)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::tonemap::srgb_oetf;
+
+    fn texture(width: u32, height: u32, format: TexelFormat, pixels: Vec<u8>) -> TextureData {
+        TextureData {
+            name: "test".into(),
+            width,
+            height,
+            format,
+            pixels,
+        }
+    }
+
+    #[test]
+    fn levels_halve_down_to_one_texel() {
+        let t = texture(8, 2, TexelFormat::Rgba8Unorm, vec![0; 8 * 2 * 4]);
+        let sizes: Vec<usize> = mip_levels(&t).iter().map(Vec::len).collect();
+        assert_eq!(sizes, [4 * 4, 2 * 4, 4]);
+        assert!(mip_levels(&texture(1, 1, TexelFormat::Rgba8Unorm, vec![0; 4])).is_empty());
+    }
+
+    #[test]
+    fn even_sides_average_each_square_of_four() {
+        let values: Vec<f32> = (0..16).map(|i| i as f32).collect();
+        let t = texture(2, 2, TexelFormat::Rgba32Float, bytemuck::cast_slice(&values).to_vec());
+        let level: Vec<f32> = bytemuck::cast_slice(&mip_levels(&t)[0]).to_vec();
+        // Texel c holds 4i + c: the mean of i over 0..4 is 1.5.
+        assert_eq!(level, [6.0, 7.0, 8.0, 9.0]);
+    }
+
+    #[test]
+    fn odd_sides_sample_as_a_linear_blit() {
+        // 3 → 1: the centre maps to the middle texel.
+        let t = texture(3, 1, TexelFormat::Rgba8Unorm, [[10; 4], [200; 4], [30; 4]].concat());
+        assert_eq!(mip_levels(&t)[0], [200; 4]);
+        // 5 → 2: the centres map to texel coordinates 0.75 and 3.25.
+        assert_eq!(blit_taps(5, 2), [(0, 1, 0.75), (3, 4, 0.25)]);
+    }
+
+    #[test]
+    fn srgb_colour_is_averaged_in_linear_space_and_alpha_as_is() {
+        let t = texture(2, 1, TexelFormat::Rgba8Srgb, vec![0, 0, 0, 0, 255, 255, 255, 255]);
+        let level = &mip_levels(&t)[0];
+        // Linear 0.5 encodes to 0.7354 × 255 = 187.5 → 188; alpha 127.5 → 128.
+        let expected = (srgb_oetf(0.5) * 255.0).round() as u8;
+        assert_eq!(expected, 188);
+        assert_eq!(level, &[188, 188, 188, 128]);
+    }
+
+    #[test]
+    fn srgb_codes_are_the_nearest_encoding_of_every_linear_value() {
+        let codec = Codec::new(TexelFormat::Rgba8Srgb);
+        for code in 0..=255u8 {
+            let mut out = [0; 4];
+            codec.write(codec.reader.read(&[code, code, code, 255], 0), &mut out);
+            assert_eq!(out[0], code, "code {code} does not survive decoding and encoding");
+        }
+        for i in 0..=1000 {
+            let linear = i as f64 / 1000.0;
+            let mut out = [0; 4];
+            codec.write([linear, 0.0, 0.0, 1.0], &mut out);
+            let nearest = (srgb_oetf(linear) * 255.0).round();
+            assert_eq!(f64::from(out[0]), nearest, "linear {linear}");
+        }
+    }
+
+    #[test]
+    fn sixteen_bit_channels_round_to_nearest() {
+        let texels: Vec<u16> = [[0u16; 4], [u16::MAX; 4]].concat();
+        let t = texture(2, 1, TexelFormat::Rgba16Unorm, bytemuck::cast_slice(&texels).to_vec());
+        let level: Vec<u16> = bytemuck::cast_slice(&mip_levels(&t)[0]).to_vec();
+        assert_eq!(level, [32768; 4], "32767.5 rounds up");
+    }
+}
