@@ -1,5 +1,5 @@
-//! Compiles every GLSL stage in `shaders/` to SPIR-V in `OUT_DIR`, where `src/render/shaders.rs`
-//! embeds it. `#include "x.glsl"` resolves against the including file's folder, then
+//! Compiles every GLSL stage in `shaders/` to SPIR-V in `OUT_DIR` (and the `VARIANTS`),
+//! where `src/render/shaders.rs` embeds it. `#include "x.glsl"` resolves against the including file's folder, then
 //! `shaders/lib/`, then `OUT_DIR`, where `material_struct.glsl` is written first: the
 //! shaders' `struct Material` from `MaterialData` in src/render/material_data.rs, so the
 //! two layouts are one declaration. A compile error fails the build, naming the file and line.
@@ -8,6 +8,11 @@ use std::path::{Path, PathBuf};
 // Linked for its build script's link directives (see crates/shaderc-system-link).
 #[cfg(feature = "system-shaderc")]
 extern crate shaderc_system_link;
+
+/// A stage compiled once more with a macro defined: (source, output, macro, value).
+/// `forward_shaded.frag` is forward.frag without its debug views, for the pipelines that
+/// draw the shaded image (src/render/forward.rs).
+const VARIANTS: &[(&str, &str, &str, &str)] = &[("forward.frag", "forward_shaded.frag", "DEBUG_VIEWS", "0")];
 
 const STAGES: &[(&str, shaderc::ShaderKind)] = &[
     ("vert", shaderc::ShaderKind::Vertex),
@@ -41,32 +46,20 @@ fn main() {
         };
         println!("cargo:rerun-if-changed={}", source.display());
         let text = std::fs::read_to_string(&source).unwrap_or_else(|e| panic!("cannot read {}: {e}", source.display()));
-        let mut options = shaderc::CompileOptions::new().unwrap();
-        options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
-        options.set_source_language(shaderc::SourceLanguage::GLSL);
-        options.set_optimization_level(shaderc::OptimizationLevel::Performance);
-        options.set_generate_debug_info();
-        options.set_warnings_as_errors();
-        let (lib_dir, generated) = (lib_dir.clone(), out_dir.clone());
-        options.set_include_callback(move |name, _ty, from, _depth| {
-            let from_dir = Path::new(from).parent().unwrap_or(Path::new("."));
-            let path = [from_dir.join(name), lib_dir.join(name), generated.join(name)]
-                .into_iter()
-                .find(|p| p.is_file())
-                .ok_or_else(|| format!("{from}: cannot find include \"{name}\""))?;
-            let content = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-            Ok(shaderc::ResolvedInclude {
-                resolved_name: path.display().to_string(),
-                content,
-            })
-        });
         let name = source.file_name().unwrap().to_string_lossy().into_owned();
-        match compiler.compile_into_spirv(&text, kind, &source.display().to_string(), "main", Some(&options)) {
-            Ok(artifact) => {
-                std::fs::write(out_dir.join(format!("{name}.spv")), artifact.as_binary_u8())
-                    .expect("cannot write SPIR-V to OUT_DIR");
+        let variants = VARIANTS.iter().filter(|v| v.0 == name).map(|&(_, output, key, value)| (output, Some((key, value))));
+        for (output, definition) in std::iter::once((name.as_str(), None)).chain(variants) {
+            let mut options = compile_options(&lib_dir, &out_dir);
+            if let Some((key, value)) = definition {
+                options.add_macro_definition(key, Some(value));
             }
-            Err(e) => failures.push(e.to_string()),
+            match compiler.compile_into_spirv(&text, kind, &source.display().to_string(), "main", Some(&options)) {
+                Ok(artifact) => {
+                    std::fs::write(out_dir.join(format!("{output}.spv")), artifact.as_binary_u8())
+                        .expect("cannot write SPIR-V to OUT_DIR");
+                }
+                Err(e) => failures.push(e.to_string()),
+            }
         }
     }
     if !failures.is_empty() {
@@ -78,6 +71,31 @@ fn main() {
         eprintln!("{}", failures.join("\n"));
         std::process::exit(1);
     }
+}
+
+/// Vulkan 1.3 SPIR-V, optimised, with debug information; includes resolve against the
+/// including file's folder, then `lib_dir`, then `generated`.
+fn compile_options(lib_dir: &Path, generated: &Path) -> shaderc::CompileOptions<'static> {
+    let mut options = shaderc::CompileOptions::new().unwrap();
+    options.set_target_env(shaderc::TargetEnv::Vulkan, shaderc::EnvVersion::Vulkan1_3 as u32);
+    options.set_source_language(shaderc::SourceLanguage::GLSL);
+    options.set_optimization_level(shaderc::OptimizationLevel::Performance);
+    options.set_generate_debug_info();
+    options.set_warnings_as_errors();
+    let (lib_dir, generated) = (lib_dir.to_path_buf(), generated.to_path_buf());
+    options.set_include_callback(move |name, _ty, from, _depth| {
+        let from_dir = Path::new(from).parent().unwrap_or(Path::new("."));
+        let path = [from_dir.join(name), lib_dir.join(name), generated.join(name)]
+            .into_iter()
+            .find(|p| p.is_file())
+            .ok_or_else(|| format!("{from}: cannot find include \"{name}\""))?;
+        let content = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(shaderc::ResolvedInclude {
+            resolved_name: path.display().to_string(),
+            content,
+        })
+    });
+    options
 }
 
 fn sorted_files(dir: &Path) -> Vec<PathBuf> {

@@ -5,12 +5,19 @@
 // models, maps, debug view, environment kind, reflection mode and occlusion are
 // specialization constants (src/render/forward.rs), so each
 // pipeline holds only the code its frame needs.
+// DEBUG_VIEWS 0 (build.rs's forward_shaded.frag) leaves the debug views out of the module:
+// a quarter of its SPIR-V, which the creation of every shaded image's pipeline would read.
+#ifndef DEBUG_VIEWS
+#define DEBUG_VIEWS 1
+#endif
 #include "scene_data.glsl"
 #include "shading.glsl"
 #include "material_maps.glsl"
 #include "lights.glsl"
 #include "environment.glsl"
+#if DEBUG_VIEWS
 #include "debug_views.glsl"
+#endif
 #include "specular_aa.glsl"
 #include "occlusion_map.glsl"
 #include "bounce.glsl"
@@ -103,10 +110,12 @@ void main() {
     }
     // The surface's own light, which no light, occlusion or shadow changes.
     out_radiance = vec4(radiance + mapped_emission(m, in_map_uv[MAP_EMISSION]), 1.0);
+#if DEBUG_VIEWS
     uint debug_view = DEBUG_VIEW == FROM_UNIFORM ? frame.counts.y : DEBUG_VIEW;
     if (debug_view != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(debug_view, models, m, n, n_geometric, v, in_world_position,
                                                in_normal, in_uv, in_tangent, environment, radiance, in_curvature,
                                                visibility, light_visibility);
     }
+#endif
 }

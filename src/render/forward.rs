@@ -190,9 +190,13 @@ pub struct ForwardPass {
     material_layout: DescriptorSetLayout,
     layout: PipelineLayout,
     vertex: ShaderModule,
+    /// forward.frag, for debug views and the generic pipeline, which reads the debug view
+    /// from the uniforms.
     fragment: ShaderModule,
-    /// By sample count and specialization.
-    pipelines: HashMap<(vk::SampleCountFlags, Specialization), Pipeline>,
+    /// forward.frag without its debug views (build.rs), for the shaded image's pipelines.
+    shaded_fragment: ShaderModule,
+    /// By sample count and constants.
+    pipelines: HashMap<(vk::SampleCountFlags, ForwardConstants), Pipeline>,
     /// `floor.frag`'s pipeline by sample count, created the first time a frame asks for it.
     floor: HashMap<vk::SampleCountFlags, Pipeline>,
     /// The pipeline of each object of the scene last prepared, in `Scene::objects` order:
@@ -263,6 +267,7 @@ impl ForwardPass {
         )?;
         let vertex = ShaderModule::new(device, shaders::FORWARD_VERT, "forward.vert")?;
         let fragment = ShaderModule::new(device, shaders::FORWARD_FRAG, "forward.frag")?;
+        let shaded_fragment = ShaderModule::new(device, shaders::FORWARD_SHADED_FRAG, "forward_shaded.frag")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
         let slots = (0..frames_in_flight)
             .map(|_| {
@@ -291,6 +296,7 @@ impl ForwardPass {
             layout,
             vertex,
             fragment,
+            shaded_fragment,
             pipelines: HashMap::new(),
             floor: HashMap::new(),
             object_pipelines: Vec::new(),
@@ -342,32 +348,37 @@ impl ForwardPass {
         subsurface.bind(writer).write(device, set);
     }
 
-    /// The pipelines of `specializations` for targets of `samples` samples, in their order.
+    /// The pipelines of `constants` for targets of `samples` samples, in their order.
     /// Those not made yet are created side by side, one per core: a software device
     /// (lavapipe) compiles each on the calling thread, and the frame waits for all of them.
     fn pipelines_for(
         &mut self,
         samples: vk::SampleCountFlags,
-        specializations: &[Specialization],
+        constants: &[ForwardConstants],
     ) -> Result<Vec<vk::Pipeline>> {
-        let mut missing: Vec<&Specialization> = Vec::new();
-        for s in specializations {
-            if !self.pipelines.contains_key(&(samples, s.clone())) && !missing.contains(&s) {
-                missing.push(s);
+        let mut missing: Vec<&ForwardConstants> = Vec::new();
+        for c in constants {
+            if !self.pipelines.contains_key(&(samples, *c)) && !missing.contains(&c) {
+                missing.push(c);
             }
         }
         if !missing.is_empty() {
             let start = Instant::now();
             let built = missing
                 .par_iter()
-                .map(|s| self.build_pipeline(&self.fragment, samples, s, &format!("forward {samples:?} {:?}", s.0)))
+                .map(|c| {
+                    let name = format!("forward {samples:?} {:?}", c.specialization().0);
+                    let shaded = c.debug_view == DebugView::Shaded as u32;
+                    let fragment = if shaded { &self.shaded_fragment } else { &self.fragment };
+                    self.build_pipeline(fragment, samples, &c.specialization(), &name)
+                })
                 .collect::<Result<Vec<_>>>()?;
             self.pipeline_time += start.elapsed();
-            for (s, pipeline) in missing.into_iter().zip(built) {
-                self.pipelines.insert((samples, s.clone()), pipeline);
+            for (c, pipeline) in missing.into_iter().zip(built) {
+                self.pipelines.insert((samples, *c), pipeline);
             }
         }
-        Ok(specializations.iter().map(|s| self.pipelines[&(samples, s.clone())].handle).collect())
+        Ok(constants.iter().map(|c| self.pipelines[&(samples, *c)].handle).collect())
     }
 
     fn floor_pipeline(&mut self, samples: vk::SampleCountFlags) -> Result<vk::Pipeline> {
@@ -476,7 +487,7 @@ impl ForwardPass {
             vec![self.floor_pipeline(samples)?; parts * scene.objects.len()]
         } else {
             let split_parts = split.map(|s| (s.materials.as_slice(), &s.environment));
-            let specializations: Vec<Specialization> = std::iter::once((scene.materials.as_slice(), &scene.environment))
+            let constants: Vec<ForwardConstants> = std::iter::once((scene.materials.as_slice(), &scene.environment))
                 .chain(split_parts)
                 .flat_map(|(materials, environment)| {
                     let draws = scene.objects.iter().zip(&self.object_occlusion);
@@ -491,10 +502,10 @@ impl ForwardPass {
                     constants.bounce = held(bounces);
                     constants.sun = held(sun);
                     constants.shadow_taps = scene.shadow_taps;
-                    constants.specialization()
+                    constants
                 })
                 .collect();
-            self.pipelines_for(samples, &specializations)?
+            self.pipelines_for(samples, &constants)?
         };
         // The objects with the scene's materials, then with the split's.
         let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
