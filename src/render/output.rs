@@ -4,7 +4,9 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
-use exr::prelude::{AttributeValue, Encoding, Image, Layer, LayerAttributes, SpecificChannels, Text, WritableImage};
+use exr::prelude::{
+    AttributeValue, Encoding, Image, Layer, LayerAttributes, LineOrder, SpecificChannels, Text, WritableImage,
+};
 
 use super::renderer::OffscreenFrame;
 use crate::atomic::write_atomically;
@@ -92,7 +94,12 @@ pub fn write_exr(path: &Path, width: u32, height: u32, rgba: &[f32], attributes:
             .other
             .insert(Text::from(*name), AttributeValue::Text(Text::from(value.as_str())));
     }
-    let layer = Layer::new((w, h), layer_attributes, Encoding::FAST_LOSSLESS, channels);
+    // Blocks compressed on every core, written in order so that a frame is the same file.
+    let encoding = Encoding {
+        line_order: LineOrder::Increasing,
+        ..Encoding::FAST_LOSSLESS
+    };
+    let layer = Layer::new((w, h), layer_attributes, encoding, channels);
     let image = Image::from_layer(layer);
     write_atomically(path, |sink| Ok(image.write().to_buffered(sink)?))
 }
