@@ -70,8 +70,8 @@ enum Command {
         /// Exposure multiplier applied before tone mapping (PNG only).
         #[arg(long, default_value_t = 1.0)]
         exposure: f32,
-        /// Also write the start's steps (wall milliseconds, and the whole from process
-        /// start to the frame written) to this JSON file.
+        /// Also write the start's steps (wall milliseconds, and from process start to the
+        /// first frame and to the frame written) to this JSON file.
         #[arg(long, value_name = "FILE")]
         timings: Option<PathBuf>,
         /// Samples per pixel of the forward pass (1, 2, 4 or 8; 1 is no MSAA), instead of
@@ -348,6 +348,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     // An EXR is the linear frame: no display transform runs for it.
     let display = (OutputKind::of(&options.out)? == OutputKind::Png).then_some(exposure);
     let frame = renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)?;
+    startup.first_frame();
     // The frame's wall time holds what its preparation built the first time.
     let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()

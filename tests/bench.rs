@@ -92,6 +92,10 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
         assert!(steps.len() >= 8, "{steps:?}");
         let sum: f64 = steps.iter().map(|s| finite(s, "ms")).sum();
         assert!(sum <= total, "the steps ({sum} ms) fit in the whole ({total} ms)");
+        // Every step but the write comes before the first frame is finished.
+        let first_frame = finite(start, "first_frame_ms");
+        let before: f64 = steps.iter().filter(|s| s["name"] != "write").map(|s| finite(s, "ms")).sum();
+        assert!(before <= first_frame && first_frame <= total, "{before} ≤ {first_frame} ≤ {total} ms");
     }
 
     // The second run finds both references in the cache; its one row replaces its
