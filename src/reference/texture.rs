@@ -17,10 +17,7 @@ pub struct Texture {
 
 impl Texture {
     pub fn new(data: &TextureData) -> Self {
-        let reader = TexelReader::new(data.format);
-        let texels = (0..data.pixels.len() / data.format.bytes_per_texel())
-            .map(|i| reader.read(&data.pixels, i))
-            .collect();
+        let texels = TexelReader::new(data.format).read_all(&data.pixels);
         Self {
             width: data.width as usize,
             height: data.height as usize,

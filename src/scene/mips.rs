@@ -51,24 +51,31 @@ impl Codec {
         }
     }
 
-    fn write(&self, value: [f64; 4], out: &mut [u8]) {
-        // Unorm conversion rounds to nearest, as Vulkan's float-to-normalized conversion.
-        let unorm = |v: f64, max: f64| (v.clamp(0.0, 1.0) * max).round();
+    /// `values` into `out`, tightly packed. Unorm values round to nearest, as Vulkan's
+    /// float-to-normalized conversion (v + ½ truncated: `round` is a library call).
+    fn write_all(&self, values: &[[f64; 4]], out: &mut [u8]) {
+        let unorm = |v: f64, max: f64| v.clamp(0.0, 1.0) * max + 0.5;
+        let texels = out.chunks_exact_mut(self.format.bytes_per_texel()).zip(values);
         match self.format {
             TexelFormat::Rgba8Srgb => {
                 let colour = |v: f64| self.srgb_midpoints.partition_point(|&m| m <= v) as u8;
-                let alpha = unorm(value[3], 255.0) as u8;
-                out.copy_from_slice(&[colour(value[0]), colour(value[1]), colour(value[2]), alpha]);
+                for (t, v) in texels {
+                    t.copy_from_slice(&[colour(v[0]), colour(v[1]), colour(v[2]), unorm(v[3], 255.0) as u8]);
+                }
             }
-            TexelFormat::Rgba8Unorm => out.copy_from_slice(&value.map(|v| unorm(v, 255.0) as u8)),
+            TexelFormat::Rgba8Unorm => {
+                for (t, v) in texels {
+                    t.copy_from_slice(&v.map(|c| unorm(c, 255.0) as u8));
+                }
+            }
             TexelFormat::Rgba16Unorm => {
-                for (bytes, v) in out.chunks_exact_mut(2).zip(value) {
-                    bytes.copy_from_slice(&(unorm(v, 65535.0) as u16).to_ne_bytes());
+                for (t, v) in texels {
+                    t.copy_from_slice(bytemuck::cast_slice(&v.map(|c| unorm(c, 65535.0) as u16)));
                 }
             }
             TexelFormat::Rgba32Float => {
-                for (bytes, v) in out.chunks_exact_mut(4).zip(value) {
-                    bytes.copy_from_slice(&(v as f32).to_ne_bytes());
+                for (t, v) in texels {
+                    t.copy_from_slice(bytemuck::cast_slice(&v.map(|c| c as f32)));
                 }
             }
         }
@@ -77,20 +84,21 @@ impl Codec {
     /// The level below a `width` × `height` level `above`.
     fn downsample(&self, above: &[u8], width: u32, height: u32) -> Vec<u8> {
         let (to_width, to_height) = (level_side(width, 1), level_side(height, 1));
-        let size = self.format.bytes_per_texel();
+        let row_bytes = width as usize * self.format.bytes_per_texel();
         let (columns, rows) = (blit_taps(width, to_width), blit_taps(height, to_height));
-        let mut level = vec![0; to_width as usize * to_height as usize * size];
+        let mut level = vec![0; to_width as usize * to_height as usize * self.format.bytes_per_texel()];
         let lerp = |a: [f64; 4], b: [f64; 4], t: f64| std::array::from_fn(|c| a[c] + (b[c] - a[c]) * t);
         level
-            .par_chunks_mut(to_width as usize * size)
+            .par_chunks_mut(to_width as usize * self.format.bytes_per_texel())
             .zip(rows)
             .for_each(|(out, (y0, y1, ty))| {
-                let row = |y: usize, x: usize| self.reader.read(above, y * width as usize + x);
-                for (texel, &(x0, x1, tx)) in out.chunks_exact_mut(size).zip(&columns) {
-                    let top = lerp(row(y0, x0), row(y0, x1), tx);
-                    let bottom = lerp(row(y1, x0), row(y1, x1), tx);
-                    self.write(lerp(top, bottom, ty), texel);
-                }
+                let row = |y: usize| self.reader.read_all(&above[y * row_bytes..(y + 1) * row_bytes]);
+                let (top, bottom) = (row(y0), row(y1));
+                let filtered: Vec<[f64; 4]> = columns
+                    .iter()
+                    .map(|&(x0, x1, tx)| lerp(lerp(top[x0], top[x1], tx), lerp(bottom[x0], bottom[x1], tx), ty))
+                    .collect();
+                self.write_all(&filtered, out);
             });
         level
     }
@@ -166,13 +174,13 @@ mod tests {
         let codec = Codec::new(TexelFormat::Rgba8Srgb);
         for code in 0..=255u8 {
             let mut out = [0; 4];
-            codec.write(codec.reader.read(&[code, code, code, 255], 0), &mut out);
+            codec.write_all(&codec.reader.read_all(&[code, code, code, 255]), &mut out);
             assert_eq!(out[0], code, "code {code} does not survive decoding and encoding");
         }
         for i in 0..=1000 {
             let linear = i as f64 / 1000.0;
             let mut out = [0; 4];
-            codec.write([linear, 0.0, 0.0, 1.0], &mut out);
+            codec.write_all(&[[linear, 0.0, 0.0, 1.0]], &mut out);
             let nearest = (srgb_oetf(linear) * 255.0).round();
             assert_eq!(f64::from(out[0]), nearest, "linear {linear}");
         }

@@ -70,23 +70,27 @@ impl TexelReader {
         TexelReader { format, srgb }
     }
 
-    /// Texel `index` of tightly packed `pixels`.
-    pub fn read(&self, pixels: &[u8], index: usize) -> [f64; 4] {
-        let size = self.format.bytes_per_texel();
-        let t = &pixels[index * size..(index + 1) * size];
+    /// The texels of `pixels` (whole texels, tightly packed), in order.
+    pub fn read_all(&self, pixels: &[u8]) -> Vec<[f64; 4]> {
+        let texels = pixels.chunks_exact(self.format.bytes_per_texel());
         let unorm8 = |c: u8| f64::from(c) / 255.0;
+        // One match a call, not a texel: the loops stay tight.
         match self.format {
             TexelFormat::Rgba8Srgb => {
                 let colour = |c: u8| self.srgb[usize::from(c)];
-                [colour(t[0]), colour(t[1]), colour(t[2]), unorm8(t[3])]
+                texels.map(|t| [colour(t[0]), colour(t[1]), colour(t[2]), unorm8(t[3])]).collect()
             }
-            TexelFormat::Rgba8Unorm => std::array::from_fn(|c| unorm8(t[c])),
-            TexelFormat::Rgba16Unorm => {
-                std::array::from_fn(|c| f64::from(u16::from_ne_bytes([t[2 * c], t[2 * c + 1]])) / 65535.0)
-            }
-            TexelFormat::Rgba32Float => std::array::from_fn(|c| {
-                f64::from(f32::from_ne_bytes([t[4 * c], t[4 * c + 1], t[4 * c + 2], t[4 * c + 3]]))
-            }),
+            TexelFormat::Rgba8Unorm => texels.map(|t| std::array::from_fn(|c| unorm8(t[c]))).collect(),
+            TexelFormat::Rgba16Unorm => texels
+                .map(|t| std::array::from_fn(|c| f64::from(u16::from_ne_bytes([t[2 * c], t[2 * c + 1]])) / 65535.0))
+                .collect(),
+            TexelFormat::Rgba32Float => texels
+                .map(|t| {
+                    std::array::from_fn(|c| {
+                        f64::from(f32::from_ne_bytes([t[4 * c], t[4 * c + 1], t[4 * c + 2], t[4 * c + 3]]))
+                    })
+                })
+                .collect(),
         }
     }
 }
