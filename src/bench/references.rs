@@ -60,8 +60,9 @@ pub fn path(dir: &Path, name: &str, text: &str, settings: &Settings) -> Result<P
 ///   references of the scenes that rely on it.
 ///
 /// The files it names (the environment's map, meshes, map textures; relative to the
-/// working directory, as the bench loads them) are keyed by their bytes, not their paths:
-/// a reference follows an edited file, and keeps its name wherever the files sit.
+/// working directory, as the bench loads them) are keyed by their content (an image's
+/// texels, another file's bytes), not their paths: a reference follows an edited file, and
+/// keeps its name wherever the files sit.
 pub fn key_text(text: &str) -> Result<String> {
     let mut file: SceneFile = toml::from_str(text).context("a bench reference's scene")?;
     if let EnvironmentDef::Map { path, .. } = &mut file.environment {
@@ -97,12 +98,28 @@ pub fn key_text(text: &str) -> Result<String> {
     Ok(toml::to_string(&value)?)
 }
 
-/// `builtin:` names as they are; a file as `file-HASH`, the hash over its bytes.
+/// `builtin:` names as they are; an image as `image-HASH`, the hash over its size and
+/// texels, so that one encoded again (the bench's generated sky, written by another EXR
+/// writer) keeps its references; any other file as `file-HASH`, the hash over its bytes.
 fn content_key(name: &str) -> Result<String> {
     if name.starts_with(BUILTIN_PREFIX) {
         return Ok(name.to_owned());
     }
-    let bytes = std::fs::read(name).with_context(|| format!("cannot read {name}, which a bench scene names"))?;
+    let cannot = || format!("cannot read {name}, which a bench scene names");
+    let extension = Path::new(name).extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if matches!(extension.as_deref(), Some("png" | "jpg" | "jpeg" | "hdr" | "exr")) {
+        let image = image::ImageReader::open(name)
+            .with_context(cannot)?
+            .with_guessed_format()
+            .with_context(cannot)?
+            .decode()
+            .with_context(cannot)?
+            .into_rgba32f();
+        let size = [image.width(), image.height()].map(u32::to_le_bytes).concat();
+        let texels: &[u8] = bytemuck::cast_slice(image.as_raw());
+        return Ok(format!("image-{:016x}", fnv1a(&[size.as_slice(), texels].concat())));
+    }
+    let bytes = std::fs::read(name).with_context(cannot)?;
     Ok(format!("file-{:016x}", fnv1a(&bytes)))
 }
 
@@ -182,7 +199,7 @@ mod tests {
     /// The sky's key is its bytes': the same file anywhere names the same reference, and an
     /// edited file another one.
     #[test]
-    fn a_file_is_keyed_by_its_bytes() {
+    fn a_file_is_keyed_by_its_content() {
         let dir = crate::scratch::Scratch::new("reference-key").unwrap();
         let sky = crate::bench::sky::ensure(&dir).unwrap();
         let copy = dir.join("elsewhere.exr");
@@ -200,9 +217,14 @@ mod tests {
         };
         assert_eq!(textured(&sky), textured(&copy));
         assert!(!textured(&sky).contains("elsewhere"));
-        let mut bytes = std::fs::read(&copy).unwrap();
-        *bytes.last_mut().unwrap() ^= 1;
-        std::fs::write(&copy, bytes).unwrap();
+        // The same texels encoded otherwise (uncompressed, by the `image` crate) keep the key;
+        // one texel changed does not.
+        let mut texels = image::open(&sky).unwrap().into_rgba32f();
+        texels.save(&copy).unwrap();
+        assert_ne!(std::fs::read(&sky).unwrap(), std::fs::read(&copy).unwrap());
+        assert_eq!(scene(&sky), scene(&copy));
+        texels.get_pixel_mut(7, 5).0[1] += 0.5;
+        texels.save(&copy).unwrap();
         assert_ne!(scene(&sky), scene(&copy));
         assert!(key_text(&DEFAULT_SCENE_TOML.replace("builtin:torus", "missing.obj")).is_err());
     }
