@@ -1,7 +1,8 @@
 //! A texture's mip chain, made on the CPU: each level from the one above it as a linear
 //! blit (`vkCmdBlitImage`, `VK_FILTER_LINEAR`) makes it, with sRGB colour averaged in
-//! linear space. Made here rather than by blits on the device, every device samples the
-//! same levels, and a start does not wait while lavapipe compiles its blit shader (50 ms).
+//! linear space. Made here rather than by blits on the device so that every device samples
+//! the same levels (lavapipe's blits round upwards) and a start does not wait while
+//! lavapipe compiles its blit shader (50 ms).
 
 use rayon::prelude::*;
 
@@ -146,7 +147,7 @@ mod tests {
         let values: Vec<f32> = (0..16).map(|i| i as f32).collect();
         let t = texture(2, 2, TexelFormat::Rgba32Float, bytemuck::cast_slice(&values).to_vec());
         let level: Vec<f32> = bytemuck::cast_slice(&mip_levels(&t)[0]).to_vec();
-        // Texel c holds 4i + c: the mean of i over 0..4 is 1.5.
+        // Channel c of texel i holds 4i + c, and the mean of i over 0..4 is 1.5.
         assert_eq!(level, [6.0, 7.0, 8.0, 9.0]);
     }
 
