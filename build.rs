@@ -47,7 +47,10 @@ fn main() {
         println!("cargo:rerun-if-changed={}", source.display());
         let text = std::fs::read_to_string(&source).unwrap_or_else(|e| panic!("cannot read {}: {e}", source.display()));
         let name = source.file_name().unwrap().to_string_lossy().into_owned();
-        let variants = VARIANTS.iter().filter(|v| v.0 == name).map(|&(_, output, key, value)| (output, Some((key, value))));
+        let variants = VARIANTS
+            .iter()
+            .filter(|v| v.0 == name)
+            .map(|&(_, output, key, value)| (output, Some((key, value))));
         for (output, definition) in std::iter::once((name.as_str(), None)).chain(variants) {
             let mut options = compile_options(&lib_dir, &out_dir);
             if let Some((key, value)) = definition {

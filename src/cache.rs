@@ -6,9 +6,9 @@
 //! `$XDG_CACHE_HOME/argil`, else `$HOME/.cache/argil`. An entry is a file `NAME-KEY.bin`,
 //! KEY a hash of everything the bytes depend on, holding a header (magic, key, length,
 //! CRC-32 of the payload: SIMD-fast, where FNV-1a took 10 ms of a warm start) and the
-//! payload. A missing, truncated or corrupt entry is
-//! computed again and rewritten; a cache that cannot be written costs only the time, so
-//! failures to write are reported once on stderr and otherwise ignored.
+//! payload. A missing, truncated or corrupt entry is computed again and rewritten; a cache
+//! that cannot be written costs only the time, so failures to write are reported once on
+//! stderr and otherwise ignored.
 
 use std::path::{Path, PathBuf};
 
@@ -74,7 +74,8 @@ impl DiskCache {
         let bytes = std::fs::read(self.path(name, key)?).ok()?;
         let (header, payload) = bytes.split_at_checked(HEADER)?;
         let word = |i: usize| u64::from_le_bytes(header[i..i + 8].try_into().expect("8 bytes"));
-        (&header[..8] == MAGIC && word(8) == key && word(16) == payload.len() as u64 && word(24) == u64::from(crc32fast::hash(payload)))
+        let crc = u64::from(crc32fast::hash(payload));
+        (&header[..8] == MAGIC && word(8) == key && word(16) == payload.len() as u64 && word(24) == crc)
             .then(|| payload.to_vec())
     }
 

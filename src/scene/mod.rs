@@ -52,7 +52,8 @@ pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
 pub use preset::Preset;
 pub use procedural::{builtin_texture, BUILTIN_TEXTURES};
 pub use texture::{
-    decode_texture, load_texture, TexelFormat, TexelReader, TextureData, TextureRole, MAX_TEXTURE_BYTES, MAX_TEXTURE_SIDE,
+    decode_texture, load_texture, TexelFormat, TexelReader, TextureData, TextureRole, MAX_TEXTURE_BYTES,
+    MAX_TEXTURE_SIDE,
 };
 
 /// The scene used when none is given; it needs no files on disk.
