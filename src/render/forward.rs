@@ -367,10 +367,11 @@ impl ForwardPass {
             let built = missing
                 .par_iter()
                 .map(|c| {
-                    let name = format!("forward {samples:?} {:?}", c.specialization().0);
+                    let specialization = c.specialization();
+                    let name = format!("forward {samples:?} {:?}", specialization.0);
                     let shaded = c.debug_view == DebugView::Shaded as u32;
                     let fragment = if shaded { &self.shaded_fragment } else { &self.fragment };
-                    self.build_pipeline(fragment, samples, &c.specialization(), &name)
+                    self.build_pipeline(fragment, samples, &specialization, &name)
                 })
                 .collect::<Result<Vec<_>>>()?;
             self.pipeline_time += start.elapsed();

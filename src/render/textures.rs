@@ -7,7 +7,7 @@ use anyhow::{bail, ensure, Context, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::scene::mips::{level_side, mip_levels};
+use crate::scene::mips::mip_levels;
 use crate::scene::{TexelFormat, TextureData};
 use crate::vk::{copy_region, full_range, transition_levels, Buffer, Device, Image, ImageUse, OneShot};
 
@@ -68,6 +68,15 @@ impl GpuTexture {
         }
         let below = if mips { mip_levels(texture) } else { Vec::new() };
         let levels = [texture.pixels.as_slice()].into_iter().chain(below.iter().map(Vec::as_slice));
+        let image = Image::with_mips(
+            device,
+            extent,
+            1 + below.len() as u32,
+            format,
+            vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            vk::ImageAspectFlags::COLOR,
+            &texture.name,
+        )?;
         let mut staging = Buffer::new(
             device,
             levels.clone().map(|l| l.len() as u64).sum(),
@@ -79,22 +88,10 @@ impl GpuTexture {
         let mut offset = 0;
         for (level, bytes) in (0..).zip(levels) {
             staging.write_at(offset, bytes)?;
-            let extent = vk::Extent2D {
-                width: level_side(extent.width, level),
-                height: level_side(extent.height, level),
-            };
-            regions.push(copy_region(vk::ImageAspectFlags::COLOR, level, 1, extent).buffer_offset(offset as u64));
+            let region = copy_region(image.aspect, level, 1, image.level_extent(level));
+            regions.push(region.buffer_offset(offset as u64));
             offset += bytes.len();
         }
-        let image = Image::with_mips(
-            device,
-            extent,
-            regions.len() as u32,
-            format,
-            vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
-            vk::ImageAspectFlags::COLOR,
-            &texture.name,
-        )?;
         one_shot
             .run(|cmd| record_upload(device, cmd, &staging, &image, &regions))
             .with_context(|| format!("uploading texture '{}'", texture.name))?;

@@ -9,13 +9,13 @@ use rayon::prelude::*;
 use super::{TexelFormat, TexelReader, TextureData};
 use crate::brdf::tonemap::srgb_eotf;
 
-/// Width or height of level `level` of a side of `side` texels.
-pub fn level_side(side: u32, level: u32) -> u32 {
-    (side >> level).max(1)
+/// Width or height of the level below one `side` texels across (as `Image::level_extent`).
+fn half_side(side: u32) -> u32 {
+    (side >> 1).max(1)
 }
 
 /// Levels 1 and below of `texture`'s full chain (level 0 is its own texels), each tightly
-/// packed in its format; level i is `level_side(width, i)` × `level_side(height, i)`.
+/// packed in its format; each level half the size of the one above, down to 1×1.
 pub fn mip_levels(texture: &TextureData) -> Vec<Vec<u8>> {
     let codec = Codec::new(texture.format);
     let (mut width, mut height) = (texture.width, texture.height);
@@ -23,7 +23,7 @@ pub fn mip_levels(texture: &TextureData) -> Vec<Vec<u8>> {
     while width > 1 || height > 1 {
         let above = levels.last().unwrap_or(&texture.pixels);
         let level = codec.downsample(above, width, height);
-        (width, height) = (level_side(width, 1), level_side(height, 1));
+        (width, height) = (half_side(width), half_side(height));
         levels.push(level);
     }
     levels
@@ -31,7 +31,6 @@ pub fn mip_levels(texture: &TextureData) -> Vec<Vec<u8>> {
 
 /// Reads and writes texels of one format as linear RGBA.
 struct Codec {
-    format: TexelFormat,
     reader: TexelReader,
     /// The linear values halfway between consecutive 8-bit sRGB codes: a value's code is
     /// how many of them it reaches, which rounding its encoding to 8 bits gives.
@@ -46,7 +45,6 @@ impl Codec {
             Vec::new()
         };
         Codec {
-            format,
             reader: TexelReader::new(format),
             srgb_midpoints,
         }
@@ -56,8 +54,8 @@ impl Codec {
     /// float-to-normalized conversion (v + ½ truncated: `round` is a library call).
     fn write_all(&self, values: &[[f64; 4]], out: &mut [u8]) {
         let unorm = |v: f64, max: f64| v.clamp(0.0, 1.0) * max + 0.5;
-        let texels = out.chunks_exact_mut(self.format.bytes_per_texel()).zip(values);
-        match self.format {
+        let texels = out.chunks_exact_mut(self.reader.format().bytes_per_texel()).zip(values);
+        match self.reader.format() {
             TexelFormat::Rgba8Srgb => {
                 let colour = |v: f64| self.srgb_midpoints.partition_point(|&m| m <= v) as u8;
                 for (t, v) in texels {
@@ -84,13 +82,14 @@ impl Codec {
 
     /// The level below a `width` × `height` level `above`.
     fn downsample(&self, above: &[u8], width: u32, height: u32) -> Vec<u8> {
-        let (to_width, to_height) = (level_side(width, 1), level_side(height, 1));
-        let row_bytes = width as usize * self.format.bytes_per_texel();
+        let (to_width, to_height) = (half_side(width), half_side(height));
+        let texel = self.reader.format().bytes_per_texel();
+        let row_bytes = width as usize * texel;
         let (columns, rows) = (blit_taps(width, to_width), blit_taps(height, to_height));
-        let mut level = vec![0; to_width as usize * to_height as usize * self.format.bytes_per_texel()];
+        let mut level = vec![0; to_width as usize * to_height as usize * texel];
         let lerp = |a: [f64; 4], b: [f64; 4], t: f64| std::array::from_fn(|c| a[c] + (b[c] - a[c]) * t);
         level
-            .par_chunks_mut(to_width as usize * self.format.bytes_per_texel())
+            .par_chunks_mut(to_width as usize * texel)
             .zip(rows)
             .for_each(|(out, (y0, y1, ty))| {
                 let row = |y: usize| self.reader.read_all(&above[y * row_bytes..(y + 1) * row_bytes]);

@@ -70,6 +70,10 @@ impl TexelReader {
         TexelReader { format, srgb }
     }
 
+    pub fn format(&self) -> TexelFormat {
+        self.format
+    }
+
     /// The texels of `pixels` (whole texels, tightly packed), in order.
     pub fn read_all(&self, pixels: &[u8]) -> Vec<[f64; 4]> {
         let texels = pixels.chunks_exact(self.format.bytes_per_texel());
@@ -278,9 +282,7 @@ fn texel_format(color: ColorType, role: TextureRole) -> Option<TexelFormat> {
 fn srgb16_to_linear(texels: &[u16]) -> Vec<u8> {
     // A table is ~100× faster than powf per channel on a 16k × 16k image.
     let table: Vec<f32> = (0..=u16::MAX)
-        .map(|code| {
-            srgb_eotf(f64::from(code) / f64::from(u16::MAX)) as f32
-        })
+        .map(|code| srgb_eotf(f64::from(code) / f64::from(u16::MAX)) as f32)
         .collect();
     let linear: Vec<f32> = texels
         .chunks_exact(4)

@@ -245,6 +245,14 @@ impl Image {
         transition_levels(d, cmd, self.handle, range, ImageUse::CLEAR_DST, then);
     }
 
+    /// The size of mip `level`: each side halved per level, down to 1.
+    pub fn level_extent(&self, level: u32) -> vk::Extent2D {
+        vk::Extent2D {
+            width: (self.extent.width >> level).max(1),
+            height: (self.extent.height >> level).max(1),
+        }
+    }
+
     /// Every level and layer.
     pub fn all_levels(&self) -> vk::ImageSubresourceRange {
         full_range(self.aspect)

@@ -76,17 +76,9 @@ fn level_roughness() -> [f32; PREFILTERED_LEVELS as usize] {
 /// Bytes of an RGBA16F texel.
 const TEXEL_BYTES: u64 = 8;
 
-/// The size of mip `level` of `image`.
-fn level_extent(image: &Image, level: u32) -> vk::Extent2D {
-    vk::Extent2D {
-        width: (image.extent.width >> level).max(1),
-        height: (image.extent.height >> level).max(1),
-    }
-}
-
 /// Bytes of mip `level` of an RGBA16F image, every layer.
 fn level_size(image: &Image, level: u32) -> u64 {
-    let extent = level_extent(image, level);
+    let extent = image.level_extent(level);
     u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * TEXEL_BYTES
 }
 
@@ -644,7 +636,7 @@ impl Precompute {
         let regions: Vec<vk::BufferImageCopy> = (0..image.mip_levels)
             .map(|level| {
                 let region =
-                    copy_region(image.aspect, level, image.layers, level_extent(image, level)).buffer_offset(offset);
+                    copy_region(image.aspect, level, image.layers, image.level_extent(level)).buffer_offset(offset);
                 offset += level_size(image, level);
                 region
             })
@@ -691,7 +683,7 @@ impl Precompute {
 
     /// `read_level`'s texels as the image holds them: RGBA16F bits, native byte order.
     fn read_level_bits(&self, image: &Image, level: u32) -> Result<Vec<u8>> {
-        let extent = level_extent(image, level);
+        let extent = image.level_extent(level);
         let buffer = Buffer::new(
             &self.device,
             level_size(image, level),
