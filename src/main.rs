@@ -15,7 +15,7 @@ use argil::error::{advice, is_input_error, InputError};
 use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
 use argil::render::{count_non_finite, write_frame, DebugView, Renderer, PASS_NAMES};
-use argil::scene::Scene;
+use argil::scene::{PendingScene, Scene};
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
 
 /// The largest `--width` and `--height`: the render target's.
@@ -256,6 +256,12 @@ enum Command {
     },
 }
 
+fn load_pending_scene(path: Option<&Path>) -> Result<PendingScene> {
+    let pending = PendingScene::load(path)?;
+    pending.scene().print_warnings();
+    Ok(pending)
+}
+
 fn load_scene(path: Option<&Path>) -> Result<Scene> {
     let scene = match path {
         Some(p) => Scene::load(p)?,
@@ -312,11 +318,13 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     } = options;
     check_exposure(exposure)?;
     let mut startup = Recorder::new(process_start);
-    let mut scene = startup.step("scene and its maps", || load_scene(options.scene.as_deref()))?;
+    // The builtin maps are made on other threads while the device, the environment and the
+    // pipelines are created, which need the scene but not the maps' texels.
+    let mut pending = startup.step("scene (its builtin maps begun)", || load_pending_scene(options.scene.as_deref()))?;
     if let Some(msaa) = options.msaa {
-        scene.antialiasing.msaa = msaa;
+        pending.scene_mut().antialiasing.msaa = msaa;
     }
-    if options.debug_view == DebugView::ShadowMap && scene.shadow_casting_light().is_none() {
+    if options.debug_view == DebugView::ShadowMap && pending.scene().shadow_casting_light().is_none() {
         return Err(InputError(format!(
             "--debug-view shadow-map: no light of {} casts shadows (a [[lights]] entry with shadows = true)",
             options.scene.as_deref().map_or("the default scene".into(), |p| p.display().to_string())
@@ -335,22 +343,22 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     })?;
     let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
     renderer.debug_view = options.debug_view;
-    let gpu = startup.step("upload", || renderer.upload(&scene))?;
-    let samples = renderer.msaa_samples(&scene);
-    if samples != scene.antialiasing.msaa {
+    let mut gpu = startup.step("meshes upload", || renderer.upload(pending.scene()))?;
+    let samples = renderer.msaa_samples(pending.scene());
+    if samples != pending.scene().antialiasing.msaa {
         eprintln!(
             "argil: warning: {} does not support {}x MSAA; drawing {samples}x, its largest below",
-            device.info.name, scene.antialiasing.msaa
+            device.info.name,
+            pending.scene().antialiasing.msaa
         );
     }
-    let begin = Instant::now();
     let extent = vk::Extent2D { width, height };
     // An EXR is the linear frame: no display transform runs for it.
     let display = (OutputKind::of(&options.out)? == OutputKind::Png).then_some(exposure);
-    let frame = renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)?;
-    startup.first_frame();
-    // The frame's wall time holds what its preparation built the first time.
-    let table = if scene.needs_preintegrated_table() {
+    let begin = Instant::now();
+    let offscreen = renderer.offscreen_target(extent, display.is_some())?;
+    renderer.prepare_offscreen(pending.scene(), &gpu, &offscreen)?;
+    let table = if pending.scene().needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()
     } else {
         Duration::ZERO
@@ -364,9 +372,15 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
         startup.record(name, time);
     }
     startup.record(
-        "first frame (with the driver's first-draw compile) and readback",
+        "targets and the rest of the frame's preparation",
         begin.elapsed().saturating_sub(built.iter().map(|(_, t)| *t).sum()),
     );
+    let scene = startup.step("the wait for the builtin maps", || pending.finish())?;
+    startup.step("maps upload", || renderer.upload_textures(&mut gpu, &scene))?;
+    let frame = startup.step("first frame (with the driver's first-draw compile) and readback", || {
+        renderer.render_accumulated_into(&scene, &gpu, &offscreen, exposure, options.accumulate)
+    })?;
+    startup.first_frame();
     let bad = count_non_finite(&frame.hdr);
     if bad > 0 {
         eprintln!("argil: warning: {bad} NaN/Inf values in the frame");

@@ -509,3 +509,29 @@ fn the_shaded_module_and_the_generic_pipeline_draw_the_same_image() {
     // (RMSE 0.005); a term that one module lacks moves lit pixels by several.
     assert!(rmse < 0.05 && max <= 1, "RMSE {rmse}, max channel difference {max}");
 }
+
+/// A start uploads the default scene with a texel standing in for each builtin map,
+/// prepares its frame, and uploads the maps when they are made: its frame is the frame of
+/// the scene uploaded whole, bit for bit, so the material sets read the maps and not the
+/// stand-ins.
+#[test]
+fn a_frame_prepared_before_its_maps_are_made_is_the_frame_of_the_whole_scene() {
+    let extent = ash::vk::Extent2D { width: 160, height: 90 };
+    let [whole, pending] = [false, true].map(|pending| {
+        common::gpu().exclusive(|renderer| {
+            if !pending {
+                let scene = argil::scene::Scene::default_scene();
+                let gpu = renderer.upload(&scene).expect("upload");
+                return renderer.render_accumulated(&scene, &gpu, extent, None, 1).expect("render");
+            }
+            let pending = argil::scene::PendingScene::load(None).expect("the default scene");
+            let mut gpu = renderer.upload(pending.scene()).expect("upload");
+            let offscreen = renderer.offscreen_target(extent, false).expect("target");
+            renderer.prepare_offscreen(pending.scene(), &gpu, &offscreen).expect("prepare");
+            let scene = pending.finish().expect("the builtin maps");
+            renderer.upload_textures(&mut gpu, &scene).expect("maps upload");
+            renderer.render_accumulated_into(&scene, &gpu, &offscreen, 1.0, 1).expect("render")
+        })
+    });
+    assert!(whole.hdr == pending.hdr, "the frames differ");
+}

@@ -187,9 +187,9 @@ pub struct GpuScene {
     /// Owns `material_sets`.
     _material_pool: DescriptorPool,
     /// Read by the material sets.
-    _textures: Vec<GpuTexture>,
-    _placeholders: Vec<GpuTexture>,
-    _sampler: Sampler,
+    textures: Vec<GpuTexture>,
+    placeholders: Vec<GpuTexture>,
+    sampler: Sampler,
 }
 
 /// The placeholder bound where a material has no map of a slot: white colour or data, a
@@ -217,48 +217,60 @@ impl GpuScene {
             .iter()
             .map(|m| GpuMesh::upload(device, one_shot, m))
             .collect::<Result<_>>()?;
+        let placeholders: Vec<GpuTexture> = MapSlot::ALL
+            .iter()
+            .map(|&slot| GpuTexture::upload(device, one_shot, &placeholder_of(slot)))
+            .collect::<Result<_>>()?;
+        let pool = DescriptorPool::for_layout(device, material_layout, scene.materials.len().max(1) as u32)?;
+        let material_sets = (0..scene.materials.len())
+            .map(|_| pool.allocate(material_layout))
+            .collect::<Result<_>>()?;
+        let mut gpu = Self {
+            id,
+            meshes,
+            material_sets,
+            _material_pool: pool,
+            textures: Vec::new(),
+            placeholders,
+            sampler: Sampler::material(device)?,
+        };
+        gpu.upload_textures(device, one_shot, scene)?;
+        Ok(gpu)
+    }
+
+    /// Uploads `scene`'s textures in place of the ones before and points the material sets
+    /// at them: `scene` is the one uploaded, with its builtin maps made since
+    /// (`PendingScene`). No frame that reads the sets may be running.
+    pub fn upload_textures(&mut self, device: &Arc<Device>, one_shot: &OneShot, scene: &Scene) -> Result<()> {
+        ensure!(
+            scene.materials.len() == self.material_sets.len(),
+            "the scene has {} materials, its upload {}",
+            scene.materials.len(),
+            self.material_sets.len()
+        );
         let textures: Vec<GpuTexture> = scene
             .textures
             .iter()
             .map(|t| GpuTexture::upload(device, one_shot, t))
             .collect::<Result<_>>()?;
-        let placeholders: Vec<GpuTexture> = MapSlot::ALL
-            .iter()
-            .map(|&slot| GpuTexture::upload(device, one_shot, &placeholder_of(slot)))
-            .collect::<Result<_>>()?;
-        let sampler = Sampler::material(device)?;
-        let pool = DescriptorPool::for_layout(device, material_layout, scene.materials.len().max(1) as u32)?;
-        let material_sets = scene
-            .materials
-            .iter()
-            .map(|m| {
-                let set = pool.allocate(material_layout)?;
-                let writer = m.maps.iter().zip(&placeholders).fold(
-                    DescriptorWriter::default(),
-                    |writer, ((slot, map), placeholder)| {
-                        let texture = map.as_ref().map_or(placeholder, |m| &textures[m.texture]);
-                        writer.image(
-                            slot.index() as u32,
-                            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                            texture.image.view,
-                            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                            sampler.handle,
-                        )
-                    },
-                );
-                writer.write(device, set);
-                Ok(set)
-            })
-            .collect::<Result<_>>()?;
-        Ok(Self {
-            id,
-            meshes,
-            material_sets,
-            _material_pool: pool,
-            _textures: textures,
-            _placeholders: placeholders,
-            _sampler: sampler,
-        })
+        for (material, &set) in scene.materials.iter().zip(&self.material_sets) {
+            let writer = material.maps.iter().zip(&self.placeholders).fold(
+                DescriptorWriter::default(),
+                |writer, ((slot, map), placeholder)| {
+                    let texture = map.as_ref().map_or(placeholder, |m| &textures[m.texture]);
+                    writer.image(
+                        slot.index() as u32,
+                        vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                        texture.image.view,
+                        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                        self.sampler.handle,
+                    )
+                },
+            );
+            writer.write(device, set);
+        }
+        self.textures = textures;
+        Ok(())
     }
 }
 

@@ -219,10 +219,16 @@ impl Renderer {
         self.environment.use_map(path, map);
     }
 
-    /// Uploads the scene's meshes.
+    /// Uploads the scene's meshes and textures.
     pub fn upload(&self, scene: &Scene) -> Result<GpuScene> {
         let id = self.uploads.replace(self.uploads.get() + 1);
         GpuScene::upload(&self.device, &self.one_shot, scene, self.forward.material_layout(), id)
+    }
+
+    /// Uploads `scene`'s textures into `gpu`, its upload with stand-ins for its builtin
+    /// maps (see [`GpuScene::upload_textures`]).
+    pub fn upload_textures(&self, gpu: &mut GpuScene, scene: &Scene) -> Result<()> {
+        gpu.upload_textures(&self.device, &self.one_shot, scene)
     }
 
     /// Samples per pixel that frames of `scene` are drawn with: its `[antialiasing] msaa`,
@@ -498,11 +504,36 @@ impl Renderer {
         exposure: Option<f32>,
         frames: u32,
     ) -> Result<OffscreenFrame> {
-        let offscreen = match exposure {
-            Some(_) => OffscreenTarget::new(&self.device, extent)?,
-            None => OffscreenTarget::hdr_only(&self.device, extent)?,
-        };
-        let exposure = exposure.unwrap_or(1.0);
+        let offscreen = self.offscreen_target(extent, exposure.is_some())?;
+        self.render_accumulated_into(scene, gpu, &offscreen, exposure.unwrap_or(1.0), frames)
+    }
+
+    /// A target for offscreen frames at `extent`, with a display image when `display`.
+    pub fn offscreen_target(&self, extent: vk::Extent2D, display: bool) -> Result<OffscreenTarget> {
+        if display {
+            OffscreenTarget::new(&self.device, extent)
+        } else {
+            OffscreenTarget::hdr_only(&self.device, extent)
+        }
+    }
+
+    /// Creates what a frame of `scene` into `offscreen` needs before it draws (the
+    /// environment's precompute, the subsurface table, the pipelines) and draws nothing, so
+    /// `gpu` may still hold stand-ins for the scene's builtin maps.
+    pub fn prepare_offscreen(&mut self, scene: &Scene, gpu: &GpuScene, offscreen: &OffscreenTarget) -> Result<()> {
+        self.prepare(0, scene, gpu, &offscreen.target, DISPLAY_FORMAT)
+    }
+
+    /// [`Self::render_accumulated`] into `offscreen`, its display image (if it has one) at
+    /// `exposure`.
+    pub fn render_accumulated_into(
+        &mut self,
+        scene: &Scene,
+        gpu: &GpuScene,
+        offscreen: &OffscreenTarget,
+        exposure: f32,
+        frames: u32,
+    ) -> Result<OffscreenFrame> {
         let accumulation = if frames > 1 {
             Accumulation::Unlimited
         } else {
@@ -512,13 +543,13 @@ impl Renderer {
         self.accumulate.reset();
         let mut gpu_ms = Ok(None);
         for _ in 0..frames {
-            gpu_ms = self.draw_offscreen(scene, gpu, &offscreen, exposure);
+            gpu_ms = self.draw_offscreen(scene, gpu, offscreen, exposure);
             if gpu_ms.is_err() {
                 break;
             }
         }
         self.accumulation = accumulation;
-        self.read_offscreen(&offscreen, gpu_ms?)
+        self.read_offscreen(offscreen, gpu_ms?)
     }
 
     /// Renders one frame of `scene` into `offscreen`, waits for it, and returns its GPU

@@ -20,6 +20,7 @@ pub mod mips;
 mod mikktspace;
 mod obj;
 mod occlusion;
+mod pending;
 mod preset;
 mod procedural;
 mod resolve;
@@ -49,6 +50,7 @@ pub use material::{
 };
 pub use mesh::{Mesh, MeshExtent, Vertex, BUILTIN_PREFIX};
 pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
+pub use pending::PendingScene;
 pub use preset::Preset;
 pub use procedural::{builtin_texture, BUILTIN_TEXTURES};
 pub use texture::{
@@ -58,6 +60,15 @@ pub use texture::{
 
 /// The scene used when none is given; it needs no files on disk.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");
+
+/// When a scene's builtin maps are made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum BuiltinMaps {
+    /// As the scene loads (or read from the disk cache).
+    Now,
+    /// Later, by [`PendingScene`]: a texel stands in for each meanwhile.
+    StandIns,
+}
 
 /// One instance of a mesh in the world.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -175,6 +186,11 @@ impl Scene {
     /// A glTF model (`.gltf`, `.glb`) opens alone in the default scene's studio, framed
     /// (see `gltf::open`).
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        Scene::load_with(path, BuiltinMaps::Now)
+    }
+
+    fn load_with(path: &Path, builtin_maps: BuiltinMaps) -> Result<Scene, SceneError> {
+        // A model's maps are its own images, which load now.
         if gltf::is_model(path) {
             return gltf::open(path);
         }
@@ -184,7 +200,7 @@ impl Scene {
             error,
         })?;
         let base_dir = path.parent().unwrap_or(Path::new(""));
-        let mut scene = Scene::from_toml(&text, &path.display().to_string(), base_dir)?;
+        let mut scene = Scene::from_toml_with(&text, &path.display().to_string(), base_dir, builtin_maps)?;
         scene.source = Some(path.to_path_buf());
         Ok(scene)
     }
@@ -192,16 +208,25 @@ impl Scene {
     /// Parses and validates scene TOML. `origin` names the text in error
     /// messages; relative paths are resolved against `base_dir`.
     pub fn from_toml(text: &str, origin: &str, base_dir: &Path) -> Result<Scene, SceneError> {
+        Scene::from_toml_with(text, origin, base_dir, BuiltinMaps::Now)
+    }
+
+    fn from_toml_with(
+        text: &str,
+        origin: &str,
+        base_dir: &Path,
+        builtin_maps: BuiltinMaps,
+    ) -> Result<Scene, SceneError> {
         let file: SceneFile = toml::from_str(text).map_err(|error| SceneError::Toml {
             origin: origin.to_owned(),
             error,
         })?;
-        Scene::from_file(&file, origin, base_dir)
+        resolve::resolve(&file, origin, base_dir, builtin_maps)
     }
 
     /// Validates a parsed scene file and loads its meshes.
     pub fn from_file(file: &SceneFile, origin: &str, base_dir: &Path) -> Result<Scene, SceneError> {
-        resolve::resolve(file, origin, base_dir)
+        resolve::resolve(file, origin, base_dir, BuiltinMaps::Now)
     }
 
     /// The embedded [`DEFAULT_SCENE_TOML`]: a blue plasticine ball and a

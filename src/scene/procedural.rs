@@ -36,6 +36,12 @@ pub fn builtin_texture(name: &str) -> Option<TextureData> {
     )
 }
 
+/// A texel of builtin texture `name`'s format that stands in for it while it is made
+/// (`PendingScene`), or `None` if no builtin has that name. It is never drawn.
+pub(super) fn stand_in(name: &str) -> Option<TextureData> {
+    BUILTIN_TEXTURES.contains(&name).then(|| rgba8(name, 1, vec![128, 128, 255, 255]))
+}
+
 /// Builtin texture `index` from `cache`: its texels depend only on this file's code and
 /// the texture's size, which key the entry.
 fn cached(index: usize, cache: &DiskCache) -> TextureData {

@@ -21,9 +21,9 @@ use super::limits::{check_environment_map, MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDI
 use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
 use super::mesh::SPHERE_SUBDIVISIONS;
 use super::{
-    builtin_texture, decode_texture, gltf, load_texture, Camera, Environment, MapRef, Material, MaterialMaps, Mesh,
-    Object, Occlusion, PointLight, Scene, SceneError, SceneFile, TextureData, TextureRole, BUILTIN_PREFIX,
-    BUILTIN_TEXTURES, OCCLUSION_SAMPLES_RANGE,
+    builtin_texture, decode_texture, gltf, load_texture, procedural, BuiltinMaps, Camera, Environment, MapRef,
+    Material, MaterialMaps, Mesh, Object, Occlusion, PointLight, Scene, SceneError, SceneFile, TextureData,
+    TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES, OCCLUSION_SAMPLES_RANGE,
 };
 
 /// Name of the built-in neutral material, used by objects without a
@@ -146,7 +146,12 @@ impl TextureRequests {
     }
 }
 
-pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result<Scene, SceneError> {
+pub(super) fn resolve(
+    file: &SceneFile,
+    origin: &str,
+    base_dir: &Path,
+    builtin_maps: BuiltinMaps,
+) -> Result<Scene, SceneError> {
     let check = Checker { origin };
     if file.lights.len() > MAX_LIGHTS {
         let reason = format!("{} point lights; at most {MAX_LIGHTS} are supported", file.lights.len());
@@ -275,12 +280,15 @@ pub(super) fn resolve(file: &SceneFile, origin: &str, base_dir: &Path) -> Result
         return Err(check.invalid("objects", file.objects.len(), reason));
     }
 
+    let source = TextureSource {
+        base_dir,
+        embedded: &requests.embedded,
+        builtin_maps,
+    };
     let textures = requests
         .pending
         .iter()
-        .map(|(field, texture, role)| {
-            load_map_texture(&check, field, texture, *role, base_dir, &requests.embedded, &mut inputs)
-        })
+        .map(|(field, texture, role)| load_map_texture(&check, field, texture, *role, &source, &mut inputs))
         .collect::<Result<_, _>>()?;
     let mut seen = HashSet::new();
     inputs.retain(|file| seen.insert(file.clone()));
@@ -625,6 +633,15 @@ fn check_map(
     })
 }
 
+/// Where the textures of maps come from.
+struct TextureSource<'a> {
+    /// What relative paths are relative to.
+    base_dir: &'a Path,
+    /// Images embedded in glTF models, by the texture name their maps give.
+    embedded: &'a HashMap<String, Vec<u8>>,
+    builtin_maps: BuiltinMaps,
+}
+
 /// The texture of a map, built in, embedded in a model, or read from a file, which joins
 /// `files`.
 fn load_map_texture(
@@ -632,18 +649,21 @@ fn load_map_texture(
     field: &str,
     texture: &str,
     role: TextureRole,
-    base_dir: &Path,
-    embedded: &HashMap<String, Vec<u8>>,
+    source: &TextureSource,
     files: &mut Vec<PathBuf>,
 ) -> Result<TextureData, SceneError> {
     if texture.starts_with(BUILTIN_PREFIX) {
+        let builtin = match source.builtin_maps {
+            BuiltinMaps::Now => builtin_texture(texture),
+            BuiltinMaps::StandIns => procedural::stand_in(texture),
+        };
         // Names were checked with the map; this only avoids an unwrap.
-        return builtin_texture(texture).ok_or_else(|| check.invalid(field, texture, "unknown builtin texture"));
+        return builtin.ok_or_else(|| check.invalid(field, texture, "unknown builtin texture"));
     }
-    let loaded = match embedded.get(texture) {
+    let loaded = match source.embedded.get(texture) {
         Some(bytes) => decode_texture(bytes, texture, role),
         None => {
-            let file = base_dir.join(texture);
+            let file = source.base_dir.join(texture);
             let loaded = load_texture(&file, role);
             files.push(file);
             loaded
