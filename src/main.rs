@@ -256,6 +256,10 @@ enum Command {
     },
 }
 
+/// The frame of a start's warm-up, drawn before the builtin maps are made: small, as only
+/// what it makes and compiles is kept.
+const WARM_UP_EXTENT: vk::Extent2D = vk::Extent2D { width: 16, height: 16 };
+
 fn load_pending_scene(path: Option<&Path>) -> Result<PendingScene> {
     let pending = PendingScene::load(path)?;
     pending.scene().print_warnings();
@@ -318,16 +322,17 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     } = options;
     check_exposure(exposure)?;
     let mut startup = Recorder::new(process_start);
-    // The builtin maps are made on other threads while the device, the environment and the
-    // pipelines are created, which need the scene but not the maps' texels.
-    let mut pending = startup.step("scene (its builtin maps begun)", || load_pending_scene(options.scene.as_deref()))?;
+    // Stand-ins take the builtin maps' places until the maps, made beside the warm-up frame
+    // below, are uploaded (src/scene/pending.rs).
+    let scene_path = options.scene.as_deref();
+    let mut pending = startup.step("scene (stand-ins for its builtin maps)", || load_pending_scene(scene_path))?;
     if let Some(msaa) = options.msaa {
         pending.scene_mut().antialiasing.msaa = msaa;
     }
     if options.debug_view == DebugView::ShadowMap && pending.scene().shadow_casting_light().is_none() {
         return Err(InputError(format!(
             "--debug-view shadow-map: no light of {} casts shadows (a [[lights]] entry with shadows = true)",
-            options.scene.as_deref().map_or("the default scene".into(), |p| p.display().to_string())
+            scene_path.map_or("the default scene".into(), |p| p.display().to_string())
         ))
         .into());
     }
@@ -355,9 +360,12 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     let extent = vk::Extent2D { width, height };
     // An EXR is the linear frame: no display transform runs for it.
     let display = (OutputKind::of(&options.out)? == OutputKind::Png).then_some(exposure);
+    // A frame of a few pixels drawn with the stand-ins makes what the frame needs (the
+    // environment, the subsurface table, the pipelines, the shadow maps) and has the driver
+    // compile the frame's shaders, while the builtin maps are made.
     let begin = Instant::now();
-    let offscreen = renderer.offscreen_target(extent, display.is_some())?;
-    renderer.prepare_offscreen(pending.scene(), &gpu, &offscreen)?;
+    let warm_up = renderer.offscreen_target(WARM_UP_EXTENT, display.is_some())?;
+    renderer.prepare_offscreen(pending.scene(), &gpu, &warm_up)?;
     let table = if pending.scene().needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()
     } else {
@@ -375,10 +383,15 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
         "targets and the rest of the frame's preparation",
         begin.elapsed().saturating_sub(built.iter().map(|(_, t)| *t).sum()),
     );
+    pending.begin_maps();
+    let warm_up_frame = startup.step("warm-up frame (with the driver's first-draw compile)", || {
+        renderer.render_accumulated_into(pending.scene(), &gpu, &warm_up, exposure, 1)
+    })?;
+    drop(warm_up);
     let scene = startup.step("the wait for the builtin maps", || pending.finish())?;
     startup.step("maps upload", || renderer.upload_textures(&mut gpu, &scene))?;
-    let frame = startup.step("first frame (with the driver's first-draw compile) and readback", || {
-        renderer.render_accumulated_into(&scene, &gpu, &offscreen, exposure, options.accumulate)
+    let frame = startup.step("first frame and readback", || {
+        renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)
     })?;
     startup.first_frame();
     let bad = count_non_finite(&frame.hdr);
@@ -389,19 +402,20 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     if let Some(path) = &options.timings {
         startup.write(path)?;
     }
-    let times = frame.gpu_ms.as_ref().map(|ms| {
-        PASS_NAMES
-            .iter()
-            .zip(ms)
-            .map(|(n, t)| format!("{n} {t:.2} ms"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    });
+    let times = |gpu_ms: &Option<Vec<f64>>| {
+        let passes = gpu_ms.as_ref().map(|ms| {
+            let times: Vec<String> = PASS_NAMES.iter().zip(ms).map(|(n, t)| format!("{n} {t:.2} ms")).collect();
+            times.join(", ")
+        });
+        passes.map(|t| format!(" (GPU: {t})")).unwrap_or_default()
+    };
     println!("{}", options.out.display());
+    let vk::Extent2D { width: w, height: h } = WARM_UP_EXTENT;
     eprintln!(
-        "argil: {width}x{height} on {}{}",
+        "argil: {width}x{height} on {}{}; its {w}x{h} warm-up, which drew what the frame reuses{}",
         device.info.name,
-        times.map(|t| format!(" (GPU: {t})")).unwrap_or_default()
+        times(&frame.gpu_ms),
+        times(&warm_up_frame.gpu_ms)
     );
     let costs = renderer.environment().precompute_costs();
     if !costs.is_empty() {

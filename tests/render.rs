@@ -510,28 +510,45 @@ fn the_shaded_module_and_the_generic_pipeline_draw_the_same_image() {
     assert!(rmse < 0.05 && max <= 1, "RMSE {rmse}, max channel difference {max}");
 }
 
-/// A start uploads the default scene with a texel standing in for each builtin map,
-/// prepares its frame, and uploads the maps when they are made: its frame is the frame of
-/// the scene uploaded whole, bit for bit, so the material sets read the maps and not the
-/// stand-ins.
+/// A start uploads the default scene with stand-ins for its builtin maps, draws a warm-up
+/// frame of a few pixels with them while the maps are made, uploads the maps and draws
+/// the frame: that frame is the frame of the scene uploaded whole, bit for bit, so the
+/// material sets read the maps and nothing the warm-up made depends on the stand-ins or
+/// on its size; as plain, and with MSAA and screen-space occlusion.
 #[test]
-fn a_frame_prepared_before_its_maps_are_made_is_the_frame_of_the_whole_scene() {
+fn a_frame_after_a_warm_up_with_stand_ins_is_the_frame_of_the_whole_scene() {
+    use argil::scene::{PendingScene, Scene};
     let extent = ash::vk::Extent2D { width: 160, height: 90 };
-    let [whole, pending] = [false, true].map(|pending| {
-        common::gpu().exclusive(|renderer| {
-            if !pending {
-                let scene = argil::scene::Scene::default_scene();
-                let gpu = renderer.upload(&scene).expect("upload");
-                return renderer.render_accumulated(&scene, &gpu, extent, None, 1).expect("render");
-            }
-            let pending = argil::scene::PendingScene::load(None).expect("the default scene");
-            let mut gpu = renderer.upload(pending.scene()).expect("upload");
-            let offscreen = renderer.offscreen_target(extent, false).expect("target");
-            renderer.prepare_offscreen(pending.scene(), &gpu, &offscreen).expect("prepare");
-            let scene = pending.finish().expect("the builtin maps");
-            renderer.upload_textures(&mut gpu, &scene).expect("maps upload");
-            renderer.render_accumulated_into(&scene, &gpu, &offscreen, 1.0, 1).expect("render")
-        })
-    });
-    assert!(whole.hdr == pending.hdr, "the frames differ");
+    let plain = |_: &mut Scene| {};
+    let multisampled = |scene: &mut Scene| {
+        scene.antialiasing.msaa = 4;
+        scene.occlusion.enabled = true;
+    };
+    for configure in [&plain as &dyn Fn(&mut Scene), &multisampled] {
+        let [whole, pending] = [false, true].map(|pending| {
+            common::gpu().exclusive(|renderer| {
+                if !pending {
+                    let mut scene = Scene::default_scene();
+                    configure(&mut scene);
+                    let gpu = renderer.upload(&scene).expect("upload");
+                    return renderer.render_accumulated(&scene, &gpu, extent, None, 1).expect("render");
+                }
+                let mut pending = PendingScene::load(None).expect("the default scene");
+                configure(pending.scene_mut());
+                let mut gpu = renderer.upload(pending.scene()).expect("upload");
+                let warm_up = renderer
+                    .offscreen_target(ash::vk::Extent2D { width: 16, height: 16 }, false)
+                    .expect("target");
+                renderer.prepare_offscreen(pending.scene(), &gpu, &warm_up).expect("prepare");
+                pending.begin_maps();
+                renderer
+                    .render_accumulated_into(pending.scene(), &gpu, &warm_up, 1.0, 1)
+                    .expect("warm-up");
+                let scene = pending.finish().expect("the builtin maps");
+                renderer.upload_textures(&mut gpu, &scene).expect("maps upload");
+                renderer.render_accumulated(&scene, &gpu, extent, None, 1).expect("render")
+            })
+        });
+        assert!(whole.hdr == pending.hdr, "the frames differ");
+    }
 }

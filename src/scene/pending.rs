@@ -1,7 +1,8 @@
 //! A scene whose builtin maps are still being made. Making them (or reading them from the
-//! disk cache) is most of a scene's load, and nothing before the first draw reads their
-//! texels: a start creates its device, environment and pipelines for the scene while other
-//! threads make its maps, and waits for them only to upload them.
+//! disk cache) is most of a scene's load, and a start has other work that does not read
+//! their texels: its device, environment and pipelines, and the driver's compile of the
+//! frame's shaders, which lavapipe does on one core at the first draw. Stand-ins take
+//! the maps' places until [`PendingScene::finish`].
 
 use std::path::Path;
 use std::thread::{self, JoinHandle};
@@ -10,8 +11,9 @@ use anyhow::{anyhow, Result};
 
 use super::{builtin_texture, BuiltinMaps, Scene, SceneError, TextureData, BUILTIN_PREFIX, DEFAULT_SCENE_TOML};
 
-/// A scene with a texel standing in for each of its builtin maps, and the threads making
-/// them. Dropped unfinished, it leaves its threads to finish on their own.
+/// A scene with stand-ins for its builtin maps (`procedural::stand_in`), and the threads
+/// making the maps once begun. Dropped unfinished, it leaves its threads to finish on
+/// their own.
 pub struct PendingScene {
     scene: Scene,
     /// Each builtin map's index in the scene's textures, and the thread making it.
@@ -19,28 +21,21 @@ pub struct PendingScene {
 }
 
 impl PendingScene {
-    /// Loads the scene file at `path` as `Scene::load` does, or the default scene, and
-    /// starts making its builtin maps.
+    /// Loads the scene file at `path` as `Scene::load` does, or the default scene, with
+    /// stand-ins for its builtin maps.
     pub fn load(path: Option<&Path>) -> Result<PendingScene, SceneError> {
         let stand_ins = BuiltinMaps::StandIns;
         let scene = match path {
             Some(path) => Scene::load_with(path, stand_ins)?,
             None => Scene::from_toml_with(DEFAULT_SCENE_TOML, "<default scene>", Path::new(""), stand_ins)?,
         };
-        let makers = scene
-            .textures
-            .iter()
-            .enumerate()
-            .filter(|(_, texture)| texture.name.starts_with(BUILTIN_PREFIX))
-            .map(|(index, texture)| {
-                let name = texture.name.clone();
-                (index, thread::spawn(move || builtin_texture(&name)))
-            })
-            .collect();
-        Ok(PendingScene { scene, makers })
+        Ok(PendingScene {
+            scene,
+            makers: Vec::new(),
+        })
     }
 
-    /// The scene with its builtin maps stood in for: enough for everything but drawing it.
+    /// The scene with its builtin maps stood in for.
     pub fn scene(&self) -> &Scene {
         &self.scene
     }
@@ -51,8 +46,35 @@ impl PendingScene {
         &mut self.scene
     }
 
-    /// Waits for the builtin maps and returns the scene with them.
-    pub fn finish(self) -> Result<Scene> {
+    /// Starts making the builtin maps, each on a thread of its own at the lowest priority:
+    /// they take what the rest of the start leaves idle. Begun beside work that keeps both
+    /// cores busy (lavapipe's compute), they would only slow it; beside the driver's
+    /// compile, they fill the core it leaves.
+    pub fn begin_maps(&mut self) {
+        if !self.makers.is_empty() {
+            return;
+        }
+        self.makers = self
+            .scene
+            .textures
+            .iter()
+            .enumerate()
+            .filter(|(_, texture)| texture.name.starts_with(BUILTIN_PREFIX))
+            .map(|(index, texture)| {
+                let name = texture.name.clone();
+                let maker = thread::spawn(move || {
+                    lowest_priority();
+                    builtin_texture(&name)
+                });
+                (index, maker)
+            })
+            .collect();
+    }
+
+    /// Makes the builtin maps if they are not begun, waits for them, and returns the scene
+    /// with them.
+    pub fn finish(mut self) -> Result<Scene> {
+        self.begin_maps();
         let PendingScene { mut scene, makers } = self;
         for (index, maker) in makers {
             let texture = &mut scene.textures[index];
@@ -63,11 +85,23 @@ impl PendingScene {
     }
 }
 
+/// Gives the calling thread, and the threads it goes on to create, the lowest priority.
+/// Linux keeps a nice value per thread, which new threads inherit; elsewhere the maps
+/// run at the usual priority.
+fn lowest_priority() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: setpriority reads no memory of ours; who = 0 is the calling thread. Failing
+    // leaves the priority as it was, which is only slower.
+    unsafe {
+        libc::setpriority(libc::PRIO_PROCESS, 0, 19);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// A texel stands in for each builtin map of the default scene until it finishes as the
+    /// Stand-ins take the default scene's builtin maps' places until it finishes as the
     /// scene loaded at once.
     #[test]
     fn a_pending_scene_finishes_as_the_scene_loaded_at_once() {
@@ -75,7 +109,7 @@ mod tests {
         let textures = &pending.scene().textures;
         let builtins: Vec<_> = textures.iter().filter(|t| t.name.starts_with(BUILTIN_PREFIX)).collect();
         assert!(!builtins.is_empty(), "the default scene has builtin maps");
-        assert!(builtins.iter().all(|t| (t.width, t.height) == (1, 1)));
+        assert!(builtins.iter().all(|t| (t.width, t.height) == (2, 2)));
         assert_eq!(pending.finish().unwrap(), Scene::default_scene());
     }
 }

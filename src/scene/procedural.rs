@@ -36,10 +36,13 @@ pub fn builtin_texture(name: &str) -> Option<TextureData> {
     )
 }
 
-/// A texel of builtin texture `name`'s format that stands in for it while it is made
-/// (`PendingScene`), or `None` if no builtin has that name. It is never drawn.
+/// What stands in for builtin texture `name` while it is made (`PendingScene`), or
+/// `None` if no builtin has that name: 2×2 flat texels of its format, a power of two on a
+/// side with a mip below, as the map is. A driver that compiles a shader at its first draw
+/// for the kinds of texture it samples (lavapipe: format, power-of-two sides, mips or
+/// none) compiles the same shader for the stand-in as for the map.
 pub(super) fn stand_in(name: &str) -> Option<TextureData> {
-    BUILTIN_TEXTURES.contains(&name).then(|| rgba8(name, 1, vec![128, 128, 255, 255]))
+    BUILTIN_TEXTURES.contains(&name).then(|| rgba8(name, 2, [128, 128, 255, 255].repeat(4)))
 }
 
 /// Builtin texture `index` from `cache`: its texels depend only on this file's code and
