@@ -388,8 +388,9 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
         renderer.render_accumulated_into(pending.scene(), &gpu, &warm_up, exposure, 1)
     })?;
     drop(warm_up);
+    let stand_ins = pending.stand_ins();
     let scene = startup.step("the wait for the builtin maps", || pending.finish())?;
-    startup.step("maps upload", || renderer.upload_textures(&mut gpu, &scene))?;
+    startup.step("maps upload", || renderer.replace_textures(&mut gpu, &scene, &stand_ins))?;
     let frame = startup.step("first frame and readback", || {
         renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)
     })?;

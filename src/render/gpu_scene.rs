@@ -217,6 +217,11 @@ impl GpuScene {
             .iter()
             .map(|m| GpuMesh::upload(device, one_shot, m))
             .collect::<Result<_>>()?;
+        let textures: Vec<GpuTexture> = scene
+            .textures
+            .iter()
+            .map(|t| GpuTexture::upload(device, one_shot, t))
+            .collect::<Result<_>>()?;
         let placeholders: Vec<GpuTexture> = MapSlot::ALL
             .iter()
             .map(|&slot| GpuTexture::upload(device, one_shot, &placeholder_of(slot)))
@@ -225,39 +230,49 @@ impl GpuScene {
         let material_sets = (0..scene.materials.len())
             .map(|_| pool.allocate(material_layout))
             .collect::<Result<_>>()?;
-        let mut gpu = Self {
+        let gpu = Self {
             id,
             meshes,
             material_sets,
             _material_pool: pool,
-            textures: Vec::new(),
+            textures,
             placeholders,
             sampler: Sampler::material(device)?,
         };
-        gpu.upload_textures(device, one_shot, scene)?;
+        gpu.write_material_sets(device, scene);
         Ok(gpu)
     }
 
-    /// Uploads `scene`'s textures in place of the ones before and points the material sets
-    /// at them: `scene` is the one uploaded, with its builtin maps made since
-    /// (`PendingScene`). No frame that reads the sets may be running.
-    pub fn upload_textures(&mut self, device: &Arc<Device>, one_shot: &OneShot, scene: &Scene) -> Result<()> {
+    /// Uploads textures `indices` of `scene` in place of the ones uploaded before, and
+    /// points the material sets at them: `scene` is the one uploaded, those textures made
+    /// since its stand-ins were (`PendingScene`). No frame that reads the sets may be
+    /// running.
+    pub fn replace_textures(
+        &mut self,
+        device: &Arc<Device>,
+        one_shot: &OneShot,
+        scene: &Scene,
+        indices: &[usize],
+    ) -> Result<()> {
         ensure!(
-            scene.materials.len() == self.material_sets.len(),
-            "the scene has {} materials, its upload {}",
-            scene.materials.len(),
-            self.material_sets.len()
+            scene.textures.len() == self.textures.len() && scene.materials.len() == self.material_sets.len(),
+            "the scene is not the one uploaded"
         );
-        let textures: Vec<GpuTexture> = scene
-            .textures
-            .iter()
-            .map(|t| GpuTexture::upload(device, one_shot, t))
-            .collect::<Result<_>>()?;
+        for &i in indices {
+            self.textures[i] = GpuTexture::upload(device, one_shot, &scene.textures[i])?;
+        }
+        self.write_material_sets(device, scene);
+        Ok(())
+    }
+
+    /// Points each material's set at its maps' textures, and at placeholders where it has
+    /// none.
+    fn write_material_sets(&self, device: &Arc<Device>, scene: &Scene) {
         for (material, &set) in scene.materials.iter().zip(&self.material_sets) {
             let writer = material.maps.iter().zip(&self.placeholders).fold(
                 DescriptorWriter::default(),
                 |writer, ((slot, map), placeholder)| {
-                    let texture = map.as_ref().map_or(placeholder, |m| &textures[m.texture]);
+                    let texture = map.as_ref().map_or(placeholder, |m| &self.textures[m.texture]);
                     writer.image(
                         slot.index() as u32,
                         vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
@@ -269,8 +284,6 @@ impl GpuScene {
             );
             writer.write(device, set);
         }
-        self.textures = textures;
-        Ok(())
     }
 }
 

@@ -225,10 +225,10 @@ impl Renderer {
         GpuScene::upload(&self.device, &self.one_shot, scene, self.forward.material_layout(), id)
     }
 
-    /// Uploads `scene`'s textures into `gpu`, its upload with stand-ins for its builtin
-    /// maps (see [`GpuScene::upload_textures`]).
-    pub fn upload_textures(&self, gpu: &mut GpuScene, scene: &Scene) -> Result<()> {
-        gpu.upload_textures(&self.device, &self.one_shot, scene)
+    /// Uploads textures `indices` of `scene` into `gpu`, its upload with stand-ins for
+    /// them (see [`GpuScene::replace_textures`]).
+    pub fn replace_textures(&self, gpu: &mut GpuScene, scene: &Scene, indices: &[usize]) -> Result<()> {
+        gpu.replace_textures(&self.device, &self.one_shot, scene, indices)
     }
 
     /// Samples per pixel that frames of `scene` are drawn with: its `[antialiasing] msaa`,

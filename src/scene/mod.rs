@@ -66,7 +66,7 @@ pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");
 enum BuiltinMaps {
     /// As the scene loads (or read from the disk cache).
     Now,
-    /// Later, by [`PendingScene`]: a texel stands in for each meanwhile.
+    /// Later, by [`PendingScene`], with stand-ins in their places meanwhile.
     StandIns,
 }
 

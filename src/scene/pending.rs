@@ -46,6 +46,12 @@ impl PendingScene {
         &mut self.scene
     }
 
+    /// Where the stand-ins are among the scene's textures: what [`Self::finish`] replaces.
+    pub fn stand_ins(&self) -> Vec<usize> {
+        let textures = self.scene.textures.iter().enumerate();
+        textures.filter(|(_, texture)| texture.name.starts_with(BUILTIN_PREFIX)).map(|(i, _)| i).collect()
+    }
+
     /// Starts making the builtin maps, each on a thread of its own at the lowest priority:
     /// they take what the rest of the start leaves idle. Begun beside work that keeps both
     /// cores busy (lavapipe's compute), they would only slow it; beside the driver's
@@ -55,13 +61,10 @@ impl PendingScene {
             return;
         }
         self.makers = self
-            .scene
-            .textures
-            .iter()
-            .enumerate()
-            .filter(|(_, texture)| texture.name.starts_with(BUILTIN_PREFIX))
-            .map(|(index, texture)| {
-                let name = texture.name.clone();
+            .stand_ins()
+            .into_iter()
+            .map(|index| {
+                let name = self.scene.textures[index].name.clone();
                 let maker = thread::spawn(move || {
                     lowest_priority();
                     builtin_texture(&name)
@@ -106,10 +109,13 @@ mod tests {
     #[test]
     fn a_pending_scene_finishes_as_the_scene_loaded_at_once() {
         let pending = PendingScene::load(None).unwrap();
-        let textures = &pending.scene().textures;
-        let builtins: Vec<_> = textures.iter().filter(|t| t.name.starts_with(BUILTIN_PREFIX)).collect();
-        assert!(!builtins.is_empty(), "the default scene has builtin maps");
-        assert!(builtins.iter().all(|t| (t.width, t.height) == (2, 2)));
+        let stand_ins = pending.stand_ins();
+        assert!(!stand_ins.is_empty(), "the default scene has builtin maps");
+        for (i, texture) in pending.scene().textures.iter().enumerate() {
+            let builtin = texture.name.starts_with(BUILTIN_PREFIX);
+            assert_eq!(stand_ins.contains(&i), builtin, "{}", texture.name);
+            assert!(!builtin || (texture.width, texture.height) == (2, 2), "{}", texture.name);
+        }
         assert_eq!(pending.finish().unwrap(), Scene::default_scene());
     }
 }
