@@ -9,7 +9,7 @@
 
 use std::sync::Arc;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
@@ -76,19 +76,54 @@ pub struct OcclusionPass {
     /// Set 4 of the forward pass.
     set_layout: DescriptorSetLayout,
     set: vk::DescriptorSet,
-    _gtao_set_layout: DescriptorSetLayout,
+    gtao_set_layout: DescriptorSetLayout,
     gtao_set: vk::DescriptorSet,
     _pools: [DescriptorPool; 2],
-    prepass_layout: PipelineLayout,
-    prepass: Pipeline,
-    gtao_layout: PipelineLayout,
-    gtao: Pipeline,
-    denoise: Pipeline,
+    /// Made when the pass first turns on: most scenes never turn it on.
+    pipelines: Option<Pipelines>,
     sampler: Sampler,
     placeholder: Image,
     targets: Option<Targets>,
     /// What the next recorded frame runs with; `None`: the pass is off for it.
     frame: Option<(GtaoPush, Mat4)>,
+}
+
+/// The prepass's and GTAO's pipelines.
+struct Pipelines {
+    prepass_layout: PipelineLayout,
+    prepass: Pipeline,
+    gtao_layout: PipelineLayout,
+    gtao: Pipeline,
+    denoise: Pipeline,
+}
+
+impl Pipelines {
+    fn new(device: &Arc<Device>, gtao_set_layout: &DescriptorSetLayout) -> Result<Self> {
+        let (prepass_layout, prepass) = depth_pipeline(device, "occlusion prepass")?;
+        let gtao_layout = PipelineLayout::new(
+            device,
+            &[gtao_set_layout],
+            std::mem::size_of::<GtaoPush>() as u32,
+            vk::ShaderStageFlags::COMPUTE,
+        )?;
+        let compute = ShaderModule::new(device, shaders::GTAO_COMP, "gtao.comp")?;
+        let gtao = Pipeline::compute(device, &gtao_layout, &compute, &Specialization::default(), "gtao")?;
+        let compute = ShaderModule::new(device, shaders::GTAO_DENOISE_COMP, "gtao_denoise.comp")?;
+        let denoise = Pipeline::compute(
+            device,
+            &gtao_layout,
+            &compute,
+            &Specialization::default(),
+            "gtao denoise",
+        )?;
+        Ok(Self {
+            prepass_layout,
+            prepass,
+            gtao_layout,
+            gtao,
+            denoise,
+        })
+    }
 }
 
 impl OcclusionPass {
@@ -113,23 +148,6 @@ impl OcclusionPass {
         ];
         let set = pools[0].allocate(&set_layout)?;
         let gtao_set = pools[1].allocate(&gtao_set_layout)?;
-        let (prepass_layout, prepass) = depth_pipeline(device, "occlusion prepass")?;
-        let gtao_layout = PipelineLayout::new(
-            device,
-            &[&gtao_set_layout],
-            std::mem::size_of::<GtaoPush>() as u32,
-            vk::ShaderStageFlags::COMPUTE,
-        )?;
-        let compute = ShaderModule::new(device, shaders::GTAO_COMP, "gtao.comp")?;
-        let gtao = Pipeline::compute(device, &gtao_layout, &compute, &Specialization::default(), "gtao")?;
-        let compute = ShaderModule::new(device, shaders::GTAO_DENOISE_COMP, "gtao_denoise.comp")?;
-        let denoise = Pipeline::compute(
-            device,
-            &gtao_layout,
-            &compute,
-            &Specialization::default(),
-            "gtao denoise",
-        )?;
         let placeholder = visibility_image(device, vk::Extent2D { width: 1, height: 1 }, "occlusion placeholder")?;
         one_shot.run(|cmd| {
             transition(
@@ -145,14 +163,10 @@ impl OcclusionPass {
             device: device.clone(),
             set_layout,
             set,
-            _gtao_set_layout: gtao_set_layout,
+            gtao_set_layout,
             gtao_set,
             _pools: pools,
-            prepass_layout,
-            prepass,
-            gtao_layout,
-            gtao,
-            denoise,
+            pipelines: None,
             sampler: Sampler::nearest(device)?,
             placeholder,
             targets: None,
@@ -185,11 +199,15 @@ impl OcclusionPass {
     }
 
     /// Sets up the next recorded frame: unless `mode` is off, occlusion by the scene's
-    /// settings in a frame of `extent`. The images are made (waiting for
-    /// the frames that read the old ones) when the size changes, and the forward pass's set
-    /// is pointed at them, or back at the placeholder, when the pass turns on or off.
+    /// settings in a frame of `extent`. The pipelines are made when the pass first turns on,
+    /// the images (waiting for the frames that read the old ones) when the size changes,
+    /// and the forward pass's set is pointed at them, or back at the placeholder, when the
+    /// pass turns on or off.
     pub fn prepare(&mut self, scene: &Scene, extent: vk::Extent2D, mode: OcclusionMode) -> Result<()> {
         let enabled = mode != OcclusionMode::Off;
+        if enabled && self.pipelines.is_none() {
+            self.pipelines = Some(Pipelines::new(&self.device, &self.gtao_set_layout)?);
+        }
         let settings: &Occlusion = &scene.occlusion;
         let was_on = self.frame.is_some();
         let view_proj = scene.camera.view_projection(extent.width as f32 / extent.height as f32);
@@ -258,10 +276,9 @@ impl OcclusionPass {
         let Some((push, view_proj)) = &self.frame else {
             return Ok(());
         };
-        let targets = self
-            .targets
-            .as_ref()
-            .context("occlusion targets missing: prepare() was not called")?;
+        let (Some(targets), Some(pipelines)) = (&self.targets, &self.pipelines) else {
+            bail!("occlusion targets missing: prepare() was not called");
+        };
         let d = &self.device.handle;
         let Targets { depth, raw, visibility } = targets;
         // The previous frame's compute shaders read this depth and the raw visibility, and
@@ -290,8 +307,8 @@ impl OcclusionPass {
         draw_depth(
             &self.device,
             cmd,
-            &self.prepass_layout,
-            &self.prepass,
+            &pipelines.prepass_layout,
+            &pipelines.prepass,
             scene,
             gpu,
             *view_proj,
@@ -325,19 +342,19 @@ impl OcclusionPass {
             d.cmd_bind_descriptor_sets(
                 cmd,
                 vk::PipelineBindPoint::COMPUTE,
-                self.gtao_layout.handle,
+                pipelines.gtao_layout.handle,
                 0,
                 &[self.gtao_set],
                 &[],
             );
             d.cmd_push_constants(
                 cmd,
-                self.gtao_layout.handle,
+                pipelines.gtao_layout.handle,
                 vk::ShaderStageFlags::COMPUTE,
                 0,
                 bytemuck::bytes_of(push),
             );
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.gtao.handle);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipelines.gtao.handle);
             d.cmd_dispatch(cmd, groups[0], groups[1], 1);
         }
         // The denoiser reads what gtao.comp wrote, pixels away from where it reads.
@@ -350,7 +367,7 @@ impl OcclusionPass {
             ImageUse::COMPUTE_STORAGE,
         );
         unsafe {
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.denoise.handle);
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipelines.denoise.handle);
             d.cmd_dispatch(cmd, groups[0], groups[1], 1);
         }
         transition(
