@@ -90,6 +90,7 @@ enum Command {
         debug_view: DebugView,
     },
     /// Open a window on a scene.
+    #[command(group(clap::ArgGroup::new("limit").args(["frames", "seconds"])))]
     View {
         /// Scene file (TOML), or a glTF model (.glb, .gltf) to open alone in the studio; without
         /// one, the embedded default clay scene.
@@ -106,15 +107,16 @@ enum Command {
         /// Initial window height in pixels.
         #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE))]
         height: u32,
-        /// After the last frame, write what the window shows (UI included) to this PNG.
-        #[arg(long, value_name = "FILE.png", requires = "frames")]
+        /// After the last frame, write what the window shows (UI included) to this PNG; with
+        /// `--seconds`, one frame more is drawn for it when they have passed.
+        #[arg(long, value_name = "FILE.png", requires = "limit")]
         screenshot: Option<PathBuf>,
         /// Resize, minimise and restore the window while rendering (for tests).
         #[arg(long, hide = true)]
         resize_storm: bool,
         /// Close this many seconds after the first frame, drawing frames only when something
         /// changes.
-        #[arg(long, conflicts_with = "frames", value_parser = parse_seconds)]
+        #[arg(long, value_parser = parse_seconds)]
         seconds: Option<f64>,
         /// The scripted leak hunt of `argil bench --soak-viewer`: orbit, edit a material,
         /// and write memory samples (JSON) to this file.
@@ -389,7 +391,8 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     })?;
     drop(warm_up);
     let stand_ins = pending.stand_ins();
-    let scene = startup.step("the wait for the builtin maps", || pending.finish())?;
+    let (scene, making) = startup.step("the wait for the builtin maps", || pending.finish())?;
+    startup.record_beside("builtin maps, made during the warm-up frame at the lowest priority", making);
     startup.step("maps upload", || renderer.replace_textures(&mut gpu, &scene, &stand_ins))?;
     let frame = startup.step("first frame and readback", || {
         renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)

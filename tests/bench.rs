@@ -96,6 +96,10 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
         let first_frame = finite(start, "first_frame_ms");
         let before: f64 = steps.iter().filter(|s| s["name"] != "write").map(|s| finite(s, "ms")).sum();
         assert!(before <= first_frame && first_frame <= total, "{before} ≤ {first_frame} ≤ {total} ms");
+        // The builtin maps are made on other threads, beside the steps.
+        let beside = start["beside"].as_array().expect("beside");
+        assert!(beside.iter().any(|s| s["name"].as_str().is_some_and(|n| n.starts_with("builtin maps"))));
+        assert!(beside.iter().all(|s| finite(s, "ms") <= first_frame), "{beside:?}");
     }
 
     // The second run finds both references in the cache; its one row replaces its

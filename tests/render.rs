@@ -545,7 +545,7 @@ fn a_frame_after_a_warm_up_with_stand_ins_is_the_frame_of_the_whole_scene() {
                     .render_accumulated_into(pending.scene(), &gpu, &warm_up, 1.0, 1)
                     .expect("warm-up");
                 let stand_ins = pending.stand_ins();
-                let scene = pending.finish().expect("the builtin maps");
+                let (scene, _) = pending.finish().expect("the builtin maps");
                 renderer.replace_textures(&mut gpu, &scene, &stand_ins).expect("maps upload");
                 renderer.render_accumulated(&scene, &gpu, extent, None, 1).expect("render")
             })

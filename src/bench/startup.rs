@@ -20,11 +20,14 @@ pub struct Step {
     pub ms: f64,
 }
 
-/// One start: its steps in order, and from process start to the first frame (read back)
-/// and to that frame written.
+/// One start: its steps in order, the work other threads did beside them, and from process
+/// start to the first frame (read back) and to that frame written.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Startup {
     pub steps: Vec<Step>,
+    /// Wall time of work on other threads, which the steps do not count.
+    #[serde(default)]
+    pub beside: Vec<Step>,
     /// 0 in records written before it was kept.
     #[serde(default)]
     pub first_frame_ms: f64,
@@ -35,6 +38,7 @@ pub struct Startup {
 pub struct Recorder {
     process_start: Instant,
     steps: Vec<Step>,
+    beside: Vec<Step>,
     first_frame: Duration,
 }
 
@@ -43,6 +47,7 @@ impl Recorder {
         Self {
             process_start,
             steps: Vec::new(),
+            beside: Vec::new(),
             first_frame: Duration::ZERO,
         }
     }
@@ -56,10 +61,12 @@ impl Recorder {
     }
 
     pub fn record(&mut self, name: &str, time: Duration) {
-        self.steps.push(Step {
-            name: name.to_owned(),
-            ms: time.as_secs_f64() * 1e3,
-        });
+        self.steps.push(step(name, time));
+    }
+
+    /// Records `time` of work `name` that other threads did beside the steps.
+    pub fn record_beside(&mut self, name: &str, time: Duration) {
+        self.beside.push(step(name, time));
     }
 
     /// The first frame is finished now.
@@ -71,10 +78,18 @@ impl Recorder {
     pub fn write(&self, path: &Path) -> Result<()> {
         let startup = Startup {
             steps: self.steps.clone(),
+            beside: self.beside.clone(),
             first_frame_ms: self.first_frame.as_secs_f64() * 1e3,
             total_ms: self.process_start.elapsed().as_secs_f64() * 1e3,
         };
         write_bytes(path, serde_json::to_string_pretty(&startup)?.as_bytes())
+    }
+}
+
+fn step(name: &str, time: Duration) -> Step {
+    Step {
+        name: name.to_owned(),
+        ms: time.as_secs_f64() * 1e3,
     }
 }
 
@@ -128,6 +143,9 @@ pub fn markdown(extent: vk::Extent2D, [cold, warm]: &[Startup; 2]) -> String {
     ];
     for (to, cold, warm) in totals {
         text += &format!("| **process start to {to}** | **{cold:.1}** | **{warm:.1}** |\n");
+    }
+    for (c, w) in cold.beside.iter().zip(&warm.beside) {
+        text += &format!("| *beside the steps, on other threads:* {} | {:.1} | {:.1} |\n", c.name, c.ms, w.ms);
     }
     text
 }

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 use std::thread::{self, JoinHandle};
+use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, Result};
 
@@ -16,9 +17,14 @@ use super::{builtin_texture, BuiltinMaps, Scene, SceneError, TextureData, BUILTI
 /// their own.
 pub struct PendingScene {
     scene: Scene,
+    /// When the maps were begun.
+    begun: Option<Instant>,
     /// Each builtin map's index in the scene's textures, and the thread making it.
-    makers: Vec<(usize, JoinHandle<Option<TextureData>>)>,
+    makers: Vec<(usize, Maker)>,
 }
+
+/// A thread making a builtin map, which returns it and when it was done.
+type Maker = JoinHandle<(Option<TextureData>, Instant)>;
 
 impl PendingScene {
     /// Loads the scene file at `path` as `Scene::load` does, or the default scene, with
@@ -31,6 +37,7 @@ impl PendingScene {
         };
         Ok(PendingScene {
             scene,
+            begun: None,
             makers: Vec::new(),
         })
     }
@@ -57,9 +64,10 @@ impl PendingScene {
     /// cores busy (lavapipe's compute), they would only slow it; beside the driver's
     /// compile, they fill the core it leaves.
     pub fn begin_maps(&mut self) {
-        if !self.makers.is_empty() {
+        if self.begun.is_some() {
             return;
         }
+        self.begun = Some(Instant::now());
         self.makers = self
             .stand_ins()
             .into_iter()
@@ -67,7 +75,7 @@ impl PendingScene {
                 let name = self.scene.textures[index].name.clone();
                 let maker = thread::spawn(move || {
                     lowest_priority();
-                    builtin_texture(&name)
+                    (builtin_texture(&name), Instant::now())
                 });
                 (index, maker)
             })
@@ -75,16 +83,23 @@ impl PendingScene {
     }
 
     /// Makes the builtin maps if they are not begun, waits for them, and returns the scene
-    /// with them.
-    pub fn finish(mut self) -> Result<Scene> {
+    /// with them, and the wall time from [`Self::begin_maps`] to the last map made.
+    pub fn finish(mut self) -> Result<(Scene, Duration)> {
         self.begin_maps();
-        let PendingScene { mut scene, makers } = self;
+        let PendingScene {
+            mut scene,
+            begun,
+            makers,
+        } = self;
+        let begun = begun.unwrap_or_else(Instant::now);
+        let mut done = begun;
         for (index, maker) in makers {
             let texture = &mut scene.textures[index];
-            let made = maker.join().ok().flatten();
+            let (made, at) = maker.join().unwrap_or((None, begun));
             *texture = made.ok_or_else(|| anyhow!("making the builtin map {} failed", texture.name))?;
+            done = done.max(at);
         }
-        Ok(scene)
+        Ok((scene, done - begun))
     }
 }
 
@@ -116,6 +131,6 @@ mod tests {
             assert_eq!(stand_ins.contains(&i), builtin, "{}", texture.name);
             assert!(!builtin || (texture.width, texture.height) == (2, 2), "{}", texture.name);
         }
-        assert_eq!(pending.finish().unwrap(), Scene::default_scene());
+        assert_eq!(pending.finish().unwrap().0, Scene::default_scene());
     }
 }

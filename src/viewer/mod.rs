@@ -83,7 +83,8 @@ pub struct ViewOptions {
     pub exposure: f32,
     /// Initial inner size of the window in pixels.
     pub size: (u32, u32),
-    /// Write what the window shows, UI included, after the last frame.
+    /// Write what the window shows, UI included, after the last frame (with `seconds`, one
+    /// drawn when they have passed).
     pub screenshot: Option<PathBuf>,
     /// Resize, minimise and restore the window while rendering (for tests).
     pub resize_storm: bool,
@@ -257,6 +258,8 @@ struct App {
     /// Redraw requests so far, drawn or not: the resize storm's clock.
     ticks: u64,
     final_screenshot_written: bool,
+    /// `seconds` have passed: the next frame drawn takes the screenshot and is the last.
+    time_up: bool,
 }
 
 impl App {
@@ -299,6 +302,7 @@ impl App {
             repaint_at: None,
             ticks: 0,
             final_screenshot_written: false,
+            time_up: false,
         }
     }
 
@@ -728,7 +732,7 @@ impl App {
             .max(0.0) as u32;
         state.frames.renderer.split = self.view.split.split(&self.scene, middle.saturating_sub(left));
 
-        let last_frame = self.options.frames.is_some_and(|n| state.frames.frame_count() + 1 >= n);
+        let last_frame = self.time_up || self.options.frames.is_some_and(|n| state.frames.frame_count() + 1 >= n);
         let capture = match (&self.options.screenshot, last_frame) {
             (Some(path), true) => Some(Capture {
                 path: path.clone(),
@@ -789,7 +793,7 @@ impl App {
             soak.after_frame(state.frames.device(), state.frames.frame_count());
         }
         let screenshots = state.frames.take_screenshots();
-        let done = self.options.frames.is_some_and(|n| state.frames.frame_count() >= n);
+        let done = (self.time_up && drawn) || self.options.frames.is_some_and(|n| state.frames.frame_count() >= n);
         self.report_screenshots(screenshots);
         actions.screenshot = false;
         if actions != Actions::default() {
@@ -936,8 +940,14 @@ impl ApplicationHandler for App {
         }
         let seconds = self.first_frame.map(|t| now.duration_since(t).as_secs_f64());
         if self.options.seconds.zip(seconds).is_some_and(|(limit, s)| s >= limit) {
-            self.close(event_loop);
-            return;
+            // A screenshot to take is one last frame, if the window can draw it.
+            let last_frame = self.options.screenshot.is_some() && self.state.as_ref().is_some_and(Self::drawable);
+            if !last_frame {
+                self.close(event_loop);
+                return;
+            }
+            self.time_up = true;
+            self.needs_redraw = true;
         }
         let Some(state) = &self.state else { return };
         // Scripted runs of N frames draw continuously; otherwise a frame is drawn when
