@@ -15,7 +15,7 @@ use argil::error::{advice, is_input_error, InputError};
 use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
 use argil::render::{count_non_finite, write_frame, DebugView, Renderer, PASS_NAMES};
-use argil::scene::{PendingScene, Scene};
+use argil::scene::{PendingMaps, Scene};
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
 
 /// The largest `--width` and `--height`: the render target's.
@@ -262,10 +262,10 @@ enum Command {
 /// what it makes and compiles is kept.
 const WARM_UP_EXTENT: vk::Extent2D = vk::Extent2D { width: 16, height: 16 };
 
-fn load_pending_scene(path: Option<&Path>) -> Result<PendingScene> {
-    let pending = PendingScene::load(path)?;
-    pending.scene().print_warnings();
-    Ok(pending)
+fn load_with_stand_ins(path: Option<&Path>) -> Result<(Scene, PendingMaps)> {
+    let (scene, maps) = PendingMaps::load(path)?;
+    scene.print_warnings();
+    Ok((scene, maps))
 }
 
 fn load_scene(path: Option<&Path>) -> Result<Scene> {
@@ -325,13 +325,14 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     check_exposure(exposure)?;
     let mut startup = Recorder::new(process_start);
     // Stand-ins take the builtin maps' places until the maps, made beside the warm-up frame
-    // below, are uploaded (src/scene/pending.rs).
+    // below, replace them (src/scene/pending.rs).
     let scene_path = options.scene.as_deref();
-    let mut pending = startup.step("scene (stand-ins for its builtin maps)", || load_pending_scene(scene_path))?;
+    let load = || load_with_stand_ins(scene_path);
+    let (mut scene, mut maps) = startup.step("scene (stand-ins for its builtin maps)", load)?;
     if let Some(msaa) = options.msaa {
-        pending.scene_mut().antialiasing.msaa = msaa;
+        scene.antialiasing.msaa = msaa;
     }
-    if options.debug_view == DebugView::ShadowMap && pending.scene().shadow_casting_light().is_none() {
+    if options.debug_view == DebugView::ShadowMap && scene.shadow_casting_light().is_none() {
         return Err(InputError(format!(
             "--debug-view shadow-map: no light of {} casts shadows (a [[lights]] entry with shadows = true)",
             scene_path.map_or("the default scene".into(), |p| p.display().to_string())
@@ -350,13 +351,12 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     })?;
     let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
     renderer.debug_view = options.debug_view;
-    let mut gpu = startup.step("meshes upload", || renderer.upload(pending.scene()))?;
-    let samples = renderer.msaa_samples(pending.scene());
-    if samples != pending.scene().antialiasing.msaa {
+    let mut gpu = startup.step("meshes upload", || renderer.upload(&scene))?;
+    let samples = renderer.msaa_samples(&scene);
+    if samples != scene.antialiasing.msaa {
         eprintln!(
             "argil: warning: {} does not support {}x MSAA; drawing {samples}x, its largest below",
-            device.info.name,
-            pending.scene().antialiasing.msaa
+            device.info.name, scene.antialiasing.msaa
         );
     }
     let extent = vk::Extent2D { width, height };
@@ -367,8 +367,8 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     // compile the frame's shaders, while the builtin maps are made.
     let begin = Instant::now();
     let warm_up = renderer.offscreen_target(WARM_UP_EXTENT, display.is_some())?;
-    renderer.prepare_offscreen(pending.scene(), &gpu, &warm_up)?;
-    let table = if pending.scene().needs_preintegrated_table() {
+    renderer.prepare_offscreen(&scene, &gpu, &warm_up)?;
+    let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()
     } else {
         Duration::ZERO
@@ -385,13 +385,13 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
         "targets and the rest of the frame's preparation",
         begin.elapsed().saturating_sub(built.iter().map(|(_, t)| *t).sum()),
     );
-    pending.begin_maps();
+    maps.begin();
     let warm_up_frame = startup.step("warm-up frame (with the driver's first-draw compile)", || {
-        renderer.render_accumulated_into(pending.scene(), &gpu, &warm_up, exposure, 1)
+        renderer.render_accumulated_into(&scene, &gpu, &warm_up, exposure, 1)
     })?;
     drop(warm_up);
-    let stand_ins = pending.stand_ins();
-    let (scene, making) = startup.step("the wait for the builtin maps", || pending.finish())?;
+    let stand_ins = maps.stand_ins();
+    let making = startup.step("the wait for the builtin maps", || maps.finish(&mut scene))?;
     startup.record_beside("builtin maps, made during the warm-up frame at the lowest priority", making);
     startup.step("maps upload", || renderer.replace_textures(&mut gpu, &scene, &stand_ins))?;
     let frame = startup.step("first frame and readback", || {

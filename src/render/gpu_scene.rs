@@ -245,7 +245,7 @@ impl GpuScene {
 
     /// Uploads textures `indices` of `scene` in place of the ones uploaded before, and
     /// points the material sets at them: `scene` is the one uploaded, those textures made
-    /// since its stand-ins were (`PendingScene`). No frame that reads the sets may be
+    /// since its stand-ins were (`PendingMaps`). No frame that reads the sets may be
     /// running.
     pub fn replace_textures(
         &mut self,

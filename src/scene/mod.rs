@@ -50,7 +50,7 @@ pub use material::{
 };
 pub use mesh::{Mesh, MeshExtent, Vertex, BUILTIN_PREFIX};
 pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
-pub use pending::PendingScene;
+pub use pending::PendingMaps;
 pub use preset::Preset;
 pub use procedural::{builtin_texture, BUILTIN_TEXTURES};
 pub use texture::{
@@ -66,7 +66,7 @@ pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");
 enum BuiltinMaps {
     /// As the scene loads (or read from the disk cache).
     Now,
-    /// Later, by [`PendingScene`], with stand-ins in their places meanwhile.
+    /// Later, by [`PendingMaps`], with stand-ins in their places meanwhile.
     StandIns,
 }
 

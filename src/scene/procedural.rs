@@ -36,7 +36,7 @@ pub fn builtin_texture(name: &str) -> Option<TextureData> {
     )
 }
 
-/// What stands in for builtin texture `name` while it is made (`PendingScene`), or
+/// What stands in for builtin texture `name` while it is made (`PendingMaps`), or
 /// `None` if no builtin has that name: 2×2 flat texels of its format, a power of two on a
 /// side with a mip below, as the map is. A driver that compiles a shader at its first draw
 /// for the kinds of texture it samples (lavapipe: format, power-of-two sides, mips or
