@@ -46,20 +46,20 @@ pub fn warm_up(
     // The maps begin after the environment's precompute, whose compute keeps both cores
     // busy, and take the core the driver's compile leaves.
     renderer.prepare_offscreen(scene, gpu, &target)?;
-    let prepared = start.elapsed();
+    let prepared = Instant::now();
     maps.begin();
     let frame = renderer.render_accumulated_into(scene, gpu, &target, 1.0, 1)?;
-    let drawn = start.elapsed() - prepared;
+    let drawn = Instant::now();
     let stand_ins = maps.stand_ins();
     let making = maps.finish(scene)?;
-    let wait = start.elapsed() - prepared - drawn;
+    let made = Instant::now();
     renderer.replace_textures(gpu, scene, &stand_ins)?;
     Ok(WarmUp {
-        prepared,
-        drawn,
+        prepared: prepared - start,
+        drawn: drawn - prepared,
         frame,
-        wait,
-        upload: start.elapsed() - prepared - drawn - wait,
+        wait: made - drawn,
+        upload: made.elapsed(),
         making,
     })
 }
