@@ -20,7 +20,6 @@ pub mod subsurface;
 pub mod target;
 pub mod textures;
 pub mod tonemap;
-pub mod warm_up;
 
 pub use debug_view::DebugView;
 pub use gpu_scene::GpuScene;

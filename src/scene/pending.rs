@@ -38,11 +38,6 @@ impl PendingMaps {
         Ok(PendingMaps::of(scene))
     }
 
-    /// [`Self::load`] of scene TOML, as `Scene::from_toml` reads it.
-    pub fn from_toml(text: &str, origin: &str, base_dir: &Path) -> Result<(Scene, PendingMaps), SceneError> {
-        Scene::from_toml_with(text, origin, base_dir, BuiltinMaps::StandIns).map(PendingMaps::of)
-    }
-
     fn of(scene: Scene) -> (Scene, PendingMaps) {
         let textures = scene.textures.iter().enumerate();
         let stand_ins = textures
