@@ -14,6 +14,7 @@ use argil::brdf::subsurface::PreintegratedTable;
 use argil::error::{advice, is_input_error, InputError};
 use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
+use argil::render::warm_up::{warm_up, WARM_UP_EXTENT};
 use argil::render::{count_non_finite, write_frame, DebugView, Renderer, PASS_NAMES};
 use argil::scene::{PendingMaps, Scene};
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
@@ -258,10 +259,6 @@ enum Command {
     },
 }
 
-/// The frame of a start's warm-up, drawn before the builtin maps are made: small, as only
-/// what it makes and compiles is kept.
-const WARM_UP_EXTENT: vk::Extent2D = vk::Extent2D { width: 16, height: 16 };
-
 fn load_with_stand_ins(path: Option<&Path>) -> Result<(Scene, PendingMaps)> {
     let (scene, maps) = PendingMaps::load(path)?;
     scene.print_warnings();
@@ -328,7 +325,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     // below, replace them (src/scene/pending.rs).
     let scene_path = options.scene.as_deref();
     let load = || load_with_stand_ins(scene_path);
-    let (mut scene, mut maps) = startup.step("scene (stand-ins for its builtin maps)", load)?;
+    let (mut scene, maps) = startup.step("scene (stand-ins for its builtin maps)", load)?;
     if let Some(msaa) = options.msaa {
         scene.antialiasing.msaa = msaa;
     }
@@ -362,12 +359,9 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     let extent = vk::Extent2D { width, height };
     // An EXR is the linear frame: no display transform runs for it.
     let display = (OutputKind::of(&options.out)? == OutputKind::Png).then_some(exposure);
-    // A frame of a few pixels drawn with the stand-ins makes what the frame needs (the
-    // environment, the subsurface table, the pipelines, the shadow maps) and has the driver
-    // compile the frame's shaders, while the builtin maps are made.
-    let begin = Instant::now();
-    let warm_up = renderer.offscreen_target(WARM_UP_EXTENT, display.is_some())?;
-    renderer.prepare_offscreen(&scene, &gpu, &warm_up)?;
+    // A frame of a few pixels drawn with the stand-ins, while the builtin maps are made
+    // (src/render/warm_up.rs).
+    let warmed = warm_up(&mut renderer, &mut scene, &mut gpu, maps, display.is_some())?;
     let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()
     } else {
@@ -381,19 +375,17 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     for (name, time) in built {
         startup.record(name, time);
     }
-    startup.record(
-        "targets and the rest of the frame's preparation",
-        begin.elapsed().saturating_sub(built.iter().map(|(_, t)| *t).sum()),
-    );
-    maps.begin();
-    let warm_up_frame = startup.step("warm-up frame (with the driver's first-draw compile)", || {
-        renderer.render_accumulated_into(&scene, &gpu, &warm_up, exposure, 1)
-    })?;
-    drop(warm_up);
-    let stand_ins = maps.stand_ins();
-    let making = startup.step("the wait for the builtin maps", || maps.finish(&mut scene))?;
-    startup.record_beside("builtin maps, made during the warm-up frame at the lowest priority", making);
-    startup.step("maps upload", || renderer.replace_textures(&mut gpu, &scene, &stand_ins))?;
+    let rest = warmed.prepared.saturating_sub(built.iter().map(|(_, t)| *t).sum());
+    let steps = [
+        ("targets and the rest of the frame's preparation", rest),
+        ("warm-up frame (with the driver's first-draw compile)", warmed.drawn),
+        ("the wait for the builtin maps", warmed.wait),
+        ("maps upload", warmed.upload),
+    ];
+    for (name, time) in steps {
+        startup.record(name, time);
+    }
+    startup.record_beside("builtin maps, made during the warm-up frame at the lowest priority", warmed.making);
     let frame = startup.step("first frame and readback", || {
         renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)
     })?;
@@ -419,7 +411,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
         "argil: {width}x{height} on {}{}; its {w}x{h} warm-up, which drew what the frame reuses{}",
         device.info.name,
         times(&frame.gpu_ms),
-        times(&warm_up_frame.gpu_ms)
+        times(&warmed.frame.gpu_ms)
     );
     let costs = renderer.environment().precompute_costs();
     if !costs.is_empty() {

@@ -517,6 +517,7 @@ fn the_shaded_module_and_the_generic_pipeline_draw_the_same_image() {
 /// on its size; as plain, and with MSAA and screen-space occlusion.
 #[test]
 fn a_frame_after_a_warm_up_with_stand_ins_is_the_frame_of_the_whole_scene() {
+    use argil::render::warm_up::warm_up;
     use argil::scene::{PendingMaps, Scene};
     let extent = ash::vk::Extent2D { width: 160, height: 90 };
     let plain = |_: &mut Scene| {};
@@ -533,18 +534,10 @@ fn a_frame_after_a_warm_up_with_stand_ins_is_the_frame_of_the_whole_scene() {
                     let gpu = renderer.upload(&scene).expect("upload");
                     return renderer.render_accumulated(&scene, &gpu, extent, None, 1).expect("render");
                 }
-                let (mut scene, mut maps) = PendingMaps::load(None).expect("the default scene");
+                let (mut scene, maps) = PendingMaps::load(None).expect("the default scene");
                 configure(&mut scene);
                 let mut gpu = renderer.upload(&scene).expect("upload");
-                let warm_up = renderer
-                    .offscreen_target(ash::vk::Extent2D { width: 16, height: 16 }, false)
-                    .expect("target");
-                renderer.prepare_offscreen(&scene, &gpu, &warm_up).expect("prepare");
-                maps.begin();
-                renderer.render_accumulated_into(&scene, &gpu, &warm_up, 1.0, 1).expect("warm-up");
-                let stand_ins = maps.stand_ins();
-                maps.finish(&mut scene).expect("the builtin maps");
-                renderer.replace_textures(&mut gpu, &scene, &stand_ins).expect("maps upload");
+                warm_up(renderer, &mut scene, &mut gpu, maps, false).expect("warm-up");
                 renderer.render_accumulated(&scene, &gpu, extent, None, 1).expect("render")
             })
         });
