@@ -9,7 +9,7 @@ use std::path::Path;
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
-use anyhow::{anyhow, ensure, Result};
+use anyhow::{anyhow, Result};
 
 use super::{builtin_texture, BuiltinMaps, Scene, SceneError, TextureData, BUILTIN_PREFIX, DEFAULT_SCENE_TOML};
 
@@ -35,10 +35,6 @@ impl PendingMaps {
             Some(path) => Scene::load_with(path, stand_ins)?,
             None => Scene::from_toml_with(DEFAULT_SCENE_TOML, "<default scene>", Path::new(""), stand_ins)?,
         };
-        Ok(PendingMaps::of(scene))
-    }
-
-    fn of(scene: Scene) -> (Scene, PendingMaps) {
         let textures = scene.textures.iter().enumerate();
         let stand_ins = textures
             .filter(|(_, texture)| texture.name.starts_with(BUILTIN_PREFIX))
@@ -49,7 +45,7 @@ impl PendingMaps {
             begun: None,
             makers: Vec::new(),
         };
-        (scene, maps)
+        Ok((scene, maps))
     }
 
     /// Where the stand-ins are among the scene's textures: what [`Self::finish`] replaces.
@@ -86,9 +82,9 @@ impl PendingMaps {
         let mut done = begun;
         for ((index, name), maker) in self.stand_ins.into_iter().zip(self.makers) {
             let (made, at) = maker.join().unwrap_or((None, begun));
-            let texture = scene.textures.get_mut(index);
-            ensure!(texture.as_ref().is_some_and(|t| t.name == name), "{name} is not the scene's texture {index}");
-            *texture.expect("checked above") = made.ok_or_else(|| anyhow!("making the builtin map {name} failed"))?;
+            let texture = (scene.textures.get_mut(index).filter(|t| t.name == name))
+                .ok_or_else(|| anyhow!("{name} is not the scene's texture {index}"))?;
+            *texture = made.ok_or_else(|| anyhow!("making the builtin map {name} failed"))?;
             done = done.max(at);
         }
         Ok(done - begun)
