@@ -594,13 +594,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             split,
         } => {
             check_exposure(exposure)?;
-            let (loaded, document) = match scene.as_deref() {
-                Some(path) => argil::viewer::load_document(path)?,
-                None => (
-                    argil::viewer::Viewable::default_scene(),
-                    argil::viewer::save::Document::default_scene(),
-                ),
-            };
+            let (loaded, document) = argil::viewer::open_document(scene.as_deref())?;
             loaded.scene.print_warnings();
             let options = argil::viewer::ViewOptions {
                 device: choice,

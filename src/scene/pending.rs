@@ -35,6 +35,16 @@ impl PendingMaps {
             Some(path) => Scene::load_with(path, stand_ins)?,
             None => Scene::from_toml_with(DEFAULT_SCENE_TOML, "<default scene>", Path::new(""), stand_ins)?,
         };
+        Ok(PendingMaps::of(scene))
+    }
+
+    /// [`Self::load`] of scene TOML, as `Scene::from_toml` reads it.
+    pub fn from_toml(text: &str, origin: &str, base_dir: &Path) -> Result<(Scene, PendingMaps), SceneError> {
+        Scene::from_toml_with(text, origin, base_dir, BuiltinMaps::StandIns).map(PendingMaps::of)
+    }
+
+    /// `scene`, loaded with stand-ins, and its maps to make.
+    fn of(scene: Scene) -> (Scene, PendingMaps) {
         let textures = scene.textures.iter().enumerate();
         let stand_ins = textures
             .filter(|(_, texture)| texture.name.starts_with(BUILTIN_PREFIX))
@@ -45,7 +55,7 @@ impl PendingMaps {
             begun: None,
             makers: Vec::new(),
         };
-        Ok((scene, maps))
+        (scene, maps)
     }
 
     /// Where the stand-ins are among the scene's textures: what [`Self::finish`] replaces.

@@ -15,7 +15,8 @@ use crate::atomic::write_atomically;
 use crate::render::accumulate::{Accumulation, CONVERGED_LOOKUPS};
 use crate::render::environment::equirect::Equirect;
 use crate::render::{DebugView, DisplayOutput, GpuScene, OffscreenFrame, RenderTarget, Renderer, PASS_NAMES};
-use crate::scene::{Environment, Scene};
+use crate::render::warm_up::warm_up;
+use crate::scene::{Environment, PendingMaps, Scene};
 use crate::vk::{
     transition, Acquired, CommandPool, Device, Fence, ImageRegion, ImageUse, Readback, Semaphore, Swapchain, Timestamps,
 };
@@ -147,6 +148,13 @@ impl FrameLoop {
             screenshots: Vec::new(),
             device,
         })
+    }
+
+    /// Draws a warm-up frame of `scene`, uploaded with stand-ins for its builtin `maps`,
+    /// while the maps are made, and puts them in the scene and its upload
+    /// (src/render/warm_up.rs).
+    pub fn warm_up(&mut self, scene: &mut Scene, maps: PendingMaps) -> Result<()> {
+        warm_up(&mut self.renderer, scene, &mut self.gpu, maps, false).map(drop)
     }
 
     pub fn device(&self) -> &Arc<Device> {

@@ -43,7 +43,7 @@ use winit::window::{Window, WindowId};
 use crate::render::environment::equirect::{self, Equirect};
 use crate::render::gpu_scene::FrameData;
 use crate::render::DebugView;
-use crate::scene::{Camera, Environment, Scene};
+use crate::scene::{Camera, Environment, PendingMaps, Scene};
 use crate::vk::{Device, DeviceChoice, DeviceOptions, WindowHandles};
 use camera_control::{
     floor_height, frame_sphere, movement_from_keys, object_bounds, objects_bounds, CameraControl, Input,
@@ -104,22 +104,37 @@ pub struct ViewOptions {
 pub struct Viewable {
     pub scene: Scene,
     map: Option<Equirect>,
+    /// Its builtin maps while they are still to be made, stand-ins in their places in
+    /// `scene` meanwhile: the first scene, which the window's start makes them for beside
+    /// its warm-up frame (src/render/warm_up.rs).
+    maps: Option<PendingMaps>,
 }
 
 impl Viewable {
-    /// The default scene, which names no file.
-    pub fn default_scene() -> Self {
-        Self {
-            scene: Scene::default_scene(),
-            map: None,
-        }
-    }
-
     /// Checks `scene` as [`check_viewable`] does.
     fn check(scene: Scene) -> Result<Self> {
         let map = check_viewable(&scene)?;
-        Ok(Self { scene, map })
+        Ok(Self { scene, map, maps: None })
     }
+}
+
+/// The viewer's first scene: the file at `path` (as [`load_document`] reads it), or the
+/// default scene, with stand-ins for its builtin maps, which are made when the window
+/// starts.
+pub fn open_document(path: Option<&Path>) -> Result<(Viewable, Document)> {
+    let ((scene, maps), document) = match path {
+        Some(path) if !crate::scene::is_model(path) => {
+            let document = Document::read(path)?;
+            let base_dir = path.parent().unwrap_or(Path::new(""));
+            let (mut scene, maps) = PendingMaps::from_toml(&document.text, &path.display().to_string(), base_dir)?;
+            scene.source = Some(path.to_path_buf());
+            ((scene, maps), document)
+        }
+        // A model opens in the default scene's studio, whose text Save As starts from.
+        _ => (PendingMaps::load(path)?, Document::default_scene()),
+    };
+    let viewable = Viewable::check(scene)?;
+    Ok((Viewable { maps: Some(maps), ..viewable }, document))
 }
 
 /// Loads a scene file that the viewer can show: valid, within the renderer's limits, and
@@ -131,15 +146,11 @@ pub fn load_scene(path: &Path) -> Result<Scene> {
 
 /// [`load_scene`], with the text it was read from, which Save edits.
 pub fn load_document(path: &Path) -> Result<(Viewable, Document)> {
-    if crate::scene::is_model(path) {
-        // A model opens in the default scene's studio, whose text Save As starts from.
-        return Ok((Viewable::check(Scene::load(path)?)?, Document::default_scene()));
+    let (mut viewable, document) = open_document(Some(path))?;
+    if let Some(maps) = viewable.maps.take() {
+        maps.finish(&mut viewable.scene)?;
     }
-    let document = Document::read(path)?;
-    let base_dir = path.parent().unwrap_or(Path::new(""));
-    let mut scene = Scene::from_toml(&document.text, &path.display().to_string(), base_dir)?;
-    scene.source = Some(path.to_path_buf());
-    Ok((Viewable::check(scene)?, document))
+    Ok((viewable, document))
 }
 
 /// What the viewer checks beyond the scene file's own validation: the renderer's limits,
@@ -240,6 +251,8 @@ struct App {
     inputs: Vec<FileWatch>,
     /// The environment map as loading decoded it, until the renderer takes it.
     map: Option<Equirect>,
+    /// The first scene's builtin maps, until the window's start makes them.
+    maps: Option<PendingMaps>,
     /// The text the scene was read from, which Save edits.
     document: Document,
     history: History,
@@ -265,7 +278,7 @@ struct App {
 impl App {
     /// The viewer on `viewable`, read from `document`, before its window opens.
     fn new(viewable: Viewable, document: Document, options: ViewOptions, now: Instant) -> Self {
-        let Viewable { scene, map } = viewable;
+        let Viewable { scene, map, maps } = viewable;
         let mut view = ViewState::new(options.exposure, Timings::new(gpu_pass_names()), file_label(&document));
         view.selected_material = scene.objects[0].material;
         let soak = options
@@ -284,6 +297,7 @@ impl App {
             watch: document.path.clone().map(|p| FileWatch::new(p, now)),
             inputs: inputs_watch(&scene, now),
             map,
+            maps,
             history: History::new(&scene),
             file_camera: scene.camera,
             document,
@@ -350,6 +364,10 @@ impl App {
             },
         )?;
         frames.use_environment_map(&self.scene, self.map.take());
+        if let Some(maps) = self.maps.take() {
+            frames.renderer.debug_view = self.view.debug_view;
+            frames.warm_up(&mut self.scene, maps)?;
+        }
         self.state = Some(Running { frames, egui, window });
         Ok(())
     }
@@ -472,7 +490,7 @@ impl App {
             return Ok(());
         };
         match load_document(&path) {
-            Ok((Viewable { mut scene, map }, document)) => {
+            Ok((Viewable { mut scene, map, .. }, document)) => {
                 // The viewer's camera stays unless the file's camera itself was edited.
                 let camera_edited = scene.camera != self.file_camera;
                 self.file_camera = scene.camera;
@@ -549,7 +567,7 @@ impl App {
     /// Makes an edit that changes what the scene loads, and uploads the new scene; a file
     /// that does not load is reported and the scene stays.
     fn rebuild(&mut self, edit: &Rebuild) -> Result<()> {
-        let Viewable { scene, map } = match rebuild::rebuild(&self.scene, edit) {
+        let Viewable { scene, map, .. } = match rebuild::rebuild(&self.scene, edit) {
             Ok(viewable) => viewable,
             Err(e) => {
                 eprintln!("argil: {e:#}");

@@ -173,7 +173,7 @@ mod tests {
             "[environment]\nkind = \"map\"\npath = \"sky.hdr\"\n\n[[objects]]\nmesh = \"builtin:sphere\"\n\
              material = \"clay\"\n\n[materials.clay.base_color_map]\ntexture = \"colour.png\"\n",
         );
-        let (Viewable { mut scene, map: decoded }, _) = super::super::load_document(&path).unwrap();
+        let (Viewable { mut scene, map: decoded, .. }, _) = super::super::load_document(&path).unwrap();
         assert_eq!(decoded.unwrap().texels[0][0], 1.0);
         assert_eq!(scene.inputs, [map.clone(), texture.clone()], "the files to watch");
         scene.materials[0].roughness = 0.33;
