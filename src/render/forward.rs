@@ -481,6 +481,8 @@ impl ForwardPass {
             .collect();
         let parts = 1 + usize::from(split.is_some());
         let bounces = scene.bounce && scene.ground().is_some();
+        // The ground lies at its own height, where the gather finds nothing to bounce.
+        let ground = scene.ground_index();
         // What a specialised pipeline holds only when the frame uses it; the generic one
         // always holds it and reads the frame's uniforms.
         let held = |used: bool| u32::from(used || !specialize);
@@ -491,16 +493,18 @@ impl ForwardPass {
             let constants: Vec<ForwardConstants> = std::iter::once((scene.materials.as_slice(), &scene.environment))
                 .chain(split_parts)
                 .flat_map(|(materials, environment)| {
-                    let draws = scene.objects.iter().zip(&self.object_occlusion);
-                    draws.map(move |(object, occlusion)| (&materials[object.material], environment, occlusion.from))
+                    let draws = scene.objects.iter().zip(&self.object_occlusion).enumerate();
+                    draws.map(move |(i, (object, occlusion))| {
+                        (&materials[object.material], environment, occlusion.from, ground == Some(i))
+                    })
                 })
-                .map(|(m, environment, from)| {
+                .map(|(m, environment, from, is_ground)| {
                     let specular_aa = scene.antialiasing.specular;
                     let mut constants = ForwardConstants::new(m, environment, debug_view, specialize, specular_aa);
                     constants.occlusion = occlusion as u32;
                     constants.object_occlusion = u32::from(objects);
                     constants.objects_occlusion_from = from as u32;
-                    constants.bounce = held(bounces);
+                    constants.bounce = held(bounces && !is_ground);
                     constants.sun = held(sun);
                     constants.shadow_taps = scene.shadow_taps;
                     constants
