@@ -480,37 +480,18 @@ impl ForwardPass {
             .map(MaterialData::from)
             .collect();
         let parts = 1 + usize::from(split.is_some());
-        let bounces = scene.bounce && scene.ground().is_some();
-        // The ground lies at its own height, where the gather finds nothing to bounce.
-        let ground = scene.ground_index();
-        // What a specialised pipeline holds only when the frame uses it; the generic one
-        // always holds it and reads the frame's uniforms.
-        let held = |used: bool| u32::from(used || !specialize);
         let pipelines = if floor {
             vec![self.floor_pipeline(samples)?; parts * scene.objects.len()]
         } else {
-            let split_parts = split.map(|s| (s.materials.as_slice(), &s.environment));
-            let constants: Vec<ForwardConstants> = std::iter::once((scene.materials.as_slice(), &scene.environment))
-                .chain(split_parts)
-                .flat_map(|(materials, environment)| {
-                    let draws = scene.objects.iter().zip(&self.object_occlusion).enumerate();
-                    draws.map(move |(i, (object, occlusion))| {
-                        (&materials[object.material], environment, occlusion.from, ground == Some(i))
-                    })
-                })
-                .map(|(m, environment, from, is_ground)| {
-                    let specular_aa = scene.antialiasing.specular;
-                    let mut constants = ForwardConstants::new(m, environment, debug_view, specialize, specular_aa);
-                    constants.occlusion = occlusion as u32;
-                    constants.object_occlusion = u32::from(objects);
-                    constants.objects_occlusion_from = from as u32;
-                    constants.bounce = held(bounces && !is_ground);
-                    constants.sun = held(sun);
-                    constants.shadow_taps = scene.shadow_taps;
-                    constants
-                })
-                .collect();
-            self.pipelines_for(samples, &constants)?
+            let from: Vec<ObjectsOcclusionFrom> = self.object_occlusion.iter().map(|o| o.from).collect();
+            let choices = FrameChoices {
+                debug_view,
+                specialize,
+                occlusion,
+                objects,
+                sun,
+            };
+            self.pipelines_for(samples, &draw_constants(scene, split, &from, &choices))?
         };
         // The objects with the scene's materials, then with the split's.
         let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
@@ -710,6 +691,50 @@ fn draw_order(
         .collect()
 }
 
+/// What a frame decides for the pipelines of all its draws (`ForwardPass::prepare`).
+struct FrameChoices {
+    debug_view: DebugView,
+    specialize: bool,
+    occlusion: OcclusionMode,
+    objects: bool,
+    sun: bool,
+}
+
+/// The constants of each draw: `scene`'s objects, then the same with `split`'s materials,
+/// object i reading the other objects' occlusion from `from[i]`.
+fn draw_constants(
+    scene: &Scene,
+    split: Option<&Split>,
+    from: &[ObjectsOcclusionFrom],
+    choices: &FrameChoices,
+) -> Vec<ForwardConstants> {
+    let bounces = scene.bounce && scene.ground().is_some();
+    // The ground lies at its own height, where the gather finds nothing to bounce.
+    let ground = scene.ground_index();
+    // What a specialised pipeline holds only when the frame uses it; the generic one
+    // always holds it and reads the frame's uniforms.
+    let held = |used: bool| u32::from(used || !choices.specialize);
+    let split_parts = split.map(|s| (s.materials.as_slice(), &s.environment));
+    std::iter::once((scene.materials.as_slice(), &scene.environment))
+        .chain(split_parts)
+        .flat_map(|(materials, environment)| {
+            let draws = scene.objects.iter().zip(from).enumerate();
+            draws.map(move |(i, (object, &from))| (&materials[object.material], environment, from, ground == Some(i)))
+        })
+        .map(|(m, environment, from, is_ground)| {
+            let (view, specialize, specular_aa) = (choices.debug_view, choices.specialize, scene.antialiasing.specular);
+            let mut constants = ForwardConstants::new(m, environment, view, specialize, specular_aa);
+            constants.occlusion = choices.occlusion as u32;
+            constants.object_occlusion = u32::from(choices.objects);
+            constants.objects_occlusion_from = from as u32;
+            constants.bounce = held(bounces && !is_ground);
+            constants.sun = held(choices.sun);
+            constants.shadow_taps = scene.shadow_taps;
+            constants
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -863,6 +888,32 @@ mod tests {
                 "{blend:?}"
             );
         }
+    }
+
+    /// The ground's own draw holds no bounce gather, every other draw of a bouncing scene
+    /// does, and the generic pipeline always does.
+    #[test]
+    fn only_the_draws_above_the_ground_hold_the_bounce() {
+        let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
+            .expect("the default scene");
+        let ground = scene.ground_index().expect("a ground");
+        let from = vec![ObjectsOcclusionFrom::Pixels; scene.objects.len()];
+        let bounces = |specialize: bool| -> Vec<u32> {
+            let choices = FrameChoices {
+                debug_view: DebugView::Shaded,
+                specialize,
+                occlusion: OcclusionMode::Off,
+                objects: true,
+                sun: false,
+            };
+            draw_constants(&scene, None, &from, &choices).iter().map(|c| c.bounce).collect()
+        };
+        let specialised = bounces(true);
+        assert_eq!(specialised.len(), scene.objects.len());
+        for (i, bounce) in specialised.into_iter().enumerate() {
+            assert_eq!(bounce, u32::from(i != ground), "draw {i}");
+        }
+        assert!(bounces(false).iter().all(|&b| b == 1), "the generic pipeline holds the bounce");
     }
 
     #[test]
