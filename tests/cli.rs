@@ -542,8 +542,8 @@ fn view_splits_the_view_between_two_configurations() {
 
 /// Moves the X pointer (XTest, through ctypes) to `over` every 0.4 s for `seconds`, then to
 /// `after` once. Each move waits for the server to process it (`XSync`): with only a flush,
-/// the last move was lost in 1 run of 3 under load, as the script exited, and the viewer
-/// never saw the pointer leave the panel.
+/// the last move was lost in up to 4 runs of 12 under load, as the script exited, and the
+/// viewer never saw the pointer leave the panel.
 const POINTER_SCRIPT: &str = r#"
 import ctypes, sys, time
 x11 = ctypes.CDLL("libX11.so.6")

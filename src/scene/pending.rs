@@ -83,15 +83,20 @@ impl PendingMaps {
             .collect();
     }
 
-    /// Makes the maps if they are not begun, waits for them, and puts them in `scene`'s
-    /// textures in place of the stand-ins; returns the wall time from [`Self::begin`] to
-    /// the last map made.
-    pub fn finish(mut self, scene: &mut Scene) -> Result<Duration> {
-        self.begin();
+    /// Waits for the maps, or makes them on the calling thread at its own priority if they
+    /// were not begun (a scene loaded while nothing else runs: the viewer's reloads), and
+    /// puts them in `scene`'s textures in place of the stand-ins; returns the wall time from
+    /// [`Self::begin`] (or from now) to the last map made.
+    pub fn finish(self, scene: &mut Scene) -> Result<Duration> {
         let begun = self.begun.unwrap_or_else(Instant::now);
         let mut done = begun;
-        for ((index, name), maker) in self.stand_ins.into_iter().zip(self.makers) {
-            let (made, at) = maker.join().unwrap_or((None, begun));
+        // begin() starts a thread for every map or none.
+        let mut makers = self.makers.into_iter();
+        for (index, name) in self.stand_ins {
+            let (made, at) = match makers.next() {
+                Some(maker) => maker.join().unwrap_or((None, begun)),
+                None => (builtin_texture(&name), Instant::now()),
+            };
             let texture = (scene.textures.get_mut(index).filter(|t| t.name == name))
                 .ok_or_else(|| anyhow!("{name} is not the scene's texture {index}"))?;
             *texture = made.ok_or_else(|| anyhow!("making the builtin map {name} failed"))?;
