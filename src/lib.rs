@@ -24,6 +24,7 @@ pub mod compare;
 pub mod error;
 pub mod fault;
 pub mod fuzz;
+pub mod priority;
 pub mod reference;
 pub mod render;
 pub mod rng;

@@ -367,13 +367,20 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     } else {
         Duration::ZERO
     };
-    let built = [
-        ("environment precompute", renderer.environment_time),
-        ("subsurface table", table),
-        ("pipelines", renderer.pipeline_time()),
-    ];
-    for (name, time) in built {
-        startup.record(name, time);
+    let pipelines = renderer.pipeline_time();
+    let built = if renderer.pipelines_beside_environment {
+        startup.record_beside("pipelines, made beside the environment precompute", pipelines);
+        startup.record_beside("subsurface table, made beside the environment precompute", table);
+        vec![("environment precompute, with the pipelines and subsurface table beside it", renderer.environment_time)]
+    } else {
+        vec![
+            ("environment precompute", renderer.environment_time),
+            ("subsurface table", table),
+            ("pipelines", pipelines),
+        ]
+    };
+    for (name, time) in &built {
+        startup.record(name, *time);
     }
     let rest = warmed.prepared.saturating_sub(built.iter().map(|(_, t)| *t).sum());
     let steps = [

@@ -15,7 +15,7 @@ use argil::brdf::environment::{
 };
 use argil::brdf::quadrature::{diffuse_albedo, directional_albedo};
 use argil::brdf::shading::{diffuse_lobe, specular_lobe};
-use argil::render::environment::{equirect, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
+use argil::render::environment::{equirect, EnvironmentPass, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
 use argil::render::OffscreenFrame;
 use argil::scene::{Environment, Reflection, ReflectionMode, Scene};
 use common::{argil_with, assert_matches_golden, gpu, render, scene, test_dir, try_render};
@@ -1071,6 +1071,40 @@ fn split_sum_lights_with_a_maps_sun() {
         total.abs() < 0.02 && mean_absolute < 0.02 && apart <= 1.5,
         "total {total:+.4}, mean |error| {mean_absolute:.4}, brightest pixels {apart:.1} px apart"
     );
+}
+
+/// The forward pipelines are made beside the environment's precompute only where the sun
+/// they are specialised to is known before it, and that sun is the one the precompute
+/// leaves: none under a uniform environment or the studio. A map's sun is found only as its
+/// cubes are built, so its pipelines are made after them, with it.
+#[test]
+fn pipelines_are_made_beside_the_precompute_only_where_the_sun_is_known() {
+    let dir = test_dir("sun-before");
+    let path = dir.join("sun.exr");
+    let sun = DVec3::new(0.3, 0.6, 0.74).normalize();
+    image::Rgb32FImage::from_fn(SOFT_BOX_WIDTH, SOFT_BOX_WIDTH / 2, |x, y| {
+        let in_sun = equirect_texel(x, y, SOFT_BOX_WIDTH).0.dot(sun) >= 1.5_f64.to_radians().cos();
+        image::Rgb([if in_sun { 2000.0 } else { 0.25 }; 3])
+    })
+    .save(&path)
+    .expect("write the .exr map");
+    let material = "specular = \"cook-torrance\"\nroughness = 0.3";
+    let split_sum = "reflection = \"split-sum\"";
+    let uniform = format!("kind = \"uniform\"\nradiance = [0.5, 0.5, 0.5]\n{split_sum}");
+    let environments = [
+        ("uniform", scene(&sphere_scene(&uniform, material))),
+        ("studio", scene(&sphere_scene(&format!("kind = \"studio\"\n{split_sum}"), material))),
+        ("map", sphere_under_map(DVec3::new(0.0, 0.0, 5.0), &path, split_sum, material)),
+    ];
+    gpu().exclusive(|renderer| {
+        // Each scene changes the environment the one before left.
+        for (name, scene) in &environments {
+            try_render(renderer, scene, 8, 8).expect(name);
+            let before = EnvironmentPass::sun_before_prepare(scene);
+            assert_eq!(renderer.pipelines_beside_environment, before.is_some(), "{name}");
+            assert_eq!(before.unwrap_or(true), renderer.environment().has_sun(), "{name}");
+        }
+    });
 }
 
 /// Split sum on a white Lambert sphere is the map's irradiance over π, per pixel against

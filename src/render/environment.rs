@@ -100,6 +100,17 @@ enum Source {
     Map(PathBuf),
 }
 
+/// What `EnvironmentPass::prepare` builds for a scene, decided before anything is built.
+struct Plan {
+    source: Option<Source>,
+    rebuild_source: bool,
+    add_prefiltered: bool,
+    add_luminance: bool,
+    add_lut: bool,
+    /// Whether anything is built or the set and uniforms are written again.
+    changed: bool,
+}
+
 /// A source's cube map and what is derived from it.
 struct Cubes {
     source: Source,
@@ -227,10 +238,8 @@ impl EnvironmentPass {
         &self.costs
     }
 
-    /// Builds what `scene`'s environment and materials need (and a split frame's right
-    /// part, see split.rs) and is not built yet, and points the set and uniforms at it. Waits for the device first if anything changes
-    /// (frames in flight read the set).
-    pub fn prepare(&mut self, scene: &Scene, split: Option<&Split>) -> Result<()> {
+    /// What [`Self::prepare`] would build for `scene` (and a split frame's right part).
+    fn plan(&self, scene: &Scene, split: Option<&Split>) -> Plan {
         let environment = &scene.environment;
         let source = match environment {
             Environment::Studio { .. } => Some(Source::Studio),
@@ -252,10 +261,11 @@ impl EnvironmentPass {
                 .any(|m| m.energy_compensation && m.specular != SpecularModel::None);
         }
         let built_source = self.cubes.as_ref().map(|c| &c.source);
-        let given_map = self.given_map.take()
-            .filter(|(path, _)| matches!(&source, Some(Source::Map(named)) if named == path))
-            .map(|(_, map)| map);
-        let rebuild_source = source.is_some() && (given_map.is_some() || built_source != source.as_ref());
+        let given_map = self
+            .given_map
+            .as_ref()
+            .is_some_and(|(path, _)| matches!(&source, Some(Source::Map(named)) if named == path));
+        let rebuild_source = source.is_some() && (given_map || built_source != source.as_ref());
         let add_prefiltered =
             needs_prefiltered && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.prefiltered.is_none()));
         let add_luminance =
@@ -266,6 +276,48 @@ impl EnvironmentPass {
             || add_luminance
             || add_lut
             || self.current.as_ref() != Some(environment);
+        Plan {
+            source,
+            rebuild_source,
+            add_prefiltered,
+            add_luminance,
+            add_lut,
+            changed,
+        }
+    }
+
+    /// Whether [`Self::prepare`] has anything to do for `scene`.
+    pub fn changes(&self, scene: &Scene, split: Option<&Split>) -> bool {
+        self.plan(scene, split).changed
+    }
+
+    /// [`Self::has_sun`] after [`Self::prepare`] of `scene`, when it is known before: only
+    /// a map has a sun, found in it as its cubes are built.
+    pub fn sun_before_prepare(scene: &Scene) -> Option<bool> {
+        match scene.environment {
+            Environment::Map { .. } => None,
+            Environment::None | Environment::Uniform { .. } | Environment::Studio { .. } => Some(false),
+        }
+    }
+
+    /// Builds what `scene`'s environment and materials need (and a split frame's right
+    /// part, see split.rs) and is not built yet, and points the set and uniforms at it.
+    /// Waits for the device first if anything changes (frames in flight read the set).
+    pub fn prepare(&mut self, scene: &Scene, split: Option<&Split>) -> Result<()> {
+        let environment = &scene.environment;
+        let Plan {
+            source,
+            rebuild_source,
+            add_prefiltered,
+            add_luminance,
+            add_lut,
+            changed,
+        } = self.plan(scene, split);
+        let given_map = self
+            .given_map
+            .take()
+            .filter(|(path, _)| matches!(&source, Some(Source::Map(named)) if named == path))
+            .map(|(_, map)| map);
         if !changed {
             return Ok(());
         }

@@ -28,6 +28,7 @@ use super::shaders;
 use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
+use crate::priority::lowest_priority_pool;
 use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::occluders::Occluder;
 use crate::scene::{
@@ -349,12 +350,14 @@ impl ForwardPass {
     }
 
     /// The pipelines of `constants` for targets of `samples` samples, in their order.
-    /// Those not made yet are created side by side, one per core: a software device
-    /// (lavapipe) compiles each on the calling thread, and the frame waits for all of them.
+    /// Those not made yet are created side by side, one per core, on threads of the
+    /// `lowest_priority` when other work has precedence: a software device (lavapipe)
+    /// compiles each on the calling thread.
     fn pipelines_for(
         &mut self,
         samples: vk::SampleCountFlags,
         constants: &[ForwardConstants],
+        lowest_priority: bool,
     ) -> Result<Vec<vk::Pipeline>> {
         let mut missing: Vec<&ForwardConstants> = Vec::new();
         for c in constants {
@@ -364,16 +367,19 @@ impl ForwardPass {
         }
         if !missing.is_empty() {
             let start = Instant::now();
-            let built = missing
-                .par_iter()
-                .map(|c| {
-                    let specialization = c.specialization();
-                    let name = format!("forward {samples:?} {:?}", specialization.0);
-                    let shaded = c.debug_view == DebugView::Shaded as u32;
-                    let fragment = if shaded { &self.shaded_fragment } else { &self.fragment };
-                    self.build_pipeline(fragment, samples, &specialization, &name)
-                })
-                .collect::<Result<Vec<_>>>()?;
+            let build = |c: &&ForwardConstants| {
+                let specialization = c.specialization();
+                let name = format!("forward {samples:?} {:?}", specialization.0);
+                let shaded = c.debug_view == DebugView::Shaded as u32;
+                let fragment = if shaded { &self.shaded_fragment } else { &self.fragment };
+                self.build_pipeline(fragment, samples, &specialization, &name)
+            };
+            let build_all = || missing.par_iter().map(build).collect::<Result<Vec<_>>>();
+            let built = if lowest_priority {
+                lowest_priority_pool()?.install(build_all)?
+            } else {
+                build_all()?
+            };
             self.pipeline_time += start.elapsed();
             for (c, pipeline) in missing.into_iter().zip(built) {
                 self.pipelines.insert((samples, *c), pipeline);
@@ -419,45 +425,32 @@ impl ForwardPass {
             .build(&self.device, &self.layout, name)
     }
 
-    /// Writes this frame's uniforms (with the `sampled` reflection's `sample_set`) and
-    /// materials into `slot` (whose previous use the caller has waited for) and creates
-    /// any pipeline the scene's materials need
-    /// (specialised to the frame, or generic: see [`ForwardConstants::new`]), or with
-    /// `floor` the floor's pipeline for every material, for targets of `samples` samples;
-    /// `occlusion`: how the environment's light is occluded, `objects` whether by the
-    /// frame's `occluders` (`Scene::occluders`, `[occlusion] objects`) too, which the caller
-    /// leaves off without any, `ground_map` the object that reads theirs from the
-    /// ground's occlusion map (ground_maps.rs), and `gpu`'s meshes whether an object's is
-    /// computed at its vertices (`Scene::occlusion_at_vertices`); `sun`: whether the
-    /// environment's map has a sun lifted out of it (environment.rs). A `split` frame's
-    /// materials follow the scene's in the buffer, with pipelines of their own.
+    /// Creates what the draws of `scene`'s materials need (and a `split` frame's right
+    /// part's, with pipelines of their own): a pipeline per draw as `choices` specialise it
+    /// (or the floor's), and the pre-integrated subsurface table if a material reads it.
+    /// `occluders` (`Scene::occluders`) are the spheres whose occlusion the objects read
+    /// when `choices.objects`, and `gpu`'s meshes say whether an object reads them at its
+    /// vertices (`Scene::occlusion_at_vertices`). Uses no frame slot, so it may run while
+    /// frames are in flight, or beside the environment's precompute (renderer.rs), which
+    /// then has precedence: the pipelines are made at the `lowest_priority`.
     #[allow(clippy::too_many_arguments)]
-    pub fn prepare(
+    pub fn prepare_pipelines(
         &mut self,
-        slot: usize,
         scene: &Scene,
         gpu: &GpuScene,
         split: Option<&Split>,
-        aspect: f32,
-        debug_view: DebugView,
-        sample_set: u32,
-        floor: bool,
-        specialize: bool,
-        samples: vk::SampleCountFlags,
-        occlusion: OcclusionMode,
         occluders: &[Occluder],
-        objects: bool,
-        ground_map: Option<usize>,
-        sun: bool,
+        choices: &FrameChoices,
         one_shot: &OneShot,
+        lowest_priority: bool,
     ) -> Result<()> {
         let at_vertices = |i: usize| {
-            objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
+            choices.objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
         };
         self.object_occlusion = (0..scene.objects.len())
             .map(|i| ObjectOcclusion {
                 own: scene.own_occluders(occluders, i),
-                from: if ground_map == Some(i) {
+                from: if choices.ground_map == Some(i) {
                     ObjectsOcclusionFrom::GroundMap
                 } else if at_vertices(i) {
                     ObjectsOcclusionFrom::Vertices
@@ -466,6 +459,41 @@ impl ForwardPass {
                 },
             })
             .collect();
+        let parts = 1 + usize::from(split.is_some());
+        let pipelines = if choices.floor {
+            vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
+        } else {
+            let from: Vec<ObjectsOcclusionFrom> = self.object_occlusion.iter().map(|o| o.from).collect();
+            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, choices), lowest_priority)?
+        };
+        // The objects with the scene's materials, then with the split's.
+        let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
+        (self.object_pipelines, self.split_pipelines) = (scene_pipelines.to_vec(), split_pipelines.to_vec());
+        let split_materials = split.map_or(&[][..], |s| s.materials.as_slice());
+        let preintegrated = |m: &Material| m.subsurface == Subsurface::PreIntegrated;
+        let needs_table = scene.needs_preintegrated_table() || split_materials.iter().any(preintegrated);
+        if needs_table && self.subsurface.is_none() {
+            self.subsurface = Some(SubsurfaceTable::upload(&self.device, one_shot)?);
+        }
+        Ok(())
+    }
+
+    /// Writes this frame's uniforms (with the `sampled` reflection's `sample_set`) and
+    /// materials (a `split` frame's follow the scene's) into `slot`, whose previous use the
+    /// caller has waited for, after [`Self::prepare_pipelines`]; `objects`: whether the
+    /// objects read the `occluders`' occlusion.
+    #[allow(clippy::too_many_arguments)]
+    pub fn prepare(
+        &mut self,
+        slot: usize,
+        scene: &Scene,
+        split: Option<&Split>,
+        aspect: f32,
+        debug_view: DebugView,
+        sample_set: u32,
+        occluders: &[Occluder],
+        objects: bool,
+    ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, occluders, aspect)?;
         if !objects {
             frame_data.counts[3] = 0;
@@ -479,28 +507,6 @@ impl ForwardPass {
             .chain(split_materials)
             .map(MaterialData::from)
             .collect();
-        let parts = 1 + usize::from(split.is_some());
-        let pipelines = if floor {
-            vec![self.floor_pipeline(samples)?; parts * scene.objects.len()]
-        } else {
-            let from: Vec<ObjectsOcclusionFrom> = self.object_occlusion.iter().map(|o| o.from).collect();
-            let choices = FrameChoices {
-                debug_view,
-                specialize,
-                occlusion,
-                objects,
-                sun,
-            };
-            self.pipelines_for(samples, &draw_constants(scene, split, &from, &choices))?
-        };
-        // The objects with the scene's materials, then with the split's.
-        let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
-        (self.object_pipelines, self.split_pipelines) = (scene_pipelines.to_vec(), split_pipelines.to_vec());
-        let preintegrated = |m: &Material| m.subsurface == Subsurface::PreIntegrated;
-        let needs_table = scene.needs_preintegrated_table() || split_materials.iter().any(preintegrated);
-        if needs_table && self.subsurface.is_none() {
-            self.subsurface = Some(SubsurfaceTable::upload(&self.device, one_shot)?);
-        }
         let s = &mut self.slots[slot];
         s.frame_data.write(bytemuck::bytes_of(&frame_data))?;
         let bytes: &[u8] = bytemuck::cast_slice(&materials);
@@ -691,13 +697,22 @@ fn draw_order(
         .collect()
 }
 
-/// What a frame decides for the pipelines of all its draws (`ForwardPass::prepare`).
-struct FrameChoices {
-    debug_view: DebugView,
-    specialize: bool,
-    occlusion: OcclusionMode,
-    objects: bool,
-    sun: bool,
+/// What a frame decides for the pipelines of all its draws ([`ForwardPass::prepare_pipelines`]).
+pub struct FrameChoices {
+    pub debug_view: DebugView,
+    /// Every object drawn with `floor.frag` instead of its material.
+    pub floor: bool,
+    /// Specialised to the frame, or generic (see [`ForwardConstants::new`]).
+    pub specialize: bool,
+    pub samples: vk::SampleCountFlags,
+    /// How the environment's light is occluded.
+    pub occlusion: OcclusionMode,
+    /// Whether the objects read the other objects' occlusion.
+    pub objects: bool,
+    /// The object that reads theirs from the ground's occlusion map (ground_maps.rs).
+    pub ground_map: Option<usize>,
+    /// Whether the environment's map has a sun lifted out of it (environment.rs).
+    pub sun: bool,
 }
 
 /// The constants of each draw: `scene`'s objects, then the same with `split`'s materials,
@@ -901,9 +916,12 @@ mod tests {
         let bounces = |specialize: bool| -> Vec<u32> {
             let choices = FrameChoices {
                 debug_view: DebugView::Shaded,
+                floor: false,
                 specialize,
+                samples: vk::SampleCountFlags::TYPE_1,
                 occlusion: OcclusionMode::Off,
                 objects: true,
+                ground_map: None,
                 sun: false,
             };
             draw_constants(&scene, None, &from, &choices).iter().map(|c| c.bounce).collect()

@@ -4,6 +4,7 @@
 use std::cell::Cell;
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use anyhow::Result;
 use ash::vk;
@@ -13,7 +14,7 @@ use super::debug_view::DebugView;
 use super::environment::equirect::Equirect;
 use super::environment::EnvironmentPass;
 use super::exposure::ExposurePass;
-use super::forward::ForwardPass;
+use super::forward::{FrameChoices, ForwardPass};
 use super::gpu_scene::GpuScene;
 use super::ground_maps::{occlusion_ground, GroundMaps};
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
@@ -22,6 +23,7 @@ use super::shadow::ShadowPass;
 use super::split::Split;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
+use crate::scene::occluders::Occluder;
 use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
@@ -94,8 +96,12 @@ pub struct Renderer {
     /// Draws every object with `floor.frag` instead of its material, single-sampled:
     /// `argil bench`'s measure of what the geometry and targets cost without shading.
     pub floor: bool,
-    /// Wall time spent preparing environments (their precompute), for the startup's account.
-    pub environment_time: std::time::Duration,
+    /// Wall time spent preparing environments (their precompute), with the pipelines made
+    /// beside it when they were, for the startup's account.
+    pub environment_time: Duration,
+    /// Whether the last environment precompute had the forward pass's pipelines and
+    /// subsurface table made beside it (`prepare_environment_and_pipelines`).
+    pub pipelines_beside_environment: bool,
     /// Pipelines with the debug view, environment and reflection mode read from uniforms
     /// and every map sampled, instead of specialised to the frame: what the bench compares
     /// the specialised pipelines against.
@@ -197,7 +203,8 @@ impl Renderer {
             debug_view: DebugView::Shaded,
             floor: false,
             generic: false,
-            environment_time: std::time::Duration::ZERO,
+            environment_time: Duration::ZERO,
+            pipelines_beside_environment: false,
             shadows: true,
             occlusion: true,
             accumulation: Accumulation::Off,
@@ -209,7 +216,7 @@ impl Renderer {
     }
 
     /// Wall time spent creating the forward pass's pipelines so far.
-    pub fn pipeline_time(&self) -> std::time::Duration {
+    pub fn pipeline_time(&self) -> Duration {
         self.forward.pipeline_time
     }
 
@@ -272,19 +279,28 @@ impl Renderer {
         if let Some(split) = &self.split {
             split.check(scene)?;
         }
-        let start = std::time::Instant::now();
-        self.environment.prepare(scene, self.split.as_ref())?;
-        self.environment_time += start.elapsed();
         let samples = self.msaa_samples(scene);
-        self.environment.prepare_skybox(sample_flag(samples))?;
-        self.msaa.prepare(slot, target, samples)?;
-        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         // The floor measures geometry and targets alone: no occlusion under it.
         let occlusion = OcclusionMode::of(&scene.occlusion, self.occlusion && !self.floor);
         let occluders = scene.occluders();
         // Without spheres to read, the pipelines hold no object occlusion.
         let objects = self.occlusion && !self.floor && scene.occlusion.objects && !occluders.is_empty();
         let ground = occlusion_ground(scene, objects, self.split.is_some());
+        let choices = FrameChoices {
+            debug_view: self.debug_view,
+            floor: self.floor,
+            specialize: !self.generic,
+            samples: sample_flag(samples),
+            occlusion,
+            objects,
+            ground_map: ground,
+            // The environment's, once it is known (prepare_environment_and_pipelines).
+            sun: false,
+        };
+        self.prepare_environment_and_pipelines(scene, gpu, &occluders, choices)?;
+        self.environment.prepare_skybox(sample_flag(samples))?;
+        self.msaa.prepare(slot, target, samples)?;
+        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         let environment = self.environment.generation();
         self.ground_maps.prepare(scene, &occluders, self.shadow.pending(), ground, environment);
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
@@ -305,23 +321,55 @@ impl Renderer {
         self.forward.prepare(
             slot,
             scene,
-            gpu,
             self.split.as_ref(),
             target.aspect(),
             self.debug_view,
             sample_set,
-            self.floor,
-            !self.generic,
-            sample_flag(samples),
-            occlusion,
             &occluders,
             objects,
-            ground,
-            self.environment.has_sun(),
-            &self.one_shot,
         )?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
+    }
+
+    /// The environment's precompute and the forward pass's pipelines (and subsurface table)
+    /// for `choices`, but the sun, which comes from the environment. The precompute runs on
+    /// the device's queue, which lavapipe's one thread serves (compiling its shaders there
+    /// too), while this thread waits: where the sun is known before it, the pipelines are
+    /// made meanwhile, at the lowest priority, so that the queue's thread keeps its core.
+    fn prepare_environment_and_pipelines(
+        &mut self,
+        scene: &Scene,
+        gpu: &GpuScene,
+        occluders: &[Occluder],
+        choices: FrameChoices,
+    ) -> Result<()> {
+        let start = Instant::now();
+        let split = self.split.as_ref();
+        let changes = self.environment.changes(scene, split);
+        let beside = EnvironmentPass::sun_before_prepare(scene).filter(|_| changes);
+        if changes {
+            self.pipelines_beside_environment = beside.is_some();
+        }
+        let Some(sun) = beside else {
+            self.environment.prepare(scene, split)?;
+            self.environment_time += start.elapsed();
+            let choices = FrameChoices {
+                sun: self.environment.has_sun(),
+                ..choices
+            };
+            return self.forward.prepare_pipelines(scene, gpu, split, occluders, &choices, &self.one_shot, false);
+        };
+        let choices = FrameChoices { sun, ..choices };
+        let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
+        let (precomputed, pipelines) = std::thread::scope(|threads| {
+            let precompute = threads.spawn(|| environment.prepare(scene, split));
+            let pipelines = forward.prepare_pipelines(scene, gpu, split, occluders, &choices, one_shot, true);
+            (precompute.join(), pipelines)
+        });
+        self.environment_time += start.elapsed();
+        precomputed.unwrap_or_else(|panic| std::panic::resume_unwind(panic))?;
+        pipelines
     }
 
     /// Records the whole frame: forward pass and skybox into `target` (or into multisampled

@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, Result};
 
 use super::{builtin_texture, BuiltinMaps, Scene, SceneError, TextureData, BUILTIN_PREFIX, DEFAULT_SCENE_TOML};
+use crate::priority::lowest_priority;
 
 /// The builtin maps of a scene loaded with stand-ins for them, and the threads making
 /// them once begun. Dropped unfinished, it leaves its threads to finish on their own.
@@ -103,18 +104,6 @@ impl PendingMaps {
             done = done.max(at);
         }
         Ok(done - begun)
-    }
-}
-
-/// Gives the calling thread, and the threads it goes on to create, the lowest priority.
-/// Linux keeps a nice value per thread, which new threads inherit; elsewhere the maps
-/// run at the usual priority.
-fn lowest_priority() {
-    #[cfg(target_os = "linux")]
-    // SAFETY: setpriority reads no memory of ours; who = 0 is the calling thread. Failing
-    // leaves the priority as it was, which is only slower.
-    unsafe {
-        libc::setpriority(libc::PRIO_PROCESS, 0, 19);
     }
 }
 
