@@ -28,7 +28,6 @@ use super::shaders;
 use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
-use crate::priority::lowest_priority_pool;
 use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::occluders::Occluder;
 use crate::scene::{
@@ -350,14 +349,12 @@ impl ForwardPass {
     }
 
     /// The pipelines of `constants` for targets of `samples` samples, in their order.
-    /// Those not made yet are created side by side, one per core, on threads of the
-    /// `lowest_priority` when other work has precedence: a software device (lavapipe)
-    /// compiles each on the calling thread.
+    /// Those not made yet are created side by side, one per core of the current thread
+    /// pool: a software device (lavapipe) compiles each on the calling thread.
     fn pipelines_for(
         &mut self,
         samples: vk::SampleCountFlags,
         constants: &[ForwardConstants],
-        lowest_priority: bool,
     ) -> Result<Vec<vk::Pipeline>> {
         let mut missing: Vec<&ForwardConstants> = Vec::new();
         for c in constants {
@@ -374,12 +371,7 @@ impl ForwardPass {
                 let fragment = if shaded { &self.shaded_fragment } else { &self.fragment };
                 self.build_pipeline(fragment, samples, &specialization, &name)
             };
-            let build_all = || missing.par_iter().map(build).collect::<Result<Vec<_>>>();
-            let built = if lowest_priority {
-                lowest_priority_pool()?.install(build_all)?
-            } else {
-                build_all()?
-            };
+            let built = missing.par_iter().map(build).collect::<Result<Vec<_>>>()?;
             self.pipeline_time += start.elapsed();
             for (c, pipeline) in missing.into_iter().zip(built) {
                 self.pipelines.insert((samples, *c), pipeline);
@@ -431,9 +423,7 @@ impl ForwardPass {
     /// `occluders` (`Scene::occluders`) are the spheres whose occlusion the objects read
     /// when `choices.objects`, and `gpu`'s meshes say whether an object reads them at its
     /// vertices (`Scene::occlusion_at_vertices`). Uses no frame slot, so it may run while
-    /// frames are in flight, or beside the environment's precompute (renderer.rs), which
-    /// then has precedence: the pipelines are made at the `lowest_priority`.
-    #[allow(clippy::too_many_arguments)]
+    /// frames are in flight, or beside the environment's precompute (renderer.rs).
     pub fn prepare_pipelines(
         &mut self,
         scene: &Scene,
@@ -442,7 +432,6 @@ impl ForwardPass {
         occluders: &[Occluder],
         choices: &FrameChoices,
         one_shot: &OneShot,
-        lowest_priority: bool,
     ) -> Result<()> {
         let at_vertices = |i: usize| {
             choices.objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
@@ -464,7 +453,7 @@ impl ForwardPass {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
             let from: Vec<ObjectsOcclusionFrom> = self.object_occlusion.iter().map(|o| o.from).collect();
-            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, choices), lowest_priority)?
+            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, choices))?
         };
         // The objects with the scene's materials, then with the split's.
         let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());

@@ -23,6 +23,7 @@ use super::shadow::ShadowPass;
 use super::split::Split;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
+use crate::priority::lowest_priority_pool;
 use crate::scene::occluders::Occluder;
 use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
@@ -335,8 +336,9 @@ impl Renderer {
     /// The environment's precompute and the forward pass's pipelines (and subsurface table)
     /// for `choices`, but the sun, which comes from the environment. The precompute runs on
     /// the device's queue, which lavapipe's one thread serves (compiling its shaders there
-    /// too), while this thread waits: where the sun is known before it, the pipelines are
-    /// made meanwhile, at the lowest priority, so that the queue's thread keeps its core.
+    /// too), while this thread waits: where the sun is known before it, the pipelines and
+    /// the table are made meanwhile, at the lowest priority, so that the queue's thread
+    /// keeps its core.
     fn prepare_environment_and_pipelines(
         &mut self,
         scene: &Scene,
@@ -358,13 +360,15 @@ impl Renderer {
                 sun: self.environment.has_sun(),
                 ..choices
             };
-            return self.forward.prepare_pipelines(scene, gpu, split, occluders, &choices, &self.one_shot, false);
+            return self.forward.prepare_pipelines(scene, gpu, split, occluders, &choices, &self.one_shot);
         };
         let choices = FrameChoices { sun, ..choices };
+        let pool = lowest_priority_pool()?;
         let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
+        let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, &choices, one_shot);
         let (precomputed, pipelines) = std::thread::scope(|threads| {
             let precompute = threads.spawn(|| environment.prepare(scene, split));
-            let pipelines = forward.prepare_pipelines(scene, gpu, split, occluders, &choices, one_shot, true);
+            let pipelines = pool.install(make_pipelines);
             (precompute.join(), pipelines)
         });
         self.environment_time += start.elapsed();
