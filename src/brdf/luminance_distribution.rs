@@ -8,10 +8,13 @@
 use super::environment::{equirect_direction, equirect_uv, studio_radiance};
 use super::tonemap::luminance;
 use super::{Vec3, PI};
+use crate::cache::{self, DiskCache};
 
 /// Columns × rows of the studio's distribution: a cell subtends 0.7° × 0.7°, finer than
 /// the studio's softest box edge.
 pub const STUDIO_GRID: (usize, usize) = (512, 256);
+/// The disk cache's entry of the studio's grid of luminances.
+const STUDIO_ENTRY: &str = "studio-luminance";
 /// Every cell keeps this fraction of the mean weight, so that a black map still has a
 /// density and no direction has pdf 0.
 const WEIGHT_FLOOR: f64 = 1e-3;
@@ -67,16 +70,36 @@ impl LuminanceDistribution {
         }
     }
 
-    /// The studio's luminance at the centres of `STUDIO_GRID`'s cells.
+    /// The studio's luminance at the centres of `STUDIO_GRID`'s cells, from the disk cache
+    /// when a start before computed it.
     pub fn studio() -> Self {
+        Self::studio_cached(&DiskCache::from_env())
+    }
+
+    /// [`Self::studio`] from `cache`, keyed by the code that computes its cells.
+    fn studio_cached(cache: &DiskCache) -> Self {
         let (w, h) = STUDIO_GRID;
-        let values: Vec<f64> = (0..w * h)
+        let key = cache::key(&[
+            include_str!("luminance_distribution.rs").as_bytes(),
+            include_str!("environment.rs").as_bytes(),
+            include_str!("tonemap.rs").as_bytes(),
+        ]);
+        let size = w * h * std::mem::size_of::<f64>();
+        let bytes = cache.get_or_compute(STUDIO_ENTRY, key, |b| b.len() == size, || {
+            bytemuck::cast_slice(&Self::studio_cells()).to_vec()
+        });
+        Self::new(&bytemuck::pod_collect_to_vec(&bytes), w, h)
+    }
+
+    /// The studio's luminance at the centres of `STUDIO_GRID`'s cells, computed.
+    fn studio_cells() -> Vec<f64> {
+        let (w, h) = STUDIO_GRID;
+        (0..w * h)
             .map(|i| {
                 let uv = [((i % w) as f64 + 0.5) / w as f64, ((i / w) as f64 + 0.5) / h as f64];
                 luminance(studio_radiance(equirect_direction(uv)))
             })
-            .collect();
-        Self::new(&values, w, h)
+            .collect()
     }
 
     /// An equirectangular map's texels (rows from the top), on a grid at most `max_width`
@@ -190,6 +213,24 @@ mod tests {
         let bright = distribution.pdf([37.5 / 64.0, 13.5 / 32.0]);
         let dim = distribution.pdf([5.5 / 64.0, 13.5 / 32.0]);
         assert!(bright / dim > 400.0, "bright cell {bright}, dim {dim}");
+    }
+
+    #[test]
+    fn the_cached_studio_grid_is_the_computed_one() {
+        let dir = std::env::temp_dir().join(format!("argil-luminance-cache-{}", std::process::id()));
+        let cache = DiskCache::at(Some(&dir));
+        let (w, h) = STUDIO_GRID;
+        let computed = LuminanceDistribution::new(&LuminanceDistribution::studio_cells(), w, h);
+        let (stored, read) = (
+            LuminanceDistribution::studio_cached(&cache),
+            LuminanceDistribution::studio_cached(&cache),
+        );
+        let entries = std::fs::read_dir(&dir).map(|d| d.count());
+        std::fs::remove_dir_all(&dir).expect("remove the cache");
+        assert_eq!(entries.expect("the cache's entries"), 1);
+        for d in [&stored, &read] {
+            assert!(d.conditional == computed.conditional && d.marginal == computed.marginal);
+        }
     }
 
     /// Every direction's pdf is what sampling draws it with, and the f32 buffer's running
