@@ -9,7 +9,7 @@
 
 use std::sync::Arc;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
@@ -223,7 +223,7 @@ impl OcclusionPass {
         if enabled == was_on && !new_targets {
             return Ok(());
         }
-        unsafe { self.device.handle.device_wait_idle() }.context("waiting for the device failed (device lost?)")?;
+        self.device.wait_idle()?;
         if new_targets {
             self.targets = None;
             let targets = Targets {

@@ -214,7 +214,7 @@ impl ShadowPass {
 
     /// New maps (waiting for the frames that read the old ones) and every set pointed at them.
     fn recreate_maps(&mut self, resolution: u32, layers: u32) -> Result<()> {
-        unsafe { self.device.handle.device_wait_idle() }.context("waiting for the device failed (device lost?)")?;
+        self.device.wait_idle()?;
         self.maps = None;
         let image = Image::depth_array(
             &self.device,

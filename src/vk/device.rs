@@ -180,7 +180,7 @@ pub struct Device {
     /// Every pipeline is created through it; written to the disk cache when the device goes.
     pub pipeline_cache: PipelineCache,
     allocator: ManuallyDrop<Mutex<Allocator>>,
-    /// Submissions to one queue must be externally synchronised.
+    /// The queue must be externally synchronised: submissions, presents and waits for idle.
     queue_lock: Mutex<()>,
     /// `ARGIL_FAULT` as it was when the device was created, and what it counts.
     faults: Faults,
@@ -392,7 +392,10 @@ impl Device {
         presented
     }
 
+    /// Waits until the queue is idle. vkDeviceWaitIdle uses the queue, so it holds the
+    /// queue's lock: a submission from another thread waits for it.
     pub fn wait_idle(&self) -> Result<()> {
+        let _guard = self.queue_lock.lock().unwrap_or_else(|e| e.into_inner());
         // The real wait even after an injected loss: work submitted before it is still
         // running, and the caller is about to destroy what it uses.
         let waited = unsafe { self.handle.device_wait_idle() };
