@@ -305,34 +305,27 @@ impl EnvironmentPass {
     /// Waits for the device first if anything changes (frames in flight read the set).
     pub fn prepare(&mut self, scene: &Scene, split: Option<&Split>) -> Result<()> {
         let environment = &scene.environment;
-        let Plan {
-            source,
-            rebuild_source,
-            add_prefiltered,
-            add_luminance,
-            add_lut,
-            changed,
-        } = self.plan(scene, split);
+        let plan = self.plan(scene, split);
         let given_map = self
             .given_map
             .take()
-            .filter(|(path, _)| matches!(&source, Some(Source::Map(named)) if named == path))
+            .filter(|(path, _)| matches!(&plan.source, Some(Source::Map(named)) if named == path))
             .map(|(_, map)| map);
-        if !changed {
+        if !plan.changed {
             return Ok(());
         }
         self.generation += 1;
         self.device.wait_idle()?;
         self.current = None;
         self.costs.clear();
-        if rebuild_source {
+        if plan.rebuild_source {
             self.cubes = None;
-            if let Some(source) = source {
+            if let Some(source) = plan.source {
                 let cubes = self.build_cubes(source, given_map);
                 self.cubes = Some(cubes.map_err(|e| equirect::in_scene_file(e, scene))?);
             }
         }
-        if let Some(cubes) = self.cubes.as_mut().filter(|_| add_prefiltered) {
+        if let Some(cubes) = self.cubes.as_mut().filter(|_| plan.add_prefiltered) {
             let start = Instant::now();
             let sunny = cubes.map.as_ref().and_then(sun::extract);
             if cubes.map.is_some() {
@@ -355,10 +348,10 @@ impl EnvironmentPass {
             )?);
             cubes.sun = sunny.map(|(sun, _)| sun);
         }
-        if let Some(cubes) = self.cubes.as_mut().filter(|c| add_luminance && c.luminance.is_none()) {
+        if let Some(cubes) = self.cubes.as_mut().filter(|c| plan.add_luminance && c.luminance.is_none()) {
             cubes.luminance = Some(build_luminance(&self.precompute, cubes.map.as_ref(), &mut self.costs)?);
         }
-        if add_lut {
+        if plan.add_lut {
             self.brdf_lut = Some(self.precompute.brdf_lut(&DiskCache::from_env(), &mut self.costs)?);
         }
         self.write(environment)?;
