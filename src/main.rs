@@ -216,6 +216,10 @@ enum Command {
         /// folder, and the other rows are kept, but for those of configurations the bench no longer has.
         #[arg(long, value_name = "PATTERN")]
         only: Vec<String>,
+        /// Cold and warm starts measured, each pair from empty caches; the median of each is
+        /// reported [default: 5, --quick 1].
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+        startup_runs: Option<u32>,
         /// Instead of timing, a long run looking for leaks: FRAMES frames, then RENDERS renders
         /// with scene reloads; host and GPU memory must stay flat (e.g. --soak 10000 1000).
         #[arg(long, num_args = 2, value_names = ["FRAMES", "RENDERS"])]
@@ -671,6 +675,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             out,
             references,
             only,
+            startup_runs,
             soak: None,
             soak_viewer: None,
         } => {
@@ -682,6 +687,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 out,
                 references,
                 only,
+                startup_runs: startup_runs.unwrap_or(if quick { 1 } else { 5 }),
             };
             bench(choice, validation, options)
         }

@@ -61,6 +61,8 @@ pub struct Options {
     /// Patterns of the rows to run (see [`plan::selected`]); empty for all. The rows run
     /// replace their namesakes among the results already in `out`.
     pub only: Vec<String>,
+    /// Pairs of a cold and a warm start measured; the median start of each is reported.
+    pub startup_runs: u32,
 }
 
 /// The `--only` pattern of the startup measurement.
@@ -189,18 +191,22 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     if startup {
         let extent = if options.quick { plan::QUICK } else { plan::HEADLINE };
-        let starts = startup::measure(device.info.index, extent)?;
+        let runs = startup::measure(device.info.index, extent, options.startup_runs)?;
+        let starts = startup::median(&runs)?;
         for (run, start) in ["cold", "warm"].iter().zip(&starts) {
             eprintln!(
-                "startup ({run}): {:.1} ms from process start to the first frame, {:.1} ms to it written",
-                start.first_frame_ms, start.total_ms
+                "startup ({run}, the median of {}): {:.1} ms from process start to the first frame, {:.1} ms to it \
+                 written",
+                runs.len(),
+                start.first_frame_ms,
+                start.total_ms
             );
         }
         write_bytes(
             &out.join("startup.json"),
             serde_json::to_string_pretty(&starts)?.as_bytes(),
         )?;
-        write_bytes(&out.join("startup.md"), startup::markdown(extent, &starts).as_bytes())?;
+        write_bytes(&out.join("startup.md"), startup::markdown(extent, &runs)?.as_bytes())?;
     }
     // With --only, the rows already there are written again beside the new ones (with
     // `--only startup`, in this build's format), but for those of configurations a full

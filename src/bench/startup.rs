@@ -93,8 +93,14 @@ fn step(name: &str, time: Duration) -> Step {
     }
 }
 
-/// A cold and a warm start of the default scene at `extent` on device `device_index`.
-pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]> {
+/// `runs` pairs of a cold and a warm start of the default scene at `extent` on device
+/// `device_index`, each pair from empty caches of its own.
+pub fn measure(device_index: usize, extent: vk::Extent2D, runs: u32) -> Result<Vec<[Startup; 2]>> {
+    (0..runs).map(|_| measure_pair(device_index, extent)).collect()
+}
+
+/// A cold and a warm start, the warm one with the caches the cold one filled.
+fn measure_pair(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]> {
     let dir = Scratch::new("startup")?;
     let exe = std::env::current_exe().context("cannot find the argil executable")?;
     let start = |run: &str| -> Result<Startup> {
@@ -126,13 +132,33 @@ pub fn measure(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]
     Ok([start("cold")?, start("warm")?])
 }
 
-/// The table of a cold and a warm start, a row per step.
-pub fn markdown(extent: vk::Extent2D, [cold, warm]: &[Startup; 2]) -> String {
+/// Of `runs`, the cold start and the warm start whose times to the first frame are the
+/// medians (the lower of the middle two of an even count): whole starts, so that their
+/// steps add up as they happened.
+pub fn median(runs: &[[Startup; 2]]) -> Result<[Startup; 2]> {
+    let median_of = |kind: usize| {
+        let mut starts: Vec<&Startup> = runs.iter().map(|pair| &pair[kind]).collect();
+        starts.sort_by(|a, b| a.first_frame_ms.total_cmp(&b.first_frame_ms));
+        starts.get(starts.len().saturating_sub(1) / 2).map(|s| (*s).clone())
+    };
+    match (median_of(0), median_of(1)) {
+        (Some(cold), Some(warm)) => Ok([cold, warm]),
+        _ => bail!("no startup was measured"),
+    }
+}
+
+/// The table of the median cold and warm starts of `runs`, a row per step, and every
+/// run's time to the first frame.
+pub fn markdown(extent: vk::Extent2D, runs: &[[Startup; 2]]) -> Result<String> {
+    let [cold, warm] = median(runs)?;
     let mut text = format!(
         "Start of `argil render` of the default scene at {}×{} to an EXR: wall milliseconds per step, \
-         cold (empty argil and Mesa caches) and warm (the caches the cold start filled).\n\n\
+         cold (empty argil and Mesa caches) and warm (the caches the cold start filled); the median \
+         of {} starts of each by the time to the first frame.\n\n\
          | step | cold ms | warm ms |\n| --- | --- | --- |\n",
-        extent.width, extent.height
+        extent.width,
+        extent.height,
+        runs.len()
     );
     for (c, w) in cold.steps.iter().zip(&warm.steps) {
         text += &format!("| {} | {:.1} | {:.1} |\n", c.name, c.ms, w.ms);
@@ -147,5 +173,50 @@ pub fn markdown(extent: vk::Extent2D, [cold, warm]: &[Startup; 2]) -> String {
     for (c, w) in cold.beside.iter().zip(&warm.beside) {
         text += &format!("| *beside the steps, on other threads:* {} | {:.1} | {:.1} |\n", c.name, c.ms, w.ms);
     }
-    text
+    let first_frames = |kind: usize| {
+        let times: Vec<String> = runs.iter().map(|pair| format!("{:.1}", pair[kind].first_frame_ms)).collect();
+        times.join(", ")
+    };
+    text += &format!(
+        "\nProcess start to the first frame, each run in order: cold {} ms; warm {} ms.\n",
+        first_frames(0),
+        first_frames(1)
+    );
+    Ok(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn start(first_frame_ms: f64) -> Startup {
+        Startup {
+            steps: vec![step("first frame and readback", Duration::from_secs_f64(first_frame_ms / 1e3))],
+            first_frame_ms,
+            total_ms: first_frame_ms + 1.0,
+            ..Startup::default()
+        }
+    }
+
+    /// The median start of each kind is a whole run's, the lower middle one of an even count.
+    #[test]
+    fn the_median_starts_are_whole_runs() {
+        let runs = |times: &[(f64, f64)]| -> Vec<[Startup; 2]> {
+            times.iter().map(|&(cold, warm)| [start(cold), start(warm)]).collect()
+        };
+        let medians = |times: &[(f64, f64)]| {
+            let [cold, warm] = median(&runs(times)).expect("a median");
+            (cold.first_frame_ms, warm.first_frame_ms)
+        };
+        assert_eq!(medians(&[(1500.0, 450.0)]), (1500.0, 450.0));
+        assert_eq!(medians(&[(1600.0, 440.0), (1400.0, 460.0), (1500.0, 450.0)]), (1500.0, 450.0));
+        assert_eq!(medians(&[(4.0, 1.0), (1.0, 4.0), (3.0, 2.0), (2.0, 3.0)]), (2.0, 2.0));
+        assert!(median(&[]).is_err());
+        let [cold, _] = median(&runs(&[(1600.0, 440.0), (1400.0, 460.0), (1500.0, 450.0)])).expect("a median");
+        assert_eq!(cold.total_ms, 1501.0, "the median run's own steps and totals");
+        let table = markdown(vk::Extent2D { width: 16, height: 9 }, &runs(&[(1600.0, 440.0), (1400.0, 460.0)]))
+            .expect("a table");
+        assert!(table.contains("| **process start to first frame** | **1400.0** | **440.0** |"), "{table}");
+        assert!(table.contains("cold 1600.0, 1400.0 ms; warm 440.0, 460.0 ms"), "{table}");
+    }
 }
