@@ -349,8 +349,9 @@ impl ForwardPass {
     }
 
     /// The pipelines of `constants` for targets of `samples` samples, in their order.
-    /// Those not made yet are created side by side, one per core of the current thread
-    /// pool: a software device (lavapipe) compiles each on the calling thread.
+    /// Those not made yet are created side by side, one per thread of the current pool
+    /// (rayon's): a software device (lavapipe) compiles each on the calling thread, and the
+    /// frame waits for all of them.
     fn pipelines_for(
         &mut self,
         samples: vk::SampleCountFlags,
@@ -364,14 +365,16 @@ impl ForwardPass {
         }
         if !missing.is_empty() {
             let start = Instant::now();
-            let build = |c: &&ForwardConstants| {
-                let specialization = c.specialization();
-                let name = format!("forward {samples:?} {:?}", specialization.0);
-                let shaded = c.debug_view == DebugView::Shaded as u32;
-                let fragment = if shaded { &self.shaded_fragment } else { &self.fragment };
-                self.build_pipeline(fragment, samples, &specialization, &name)
-            };
-            let built = missing.par_iter().map(build).collect::<Result<Vec<_>>>()?;
+            let built = missing
+                .par_iter()
+                .map(|c| {
+                    let specialization = c.specialization();
+                    let name = format!("forward {samples:?} {:?}", specialization.0);
+                    let shaded = c.debug_view == DebugView::Shaded as u32;
+                    let fragment = if shaded { &self.shaded_fragment } else { &self.fragment };
+                    self.build_pipeline(fragment, samples, &specialization, &name)
+                })
+                .collect::<Result<Vec<_>>>()?;
             self.pipeline_time += start.elapsed();
             for (c, pipeline) in missing.into_iter().zip(built) {
                 self.pipelines.insert((samples, *c), pipeline);
