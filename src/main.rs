@@ -396,7 +396,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     for (name, time) in steps {
         startup.record(name, time);
     }
-    startup.record_beside("builtin maps, made during the warm-up frame at the lowest priority", warmed.making);
+    startup.record_beside("builtin maps, made during the warm-up frame at a low priority", warmed.making);
     let frame = startup.step("first frame and readback", || {
         renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)
     })?;

@@ -23,7 +23,7 @@ use super::shadow::ShadowPass;
 use super::split::Split;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
-use crate::priority::lowest_priority_pool;
+use crate::priority::low_priority_pool;
 use crate::scene::occluders::Occluder;
 use crate::scene::{Environment, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
@@ -337,8 +337,8 @@ impl Renderer {
     /// for `choices`, but the sun, which comes from the environment. The precompute runs on
     /// the device's queue, which lavapipe's one thread serves (compiling its shaders there
     /// too), while this thread waits: where the sun is known before it, the pipelines and
-    /// the table are made meanwhile, at the lowest priority, so that the queue's thread
-    /// keeps its core.
+    /// the table are made meanwhile, at a low priority (src/priority.rs), so that the
+    /// queue's thread keeps most of its core.
     fn prepare_environment_and_pipelines(
         &mut self,
         scene: &Scene,
@@ -363,7 +363,7 @@ impl Renderer {
             return self.forward.prepare_pipelines(scene, gpu, split, occluders, &choices, &self.one_shot);
         };
         let choices = FrameChoices { sun, ..choices };
-        let pool = lowest_priority_pool()?;
+        let pool = low_priority_pool()?;
         let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
         let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, &choices, one_shot);
         let (precomputed, pipelines) = std::thread::scope(|threads| {

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, Result};
 
 use super::{builtin_texture, BuiltinMaps, Scene, SceneError, TextureData, BUILTIN_PREFIX, DEFAULT_SCENE_TOML};
-use crate::priority::lowest_priority;
+use crate::priority::low_priority;
 
 /// The builtin maps of a scene loaded with stand-ins for them, and the threads making
 /// them once begun. Dropped unfinished, it leaves its threads to finish on their own.
@@ -64,7 +64,7 @@ impl PendingMaps {
         self.stand_ins.iter().map(|(index, _)| *index).collect()
     }
 
-    /// Starts making the maps, each on a thread of its own at the lowest priority: they
+    /// Starts making the maps, each on a thread of its own at a low priority: they
     /// take what the rest of the start leaves idle. Begun beside work that keeps both
     /// cores busy (lavapipe's compute), they would only slow it; beside the driver's
     /// compile, they fill the core it leaves.
@@ -77,7 +77,7 @@ impl PendingMaps {
             .map(|(_, name)| {
                 let name = name.clone();
                 thread::spawn(move || {
-                    lowest_priority();
+                    low_priority();
                     (builtin_texture(&name), Instant::now())
                 })
             })
