@@ -8,8 +8,8 @@ use anyhow::{Context, Result};
 
 /// The nice value of the work beside: low enough that lavapipe's queue thread keeps about
 /// 90% of a core it shares, not so low that other programs starve it. Measured on 2 cores,
-/// cold starts of the default scene: at 19 (the lowest) 1.42–1.47 s, but 19 s beside two
-/// busy processes of the usual priority; at 10, 1.46–1.50 s and 3.5–4.1 s; at 0, 1.59–1.67 s
+/// cold starts of the default scene: at 19 (the lowest) 1.42–1.47 s, but 16–19 s beside two
+/// busy processes of the usual priority; at 10, 1.46–1.50 s and 3.5–4.2 s; at 0, 1.59–1.67 s
 /// and 2.7 s.
 const LOW_NICE: i32 = 10;
 
