@@ -100,8 +100,9 @@ enum Source {
     Map(PathBuf),
 }
 
-/// What `EnvironmentPass::prepare` builds for a scene, decided before anything is built.
-struct Plan {
+/// What `EnvironmentPass::prepare` builds for a scene, decided before anything is built
+/// ([`EnvironmentPass::plan`]).
+pub struct Plan {
     source: Option<Source>,
     rebuild_source: bool,
     add_prefiltered: bool,
@@ -109,6 +110,13 @@ struct Plan {
     add_lut: bool,
     /// Whether anything is built or the set and uniforms are written again.
     changed: bool,
+}
+
+impl Plan {
+    /// Whether [`EnvironmentPass::prepare`] has anything to do.
+    pub fn changes(&self) -> bool {
+        self.changed
+    }
 }
 
 /// A source's cube map and what is derived from it.
@@ -238,8 +246,9 @@ impl EnvironmentPass {
         &self.costs
     }
 
-    /// What [`Self::prepare`] would build for `scene` (and a split frame's right part).
-    fn plan(&self, scene: &Scene, split: Option<&Split>) -> Plan {
+    /// What [`Self::prepare`] is to build for `scene` (and a split frame's right part),
+    /// once a frame: the caller asks the plan whether anything changes, then hands it on.
+    pub fn plan(&self, scene: &Scene, split: Option<&Split>) -> Plan {
         let environment = &scene.environment;
         let source = match environment {
             Environment::Studio { .. } => Some(Source::Studio),
@@ -286,11 +295,6 @@ impl EnvironmentPass {
         }
     }
 
-    /// Whether [`Self::prepare`] has anything to do for `scene`.
-    pub fn changes(&self, scene: &Scene, split: Option<&Split>) -> bool {
-        self.plan(scene, split).changed
-    }
-
     /// [`Self::has_sun`] after [`Self::prepare`] of `scene`, when it is known before: only
     /// a map has a sun, found in it as its cubes are built.
     pub fn sun_before_prepare(scene: &Scene) -> Option<bool> {
@@ -301,11 +305,11 @@ impl EnvironmentPass {
     }
 
     /// Builds what `scene`'s environment and materials need (and a split frame's right
-    /// part, see split.rs) and is not built yet, and points the set and uniforms at it.
-    /// Waits for the device first if anything changes (frames in flight read the set).
-    pub fn prepare(&mut self, scene: &Scene, split: Option<&Split>) -> Result<()> {
+    /// part, see split.rs) and is not built yet, as `plan` ([`Self::plan`] of the same
+    /// scene) says, and points the set and uniforms at it. Waits for the device first if
+    /// anything changes (frames in flight read the set).
+    pub fn prepare(&mut self, scene: &Scene, plan: Plan) -> Result<()> {
         let environment = &scene.environment;
-        let plan = self.plan(scene, split);
         let given_map = self
             .given_map
             .take()

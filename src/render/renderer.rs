@@ -348,13 +348,14 @@ impl Renderer {
     ) -> Result<()> {
         let start = Instant::now();
         let split = self.split.as_ref();
-        let changes = self.environment.changes(scene, split);
+        let plan = self.environment.plan(scene, split);
+        let changes = plan.changes();
         let beside = EnvironmentPass::sun_before_prepare(scene).filter(|_| changes);
         if changes {
             self.pipelines_beside_environment = beside.is_some();
         }
         let Some(sun) = beside else {
-            self.environment.prepare(scene, split)?;
+            self.environment.prepare(scene, plan)?;
             self.environment_time += start.elapsed();
             let choices = FrameChoices {
                 sun: self.environment.has_sun(),
@@ -367,7 +368,7 @@ impl Renderer {
         let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
         let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, &choices, one_shot);
         let (precomputed, pipelines) = std::thread::scope(|threads| {
-            let precompute = threads.spawn(|| environment.prepare(scene, split));
+            let precompute = threads.spawn(move || environment.prepare(scene, plan));
             let pipelines = pool.install(make_pipelines);
             (precompute.join(), pipelines)
         });
