@@ -95,7 +95,7 @@ vec4 term(Tuple t) {
     case 15u: return vec4(wrap_energy_conserving(a.x, a.y));
     case 16u: return vec4(spec_blinn_phong(a.x, a.y, a.z, t.d.rgb, a.w), 0.0);
     case 17u: return vec4(shadow_terminator(a.x, a.y, a.z));
-    case 18u: return preintegrated_lookup(a.x, a.y);
+    case 18u: return vec4(preintegrated_d(a.x, a.y), preintegrated_kernel(a.y));
     case 19u: return vec4(wrap_energy_conserving_sh_kernel(a.x), 0.0);
     case 20u: return vec4(resolve_weight(t.d.rgb));
     case 21u: return vec4(specular_aa_roughness(a.x, a.y));

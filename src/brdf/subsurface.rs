@@ -244,9 +244,10 @@ impl PreintegratedTable {
         self.texels[row * PREINTEGRATED_WIDTH + column].map(f64::from)
     }
 
-    /// Twin of `preintegrated_lookup`: bilinear between the four texels around
-    /// (n·l, t/(1 + t)), weights computed as the shader computes them (it fetches texels
-    /// rather than trusting the sampler's few bits of filtering precision).
+    /// Bilinear between the four texels around (n·l, t/(1 + t)), weights computed as the
+    /// shader computes them (it reads texels rather than trusting the sampler's few bits of
+    /// filtering precision): the twin of `preintegrated_d` (r) and, at n·l = 0, of
+    /// `preintegrated_kernel` (gba).
     pub fn lookup(&self, n_dot_l: f64, t: f64) -> [f64; 4] {
         let half_width = (PREINTEGRATED_WIDTH - 1) / 2;
         let s = n_dot_l.clamp(-1.0, 1.0) * half_width as f64;

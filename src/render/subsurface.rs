@@ -17,7 +17,8 @@ pub const SUBSURFACE_TABLE_BINDING: u32 = 2;
 
 pub struct SubsurfaceTable {
     texture: GpuTexture,
-    /// Required by the combined image sampler; texelFetch ignores its filtering.
+    /// Nearest and clamped to the edge: the shaders fetch and gather texels, and an RGBA32F
+    /// format need not filter.
     sampler: Sampler,
 }
 
@@ -33,7 +34,7 @@ impl SubsurfaceTable {
         };
         Ok(Self {
             texture: GpuTexture::upload_table(device, one_shot, &data)?,
-            sampler: Sampler::clamped(device)?,
+            sampler: Sampler::nearest(device)?,
         })
     }
 
@@ -48,7 +49,7 @@ impl SubsurfaceTable {
         };
         Ok(Self {
             texture: GpuTexture::upload_table(device, one_shot, &data)?,
-            sampler: Sampler::clamped(device)?,
+            sampler: Sampler::nearest(device)?,
         })
     }
 

@@ -266,7 +266,7 @@ pub fn rows() -> Vec<Row> {
         gains.push(format!("{e:.4} at σκ {t:.3}"));
     }
     rows.push(row(
-        "preintegrated_lookup",
+        "preintegrated_d",
         "∫ D dω / π (replaces Lambert's 1)",
         format!("gains energy: {}; 4/π as σκ → ∞", gains.join(", ")),
         format!("its SH k₀/π within {PREINTEGRATED_KERNEL_TOLERANCE:e}"),

@@ -616,15 +616,21 @@ pub static TERMS: &[TermSpec] = &[
         promise: Some(terminator_continuity),
     },
     TermSpec {
-        name: "preintegrated_lookup",
-        equation: "Bilinear between the four texels around (n·l, t/(1 + t))",
+        // r: D at (n·l, t); gba: the harness's preintegrated_kernel(t), the row's kernel at n·l = 0.
+        name: "preintegrated_d",
+        equation: "D(n·l, t) bilinear between the cell's four texels",
         arguments: &["n·l", "σκ"],
         colour: None,
         channels: 4,
         cap: SH_KERNEL,
         tolerance: FP32_ARITHMETIC,
         lighting_weight: true,
-        eval: |t| PreintegratedTable::get().lookup(f64::from(t.a[0]), f64::from(t.a[1])),
+        eval: |t| {
+            let table = PreintegratedTable::get();
+            let d = table.lookup(f64::from(t.a[0]), f64::from(t.a[1]))[0];
+            let [_, k0, k1, k2] = table.lookup(0.0, f64::from(t.a[1]));
+            [d, k0, k1, k2]
+        },
         sample: |rng, _| {
             let t = if rng.uniform() < 0.1 {
                 0.0

@@ -45,7 +45,7 @@ impl Sampler {
     }
 
     /// Nearest, clamped to the edge, one level: images read texel by texel (shadow maps,
-    /// whose depth format need not filter).
+    /// whose depth format need not filter, and the subsurface table).
     pub fn nearest(device: &Arc<Device>) -> Result<Self> {
         let info = vk::SamplerCreateInfo::default()
             .mag_filter(vk::Filter::NEAREST)
