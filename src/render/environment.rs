@@ -104,6 +104,8 @@ enum Source {
 /// ([`EnvironmentPass::plan`]).
 pub struct Plan {
     source: Option<Source>,
+    /// Whether the map handed over by [`EnvironmentPass::use_map`] is `source`'s.
+    use_given_map: bool,
     rebuild_source: bool,
     add_prefiltered: bool,
     add_luminance: bool,
@@ -270,11 +272,11 @@ impl EnvironmentPass {
                 .any(|m| m.energy_compensation && m.specular != SpecularModel::None);
         }
         let built_source = self.cubes.as_ref().map(|c| &c.source);
-        let given_map = self
+        let use_given_map = self
             .given_map
             .as_ref()
             .is_some_and(|(path, _)| matches!(&source, Some(Source::Map(named)) if named == path));
-        let rebuild_source = source.is_some() && (given_map || built_source != source.as_ref());
+        let rebuild_source = source.is_some() && (use_given_map || built_source != source.as_ref());
         let add_prefiltered =
             needs_prefiltered && (rebuild_source || self.cubes.as_ref().is_some_and(|c| c.prefiltered.is_none()));
         let add_luminance =
@@ -287,6 +289,7 @@ impl EnvironmentPass {
             || self.current.as_ref() != Some(environment);
         Plan {
             source,
+            use_given_map,
             rebuild_source,
             add_prefiltered,
             add_luminance,
@@ -310,11 +313,7 @@ impl EnvironmentPass {
     /// anything changes (frames in flight read the set).
     pub fn prepare(&mut self, scene: &Scene, plan: Plan) -> Result<()> {
         let environment = &scene.environment;
-        let given_map = self
-            .given_map
-            .take()
-            .filter(|(path, _)| matches!(&plan.source, Some(Source::Map(named)) if named == path))
-            .map(|(_, map)| map);
+        let given_map = self.given_map.take().filter(|_| plan.use_given_map).map(|(_, map)| map);
         if !plan.changed {
             return Ok(());
         }

@@ -472,8 +472,7 @@ impl ForwardPass {
 
     /// Writes this frame's uniforms (with the `sampled` reflection's `sample_set`) and
     /// materials (a `split` frame's follow the scene's) into `slot`, whose previous use the
-    /// caller has waited for, after [`Self::prepare_pipelines`]; `objects`: whether the
-    /// objects read the `occluders`' occlusion.
+    /// caller has waited for, after [`Self::prepare_pipelines`] of the same `choices`.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
@@ -481,16 +480,15 @@ impl ForwardPass {
         scene: &Scene,
         split: Option<&Split>,
         aspect: f32,
-        debug_view: DebugView,
         sample_set: u32,
         occluders: &[Occluder],
-        objects: bool,
+        choices: &FrameChoices,
     ) -> Result<()> {
         let mut frame_data = FrameData::new(scene, occluders, aspect)?;
-        if !objects {
+        if !choices.objects {
             frame_data.counts[3] = 0;
         }
-        frame_data.counts[1] = debug_view as u32;
+        frame_data.counts[1] = choices.debug_view as u32;
         frame_data.counts[2] = sample_set;
         let split_materials = split.map_or(&[][..], |s| s.materials.as_slice());
         let materials: Vec<MaterialData> = scene
@@ -690,6 +688,7 @@ fn draw_order(
 }
 
 /// What a frame decides for the pipelines of all its draws ([`ForwardPass::prepare_pipelines`]).
+#[derive(Clone, Copy)]
 pub struct FrameChoices {
     pub debug_view: DebugView,
     /// Every object drawn with `floor.frag` instead of its material.

@@ -319,16 +319,8 @@ impl Renderer {
             })
             .flatten();
         let sample_set = self.accumulate.prepare(slot, view, self.accumulation, target)?;
-        self.forward.prepare(
-            slot,
-            scene,
-            self.split.as_ref(),
-            target.aspect(),
-            self.debug_view,
-            sample_set,
-            &occluders,
-            objects,
-        )?;
+        self.forward
+            .prepare(slot, scene, self.split.as_ref(), target.aspect(), sample_set, &occluders, &choices)?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
     }
