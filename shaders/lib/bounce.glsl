@@ -42,28 +42,15 @@ vec3 ground_bounce_irradiance(vec3 p, vec3 n) {
     float height = p.y - frame.ground.y;
     if (!BOUNCE || frame.ground_albedo.a <= 0.0 || height <= 0.0 || n.y >= 1.0) return vec3(0.0);
     mat3 basis = tangent_frame(n);
-    // The taps whose rays meet the ground, as bits. lavapipe runs an `if`'s texture reads
-    // for every pixel of a batch, a loop's only while a pixel of the batch is still in it:
-    // the reads are a loop over these taps (in order, so the sums are those of every tap
-    // with the others skipped), and where every tap rises, near the ball's top, none run.
-    vec3 taps[BOUNCE_TAPS];
-    uint meeting = 0u;
+    vec3 ground_environment = PI * bounce_environment(vec3(0.0, 1.0, 0.0));
+    vec3 lights = vec3(0.0);
+    vec3 environment = vec3(0.0);
     for (uint k = 0u; k < BOUNCE_TAPS; ++k) {
         vec3 d = basis * cosine_hemisphere_tap(k, BOUNCE_TAPS);
-        taps[k] = d;
         if (d.y >= 0.0) continue;
         vec3 x = p + d * (height / -d.y);
         vec2 offset = abs(x.xz - frame.ground.xz);
         if (max(offset.x, offset.y) > frame.ground.w) continue;
-        meeting |= 1u << k;
-    }
-    vec3 ground_environment = PI * bounce_environment(vec3(0.0, 1.0, 0.0));
-    vec3 lights = vec3(0.0);
-    vec3 environment = vec3(0.0);
-    [[dont_unroll]]
-    for (uint left = meeting; left != 0u; left &= left - 1u) {
-        vec3 d = taps[findLSB(left)];
-        vec3 x = p + d * (height / -d.y);
         lights += ground_environment + textureLod(ground_light_map, ground_light_uv(x), 0.0).rgb;
         environment += PI * bounce_environment(d);
     }
