@@ -188,19 +188,16 @@ fn a_light_with_a_radius_casts_a_penumbra() {
     assert!(soft_umbra < hard_umbra, "the umbra did not shrink");
 }
 
-/// `[shadows] taps` sets a soft shadow's taps: the fewer, the noisier its penumbra (each
-/// pixel turns the taps by its own angle), measured as the mean square of the second
-/// difference along rows (which a smooth penumbra's gradient hardly moves) at the 16-tap
-/// frame's penumbra.
-#[test]
-fn fewer_taps_give_a_noisier_penumbra() {
-    let soft = plane_scene("radius = 0.3", SPHERE);
-    let unshadowed = hdr(&plane_scene("radius = 0.3\nshadows = false", SPHERE));
-    let sixteen = hdr(&soft);
-    let penumbra: Vec<bool> = (0..sixteen.len() / 4)
-        .map(|p| sixteen[4 * p + 1] < unshadowed[4 * p + 1] && sixteen[4 * p + 1] > 0.05 * unshadowed[4 * p + 1])
+/// The pixels of a soft penumbra on the ground of [`plane_scene`] (`frame` the 16-tap
+/// frame, `unshadowed` the frame without shadows), and how rough a frame is there: the
+/// mean square of the second difference along rows, which a smooth penumbra's gradient
+/// hardly moves and each pixel's own turn of the taps does.
+fn penumbra_roughness(frame: &[f32], unshadowed: &[f32]) -> impl Fn(&[f32]) -> f64 {
+    let penumbra: Vec<bool> = (0..frame.len() / 4)
+        .map(|p| frame[4 * p + 1] < unshadowed[4 * p + 1] && frame[4 * p + 1] > 0.05 * unshadowed[4 * p + 1])
         .collect();
-    let roughness = |frame: &[f32]| {
+    assert!(penumbra.iter().filter(|&&p| p).count() > 100, "no penumbra");
+    move |frame: &[f32]| {
         let (mut sum, mut n) = (0.0, 0);
         let green = |p: usize| f64::from(frame[4 * p + 1]);
         for y in 0..SIZE.1 as usize {
@@ -213,20 +210,53 @@ fn fewer_taps_give_a_noisier_penumbra() {
             }
         }
         sum / f64::from(n.max(1))
-    };
+    }
+}
+
+/// `[shadows] taps` sets a soft shadow's taps: the fewer, the noisier its penumbra (each
+/// pixel turns the taps by its own angle), at the pixels of the ground without its map.
+#[test]
+fn fewer_taps_give_a_noisier_penumbra() {
+    let soft = plane_scene("radius = 0.3", SPHERE);
+    let soft = soft.replace("resolution = 2048", "resolution = 2048\nground_map = false");
+    let unshadowed = hdr(&plane_scene("radius = 0.3\nshadows = false", SPHERE));
+    let sixteen = hdr(&soft);
+    let roughness = penumbra_roughness(&sixteen, &unshadowed);
     let taps = |n: u32| hdr(&soft.replace("resolution = 2048", &format!("resolution = 2048\ntaps = {n}")));
     let (four, sixty_four) = (roughness(&taps(4)), roughness(&taps(64)));
     let default = roughness(&sixteen);
     eprintln!("penumbra roughness: 4 taps {four:.3e}, 16 {default:.3e}, 64 {sixty_four:.3e}");
-    assert!(penumbra.iter().filter(|&&p| p).count() > 100, "no penumbra");
     // Noise variance goes as 1/taps: 4× and 4× here; measured 10× and 3.5×.
     assert!(four > 4.0 * default && default > 2.0 * sixty_four, "{four} {default} {sixty_four}");
 }
 
+/// The ground's shadow map (`[shadows] ground_map`, the default) gives the ground the
+/// shadow its pixels find, smoothed: the frame's light the same to 0.1%, every pixel that
+/// all of the light reaches the same bit for bit, and the penumbra less rough than 16 taps
+/// turned at each pixel make it.
+#[test]
+fn the_grounds_shadow_map_is_the_shadow_of_its_pixels_smoothed() {
+    let soft = plane_scene("radius = 0.3", SPHERE);
+    let map = hdr(&soft);
+    let pixels = hdr(&soft.replace("resolution = 2048", "resolution = 2048\nground_map = false"));
+    let unshadowed = hdr(&plane_scene("radius = 0.3\nshadows = false", SPHERE));
+    let roughness = penumbra_roughness(&pixels, &unshadowed);
+    let green = |frame: &[f32]| frame.iter().skip(1).step_by(4).map(|&g| f64::from(g)).sum::<f64>();
+    let light = (green(&map) - green(&pixels)) / green(&pixels);
+    let lit = (0..pixels.len()).filter(|&i| pixels[i] == unshadowed[i] && map[i] == unshadowed[i]).count();
+    let lit_pixels = (0..pixels.len()).filter(|&i| pixels[i] == unshadowed[i]).count();
+    let (smoothed, turned) = (roughness(&map), roughness(&pixels));
+    eprintln!("light {light:.2e}; lit {lit} of {lit_pixels}; roughness {smoothed:.3e} against {turned:.3e}");
+    assert!(light.abs() < 1e-3, "{light}");
+    assert!(lit >= lit_pixels * 99 / 100, "{lit} of {lit_pixels}");
+    assert!(smoothed < 0.5 * turned, "{smoothed} {turned}");
+}
+
 /// The maps are rendered when the scene changes, not every frame: two frames of the same
 /// scene render them once, moving the light renders them again, and the frame is the same
-/// either way. So is the ground's light map of the bounce, which a light's intensity
-/// changes too.
+/// either way. So are the ground's light map of the bounce, which a light's intensity
+/// changes too, and its shadow map, which a light's radius and the taps change too, and
+/// which a floor frame between two of the scene's leaves as it is.
 #[test]
 fn shadow_maps_render_only_when_the_scene_changes() {
     let toml = plane_scene("radius = 0.2", SPHERE).replace("resolution = 2048", "resolution = 2048\nbounce = true");
@@ -239,25 +269,37 @@ fn shadow_maps_render_only_when_the_scene_changes() {
             renderer.read_offscreen(&offscreen, ms).expect("read").hdr
         };
         let renders = |renderer: &argil::render::Renderer| {
-            [renderer.shadow_map_renders(), renderer.ground_light_renders()]
+            [renderer.shadow_map_renders(), renderer.ground_light_renders(), renderer.ground_shadow_renders()]
         };
-        let [shadows, ground] = renders(renderer);
+        let [shadows, ground, ground_shadows] = renders(renderer);
         let first = frame(renderer, &s);
         let second = frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 1, ground + 1]);
+        assert_eq!(renders(renderer), [shadows + 1, ground + 1, ground_shadows + 1]);
         assert_eq!(first, second);
+        renderer.floor = true;
+        frame(renderer, &s);
+        renderer.floor = false;
+        assert_eq!(frame(renderer, &s), second);
         s.lights[0].position.x += 0.5;
         let moved = frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 2, ground + 2]);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 2, ground_shadows + 2]);
         assert_ne!(moved, second);
-        // Changing only the radius needs no new map.
+        // Changing only the radius needs no new shadow map, but the penumbra on the ground.
         s.lights[0].radius = 0.4;
         frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 2, ground + 2]);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 2, ground_shadows + 3]);
         // The intensity changes the ground's light, not the shadows.
         s.lights[0].intensity *= 0.5;
         frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 2, ground + 3]);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 3, ground_shadows + 3]);
+        s.shadow_taps = 8;
+        frame(renderer, &s);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 3, ground_shadows + 4]);
+        // Without the map, the ground's pixels find its shadows.
+        s.shadow_ground_map = false;
+        s.lights[0].position.x += 0.5;
+        frame(renderer, &s);
+        assert_eq!(renders(renderer), [shadows + 3, ground + 4, ground_shadows + 4]);
     });
 }
 

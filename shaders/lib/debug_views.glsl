@@ -126,7 +126,7 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
             vec3 l;
             float e = dot(point_light_irradiance(i, p, l), vec3(0.2126, 0.7152, 0.0722));
             total += e;
-            lit += e * point_light_shadow(i, p, face_normal, gl_FragCoord.xy);
+            lit += e * point_light_visibility(i, p, face_normal);
         }
         return vec3(total > 0.0 ? lit / total : 1.0);
     }

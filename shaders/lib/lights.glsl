@@ -5,6 +5,7 @@
 #include "shading.glsl"
 #include "shadows.glsl"
 #include "occlusion.glsl"
+#include "ground_shadow.glsl"
 
 // Unit direction l from p towards point light i, and its irradiance on a surface facing
 // it, E⊥ = I / d² (the scene format's radiant intensity I).
@@ -13,6 +14,13 @@ vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
     float distance2 = max(dot(to_light, to_light), MIN_LIGHT_DISTANCE2);
     l = to_light * inversesqrt(distance2);
     return frame.lights[i].intensity.rgb / distance2;
+}
+
+// The fraction of point light i that reaches p: from the ground's shadow map on the ground
+// that reads it (GROUND_SHADOWS), else point_light_shadow with the receiver's triangle's
+// normal `face_normal`.
+float point_light_visibility(uint i, vec3 p, vec3 face_normal) {
+    return GROUND_SHADOWS ? ground_map_shadow(i, p) : point_light_shadow(i, p, face_normal, gl_FragCoord.xy);
 }
 
 // Radiance from the point lights through brdf_cos with the given models and material, or
@@ -24,7 +32,7 @@ vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geom
     vec3 face_normal = cross(dFdx(p), dFdy(p));
     for (uint i = 0; i < frame.counts.x; ++i) {
         vec3 l;
-        vec3 irradiance = point_light_irradiance(i, p, l) * point_light_shadow(i, p, face_normal, gl_FragCoord.xy)
+        vec3 irradiance = point_light_irradiance(i, p, l) * point_light_visibility(i, p, face_normal)
                         * micro_shadowing(dot(n, l), ao);
         radiance += irradiance * (seed_horizon ? brdf_cos_seed(models, m, n, v, l, curvature)
                                                : brdf_cos(models, m, n, n_geometric, v, l, curvature));

@@ -497,18 +497,26 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
 
 /// What shadows cost and change: `no-shadows` turns every light's shadows off (the
 /// renderer before them), `hard-shadows` makes every light a point (one lookup, no PCSS),
-/// `shadow-taps-N` gives a soft shadow N taps to search and N to filter (argil's 16).
-const SHADOW_CONFIGURATIONS: [&str; 5] = [
+/// `shadow-taps-N` gives a soft shadow N taps to search and N to filter (argil's 16),
+/// `no-ground-shadow-map` searches and filters the ground's shadows at its pixels rather
+/// than reading them from its map.
+const SHADOW_CONFIGURATIONS: [&str; 6] = [
     "no-shadows",
     "hard-shadows",
     "shadow-taps-4",
     "shadow-taps-8",
     "shadow-taps-32",
+    "no-ground-shadow-map",
 ];
 
 fn shadow_configured(file: &mut SceneFile, name: &str) {
+    let shadows = file.shadows.get_or_insert_with(Default::default);
     if let Some(taps) = name.strip_prefix("shadow-taps-").and_then(|n| n.parse().ok()) {
-        file.shadows.get_or_insert_with(Default::default).taps = Some(taps);
+        shadows.taps = Some(taps);
+        return;
+    }
+    if name == "no-ground-shadow-map" {
+        shadows.ground_map = Some(false);
         return;
     }
     for light in &mut file.lights {

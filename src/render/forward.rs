@@ -52,8 +52,9 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// objects occlude it and where the draw reads that from (`ObjectsOcclusionFrom`,
 /// object_occlusion.glsl), those three always specialised; and whether the pipeline holds
 /// the ground's bounce (bounce.glsl), a map's sun and the material's energy compensation
-/// (environment.glsl), which the generic pipeline always does; and a soft shadow's taps
-/// (`[shadows] taps`, shadows.glsl).
+/// (environment.glsl), which the generic pipeline always does; a soft shadow's taps
+/// (`[shadows] taps`, shadows.glsl); and whether the draw reads its shadows from the
+/// ground's shadow map (ground_shadow.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -76,11 +77,12 @@ pub struct ForwardConstants {
     pub sun: u32,
     pub energy_compensation: u32,
     pub shadow_taps: u32,
+    pub ground_shadows: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 19] = [
+    pub const NAMES: [&'static str; 20] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -100,6 +102,7 @@ impl ForwardConstants {
         "ENV_SUN",
         "ENERGY_COMPENSATION",
         "SHADOW_TAPS",
+        "GROUND_SHADOWS",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -160,6 +163,7 @@ impl ForwardConstants {
             sun: 0,
             energy_compensation: u32::from(m.energy_compensation || !specialize),
             shadow_taps: DEFAULT_SHADOW_TAPS,
+            ground_shadows: 0,
         }
     }
 
@@ -702,6 +706,8 @@ pub struct FrameChoices {
     pub objects: bool,
     /// The object that reads theirs from the ground's occlusion map (ground_maps.rs).
     pub ground_map: Option<usize>,
+    /// The object that reads its shadows from the ground's shadow map (ground_maps.rs).
+    pub ground_shadows: Option<usize>,
     /// Whether the environment's map has a sun lifted out of it (environment.rs).
     pub sun: bool,
 }
@@ -725,9 +731,10 @@ fn draw_constants(
         .chain(split_parts)
         .flat_map(|(materials, environment)| {
             let draws = scene.objects.iter().zip(from).enumerate();
-            draws.map(move |(i, (object, &from))| (&materials[object.material], environment, from, ground == Some(i)))
+            draws.map(move |(i, (object, &from))| (&materials[object.material], environment, from, i))
         })
-        .map(|(m, environment, from, is_ground)| {
+        .map(|(m, environment, from, i)| {
+            let is_ground = ground == Some(i);
             let (view, specialize, specular_aa) = (choices.debug_view, choices.specialize, scene.antialiasing.specular);
             let mut constants = ForwardConstants::new(m, environment, view, specialize, specular_aa);
             constants.occlusion = choices.occlusion as u32;
@@ -736,6 +743,7 @@ fn draw_constants(
             constants.bounce = held(bounces && !is_ground);
             constants.sun = held(choices.sun);
             constants.shadow_taps = scene.shadow_taps;
+            constants.ground_shadows = u32::from(choices.ground_shadows == Some(i));
             constants
         })
         .collect()
@@ -755,6 +763,7 @@ mod tests {
             include_str!("../../shaders/lib/object_occlusion.glsl"),
             include_str!("../../shaders/lib/bounce.glsl"),
             include_str!("../../shaders/lib/shadows.glsl"),
+            include_str!("../../shaders/lib/ground_shadow.glsl"),
         ];
         sources
             .iter()
@@ -913,6 +922,7 @@ mod tests {
                 occlusion: OcclusionMode::Off,
                 objects: true,
                 ground_map: None,
+                ground_shadows: None,
                 sun: false,
             };
             draw_constants(&scene, None, &from, &choices).iter().map(|c| c.bounce).collect()

@@ -12,10 +12,16 @@
 //!   (shaders/ground_occlusion.comp), which the ground reads at its pixels
 //!   (shaders/lib/ground_occlusion.glsl) rather than every sphere at every one of them. It
 //!   follows the objects, the ground and the environment.
+//! - the shadow map (`[shadows] ground_map`, binding 2): each point light's soft shadow on
+//!   the ground (shaders/ground_shadow.comp), which the ground reads at its pixels
+//!   (shaders/lib/ground_shadow.glsl) rather than searching and filtering the lights'
+//!   shadow maps at every one of them. It follows the lights, the ground, the shadow maps
+//!   and the soft shadows' taps.
 //!
-//! Both start cleared to 0, which a frame that does not use a map never uses.
+//! Each starts cleared to 0, which a frame that does not use the map never reads.
 
 use std::cell::Cell;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use anyhow::Result;
@@ -26,9 +32,9 @@ use super::forward::{ForwardConstants, FROM_UNIFORM};
 use super::gpu_scene::MAX_POINT_LIGHTS;
 use super::shaders;
 use crate::scene::occluders::Occluder;
-use crate::scene::{Environment, MapSlot, Object, Scene};
+use crate::scene::{Environment, MapSlot, Object, Scene, DEFAULT_SHADOW_TAPS};
 use crate::vk::{
-    transition, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device, Image,
+    transition_levels, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device, Image,
     ImageUse, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
 };
 
@@ -41,6 +47,14 @@ pub const GROUND_LIGHT_SIZE: u32 = 256;
 /// about a third of what reading it saves a 1280×720 frame of the default scene; at 512²
 /// the error halves and the cost is that saving.
 pub const GROUND_OCCLUSION_SIZE: u32 = 256;
+/// Texels on a side of the shadow map, over the part of the ground that objects can shadow:
+/// 2.4 by 1.8 cm on the default scene, whose penumbrae are 10 cm wide and more.
+pub const GROUND_SHADOW_SIZE: u32 = 256;
+/// The shadow map's taps for each of a soft shadow's (`[shadows] taps`): a texel stands for
+/// several pixels, each of which would turn its taps by its own angle.
+const GROUND_SHADOW_TAPS_PER_TAP: u32 = 4;
+/// Layers of the shadow map: four lights to a layer, one a channel.
+const GROUND_SHADOW_LAYERS: u32 = MAX_POINT_LIGHTS.div_ceil(4) as u32;
 /// fp16: a value to 2⁻¹¹ of itself, which Vulkan requires to filter and store.
 const FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 /// The compute shaders' `local_size_x` and `local_size_y`.
@@ -61,13 +75,33 @@ pub fn occlusion_ground(scene: &Scene, objects: bool, split: bool) -> Option<usi
     (objects && scene.occlusion.ground_map && flat && above && lit && !split).then_some(index)
 }
 
-/// One map: its image, written through `compute_set` by `pipeline`, and what it was last
-/// computed from.
+/// The object whose shadows the forward pass reads from the ground's shadow map: the
+/// ground, when the scene asks for the map, the frame has shadows (`shadows`: on for the
+/// frame and drawn with the materials' shaders), the lights that cast them are all soft
+/// (a hard shadow is one lookup at a pixel, whose edge the map would blur), the camera
+/// sees the ground's upper side (which side of it a light is on then decides whether the
+/// map or the pixels are lit, as shadows.glsl's `shadow_receiver` asks). A split frame's
+/// parts differ in materials and environment, which the shadows do not depend on.
+pub fn shadow_ground(scene: &Scene, shadows: bool) -> Option<usize> {
+    let index = scene.ground_index()?;
+    let above = scene.camera.position.y > scene.objects[index].position.y;
+    let mut casters = scene.lights.iter().filter(|l| l.shadows).peekable();
+    let soft = casters.peek().is_some() && casters.all(|l| l.radius > 0.0);
+    (scene.shadow_ground_map && shadows && soft && above).then_some(index)
+}
+
+/// One map: its image, written through `compute_set` by its shader's pipeline as the frame
+/// specialises it, and what it was last computed from.
 struct GroundMap {
     image: Image,
     size: u32,
     compute_set: vk::DescriptorSet,
-    pipeline: Pipeline,
+    module: ShaderModule,
+    name: &'static str,
+    /// A pipeline for each specialization a frame has asked for: a frame in flight may
+    /// still use the one before.
+    pipelines: HashMap<Specialization, Pipeline>,
+    specialization: Specialization,
     /// What the map was last computed from; empty before the first and after a change the
     /// key does not hold.
     key: Vec<u32>,
@@ -78,6 +112,8 @@ struct GroundMap {
 }
 
 impl GroundMap {
+    /// A map `size` texels on a side: a 2D image, or a 2D array of `layers` when more than
+    /// one.
     #[allow(clippy::too_many_arguments)]
     fn new(
         device: &Arc<Device>,
@@ -85,24 +121,23 @@ impl GroundMap {
         layout: &PipelineLayout,
         compute_set: vk::DescriptorSet,
         shader: &[u8],
-        specialization: &Specialization,
+        specialization: Specialization,
         size: u32,
-        name: &str,
+        layers: u32,
+        name: &'static str,
     ) -> Result<Self> {
         let module = ShaderModule::new(device, shader, name)?;
-        let pipeline = Pipeline::compute(device, layout, &module, specialization, name)?;
+        let pipeline = Pipeline::compute(device, layout, &module, &specialization, name)?;
         let extent = vk::Extent2D {
             width: size,
             height: size,
         };
-        let image = Image::new_2d(
-            device,
-            extent,
-            FORMAT,
-            vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
-            vk::ImageAspectFlags::COLOR,
-            name,
-        )?;
+        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
+        let image = if layers > 1 {
+            Image::array_2d(device, extent, layers, FORMAT, usage, name)?
+        } else {
+            Image::new_2d(device, extent, FORMAT, usage, vk::ImageAspectFlags::COLOR, name)?
+        };
         one_shot.run(|cmd| image.record_clear(cmd, ImageUse::FRAGMENT_READ))?;
         DescriptorWriter::default()
             .image(
@@ -117,11 +152,30 @@ impl GroundMap {
             image,
             size,
             compute_set,
-            pipeline,
+            module,
+            name,
+            pipelines: HashMap::from([(specialization.clone(), pipeline)]),
+            specialization,
             key: Vec::new(),
             pending: Cell::new(false),
             renders: Cell::new(0),
         })
+    }
+
+    /// Computes the map from now on with `specialization`, creating its pipeline the first
+    /// time; the caller's key tells whether the map is computed again.
+    fn specialize(
+        &mut self,
+        device: &Arc<Device>,
+        layout: &PipelineLayout,
+        specialization: Specialization,
+    ) -> Result<()> {
+        if !self.pipelines.contains_key(&specialization) {
+            let pipeline = Pipeline::compute(device, layout, &self.module, &specialization, self.name)?;
+            self.pipelines.insert(specialization.clone(), pipeline);
+        }
+        self.specialization = specialization;
+        Ok(())
     }
 
     /// Has the next recorded frame compute the map when it is made of `key` (None: this
@@ -154,7 +208,8 @@ impl GroundMap {
             stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
             ..ImageUse::UNDEFINED
         };
-        transition(device, cmd, image.handle, image.aspect, after_reads, ImageUse::COMPUTE_STORAGE);
+        let layers = image.all_levels();
+        transition_levels(device, cmd, image.handle, layers, after_reads, ImageUse::COMPUTE_STORAGE);
         let d = &device.handle;
         let groups = self.size.div_ceil(WORKGROUP);
         unsafe {
@@ -166,10 +221,11 @@ impl GroundMap {
                 &[self.compute_set],
                 &[],
             );
-            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline.handle);
+            let pipeline = &self.pipelines[&self.specialization];
+            d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.handle);
             d.cmd_dispatch(cmd, groups, groups, 1);
         }
-        transition(device, cmd, image.handle, image.aspect, ImageUse::COMPUTE_STORAGE, ImageUse::FRAGMENT_READ);
+        transition_levels(device, cmd, image.handle, layers, ImageUse::COMPUTE_STORAGE, ImageUse::FRAGMENT_READ);
     }
 }
 
@@ -186,12 +242,17 @@ pub struct GroundMaps {
     _sampler: Sampler,
     light: GroundMap,
     occlusion: GroundMap,
+    shadow: GroundMap,
 }
 
 impl GroundMaps {
     /// The layout of set 5 of the forward pass, which [`Self::new`] takes over.
     pub fn forward_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout> {
         DescriptorSetLayoutBuilder::default()
+            .binding(
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::ShaderStageFlags::FRAGMENT,
+            )
             .binding(
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 vk::ShaderStageFlags::FRAGMENT,
@@ -219,7 +280,7 @@ impl GroundMaps {
             .build(device, "ground map compute set")?;
         let pools = [
             DescriptorPool::for_layout(device, &set_layout, 1)?,
-            DescriptorPool::for_layout(device, &compute_set_layout, 2)?,
+            DescriptorPool::for_layout(device, &compute_set_layout, 3)?,
         ];
         let set = pools[0].allocate(&set_layout)?;
         let layout = PipelineLayout::new(
@@ -228,16 +289,11 @@ impl GroundMaps {
             0,
             vk::ShaderStageFlags::empty(),
         )?;
-        let light = GroundMap::new(
-            device,
-            one_shot,
-            &layout,
-            pools[1].allocate(&compute_set_layout)?,
-            shaders::GROUND_LIGHT_COMP,
-            &Specialization::default(),
-            GROUND_LIGHT_SIZE,
-            "ground light",
-        )?;
+        let map = |shader: &[u8], specialization: Specialization, size: u32, layers: u32, name: &'static str| {
+            let compute_set = pools[1].allocate(&compute_set_layout)?;
+            GroundMap::new(device, one_shot, &layout, compute_set, shader, specialization, size, layers, name)
+        };
+        let light = map(shaders::GROUND_LIGHT_COMP, Specialization::default(), GROUND_LIGHT_SIZE, 1, "ground light")?;
         // object_occlusion.glsl's code on, the environment's kind from its uniform.
         let constants = ForwardConstants {
             environment_kind: FROM_UNIFORM,
@@ -246,15 +302,19 @@ impl GroundMaps {
             object_occlusion: 1,
             ..ForwardConstants::zeroed()
         };
-        let occlusion = GroundMap::new(
-            device,
-            one_shot,
-            &layout,
-            pools[1].allocate(&compute_set_layout)?,
+        let occlusion = map(
             shaders::GROUND_OCCLUSION_COMP,
-            &constants.specialization(),
+            constants.specialization(),
             GROUND_OCCLUSION_SIZE,
+            1,
             "ground occlusion",
+        )?;
+        let shadow = map(
+            shaders::GROUND_SHADOW_COMP,
+            shadow_specialization(GROUND_SHADOW_TAPS_PER_TAP * DEFAULT_SHADOW_TAPS),
+            GROUND_SHADOW_SIZE,
+            GROUND_SHADOW_LAYERS,
+            "ground shadow",
         )?;
         let sampler = Sampler::clamped(device)?;
         let sampled = |writer: DescriptorWriter, binding: u32, map: &GroundMap| {
@@ -267,7 +327,7 @@ impl GroundMaps {
             )
         };
         let writer = sampled(DescriptorWriter::default(), 0, &light);
-        sampled(writer, 1, &occlusion).write(device, set);
+        sampled(sampled(writer, 1, &occlusion), 2, &shadow).write(device, set);
         Ok(Self {
             device: device.clone(),
             _set_layout: set_layout,
@@ -278,6 +338,7 @@ impl GroundMaps {
             _sampler: sampler,
             light,
             occlusion,
+            shadow,
         })
     }
 
@@ -291,15 +352,17 @@ impl GroundMaps {
     /// `shadows_change` (the shadow maps are rendered again, or switched on or off); the
     /// occlusion map when `occlusion_ground` (see [`occlusion_ground`]) reads it and the
     /// ground, the frame's `occluders` or the environment (its `environment_generation`)
-    /// changed.
+    /// changed; the shadow map when `shadow_ground` (see [`shadow_ground`]) reads it and
+    /// the ground, the lights or the taps changed, or `shadows_change`.
     pub fn prepare(
         &mut self,
         scene: &Scene,
         occluders: &[Occluder],
         shadows_change: bool,
         occlusion_ground: Option<usize>,
+        shadow_ground: Option<usize>,
         environment_generation: u64,
-    ) {
+    ) -> Result<()> {
         // A map's inputs bit for bit, the ground's square first.
         let key = |ground: &Object, inputs: &mut dyn Iterator<Item = f32>| -> Vec<u32> {
             let square = ground.position.extend(ground.scale).to_array();
@@ -317,6 +380,19 @@ impl GroundMaps {
             key
         });
         self.occlusion.prepare(occlusion_key, false);
+        if shadow_ground.is_some() {
+            let taps = GROUND_SHADOW_TAPS_PER_TAP * scene.shadow_taps;
+            self.shadow.specialize(&self.device, &self.layout, shadow_specialization(taps))?;
+        }
+        let shadow_key = shadow_ground.map(|index| {
+            let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
+            let lights = lights.flat_map(|l| l.position.extend(l.radius).to_array());
+            let mut key = key(&scene.objects[index], &mut lights.into_iter());
+            key.push(scene.shadow_taps);
+            key
+        });
+        self.shadow.prepare(shadow_key, shadows_change);
+        Ok(())
     }
 
     /// Frames that have computed the light map.
@@ -329,14 +405,26 @@ impl GroundMaps {
         self.occlusion.renders.get()
     }
 
-    /// Computes the light map if [`Self::prepare`] found it out of date, from the frame's
-    /// set 0 (`frame_set`) and shadow set (`shadow_set`); records nothing otherwise.
-    pub fn record_light(&self, cmd: vk::CommandBuffer, frame_set: vk::DescriptorSet, shadow_set: vk::DescriptorSet) {
-        if self.light.pending.get() {
+    /// Frames that have computed the shadow map.
+    pub fn shadow_renders(&self) -> u64 {
+        self.shadow.renders.get()
+    }
+
+    /// Computes the light map and the shadow map, each if [`Self::prepare`] found it out of
+    /// date, from the frame's set 0 (`frame_set`) and shadow set (`shadow_set`); records
+    /// nothing otherwise.
+    pub fn record_from_shadow_maps(
+        &self,
+        cmd: vk::CommandBuffer,
+        frame_set: vk::DescriptorSet,
+        shadow_set: vk::DescriptorSet,
+    ) {
+        if self.light.pending.get() || self.shadow.pending.get() {
             self.bind(cmd, 0, &[frame_set]);
             self.bind(cmd, 3, &[shadow_set]);
         }
         self.light.record(&self.device, cmd, &self.layout);
+        self.shadow.record(&self.device, cmd, &self.layout);
     }
 
     /// Computes the occlusion map if [`Self::prepare`] found it out of date, from the
@@ -361,6 +449,15 @@ impl GroundMaps {
     }
 }
 
+/// The shadow map's pipeline: shadows.glsl's code with the scene's `taps`.
+fn shadow_specialization(taps: u32) -> Specialization {
+    ForwardConstants {
+        shadow_taps: taps,
+        ..ForwardConstants::zeroed()
+    }
+    .specialization()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -370,6 +467,7 @@ mod tests {
         for glsl in [
             include_str!("../../shaders/ground_light.comp"),
             include_str!("../../shaders/ground_occlusion.comp"),
+            include_str!("../../shaders/ground_shadow.comp"),
         ] {
             assert!(glsl.contains(&format!("local_size_x = {WORKGROUP}, local_size_y = {WORKGROUP}")));
             assert!(glsl.contains("rgba16f") && FORMAT == vk::Format::R16G16B16A16_SFLOAT);

@@ -16,7 +16,7 @@ use super::environment::EnvironmentPass;
 use super::exposure::ExposurePass;
 use super::forward::{FrameChoices, ForwardPass};
 use super::gpu_scene::GpuScene;
-use super::ground_maps::{occlusion_ground, GroundMaps};
+use super::ground_maps::{occlusion_ground, shadow_ground, GroundMaps};
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
 use super::occlusion::{OcclusionMode, OcclusionPass};
 use super::shadow::ShadowPass;
@@ -267,6 +267,12 @@ impl Renderer {
         self.ground_maps.occlusion_renders()
     }
 
+    /// How many times the ground's shadow map has been computed: once per change of the
+    /// lights, the ground, the shadow maps or the taps, not per frame.
+    pub fn ground_shadow_renders(&self) -> u64 {
+        self.ground_maps.shadow_renders()
+    }
+
     /// Writes the per-frame data of `slot` and creates what the frame needs; the caller has
     /// waited for the slot's previous frame.
     pub fn prepare(
@@ -287,6 +293,7 @@ impl Renderer {
         // Without spheres to read, the pipelines hold no object occlusion.
         let objects = self.occlusion && !self.floor && scene.occlusion.objects && !occluders.is_empty();
         let ground = occlusion_ground(scene, objects, self.split.is_some());
+        let shadow_ground = shadow_ground(scene, self.shadows && !self.floor);
         let choices = FrameChoices {
             debug_view: self.debug_view,
             floor: self.floor,
@@ -295,6 +302,7 @@ impl Renderer {
             occlusion,
             objects,
             ground_map: ground,
+            ground_shadows: shadow_ground,
             // The environment's, once it is known (prepare_environment_and_pipelines).
             sun: false,
         };
@@ -303,7 +311,8 @@ impl Renderer {
         self.msaa.prepare(slot, target, samples)?;
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         let environment = self.environment.generation();
-        self.ground_maps.prepare(scene, &occluders, self.shadow.pending(), ground, environment);
+        let shadows_change = self.shadow.pending();
+        self.ground_maps.prepare(scene, &occluders, shadows_change, ground, shadow_ground, environment)?;
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
         let switches = [self.shadows, self.floor, self.generic, self.occlusion];
         let view = (self.accumulation != Accumulation::Off)
@@ -403,11 +412,11 @@ impl Renderer {
             ImageUse::UNDEFINED,
             ImageUse::DEPTH_ATTACHMENT,
         );
-        // The ground's light map is computed from the shadow maps, and timed with them; its
-        // occlusion map with the occlusion.
+        // The ground's light and shadow maps are computed from the shadow maps, and timed
+        // with them; its occlusion map with the occlusion.
         self.timed(cmd, slot, PASS_SHADOW, || {
             self.shadow.record(cmd, scene, gpu)?;
-            self.ground_maps.record_light(cmd, self.forward.frame_set(slot), self.shadow.set(slot));
+            self.ground_maps.record_from_shadow_maps(cmd, self.forward.frame_set(slot), self.shadow.set(slot));
             Ok(())
         })?;
         self.timed(cmd, slot, PASS_OCCLUSION, || {

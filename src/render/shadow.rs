@@ -2,7 +2,9 @@
 //! six faces layers of one 2D array image, rendered only when the lights, the objects or
 //! the settings change (a frame that changes nothing records no draw). Set 3 of the
 //! forward pass (shaders/lib/shadows.glsl): binding 0 the `ShadowData` uniform buffer,
-//! binding 1 the maps; the ground's light map is computed from them too (ground_maps.rs).
+//! binding 1 the maps; the ground's light and shadow maps are computed from them too
+//! (ground_maps.rs), the shadow map over the part of the ground that objects can shadow
+//! (`Scene::ground_shadow_rect`), which `ShadowData` holds.
 
 use std::cell::Cell;
 use std::sync::Arc;
@@ -17,7 +19,7 @@ use super::gpu_scene::{GpuScene, MAX_POINT_LIGHTS};
 use super::shaders;
 use super::target::DEPTH_FORMAT;
 use crate::brdf::shadow::CUBE_FACE_AXES;
-use crate::scene::{Scene, Vertex};
+use crate::scene::{GroundRect, Scene, Vertex};
 use crate::vk::{
     begin_full_rendering, transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
     DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, ImageView, Pipeline, PipelineLayout, Sampler,
@@ -44,6 +46,9 @@ struct ShadowLightData {
 struct ShadowData {
     settings: [u32; 4],
     lights: [ShadowLightData; MAX_POINT_LIGHTS],
+    /// The ground's rectangle that objects can shadow: x and z lowest, then highest; all 0
+    /// where nothing can.
+    ground: [f32; 4],
 }
 
 /// The projection of face `face` of a cube map about the origin with planes `near` and
@@ -110,6 +115,9 @@ pub struct ShadowPass {
     pending: Cell<bool>,
     /// Frames that rendered them.
     renders: Cell<u64>,
+    /// The ground's rectangle that objects can shadow, and the key and lights' radii it was
+    /// found from.
+    ground: (Option<GroundRect>, Vec<u64>),
 }
 
 impl ShadowPass {
@@ -148,6 +156,7 @@ impl ShadowPass {
             faces: Vec::new(),
             pending: Cell::new(false),
             renders: Cell::new(0),
+            ground: (None, Vec::new()),
         })
     }
 
@@ -208,6 +217,14 @@ impl ShadowPass {
         for (k, &i) in shadowed.iter().enumerate() {
             let face = &self.faces[6 * k];
             data.lights[i].map = [6.0 * k as f32, scene.lights[i].radius, face.near, face.far];
+        }
+        let radii = shadowed.iter().map(|&i| u64::from(scene.lights[i].radius.to_bits()));
+        let ground_key: Vec<u64> = self.key.iter().copied().chain(radii).collect();
+        if ground_key != self.ground.1 {
+            self.ground = (scene.ground_shadow_rect(&shadowed), ground_key);
+        }
+        if let Some(rect) = self.ground.0 {
+            data.ground = [rect.min.x, rect.min.y, rect.max.x, rect.max.y];
         }
         self.slots[slot].data.write(bytemuck::bytes_of(&data))
     }

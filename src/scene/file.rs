@@ -103,6 +103,9 @@ pub struct ShadowsDef {
     /// Whether the lights' light bounces off the ground onto the objects (absent: false).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bounce: Option<bool>,
+    /// Whether the ground's shadows are read from a map over it (absent: true).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ground_map: Option<bool>,
 }
 
 /// `[antialiasing]`: multisampling and specular anti-aliasing of the frame.

@@ -318,12 +318,17 @@ impl Mesh {
         }
     }
 
-    /// A sphere holding every vertex: (centre of the bounding box, radius).
-    pub fn bounding_sphere(&self) -> (Vec3, f32) {
-        let (lo, hi) = self.vertices.iter().fold(
+    /// The box holding every vertex: (lowest corner, highest corner).
+    pub fn bounding_box(&self) -> (Vec3, Vec3) {
+        self.vertices.iter().fold(
             (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
             |(lo, hi), v| (lo.min(Vec3::from(v.position)), hi.max(Vec3::from(v.position))),
-        );
+        )
+    }
+
+    /// A sphere holding every vertex: (centre of the bounding box, radius).
+    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+        let (lo, hi) = self.bounding_box();
         let centre = (lo + hi) * 0.5;
         let radius = self
             .vertices

@@ -9,6 +9,7 @@ mod edit;
 mod error;
 pub mod file;
 mod gltf;
+mod ground_shadow;
 mod light;
 pub mod limits;
 pub mod map_slots;
@@ -40,6 +41,7 @@ pub use camera::Camera;
 pub use error::SceneError;
 pub use file::SceneFile;
 pub use gltf::is_model;
+pub use ground_shadow::GroundRect;
 pub use light::{
     Environment, PointLight, Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, DEFAULT_SHADOW_TAPS,
     SHADOW_RESOLUTION_RANGE, SHADOW_TAPS_RANGE,
@@ -113,6 +115,9 @@ pub struct Scene {
     pub shadow_taps: u32,
     /// Whether the lights' light bounces off the ground onto the objects (`[shadows] bounce`).
     pub bounce: bool,
+    /// Whether the ground's shadows are read from a map over it, computed once per change,
+    /// rather than searched and filtered at each of its pixels (`[shadows] ground_map`).
+    pub shadow_ground_map: bool,
     pub antialiasing: Antialiasing,
     /// Ambient occlusion of the environment's light.
     pub occlusion: Occlusion,

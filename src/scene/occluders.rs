@@ -38,6 +38,13 @@ impl Scene {
         (o.position + centre * o.scale, radius * o.scale)
     }
 
+    /// Object `index`'s bounding box in world space: (lowest corner, highest corner).
+    pub fn bounding_box(&self, index: usize) -> (Vec3, Vec3) {
+        let o = &self.objects[index];
+        let (lo, hi) = self.meshes[o.mesh].bounding_box();
+        (o.position + lo * o.scale, o.position + hi * o.scale)
+    }
+
     /// Each object's bounding sphere in world space: (centre, radius).
     pub fn bounding_spheres(&self) -> Vec<(Vec3, f32)> {
         (0..self.objects.len()).map(|i| self.bounding_sphere(i)).collect()

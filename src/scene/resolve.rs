@@ -183,6 +183,7 @@ pub(super) fn resolve(
     let shadow_resolution = shadow_resolution(&check, file.shadows.as_ref())?;
     let shadow_taps = shadow_taps(&check, file.shadows.as_ref())?;
     let bounce = file.shadows.as_ref().and_then(|d| d.bounce).unwrap_or(false);
+    let shadow_ground_map = file.shadows.as_ref().and_then(|d| d.ground_map).unwrap_or(true);
     let antialiasing = antialiasing(&check, file.antialiasing.as_ref())?;
     let occlusion = occlusion(&check, file.occlusion.as_ref())?;
     let environment = environment(&check, &file.environment, base_dir)?;
@@ -299,6 +300,7 @@ pub(super) fn resolve(
         shadow_resolution,
         shadow_taps,
         bounce,
+        shadow_ground_map,
         antialiasing,
         occlusion,
         environment,
@@ -318,6 +320,7 @@ fn shadows_def(scene: &Scene) -> Option<ShadowsDef> {
         resolution: (scene.shadow_resolution != DEFAULT_SHADOW_RESOLUTION).then_some(scene.shadow_resolution),
         taps: (scene.shadow_taps != DEFAULT_SHADOW_TAPS).then_some(scene.shadow_taps),
         bounce: scene.bounce.then_some(true),
+        ground_map: (!scene.shadow_ground_map).then_some(false),
     };
     (def != ShadowsDef::default()).then_some(def)
 }

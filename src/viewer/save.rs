@@ -201,6 +201,7 @@ mod tests {
         scene.lights[0].shadows = false;
         scene.shadow_resolution = 512;
         scene.shadow_taps = 8;
+        scene.shadow_ground_map = false;
         scene.antialiasing.msaa = 8;
         scene.antialiasing.specular = false;
         scene.environment = Environment::Studio {
@@ -227,6 +228,7 @@ mod tests {
         let (reloaded, _) = load(&path);
         assert_eq!(reloaded.lights, scene.lights);
         assert_eq!((reloaded.shadow_resolution, reloaded.shadow_taps), (512, 8));
+        assert!(!reloaded.shadow_ground_map);
         assert_eq!((reloaded.antialiasing.msaa, reloaded.antialiasing.specular), (8, false));
     }
 

@@ -1,6 +1,6 @@
 //! The viewer's shadow settings: the renderer-wide toggle, the maps' resolution, a soft
-//! shadow's taps, the light bounced off the ground, and each light's `shadows` and
-//! `radius` (saved with the scene).
+//! shadow's taps, the light bounced off the ground, the ground's shadows from a map, and
+//! each light's `shadows` and `radius` (saved with the scene).
 
 use egui::Ui;
 
@@ -23,6 +23,12 @@ pub fn shadows_section(ui: &mut Ui, scene: &mut Scene, enabled: &mut bool) {
         ui.end_row();
         ui.label("bounce");
         ui.checkbox(&mut scene.bounce, "light bounced off the ground");
+        ui.end_row();
+        ui.label("ground map").on_hover_text(
+            "[shadows] ground_map: the ground's soft shadows computed once per change at the texels of a map over \
+             it, rather than at every pixel",
+        );
+        ui.checkbox(&mut scene.shadow_ground_map, "from a map");
         ui.end_row();
         for (i, light) in scene.lights.iter_mut().enumerate() {
             ui.label(format!("light {i}"));

@@ -1,0 +1,38 @@
+// The ground's shadows ([shadows] ground_map): each point light's visibility on the
+// ground, as point_light_shadow finds it (shadows.glsl), computed by
+// shaders/ground_shadow.comp at the texel centres of a map over the ground's rectangle
+// that objects can shadow (shadow_data.ground, src/scene/ground_shadow.rs) once per change
+// of the lights, the objects or the shadow maps, and read bilinearly at the ground's pixels
+// rather than searched and filtered at every one of them: on a flat ground the receiver's
+// plane, all that the shadow depends on besides the point, is the same at every pixel.
+// Outside the rectangle every light is seen whole: 1.
+#ifndef ARGIL_GROUND_SHADOW_GLSL
+#define ARGIL_GROUND_SHADOW_GLSL
+#include "scene_data.glsl"
+#include "shadows.glsl"
+
+// Whether the draw reads its shadows from the map (src/render/forward.rs): the ground's.
+layout(constant_id = 19) const bool GROUND_SHADOWS = false;
+
+// The ground point at the centre of texel `texel` of a map `size` texels on a side over
+// the rectangle.
+vec3 ground_shadow_point(uvec2 texel, uint size) {
+    vec2 st = (vec2(texel) + 0.5) / float(size);
+    vec2 xz = mix(shadow_data.ground.xy, shadow_data.ground.zw, st);
+    return vec3(xz.x, frame.ground.y, xz.y);
+}
+
+#ifndef GROUND_SHADOW_MAP_WRITER
+// Lights 4k to 4k + 3 in the channels of layer k.
+layout(set = 5, binding = 2) uniform sampler2DArray ground_shadow_map;
+
+// The fraction of point light i that reaches ground point p.
+float ground_map_shadow(uint i, vec3 p) {
+    vec2 extent = shadow_data.ground.zw - shadow_data.ground.xy;
+    vec2 st = (p.xz - shadow_data.ground.xy) / max(extent, vec2(1e-30));
+    float shadow = textureLod(ground_shadow_map, vec3(st, float(i / 4u)), 0.0)[i % 4u];
+    return all(greaterThanEqual(st, vec2(0.0))) && all(lessThanEqual(st, vec2(1.0))) ? shadow : 1.0;
+}
+#endif
+
+#endif
