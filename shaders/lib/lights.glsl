@@ -16,10 +16,16 @@ vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
     return frame.lights[i].intensity.rgb / distance2;
 }
 
-// The fraction of point light i that reaches p: from the ground's shadow map on the ground
-// that reads it (GROUND_SHADOWS), else point_light_shadow with the receiver's triangle's
-// normal `face_normal`.
+// Whether any light of the frame has a shadow map (src/render/forward.rs). Off, the
+// pipeline holds no shadow code: a light without a map is whole at every point, and
+// lavapipe would still run what the lookups share before finding that out.
+layout(constant_id = 20) const bool SHADOWS = true;
+
+// The fraction of point light i that reaches p: 1 without shadows, from the ground's shadow
+// map on the ground that reads it (GROUND_SHADOWS), else point_light_shadow with the
+// receiver's triangle's normal `face_normal`.
 float point_light_visibility(uint i, vec3 p, vec3 face_normal) {
+    if (!SHADOWS) return 1.0;
     return GROUND_SHADOWS ? ground_map_shadow(i, p) : point_light_shadow(i, p, face_normal, gl_FragCoord.xy);
 }
 

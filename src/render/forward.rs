@@ -53,8 +53,9 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// object_occlusion.glsl), those three always specialised; and whether the pipeline holds
 /// the ground's bounce (bounce.glsl), a map's sun and the material's energy compensation
 /// (environment.glsl), which the generic pipeline always does; a soft shadow's taps
-/// (`[shadows] taps`, shadows.glsl); and whether the draw reads its shadows from the
-/// ground's shadow map (ground_shadow.glsl).
+/// (`[shadows] taps`, shadows.glsl); whether the draw reads its shadows from the
+/// ground's shadow map (ground_shadow.glsl); and whether the frame has shadows at all
+/// (lights.glsl), which the generic pipeline always holds.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -78,11 +79,12 @@ pub struct ForwardConstants {
     pub energy_compensation: u32,
     pub shadow_taps: u32,
     pub ground_shadows: u32,
+    pub shadows: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 20] = [
+    pub const NAMES: [&'static str; 21] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -103,6 +105,7 @@ impl ForwardConstants {
         "ENERGY_COMPENSATION",
         "SHADOW_TAPS",
         "GROUND_SHADOWS",
+        "SHADOWS",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -164,6 +167,7 @@ impl ForwardConstants {
             energy_compensation: u32::from(m.energy_compensation || !specialize),
             shadow_taps: DEFAULT_SHADOW_TAPS,
             ground_shadows: 0,
+            shadows: 1,
         }
     }
 
@@ -708,6 +712,8 @@ pub struct FrameChoices {
     pub ground_map: Option<usize>,
     /// The object that reads its shadows from the ground's shadow map (ground_maps.rs).
     pub ground_shadows: Option<usize>,
+    /// Whether a light has a shadow map.
+    pub shadows: bool,
     /// Whether the environment's map has a sun lifted out of it (environment.rs).
     pub sun: bool,
 }
@@ -744,6 +750,7 @@ fn draw_constants(
             constants.sun = held(choices.sun);
             constants.shadow_taps = scene.shadow_taps;
             constants.ground_shadows = u32::from(choices.ground_shadows == Some(i));
+            constants.shadows = held(choices.shadows);
             constants
         })
         .collect()
@@ -764,6 +771,7 @@ mod tests {
             include_str!("../../shaders/lib/bounce.glsl"),
             include_str!("../../shaders/lib/shadows.glsl"),
             include_str!("../../shaders/lib/ground_shadow.glsl"),
+            include_str!("../../shaders/lib/lights.glsl"),
         ];
         sources
             .iter()
@@ -906,14 +914,16 @@ mod tests {
     }
 
     /// The ground's own draw holds no bounce gather, every other draw of a bouncing scene
-    /// does, and the generic pipeline always does.
+    /// does, and the generic pipeline always does; the ground's draw alone reads its
+    /// shadows from the ground's map when the frame has one; a frame without shadow maps
+    /// holds no shadow code, but for the generic pipeline.
     #[test]
-    fn only_the_draws_above_the_ground_hold_the_bounce() {
+    fn draws_hold_the_bounce_and_the_shadows_they_use() {
         let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
             .expect("the default scene");
         let ground = scene.ground_index().expect("a ground");
         let from = vec![ObjectsOcclusionFrom::Pixels; scene.objects.len()];
-        let bounces = |specialize: bool| -> Vec<u32> {
+        let constants = |specialize: bool, shadows: bool| -> Vec<ForwardConstants> {
             let choices = FrameChoices {
                 debug_view: DebugView::Shaded,
                 floor: false,
@@ -922,17 +932,20 @@ mod tests {
                 occlusion: OcclusionMode::Off,
                 objects: true,
                 ground_map: None,
-                ground_shadows: None,
+                ground_shadows: shadows.then_some(ground),
+                shadows,
                 sun: false,
             };
-            draw_constants(&scene, None, &from, &choices).iter().map(|c| c.bounce).collect()
+            draw_constants(&scene, None, &from, &choices)
         };
-        let specialised = bounces(true);
+        let specialised = constants(true, true);
         assert_eq!(specialised.len(), scene.objects.len());
-        for (i, bounce) in specialised.into_iter().enumerate() {
-            assert_eq!(bounce, u32::from(i != ground), "draw {i}");
+        for (i, c) in specialised.into_iter().enumerate() {
+            assert_eq!((c.bounce, c.ground_shadows, c.shadows), (u32::from(i != ground), u32::from(i == ground), 1));
         }
-        assert!(bounces(false).iter().all(|&b| b == 1), "the generic pipeline holds the bounce");
+        assert!(constants(false, true).iter().all(|c| c.bounce == 1), "the generic pipeline holds the bounce");
+        assert!(constants(true, false).iter().all(|c| c.shadows == 0 && c.ground_shadows == 0));
+        assert!(constants(false, false).iter().all(|c| c.shadows == 1), "the generic pipeline holds the shadows");
     }
 
     #[test]

@@ -303,6 +303,7 @@ impl Renderer {
             objects,
             ground_map: ground,
             ground_shadows: shadow_ground,
+            shadows: self.shadows && scene.lights.iter().any(|l| l.shadows),
             // The environment's, once it is known (prepare_environment_and_pipelines).
             sun: false,
         };
