@@ -14,12 +14,6 @@ pub struct GroundRect {
     pub max: Vec2,
 }
 
-impl GroundRect {
-    pub fn contains(&self, x: Vec2) -> bool {
-        x.cmpge(self.min).all() && x.cmple(self.max).all()
-    }
-}
-
 impl Scene {
     /// The part of the ground's square where an object may stand between a point and the
     /// sphere of one of the lights `shadowed` (indices into `lights`), or None where none
@@ -83,8 +77,13 @@ mod tests {
 
     use glam::{Vec2, Vec3, Vec3Swizzles};
 
+    use super::GroundRect;
     use crate::rng::Rng;
     use crate::scene::{Scene, DEFAULT_SCENE_TOML};
+
+    fn contains(rect: &GroundRect, x: Vec2) -> bool {
+        x.cmpge(rect.min).all() && x.cmple(rect.max).all()
+    }
 
     fn default_scene() -> Scene {
         Scene::from_toml(DEFAULT_SCENE_TOML, "default", Path::new("")).expect("the default scene")
@@ -120,7 +119,7 @@ mod tests {
                 let l = light.position + Vec3::new(signed(), signed(), signed()).clamp_length_max(1.0) * light.radius;
                 boxes.iter().any(|&b| segment_hits(x, l, b))
             });
-            if rect.contains(xz) {
+            if contains(&rect, xz) {
                 shadowed_inside += usize::from(shadowed);
             } else {
                 outside += 1;
