@@ -35,17 +35,29 @@ vec3 ground_lights_irradiance(vec3 x) {
     return lights;
 }
 
-// The ground point at the centre of texel `texel` of a map `size` texels on a side: x and
-// z grow with the texel's column and row over the square frame.ground.xz ± frame.ground.w.
-vec3 ground_light_point(uvec2 texel, uint size) {
+// The ground point at the centre of texel `texel` of a map `size` texels on a side over
+// the ground's rectangle centre ± half_extent (x and z), which grow with the texel's column
+// and row.
+vec3 ground_texel_point(uvec2 texel, uint size, vec2 centre, vec2 half_extent) {
     vec2 st = (vec2(texel) + 0.5) / float(size) * 2.0 - 1.0;
-    return vec3(frame.ground.x + st.x * frame.ground.w, frame.ground.y, frame.ground.z + st.y * frame.ground.w);
+    vec2 xz = centre + st * half_extent;
+    return vec3(xz.x, frame.ground.y, xz.y);
 }
 
-// Where ground point x falls on the map, the inverse of ground_light_point: (0, 0) to
-// (1, 1) over the ground's square.
+// Where ground point x falls on such a map, the inverse of ground_texel_point: (0, 0) to
+// (1, 1) over the rectangle.
+vec2 ground_texel_uv(vec3 x, vec2 centre, vec2 half_extent) {
+    return (x.xz - centre) / (2.0 * half_extent) + 0.5;
+}
+
+// ground_texel_point over the ground's square frame.ground.xz ± frame.ground.w.
+vec3 ground_light_point(uvec2 texel, uint size) {
+    return ground_texel_point(texel, size, frame.ground.xz, vec2(frame.ground.w));
+}
+
+// ground_texel_uv over the ground's square.
 vec2 ground_light_uv(vec3 x) {
-    return (x.xz - frame.ground.xz) / (2.0 * frame.ground.w) + 0.5;
+    return ground_texel_uv(x, frame.ground.xz, vec2(frame.ground.w));
 }
 
 #endif

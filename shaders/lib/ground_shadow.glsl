@@ -8,18 +8,14 @@
 // Outside the rectangle every light is seen whole: 1.
 #ifndef ARGIL_GROUND_SHADOW_GLSL
 #define ARGIL_GROUND_SHADOW_GLSL
-#include "scene_data.glsl"
-#include "shadows.glsl"
+#include "ground_light.glsl"
 
 // Whether the draw reads its shadows from the map (src/render/forward.rs): the ground's.
 layout(constant_id = 19) const bool GROUND_SHADOWS = false;
 
-// The ground point at the centre of texel `texel` of a map `size` texels on a side over
-// the rectangle.
+// The ground point at the centre of texel `texel` of the map, `size` texels on a side.
 vec3 ground_shadow_point(uvec2 texel, uint size) {
-    vec2 st = (vec2(texel) + 0.5) / float(size);
-    vec2 xz = mix(shadow_data.ground.xy, shadow_data.ground.zw, st);
-    return vec3(xz.x, frame.ground.y, xz.y);
+    return ground_texel_point(texel, size, shadow_data.ground.xy, shadow_data.ground.zw);
 }
 
 #ifndef GROUND_SHADOW_MAP_WRITER
@@ -28,10 +24,11 @@ layout(set = 5, binding = 2) uniform sampler2DArray ground_shadow_map;
 
 // The fraction of point light i that reaches ground point p.
 float ground_map_shadow(uint i, vec3 p) {
-    vec2 extent = shadow_data.ground.zw - shadow_data.ground.xy;
-    vec2 st = (p.xz - shadow_data.ground.xy) / max(extent, vec2(1e-30));
+    vec2 centre = shadow_data.ground.xy;
+    vec2 half_extent = shadow_data.ground.zw;
+    vec2 st = ground_texel_uv(p, centre, max(half_extent, vec2(1e-30)));
     float shadow = textureLod(ground_shadow_map, vec3(st, float(i / 4u)), 0.0)[i % 4u];
-    return all(greaterThanEqual(st, vec2(0.0))) && all(lessThanEqual(st, vec2(1.0))) ? shadow : 1.0;
+    return all(lessThan(abs(p.xz - centre), half_extent)) ? shadow : 1.0;
 }
 #endif
 

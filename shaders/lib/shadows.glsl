@@ -19,8 +19,8 @@ struct ShadowLight {
 layout(set = 3, binding = 0, std140) uniform ShadowData {
     uvec4 settings;  // x: texels on a side of a face
     ShadowLight lights[MAX_POINT_LIGHTS];
-    // The ground's rectangle that objects can shadow (ground_shadow.glsl): x and z lowest in
-    // xy, highest in zw; all 0 where nothing can.
+    // The ground's rectangle that objects can shadow (ground_shadow.glsl): its centre's x
+    // and z in xy, half its extent in zw; all 0 where nothing can.
     vec4 ground;
 } shadow_data;
 layout(set = 3, binding = 1) uniform sampler2DArray shadow_maps;

@@ -46,8 +46,8 @@ struct ShadowLightData {
 struct ShadowData {
     settings: [u32; 4],
     lights: [ShadowLightData; MAX_POINT_LIGHTS],
-    /// The ground's rectangle that objects can shadow: x and z lowest, then highest; all 0
-    /// where nothing can.
+    /// The ground's rectangle that objects can shadow: its centre's x and z, then half its
+    /// extent; all 0 where nothing can.
     ground: [f32; 4],
 }
 
@@ -224,7 +224,8 @@ impl ShadowPass {
             self.ground = (scene.ground_shadow_rect(&shadowed), ground_key);
         }
         if let Some(rect) = self.ground.0 {
-            data.ground = [rect.min.x, rect.min.y, rect.max.x, rect.max.y];
+            let (centre, half) = ((rect.min + rect.max) * 0.5, (rect.max - rect.min) * 0.5);
+            data.ground = [centre.x, centre.y, half.x, half.y];
         }
         self.slots[slot].data.write(bytemuck::bytes_of(&data))
     }
