@@ -510,13 +510,12 @@ const SHADOW_CONFIGURATIONS: [&str; 6] = [
 ];
 
 fn shadow_configured(file: &mut SceneFile, name: &str) {
-    let shadows = file.shadows.get_or_insert_with(Default::default);
     if let Some(taps) = name.strip_prefix("shadow-taps-").and_then(|n| n.parse().ok()) {
-        shadows.taps = Some(taps);
+        file.shadows.get_or_insert_with(Default::default).taps = Some(taps);
         return;
     }
     if name == "no-ground-shadow-map" {
-        shadows.ground_map = Some(false);
+        file.shadows.get_or_insert_with(Default::default).ground_map = Some(false);
         return;
     }
     for light in &mut file.lights {
