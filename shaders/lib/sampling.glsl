@@ -13,6 +13,20 @@ vec2 vogel_disk(uint k, uint n, float rotation) {
     return radius * vec2(cos(angle), sin(angle));
 }
 
+// The turn by the golden angle from one tap's angle to the next, (cos, sin).
+const vec2 GOLDEN_TURN = vec2(cos(GOLDEN_ANGLE), sin(GOLDEN_ANGLE));
+
+// vogel_disk's taps in order, for loops that lavapipe does not unroll: tap k of n, with
+// `direction` (cos, sin) of its angle, which starts at the rotation's and is turned here
+// for tap k + 1 by a complex product. Its cos and sin at every tap, polynomials on
+// lavapipe, were a ninth of the default scene's frame in a soft shadow's 32 taps.
+vec2 vogel_disk_step(uint k, uint n, inout vec2 direction) {
+    vec2 tap = sqrt((float(k) + 0.5) / float(n)) * direction;
+    direction = vec2(direction.x * GOLDEN_TURN.x - direction.y * GOLDEN_TURN.y,
+                     direction.x * GOLDEN_TURN.y + direction.y * GOLDEN_TURN.x);
+    return tap;
+}
+
 // Tap k of n of a cosine-weighted hemisphere about +z: Vogel disk point k lifted onto the
 // hemisphere (Malley's method, pbrt-v4 §A.5.3).
 vec3 cosine_hemisphere_tap(uint k, uint n) {

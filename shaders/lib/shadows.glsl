@@ -211,14 +211,16 @@ float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
     mat3 tangent = tangent_frame(w);
     float texel_angle = 2.0 / float(shadow_data.settings.x);
     float rotation = TWO_PI * interleaved_gradient_noise(pixel);
+    vec2 rotated = vec2(cos(rotation), sin(rotation));
     // Blockers a third of the way from the light or further: their penumbra is at most
     // 2r/d wide seen from it.
     float search = max(2.0 * radius / d, texel_angle);
     float blockers = 0.0;
     float count = 0.0;
+    vec2 direction = rotated;
     [[dont_unroll]]
     for (uint k = 0u; k < (receives && soft ? SHADOW_TAPS : 0u); ++k) {
-        vec2 o = vogel_disk(k, SHADOW_TAPS, rotation) * search;
+        vec2 o = vogel_disk_step(k, SHADOW_TAPS, direction) * search;
         uint face;
         ivec2 nearest = shadow_nearest_texel(w + tangent[0] * o.x + tangent[1] * o.y, face);
         float blocker = shadow_texel_blocker(r, face, nearest);
@@ -228,9 +230,10 @@ float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
     uint taps = !receives ? 0u : !soft ? 1u : count > 0.0 ? SHADOW_TAPS : 0u;
     float filter_radius = soft ? max(penumbra_angle(radius, d, blockers / count), texel_angle) : 0.0;
     float lit = 0.0;
+    direction = rotated;
     [[dont_unroll]]
     for (uint k = 0u; k < taps; ++k) {
-        vec2 o = vogel_disk(k, taps, rotation) * filter_radius;
+        vec2 o = vogel_disk_step(k, taps, direction) * filter_radius;
         lit += shadow_bilinear(r, w + tangent[0] * o.x + tangent[1] * o.y);
     }
     return taps == 0u ? 1.0 : lit / float(taps);

@@ -263,6 +263,32 @@ mod tests {
         assert_eq!(corner, [0.0, 1.0]);
     }
 
+    /// sampling.glsl's vogel_disk_step turns each tap's angle from the last by a complex
+    /// product, in f32: over the most taps a filter takes (the ground's shadow map's), its
+    /// taps stay on vogel_disk's to 1e-5 of the disk's radius.
+    #[test]
+    fn walked_taps_stay_on_the_vogel_disk() {
+        let sampling = include_str!("../../shaders/lib/sampling.glsl");
+        assert!(sampling.contains("const vec2 GOLDEN_TURN = vec2(cos(GOLDEN_ANGLE), sin(GOLDEN_ANGLE));"));
+        let turn = [GOLDEN_ANGLE.cos() as f32, GOLDEN_ANGLE.sin() as f32];
+        let n = crate::render::ground_maps::GROUND_SHADOW_TAPS_PER_TAP * crate::scene::SHADOW_TAPS_RANGE.end();
+        let mut worst = 0.0f64;
+        for rotation in [0.0f64, 1.0, 4.0, 6.2] {
+            let mut direction = [rotation.cos() as f32, rotation.sin() as f32];
+            for k in 0..n {
+                let radius = ((k as f32 + 0.5) / n as f32).sqrt();
+                let tap = [radius * direction[0], radius * direction[1]];
+                direction = [
+                    direction[0] * turn[0] - direction[1] * turn[1],
+                    direction[0] * turn[1] + direction[1] * turn[0],
+                ];
+                let exact = vogel_disk(k, n, rotation);
+                worst = worst.max((f64::from(tap[0]) - exact[0]).hypot(f64::from(tap[1]) - exact[1]));
+            }
+        }
+        assert!(worst < 1e-5, "{worst:e}");
+    }
+
     #[test]
     fn cosine_taps_are_unit_and_above_the_plane() {
         for k in 0..BOUNCE_TAPS {

@@ -52,7 +52,7 @@ pub const GROUND_OCCLUSION_SIZE: u32 = 256;
 pub const GROUND_SHADOW_SIZE: u32 = 256;
 /// The shadow map's taps for each of a soft shadow's (`[shadows] taps`): a texel stands for
 /// several pixels, each of which would turn its taps by its own angle.
-const GROUND_SHADOW_TAPS_PER_TAP: u32 = 4;
+pub const GROUND_SHADOW_TAPS_PER_TAP: u32 = 4;
 /// Layers of the shadow map: four lights to a layer, one a channel.
 const GROUND_SHADOW_LAYERS: u32 = MAX_POINT_LIGHTS.div_ceil(4) as u32;
 /// fp16: a value to 2⁻¹¹ of itself, which Vulkan requires to filter and store.
