@@ -464,7 +464,10 @@ impl ForwardPass {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
             let from: Vec<ObjectsOcclusionFrom> = self.object_occlusion.iter().map(|o| o.from).collect();
-            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, choices))?
+            let shadowed: Vec<bool> = (0..scene.objects.len())
+                .map(|i| choices.shadows && scene.may_be_shadowed(i, |mesh| gpu.meshes[mesh].extent))
+                .collect();
+            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, &shadowed, choices))?
         };
         // The objects with the scene's materials, then with the split's.
         let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
@@ -719,11 +722,13 @@ pub struct FrameChoices {
 }
 
 /// The constants of each draw: `scene`'s objects, then the same with `split`'s materials,
-/// object i reading the other objects' occlusion from `from[i]`.
+/// object i reading the other objects' occlusion from `from[i]`, and holding shadow code
+/// where `shadowed[i]` (`Scene::may_be_shadowed`, in a frame with shadow maps).
 fn draw_constants(
     scene: &Scene,
     split: Option<&Split>,
     from: &[ObjectsOcclusionFrom],
+    shadowed: &[bool],
     choices: &FrameChoices,
 ) -> Vec<ForwardConstants> {
     let bounces = scene.bounce && scene.ground().is_some();
@@ -750,7 +755,7 @@ fn draw_constants(
             constants.sun = held(choices.sun);
             constants.shadow_taps = scene.shadow_taps;
             constants.ground_shadows = u32::from(choices.ground_shadows == Some(i));
-            constants.shadows = held(choices.shadows);
+            constants.shadows = held(shadowed[i]);
             constants
         })
         .collect()
@@ -915,8 +920,9 @@ mod tests {
 
     /// The ground's own draw holds no bounce gather, every other draw of a bouncing scene
     /// does, and the generic pipeline always does; the ground's draw alone reads its
-    /// shadows from the ground's map when the frame has one; a frame without shadow maps
-    /// holds no shadow code, but for the generic pipeline.
+    /// shadows from the ground's map when the frame has one; a draw that no shadow can
+    /// reach, and every draw of a frame without shadow maps, holds no shadow code, but for
+    /// the generic pipeline.
     #[test]
     fn draws_hold_the_bounce_and_the_shadows_they_use() {
         let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
@@ -936,12 +942,18 @@ mod tests {
                 shadows,
                 sun: false,
             };
-            draw_constants(&scene, None, &from, &choices)
+            let extents: Vec<_> = scene.meshes.iter().map(|m| m.extent()).collect();
+            let shadowed: Vec<bool> =
+                (0..scene.objects.len()).map(|i| shadows && scene.may_be_shadowed(i, |m| extents[m])).collect();
+            draw_constants(&scene, None, &from, &shadowed, &choices)
         };
         let specialised = constants(true, true);
         assert_eq!(specialised.len(), scene.objects.len());
+        // The ball, convex and where nothing stands before the light, is lit whole.
+        let ball = 0;
         for (i, c) in specialised.into_iter().enumerate() {
-            assert_eq!((c.bounce, c.ground_shadows, c.shadows), (u32::from(i != ground), u32::from(i == ground), 1));
+            let expected = (u32::from(i != ground), u32::from(i == ground), u32::from(i != ball));
+            assert_eq!((c.bounce, c.ground_shadows, c.shadows), expected);
         }
         assert!(constants(false, true).iter().all(|c| c.bounce == 1), "the generic pipeline holds the bounce");
         assert!(constants(true, false).iter().all(|c| c.shadows == 0 && c.ground_shadows == 0));

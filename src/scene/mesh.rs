@@ -50,7 +50,12 @@ pub struct MeshExtent {
     /// Its bounding sphere ([`Mesh::bounding_sphere`]).
     pub centre: Vec3,
     pub radius: f32,
+    /// Its bounding box ([`Mesh::bounding_box`]): lowest and highest corner.
+    pub low: Vec3,
+    pub high: Vec3,
     pub longest_edge: f32,
+    /// [`Mesh::is_convex`].
+    pub convex: bool,
 }
 
 /// Prefix of the mesh names that [`Mesh::builtin`] understands.
@@ -129,7 +134,7 @@ impl Mesh {
                     });
                 }
             }
-            push_grid_triangles(&mut indices, base, n, n);
+            push_convex_grid_triangles(&mut indices, base, n);
         }
         Mesh {
             name: "builtin:sphere".into(),
@@ -301,9 +306,17 @@ impl Mesh {
         .with_curvature()
     }
 
-    /// Its bounding sphere and longest edge, kept where choices are made every frame.
+    /// Whether the mesh bounds a convex solid, whose surface cannot shadow itself: the
+    /// builtin sphere, cube and plane (a test checks that each of their edges folds
+    /// outward or is flat).
+    pub fn is_convex(&self) -> bool {
+        matches!(self.name.as_str(), "builtin:sphere" | "builtin:cube" | "builtin:plane")
+    }
+
+    /// Its bounds, longest edge and convexity, kept where choices are made every frame.
     pub fn extent(&self) -> MeshExtent {
         let (centre, radius) = self.bounding_sphere();
+        let (low, high) = self.bounding_box();
         let position = |i: u32| Vec3::from(self.vertices[i as usize].position);
         let longest_edge = self
             .indices
@@ -314,7 +327,10 @@ impl Mesh {
         MeshExtent {
             centre,
             radius,
+            low,
+            high,
             longest_edge,
+            convex: self.is_convex(),
         }
     }
 
@@ -389,6 +405,29 @@ fn push_grid_triangles(indices: &mut Vec<u32>, base: u32, columns: u32, rows: u3
             let a = base + row * stride + column;
             let (b, c, d) = (a + 1, a + 1 + stride, a + stride);
             indices.extend_from_slice(&[a, b, c, a, c, d]);
+        }
+    }
+}
+
+/// The triangles of a face of the cube sphere, an n × n grid of vertices on the sphere:
+/// each cell split along the diagonal from its corner nearest the face's centre, whose fold
+/// is outward (its midpoint lies further from the sphere's centre than the other's), so
+/// that every edge is convex and the mesh bounds a convex solid ([`Mesh::is_convex`]).
+/// The other diagonal folds inward, by up to 1e-3 of the radius at 32 subdivisions.
+fn push_convex_grid_triangles(indices: &mut Vec<u32>, base: u32, n: u32) {
+    let stride = n + 1;
+    for row in 0..n {
+        for column in 0..n {
+            let a = base + row * stride + column;
+            let (b, c, d) = (a + 1, a + 1 + stride, a + stride);
+            // The diagonal a–c points away from the centre where the cell lies in the
+            // quadrant of increasing or decreasing column and row alike.
+            let outward = (2 * i64::from(column) + 1 - i64::from(n)) * (2 * i64::from(row) + 1 - i64::from(n)) >= 0;
+            if outward {
+                indices.extend_from_slice(&[a, b, c, a, c, d]);
+            } else {
+                indices.extend_from_slice(&[a, b, d, b, c, d]);
+            }
         }
     }
 }
@@ -586,6 +625,49 @@ mod tests {
         }
         assert_frames(&mesh);
         assert_outward(&mesh, |centroid| centroid);
+    }
+
+    /// The largest height, over the mesh's radius, of a vertex above the plane of a triangle
+    /// that shares an edge with its own (vertices welded by position): 0 or less where every
+    /// edge folds outward or is flat.
+    fn inward_fold(mesh: &Mesh) -> f32 {
+        let key = |i: u32| position_key(mesh.vertices[i as usize].position);
+        let point = |i: u32| Vec3::from(mesh.vertices[i as usize].position);
+        let mut opposite: std::collections::HashMap<_, Vec<u32>> = std::collections::HashMap::new();
+        for t in mesh.indices.chunks_exact(3) {
+            for k in 0..3 {
+                let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
+                opposite.entry((a.min(b), a.max(b))).or_default().push(t[(k + 2) % 3]);
+            }
+        }
+        let radius = mesh.bounding_sphere().1;
+        let mut worst = f32::NEG_INFINITY;
+        for t in mesh.indices.chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(point);
+            let normal = (b - a).cross(c - a).normalize();
+            for k in 0..3 {
+                let (p, q) = (key(t[k]), key(t[(k + 1) % 3]));
+                for &o in &opposite[&(p.min(q), p.max(q))] {
+                    worst = worst.max(normal.dot(point(o) - a) / radius);
+                }
+            }
+        }
+        worst
+    }
+
+    /// The meshes that say they bound convex solids fold outward (or not at all, within
+    /// rounding) at every edge, the torus inward at some: a closed, connected surface
+    /// convex at each edge bounds a convex solid (Tietze's theorem).
+    #[test]
+    fn convex_builtins_fold_outward_at_every_edge() {
+        let meshes = [1, 2, 3, 4, 7, 32, 64].map(Mesh::sphere).into_iter().chain([Mesh::cube(), Mesh::plane()]);
+        for mesh in meshes {
+            assert!(mesh.is_convex());
+            let fold = inward_fold(&mesh);
+            assert!(fold < 1e-6, "{} ({:?}) folds inward by {fold:e} of its radius", mesh.name, mesh.subdivisions);
+        }
+        let torus = Mesh::builtin("builtin:torus").unwrap();
+        assert!(!torus.is_convex() && inward_fold(&torus) > 1e-3);
     }
 
     /// With vertices welded by position, every edge borders exactly two triangles: the

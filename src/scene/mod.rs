@@ -25,6 +25,7 @@ mod pending;
 mod preset;
 mod procedural;
 mod resolve;
+mod shadow_receivers;
 mod solid;
 mod tangents;
 mod texture;
