@@ -400,9 +400,10 @@ fn the_shadow_map_view_passes_on_a_lit_plane_and_shows_the_blocker_in_the_umbra(
     assert!(wrong.is_empty(), "{} pixels off: {:?}", wrong.len(), &wrong[..wrong.len().min(8)]);
 }
 
-/// The pixels well inside the silhouette of SPHERE (a ray through each pixel's centre
-/// passing within `within` of its radius of its centre), as indices into a frame.
-fn sphere_pixels(rays: &CameraRays, within: f64) -> Vec<usize> {
+/// The pixels well inside the silhouette of SPHERE, where a ray through the pixel's centre
+/// passes within `within` of its radius of its centre, as indices into a frame, each with
+/// the point where that ray meets the sphere.
+fn sphere_pixels(rays: &CameraRays, within: f64) -> Vec<(usize, DVec3)> {
     let mut pixels = Vec::new();
     for y in 0..SIZE.1 {
         for x in 0..SIZE.0 {
@@ -410,8 +411,10 @@ fn sphere_pixels(rays: &CameraRays, within: f64) -> Vec<usize> {
             let d = d.normalize();
             let oc = o - SPHERE_CENTRE;
             let b = oc.dot(d);
-            if oc.length_squared() - b * b <= (within * SPHERE_RADIUS).powi(2) && b < 0.0 {
-                pixels.push((y * SIZE.0 + x) as usize);
+            let miss2 = oc.length_squared() - b * b;
+            if miss2 <= (within * SPHERE_RADIUS).powi(2) && b <= 0.0 {
+                let p = o + d * (-b - (SPHERE_RADIUS * SPHERE_RADIUS - miss2).sqrt());
+                pixels.push(((y * SIZE.0 + x) as usize, p));
             }
         }
     }
@@ -446,7 +449,7 @@ fn a_ball_no_shadow_can_reach_is_drawn_without_shadow_code_as_with_it() {
     let pixels = sphere_pixels(&rays, 0.6);
     assert!(pixels.len() > 150, "{} pixels", pixels.len());
     let differing = (pixels.iter())
-        .filter(|&&i| (0..4).any(|c| alone[4 * i + c].to_bits() != beside[4 * i + c].to_bits()))
+        .filter(|&&(i, _)| (0..4).any(|c| alone[4 * i + c].to_bits() != beside[4 * i + c].to_bits()))
         .count();
     assert_eq!(differing, 0, "{differing} of {} pixels of the ball differ", pixels.len());
 }
@@ -502,33 +505,20 @@ fn the_bounce_is_the_f64_gather_of_the_grounds_light() {
         intensity: [20.0, 18.0, 16.0],
     };
     let mut errors = Vec::new();
-    for y in 0..SIZE.1 {
-        for x in 0..SIZE.0 {
-            let (o, d) = rays.ray(f64::from(x) + 0.5, f64::from(y) + 0.5, SIZE.0, SIZE.1);
-            let d = d.normalize();
-            // Pixels well inside the silhouette, where mesh and sphere cover the centre alike.
-            let oc = o - SPHERE_CENTRE;
-            let b = oc.dot(d);
-            let miss2 = oc.length_squared() - b * b;
-            if miss2 > (0.9 * SPHERE_RADIUS).powi(2) || b > 0.0 {
-                continue;
-            }
-            let p = o + d * (-b - (SPHERE_RADIUS * SPHERE_RADIUS - miss2).sqrt());
-            let n = (p - SPHERE_CENTRE) / SPHERE_RADIUS;
-            let gathered = ground_bounce_irradiance(
-                p.to_array(),
-                n.to_array(),
-                &ground,
-                |g| ground_lights_irradiance(g, &[light], |_, _| 1.0),
-                |_| [0.1, 0.1, 0.12],
-                BOUNCE_TAPS,
-            );
-            let expected = gathered[1] * 0.6 / std::f64::consts::PI;
-            if expected <= 0.0 {
-                continue;
-            }
-            let i = 4 * (y * SIZE.0 + x) as usize;
-            errors.push((f64::from(frame[i + 1]) - expected).abs() / expected);
+    // Pixels well inside the silhouette, where mesh and sphere cover the centre alike.
+    for (i, p) in sphere_pixels(&rays, 0.9) {
+        let n = (p - SPHERE_CENTRE) / SPHERE_RADIUS;
+        let gathered = ground_bounce_irradiance(
+            p.to_array(),
+            n.to_array(),
+            &ground,
+            |g| ground_lights_irradiance(g, &[light], |_, _| 1.0),
+            |_| [0.1, 0.1, 0.12],
+            BOUNCE_TAPS,
+        );
+        let expected = gathered[1] * 0.6 / std::f64::consts::PI;
+        if expected > 0.0 {
+            errors.push((f64::from(frame[4 * i + 1]) - expected).abs() / expected);
         }
     }
     errors.sort_by(f64::total_cmp);
