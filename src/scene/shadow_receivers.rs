@@ -14,14 +14,15 @@ pub const MAX_SHADOW_RECEIVER_OBJECTS: usize = 256;
 
 impl Scene {
     /// Whether a point of object `receiver` can lie in a shadow: where a light casts shadows
-    /// and its mesh is not convex ([`super::Mesh::is_convex`]), or where another object may stand between one of its
-    /// points and a point of a shadowed light's sphere. Every such segment lies in the convex
-    /// hull of the receiver's bounding box and the light's, so an object apart from that hull
-    /// casts nothing on it: its bounding box apart from the hull's along an axis (touching
-    /// does not shadow: the ground under an object resting on it), or its bounding sphere
-    /// apart from the capsule about the light's centre and the receiver's bounding sphere's,
-    /// as wide as the wider of the two, which holds the hull. `extent` gives each mesh's.
-    /// Every object of a scene of more than [`MAX_SHADOW_RECEIVER_OBJECTS`] may be.
+    /// and its mesh is not convex ([`super::Mesh::is_convex`]), or where another object may
+    /// stand between one of its points and a point of a shadowed light's sphere. Every such
+    /// segment lies in the convex hull of the receiver's bounding box and the light's, so an
+    /// object apart from that hull casts nothing on it: its bounding box apart from the
+    /// hull's along an axis (touching does not shadow: the ground under an object resting on
+    /// it), or its bounding sphere apart from the capsule about the light's centre and the
+    /// receiver's bounding sphere's, as wide as the wider of the two, which holds the hull.
+    /// `extent` gives each mesh's. Every object of a scene of more than
+    /// [`MAX_SHADOW_RECEIVER_OBJECTS`] may be.
     pub fn may_be_shadowed(&self, receiver: usize, extent: impl Fn(usize) -> MeshExtent) -> bool {
         let world = |i: usize| {
             let o = &self.objects[i];
