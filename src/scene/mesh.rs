@@ -134,7 +134,7 @@ impl Mesh {
                     });
                 }
             }
-            push_convex_grid_triangles(&mut indices, base, n);
+            push_grid_triangles(&mut indices, base, n, n, |column, row| outward_diagonal(column, row, n));
         }
         Mesh {
             name: "builtin:sphere".into(),
@@ -296,7 +296,7 @@ impl Mesh {
             }
         }
         let mut indices = Vec::with_capacity((segments * rings * 6) as usize);
-        push_grid_triangles(&mut indices, 0, segments, rings);
+        push_grid_triangles(&mut indices, 0, segments, rings, |_, _| true);
         Mesh {
             name: name.to_owned(),
             vertices,
@@ -397,39 +397,39 @@ fn angle_sin_cos(t: f32) -> (f32, f32) {
 
 /// Two triangles per cell of a grid of `columns` × `rows` cells whose (columns + 1) ×
 /// (rows + 1) vertices start at `base`, row by row; counter-clockwise when columns advance
-/// along the tangent and rows along cross(normal, tangent).
-fn push_grid_triangles(indices: &mut Vec<u32>, base: u32, columns: u32, rows: u32) {
+/// along the tangent and rows along cross(normal, tangent). Cell (column, row) is split
+/// along the diagonal from its first vertex to its last where `first_diagonal` says so,
+/// along the other elsewhere.
+fn push_grid_triangles(
+    indices: &mut Vec<u32>,
+    base: u32,
+    columns: u32,
+    rows: u32,
+    first_diagonal: impl Fn(u32, u32) -> bool,
+) {
     let stride = columns + 1;
     for row in 0..rows {
         for column in 0..columns {
             let a = base + row * stride + column;
             let (b, c, d) = (a + 1, a + 1 + stride, a + stride);
-            indices.extend_from_slice(&[a, b, c, a, c, d]);
-        }
-    }
-}
-
-/// The triangles of a face of the cube sphere, an n × n grid of vertices on the sphere:
-/// each cell split along the diagonal from its corner nearest the face's centre, whose fold
-/// is outward (its midpoint lies further from the sphere's centre than the other's), so
-/// that every edge is convex and the mesh bounds a convex solid ([`Mesh::is_convex`]).
-/// The other diagonal folds inward, by up to 1e-3 of the radius at 32 subdivisions.
-fn push_convex_grid_triangles(indices: &mut Vec<u32>, base: u32, n: u32) {
-    let stride = n + 1;
-    for row in 0..n {
-        for column in 0..n {
-            let a = base + row * stride + column;
-            let (b, c, d) = (a + 1, a + 1 + stride, a + stride);
-            // The diagonal a–c points away from the centre where the cell lies in the
-            // quadrant of increasing or decreasing column and row alike.
-            let outward = (2 * i64::from(column) + 1 - i64::from(n)) * (2 * i64::from(row) + 1 - i64::from(n)) >= 0;
-            if outward {
+            if first_diagonal(column, row) {
                 indices.extend_from_slice(&[a, b, c, a, c, d]);
             } else {
                 indices.extend_from_slice(&[a, b, d, b, c, d]);
             }
         }
     }
+}
+
+/// Whether cell (column, row) of a face of the cube sphere, n × n cells, is split along
+/// its first diagonal: the one from its corner nearest the face's centre, whose fold is
+/// outward (its midpoint lies further from the sphere's centre than the other's), so that
+/// every edge is convex and the mesh bounds a convex solid ([`Mesh::is_convex`]). The other
+/// diagonal folds inward, by up to 1e-3 of the radius at 32 subdivisions. The first
+/// diagonal points away from the centre where the cell lies in the quadrant of increasing
+/// or decreasing column and row alike.
+fn outward_diagonal(column: u32, row: u32, n: u32) -> bool {
+    (2 * i64::from(column) + 1 - i64::from(n)) * (2 * i64::from(row) + 1 - i64::from(n)) >= 0
 }
 
 /// One face of the cube sphere: its centre `normal`, and `right` × `up` = `normal` the
