@@ -440,7 +440,7 @@ fn a_ball_no_shadow_can_reach_is_drawn_without_shadow_code_as_with_it() {
     let beside = scene(&plane_scene("radius = 0.5", &format!("{ball}{pebble}")));
     let shadowed = |scene: &argil::scene::Scene| {
         let extents: Vec<_> = scene.meshes.iter().map(|m| m.extent()).collect();
-        scene.may_be_shadowed(1, |m| extents[m])
+        scene.may_be_shadowed(1, &[0], |m| extents[m])
     };
     assert!(!shadowed(&alone) && shadowed(&beside));
     let rays = CameraRays::new(&alone.camera, SIZE.0, SIZE.1);

@@ -433,14 +433,17 @@ impl ForwardPass {
     /// (or the floor's), and the pre-integrated subsurface table if a material reads it.
     /// `occluders` (`Scene::occluders`) are the spheres whose occlusion the objects read
     /// when `choices.objects`, and `gpu`'s meshes say whether an object reads them at its
-    /// vertices (`Scene::occlusion_at_vertices`). Uses no frame slot, so it may run while
-    /// frames are in flight, or beside the environment's precompute (renderer.rs).
+    /// vertices (`Scene::occlusion_at_vertices`); the draw of object i holds shadow code
+    /// where `shadowed[i]` (`ShadowPass::receivers`). Uses no frame slot, so it may run
+    /// while frames are in flight, or beside the environment's precompute (renderer.rs).
+    #[allow(clippy::too_many_arguments)]
     pub fn prepare_pipelines(
         &mut self,
         scene: &Scene,
         gpu: &GpuScene,
         split: Option<&Split>,
         occluders: &[Occluder],
+        shadowed: &[bool],
         choices: &FrameChoices,
         one_shot: &OneShot,
     ) -> Result<()> {
@@ -464,10 +467,7 @@ impl ForwardPass {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
             let from: Vec<ObjectsOcclusionFrom> = self.object_occlusion.iter().map(|o| o.from).collect();
-            let shadowed: Vec<bool> = (0..scene.objects.len())
-                .map(|i| choices.shadows && scene.may_be_shadowed(i, |mesh| gpu.meshes[mesh].extent))
-                .collect();
-            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, &shadowed, choices))?
+            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, shadowed, choices))?
         };
         // The objects with the scene's materials, then with the split's.
         let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
@@ -715,15 +715,13 @@ pub struct FrameChoices {
     pub ground_map: Option<usize>,
     /// The object that reads its shadows from the ground's shadow map (ground_maps.rs).
     pub ground_shadows: Option<usize>,
-    /// Whether a light has a shadow map.
-    pub shadows: bool,
     /// Whether the environment's map has a sun lifted out of it (environment.rs).
     pub sun: bool,
 }
 
 /// The constants of each draw: `scene`'s objects, then the same with `split`'s materials,
 /// object i reading the other objects' occlusion from `from[i]`, and holding shadow code
-/// where `shadowed[i]` (`Scene::may_be_shadowed`, in a frame with shadow maps).
+/// where `shadowed[i]` (`ShadowPass::receivers`).
 fn draw_constants(
     scene: &Scene,
     split: Option<&Split>,
@@ -939,12 +937,12 @@ mod tests {
                 objects: true,
                 ground_map: None,
                 ground_shadows: shadows.then_some(ground),
-                shadows,
                 sun: false,
             };
             let extents: Vec<_> = scene.meshes.iter().map(|m| m.extent()).collect();
+            let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };
             let shadowed: Vec<bool> =
-                (0..scene.objects.len()).map(|i| shadows && scene.may_be_shadowed(i, |m| extents[m])).collect();
+                (0..scene.objects.len()).map(|i| scene.may_be_shadowed(i, &lights, |m| extents[m])).collect();
             draw_constants(&scene, None, &from, &shadowed, &choices)
         };
         let specialised = constants(true, true);

@@ -303,14 +303,15 @@ impl Renderer {
             objects,
             ground_map: ground,
             ground_shadows: shadow_ground,
-            shadows: self.shadows && scene.lights.iter().any(|l| l.shadows),
             // The environment's, once it is known (prepare_environment_and_pipelines).
             sun: false,
         };
-        self.prepare_environment_and_pipelines(scene, gpu, &occluders, choices)?;
+        // The shadow pass finds which objects' draws need shadow code.
+        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
+        let shadowed = self.shadow.receivers().to_vec();
+        self.prepare_environment_and_pipelines(scene, gpu, &occluders, &shadowed, choices)?;
         self.environment.prepare_skybox(sample_flag(samples))?;
         self.msaa.prepare(slot, target, samples)?;
-        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         let environment = self.environment.generation();
         let shadows_change = self.shadow.pending();
         self.ground_maps.prepare(scene, &occluders, shadows_change, ground, shadow_ground, environment)?;
@@ -346,6 +347,7 @@ impl Renderer {
         scene: &Scene,
         gpu: &GpuScene,
         occluders: &[Occluder],
+        shadowed: &[bool],
         choices: FrameChoices,
     ) -> Result<()> {
         let start = Instant::now();
@@ -363,12 +365,12 @@ impl Renderer {
                 sun: self.environment.has_sun(),
                 ..choices
             };
-            return self.forward.prepare_pipelines(scene, gpu, split, occluders, &choices, &self.one_shot);
+            return self.forward.prepare_pipelines(scene, gpu, split, occluders, shadowed, &choices, &self.one_shot);
         };
         let choices = FrameChoices { sun, ..choices };
         let pool = low_priority_pool()?;
         let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
-        let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, &choices, one_shot);
+        let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, shadowed, &choices, one_shot);
         let (precomputed, pipelines) = std::thread::scope(|threads| {
             let precompute = threads.spawn(move || environment.prepare(scene, plan));
             let pipelines = pool.install(make_pipelines);

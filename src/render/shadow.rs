@@ -4,7 +4,9 @@
 //! forward pass (shaders/lib/shadows.glsl): binding 0 the `ShadowData` uniform buffer,
 //! binding 1 the maps; the ground's light and shadow maps are computed from them too
 //! (ground_maps.rs), the shadow map over the part of the ground that objects can shadow
-//! (`Scene::ground_shadow_rect`), which `ShadowData` holds.
+//! (`Scene::ground_shadow_rect`), which `ShadowData` holds. What the shadows can reach,
+//! that rectangle and the objects that may be shadowed (`Scene::may_be_shadowed`), is found
+//! once per change of the lights or the objects.
 
 use std::cell::Cell;
 use std::sync::Arc;
@@ -115,9 +117,17 @@ pub struct ShadowPass {
     pending: Cell<bool>,
     /// Frames that rendered them.
     renders: Cell<u64>,
-    /// The ground's rectangle that objects can shadow, and the key and lights' radii it was
-    /// found from.
-    ground: (Option<GroundRect>, Vec<u64>),
+    /// What the shadows reach, and the key and lights' radii it was found from.
+    reach: (ShadowReach, Vec<u64>),
+}
+
+/// What the shadows of the shadowed lights can reach.
+#[derive(Default)]
+struct ShadowReach {
+    /// The ground's rectangle that objects can shadow.
+    ground: Option<GroundRect>,
+    /// Per object, whether a point of it may lie in a shadow.
+    receivers: Vec<bool>,
 }
 
 impl ShadowPass {
@@ -156,8 +166,14 @@ impl ShadowPass {
             faces: Vec::new(),
             pending: Cell::new(false),
             renders: Cell::new(0),
-            ground: (None, Vec::new()),
+            reach: (ShadowReach::default(), Vec::new()),
         })
+    }
+
+    /// Per object of the scene of the last [`Self::prepare`], whether a point of it may lie
+    /// in a shadow (`Scene::may_be_shadowed`): none without a shadowed light.
+    pub fn receivers(&self) -> &[bool] {
+        &self.reach.0.receivers
     }
 
     /// The layout of set 3 of the forward pass.
@@ -219,11 +235,17 @@ impl ShadowPass {
             data.lights[i].map = [6.0 * k as f32, scene.lights[i].radius, face.near, face.far];
         }
         let radii = shadowed.iter().map(|&i| u64::from(scene.lights[i].radius.to_bits()));
-        let ground_key: Vec<u64> = self.key.iter().copied().chain(radii).collect();
-        if ground_key != self.ground.1 {
-            self.ground = (scene.ground_shadow_rect(&shadowed), ground_key);
+        let reach_key: Vec<u64> = self.key.iter().copied().chain(radii).collect();
+        if reach_key != self.reach.1 {
+            let reach = ShadowReach {
+                ground: scene.ground_shadow_rect(&shadowed),
+                receivers: (0..scene.objects.len())
+                    .map(|i| scene.may_be_shadowed(i, &shadowed, |mesh| gpu.meshes[mesh].extent))
+                    .collect(),
+            };
+            self.reach = (reach, reach_key);
         }
-        if let Some(rect) = self.ground.0 {
+        if let Some(rect) = self.reach.0.ground {
             let (centre, half) = ((rect.min + rect.max) * 0.5, (rect.max - rect.min) * 0.5);
             data.ground = [centre.x, centre.y, half.x, half.y];
         }

@@ -8,14 +8,15 @@ use glam::Vec3;
 use super::{MeshExtent, Scene};
 
 /// The most objects a scene may have for [`Scene::may_be_shadowed`] to test them: it weighs
-/// every pair, every frame, which at 10,000 objects took 0.6 s a frame; beyond this count
-/// every object is taken to be shadowable.
+/// every pair, at every change of the lights or objects (0.6 s at 10,000 objects, where the
+/// viewer moves one a frame); beyond this count every object is taken to be shadowable.
 pub const MAX_SHADOW_RECEIVER_OBJECTS: usize = 256;
 
 impl Scene {
-    /// Whether a point of object `receiver` can lie in a shadow: where a light casts shadows
-    /// and its mesh is not convex ([`super::Mesh::is_convex`]), or where another object may
-    /// stand between one of its points and a point of a shadowed light's sphere. Every such
+    /// Whether a point of object `receiver` can lie in a shadow of the lights `shadowed`
+    /// (indices into `lights`): where there is one and its mesh is not convex
+    /// ([`super::Mesh::is_convex`]), or where another object may stand between one of its
+    /// points and a point of a shadowed light's sphere. Every such
     /// segment lies in the convex hull of the receiver's bounding box and the light's, so an
     /// object apart from that hull casts nothing on it: its bounding box apart from the
     /// hull's along an axis (touching does not shadow: the ground under an object resting on
@@ -23,7 +24,7 @@ impl Scene {
     /// receiver's bounding sphere's, as wide as the wider of the two, which holds the hull.
     /// `extent` gives each mesh's. Every object of a scene of more than
     /// [`MAX_SHADOW_RECEIVER_OBJECTS`] may be.
-    pub fn may_be_shadowed(&self, receiver: usize, extent: impl Fn(usize) -> MeshExtent) -> bool {
+    pub fn may_be_shadowed(&self, receiver: usize, shadowed: &[usize], extent: impl Fn(usize) -> MeshExtent) -> bool {
         let world = |i: usize| {
             let o = &self.objects[i];
             let e = extent(o.mesh);
@@ -31,12 +32,11 @@ impl Scene {
             (at(e.low), at(e.high), at(e.centre), e.radius * o.scale, e.convex)
         };
         let (low, high, centre, radius, convex) = world(receiver);
-        let mut shadowed_lights = self.lights.iter().filter(|light| light.shadows).peekable();
-        if !convex || self.objects.len() > MAX_SHADOW_RECEIVER_OBJECTS || shadowed_lights.peek().is_none() {
-            return shadowed_lights.peek().is_some();
+        if !convex || self.objects.len() > MAX_SHADOW_RECEIVER_OBJECTS || shadowed.is_empty() {
+            return !shadowed.is_empty();
         }
         let others: Vec<_> = (0..self.objects.len()).filter(|&i| i != receiver).map(world).collect();
-        shadowed_lights.any(|light| {
+        shadowed.iter().map(|&i| &self.lights[i]).any(|light| {
             let hull_low = low.min(light.position - light.radius);
             let hull_high = high.max(light.position + light.radius);
             let reach = light.radius.max(radius);
@@ -68,7 +68,8 @@ mod tests {
 
     fn shadowed(scene: &Scene) -> Vec<bool> {
         let extents: Vec<MeshExtent> = scene.meshes.iter().map(|m| m.extent()).collect();
-        (0..scene.objects.len()).map(|i| scene.may_be_shadowed(i, |m| extents[m])).collect()
+        let lights: Vec<usize> = (0..scene.lights.len()).filter(|&i| scene.lights[i].shadows).collect();
+        (0..scene.objects.len()).map(|i| scene.may_be_shadowed(i, &lights, |m| extents[m])).collect()
     }
 
     /// In the default scene the ball, convex and away from the torus, resting on the ground,
