@@ -290,30 +290,47 @@ fn csv_field(s: &str) -> String {
     }
 }
 
-/// The table of every row, with where it was measured and the references' noise.
+/// The table of every row, with where and at which commits its rows were measured (an
+/// `--only` run replaces some rows and keeps the others) and each scene's references.
 pub fn markdown(rows: &[Row]) -> String {
     let mut text = String::new();
-    if let Some(first) = rows.first() {
+    if !rows.is_empty() {
+        let devices = distinct(rows, |r| format!("{} ({})", r.device, r.driver)).join(", ");
+        let commits = distinct(rows, |r| r.commit.clone())
+            .iter()
+            .map(|commit| {
+                let at = || rows.iter().filter(|r| &r.commit == commit);
+                let dates = distinct(at(), |r| r.date.get(..10).unwrap_or(&r.date).to_owned()).join(", ");
+                let count = at().count();
+                format!("{commit} ({count} row{}, {dates})", if count == 1 { "" } else { "s" })
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
         let _ = writeln!(
             text,
-            "Measured on {} ({}), commit {}, {}. GPU and CPU milliseconds per frame: median (p95) \
+            "Measured on {devices}; rows per commit: {commits} (each row's commit and time are in \
+             results.csv). GPU and CPU milliseconds per frame: median (p95) \
              of the row's steady frames; × floor: the forward pass's median against the trivial-shader floor's, \
              the median of the floor frames drawn between the frames of the scene's rows at that size \
              that draw its own meshes, in the run; × floor (work): the same ratio of the CPU time the \
              process spent (on a software device the rendering's work, which other load on the machine \
-             does not stretch). Error at {}×{} against the `full` reference ({} spp, noise {:.2}%) and \
-             the `shadows` one ({} spp, noise {:.2}%).\n",
-            first.device,
-            first.driver,
-            first.commit,
-            first.date,
-            first.error_width,
-            first.error_height,
-            first.error_full.reference_spp,
-            first.error_full.reference_noise * 100.0,
-            first.error_shadows.reference_spp,
-            first.error_shadows.reference_noise * 100.0,
+             does not stretch). Error against the scene's `full` and `shadows` references, at their size:\n"
         );
+        text += "| scene | size | `full` reference | `shadows` reference |\n| --- | --- | --- | --- |\n";
+        for scene in distinct(rows, |r| r.scene.clone()) {
+            if let Some(r) = rows.iter().find(|r| r.scene == scene) {
+                let reference = |e: &Error| format!("{} spp, noise {:.2}%", e.reference_spp, e.reference_noise * 100.0);
+                let _ = writeln!(
+                    text,
+                    "| {scene} | {}×{} | {} | {} |",
+                    r.error_width,
+                    r.error_height,
+                    reference(&r.error_full),
+                    reference(&r.error_shadows)
+                );
+            }
+        }
+        text.push('\n');
     }
     text += "| scene | configuration | size | frames | GPU ms | forward ms | CPU ms | × floor | × floor (work) | ꟻLIP full | rel. MSE full | ꟻLIP shadows | rel. MSE shadows |\n";
     text += "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
@@ -344,6 +361,17 @@ pub fn markdown(rows: &[Row]) -> String {
         );
     }
     text
+}
+
+/// The values `key` takes over `rows`, each once, in the order they first appear.
+fn distinct<'a>(rows: impl IntoIterator<Item = &'a Row>, key: impl Fn(&Row) -> String) -> Vec<String> {
+    let mut values: Vec<String> = Vec::new();
+    for value in rows.into_iter().map(key) {
+        if !values.contains(&value) {
+            values.push(value);
+        }
+    }
+    values
 }
 
 #[cfg(test)]
@@ -430,6 +458,21 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
         assert_eq!(back.len(), 1);
         assert_eq!(back[0].gpu_ms_median.to_bits(), f64::to_bits(awkward));
+    }
+
+    /// Rows kept from an earlier run keep their commit: the header names every commit with
+    /// its rows, and each scene's references.
+    #[test]
+    fn the_table_names_every_commit_and_each_scenes_references() {
+        let mut later = row("b", "x", 64, 3.0);
+        later.commit = "d".to_owned();
+        later.date = "2026-12-02T10:00:00Z".to_owned();
+        later.error_full.reference_spp = 99;
+        let text = markdown(&[row("a", "x", 64, 1.0), row("a", "y", 64, 2.0), later]);
+        let header = text.lines().next().unwrap();
+        assert!(header.contains("c (2 rows, 2026-12-01), d (1 row, 2026-12-02)"), "{header}");
+        assert!(text.contains("| a | 32×16 | 16 spp, noise 1.00% | 16 spp, noise 1.00% |"), "{text}");
+        assert!(text.contains("| b | 32×16 | 99 spp, noise 1.00% | 16 spp, noise 1.00% |"), "{text}");
     }
 
     #[test]
