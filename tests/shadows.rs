@@ -252,6 +252,23 @@ fn the_grounds_shadow_map_is_the_shadow_of_its_pixels_smoothed() {
     assert!(smoothed < 0.5 * turned, "{smoothed} {turned}");
 }
 
+/// Beside a soft light, whose shadow the ground reads from its map, a hard light's shadow
+/// is looked up at the ground's pixels as without the map: with the soft light dark (its
+/// shadow still cast, the map still read), the frame is the frame without the map bit for
+/// bit, while with it lit they differ by the map's smoothing of its penumbra.
+#[test]
+fn a_hard_light_beside_a_soft_one_shadows_the_ground_at_its_pixels() {
+    let hard = "[[lights]]\nkind = \"point\"\nposition = [-2.0, 3.0, -1.5]\nintensity = [12.0, 11.0, 10.0]\n";
+    let both = plane_scene("radius = 0.3", &format!("{SPHERE}\n{hard}"));
+    let dark = both.replace("intensity = [20.0, 18.0, 16.0]", "intensity = [0.0, 0.0, 0.0]");
+    assert_ne!(dark, both);
+    let pixels = |toml: &str| hdr(&toml.replace("resolution = 2048", "resolution = 2048\nground_map = false"));
+    assert_ne!(hdr(&both), pixels(&both), "the soft light's shadow is read from the map");
+    let (dark_map, dark_pixels) = (hdr(&dark), pixels(&dark));
+    assert!(dark_map.iter().any(|&c| c > 0.0));
+    assert_eq!(dark_map, dark_pixels, "the hard light's shadow is looked up at the pixels");
+}
+
 /// The maps are rendered when the scene changes, not every frame: two frames of the same
 /// scene render them once, moving the light renders them again, and the frame is the same
 /// either way. So are the ground's light map of the bounce, which a light's intensity

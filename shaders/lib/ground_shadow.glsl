@@ -12,6 +12,9 @@
 
 // Whether the draw reads its shadows from the map (src/render/forward.rs): the ground's.
 layout(constant_id = 19) const bool GROUND_SHADOWS = false;
+// Whether that draw has hard lights beside the map's soft ones (src/render/ground_maps.rs):
+// their shadow is one lookup at each pixel, whose edge the map would blur.
+layout(constant_id = 21) const bool GROUND_HARD_SHADOWS = false;
 
 // The ground point at the centre of texel `texel` of the map, `size` texels on a side.
 vec3 ground_shadow_point(uvec2 texel, uint size) {

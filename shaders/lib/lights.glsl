@@ -21,12 +21,17 @@ vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
 // lavapipe would still run what the lookups share before finding that out.
 layout(constant_id = 20) const bool SHADOWS = true;
 
-// The fraction of point light i that reaches p: 1 without shadows, from the ground's shadow
-// map on the ground that reads it (GROUND_SHADOWS), else point_light_shadow with the
-// receiver's triangle's normal `face_normal`.
+// The fraction of point light i that reaches p: 1 without shadows; on the ground that reads
+// its shadows from its map (GROUND_SHADOWS), a soft light's from the map and a hard one's
+// (GROUND_HARD_SHADOWS) looked up at the pixel; else point_light_shadow with the receiver's
+// triangle's normal `face_normal`.
 float point_light_visibility(uint i, vec3 p, vec3 face_normal) {
     if (!SHADOWS) return 1.0;
-    return GROUND_SHADOWS ? ground_map_shadow(i, p) : point_light_shadow(i, p, face_normal, gl_FragCoord.xy);
+    if (!GROUND_SHADOWS) return point_light_shadow(i, p, face_normal, gl_FragCoord.xy);
+    if (!GROUND_HARD_SHADOWS) return ground_map_shadow(i, p);
+    // Lavapipe runs both for every light: the hard lookup is one tap, the map's one read.
+    float at_pixel = hard_light_shadow(i, p, face_normal);
+    return shadow_data.lights[i].map.y > 0.0 ? ground_map_shadow(i, p) : at_pixel;
 }
 
 // Radiance from the point lights through brdf_cos with the given models and material, or

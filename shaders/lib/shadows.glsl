@@ -190,6 +190,14 @@ ivec2 shadow_nearest_texel(vec3 w, out uint face) {
     return clamp(texel + ivec2(greaterThan(f, vec2(0.5))), ivec2(0), ivec2(int(shadow_data.settings.x) - 1));
 }
 
+// The hard shadow of point light i at p, 1 without a map: point_light_shadow's one tap at
+// a light of radius 0, for the draws that read the soft lights' shadows elsewhere.
+float hard_light_shadow(uint i, vec3 p, vec3 face_normal) {
+    ShadowReceiver r;
+    vec3 w;
+    return shadow_receiver(i, p, face_normal, r, w) ? shadow_bilinear(r, w) : 1.0;
+}
+
 // The fraction of point light i that reaches p, 1 without a map: PCSS, the blockers'
 // mean distance searched in the cone from p towards the light's sphere, then the
 // comparisons filtered over the penumbra they give; 1 where the search finds none. A

@@ -173,6 +173,8 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     let mut penumbra_names = vec![FLOOR, "split-sum"];
     penumbra_names.extend(SHADOW_CONFIGURATIONS);
     scenes.push(bench_scene("penumbra", &penumbra, &penumbra_names, headline)?);
+    let fill = [FLOOR, "split-sum", "no-ground-shadow-map"];
+    scenes.push(bench_scene("penumbra-fill", &with_hard_fill(&penumbra), &fill, headline)?);
     let ball = parse(SUBSURFACE_BALL_TOML, "bench/scenes/subsurface-ball.toml")?;
     let subsurface = [FLOOR, "split-sum", "no-subsurface", REPORT];
     scenes.push(bench_scene("subsurface-ball", &ball, &subsurface, headline)?);
@@ -329,7 +331,20 @@ fn scaled(file: &SceneFile, s: f64) -> SceneFile {
     file
 }
 
-/// The sizes configuration `name` is timed at in a full run; the first is its headline.
+/// `file` with a hard fill light from the other side that casts shadows too: the ground
+/// reads the soft light's shadow from its map and looks the hard one's up at its pixels.
+fn with_hard_fill(file: &SceneFile) -> SceneFile {
+    let mut file = file.clone();
+    file.lights.push(LightDef::Point {
+        position: [3.5, 3.0, -2.0],
+        intensity: [12.0, 12.0, 12.0],
+        radius: None,
+        shadows: None,
+    });
+    file
+}
+
+
 fn resolutions(name: &str, scaling: bool) -> Vec<vk::Extent2D> {
     match name {
         // Seconds per frame at 1280×720 on lavapipe: 26 s for 1024 lookups.
@@ -704,6 +719,21 @@ mod tests {
             assert_eq!(scene.shadow_taps, n);
             assert!(scene.lights[0].radius > 0.0);
         }
+    }
+
+    /// The fill scene's ground reads its soft light's shadow from the map and looks its
+    /// hard light's up at its pixels, which `no-ground-shadow-map` does for both.
+    #[test]
+    fn the_fill_scene_has_soft_and_hard_shadows_on_the_ground() {
+        let fill = scenes(false, None).unwrap().into_iter().find(|s| s.name == "penumbra-fill").unwrap();
+        let scene = |name: &str| {
+            let row = fill.configurations.iter().find(|c| c.name == name).unwrap();
+            crate::scene::Scene::from_toml(&row.text, "row", Path::new("")).unwrap()
+        };
+        let own = scene("split-sum");
+        assert!(crate::render::ground_maps::shadow_ground(&own, true).is_some());
+        assert!(crate::render::ground_maps::hard_shadows(&own));
+        assert!(crate::render::ground_maps::shadow_ground(&scene("no-ground-shadow-map"), true).is_none());
     }
 
     #[test]

@@ -22,6 +22,7 @@ use rayon::prelude::*;
 use super::debug_view::DebugView;
 use super::environment::{environment_kind, reflection_code};
 use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom};
+use super::ground_maps;
 use super::material_data::MaterialData;
 use super::occlusion::OcclusionMode;
 use super::shaders;
@@ -54,8 +55,9 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// the ground's bounce (bounce.glsl), a map's sun and the material's energy compensation
 /// (environment.glsl), which the generic pipeline always does; a soft shadow's taps
 /// (`[shadows] taps`, shadows.glsl); whether the draw reads its shadows from the
-/// ground's shadow map (ground_shadow.glsl); and whether the frame has shadows at all
-/// (lights.glsl), which the generic pipeline always holds.
+/// ground's shadow map (ground_shadow.glsl); whether the frame has shadows at all
+/// (lights.glsl), which the generic pipeline always holds; and whether the draw that reads
+/// the ground's map looks hard lights up at its pixels beside it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -80,11 +82,12 @@ pub struct ForwardConstants {
     pub shadow_taps: u32,
     pub ground_shadows: u32,
     pub shadows: u32,
+    pub ground_hard_shadows: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 21] = [
+    pub const NAMES: [&'static str; 22] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -106,6 +109,7 @@ impl ForwardConstants {
         "SHADOW_TAPS",
         "GROUND_SHADOWS",
         "SHADOWS",
+        "GROUND_HARD_SHADOWS",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -168,6 +172,7 @@ impl ForwardConstants {
             shadow_taps: DEFAULT_SHADOW_TAPS,
             ground_shadows: 0,
             shadows: 1,
+            ground_hard_shadows: 0,
         }
     }
 
@@ -730,6 +735,7 @@ fn draw_constants(
     choices: &FrameChoices,
 ) -> Vec<ForwardConstants> {
     let bounces = scene.bounce && scene.ground().is_some();
+    let hard_shadows = ground_maps::hard_shadows(scene);
     // The ground lies at its own height, where the gather finds nothing to bounce.
     let ground = scene.ground_index();
     // What a specialised pipeline holds only when the frame uses it; the generic one
@@ -752,7 +758,9 @@ fn draw_constants(
             constants.bounce = held(bounces && !is_ground);
             constants.sun = held(choices.sun);
             constants.shadow_taps = scene.shadow_taps;
-            constants.ground_shadows = u32::from(choices.ground_shadows == Some(i));
+            let ground_shadows = choices.ground_shadows == Some(i);
+            constants.ground_shadows = u32::from(ground_shadows);
+            constants.ground_hard_shadows = u32::from(ground_shadows && hard_shadows);
             constants.shadows = held(shadowed[i]);
             constants
         })

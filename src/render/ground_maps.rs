@@ -77,17 +77,23 @@ pub fn occlusion_ground(scene: &Scene, objects: bool, split: bool) -> Option<usi
 
 /// The object whose shadows the forward pass reads from the ground's shadow map: the
 /// ground, when the scene asks for the map, the frame has shadows (`shadows`: on for the
-/// frame and drawn with the materials' shaders), the lights that cast them are all soft
-/// (a hard shadow is one lookup at a pixel, whose edge the map would blur), the camera
-/// sees the ground's upper side (which side of it a light is on then decides whether the
-/// map or the pixels are lit, as shadows.glsl's `shadow_receiver` asks). A split frame's
-/// parts differ in materials and environment, which the shadows do not depend on.
+/// frame and drawn with the materials' shaders), a light that casts them is soft, and the
+/// camera sees the ground's upper side (which side of it a light is on then decides
+/// whether the map or the pixels are lit, as shadows.glsl's `shadow_receiver` asks). A
+/// split frame's parts differ in materials and environment, which the shadows do not
+/// depend on. The hard lights' shadows ([`hard_shadows`]) it looks up at its pixels.
 pub fn shadow_ground(scene: &Scene, shadows: bool) -> Option<usize> {
     let index = scene.ground_index()?;
     let above = scene.camera.position.y > scene.objects[index].position.y;
-    let mut casters = scene.lights.iter().filter(|l| l.shadows).peekable();
-    let soft = casters.peek().is_some() && casters.all(|l| l.radius > 0.0);
+    let soft = scene.lights.iter().any(|l| l.shadows && l.radius > 0.0);
     (scene.shadow_ground_map && shadows && soft && above).then_some(index)
+}
+
+/// Whether a light that casts shadows is hard: its shadow is one lookup at a pixel, whose
+/// edge the ground's map would blur, so the ground that reads the soft ones from its map
+/// looks the hard ones up at its pixels (lights.glsl's `point_light_visibility`).
+pub fn hard_shadows(scene: &Scene) -> bool {
+    scene.lights.iter().any(|l| l.shadows && l.radius <= 0.0)
 }
 
 /// One map: its image, written through `compute_set` by its shader's pipeline as the frame
