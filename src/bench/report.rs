@@ -295,7 +295,7 @@ fn csv_field(s: &str) -> String {
 pub fn markdown(rows: &[Row]) -> String {
     let mut text = String::new();
     if !rows.is_empty() {
-        let devices = distinct(rows, |r| format!("{} ({})", r.device, r.driver)).join(", ");
+        let devices = distinct(rows, |r| format!("{}, driver {}", r.device, r.driver)).join("; ");
         let commits = distinct(rows, |r| r.commit.clone())
             .iter()
             .map(|commit| {
@@ -308,7 +308,7 @@ pub fn markdown(rows: &[Row]) -> String {
             .join(", ");
         let _ = writeln!(
             text,
-            "Measured on {devices}; rows per commit: {commits} (each row's commit and time are in \
+            "Measured on {devices}. Rows per commit: {commits} (each row's commit and time are in \
              results.csv). GPU and CPU milliseconds per frame: median (p95) \
              of the row's steady frames; × floor: the forward pass's median against the trivial-shader floor's, \
              the median of the floor frames drawn between the frames of the scene's rows at that size \
