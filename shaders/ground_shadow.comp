@@ -18,7 +18,7 @@ void main() {
     for (uint layer = 0u; 4u * layer < frame.counts.x; ++layer) {
         vec4 visibility = vec4(1.0);
         for (uint c = 0u; c < 4u && 4u * layer + c < frame.counts.x; ++c) {
-            visibility[c] = point_light_shadow(4u * layer + c, p, vec3(0.0, 1.0, 0.0), vec2(texel));
+            visibility[c] = point_light_shadow(4u * layer + c, p, vec3(0.0, 1.0, 0.0), vec2(texel), true);
         }
         imageStore(ground_shadow_out, ivec3(texel, layer), visibility);
     }

@@ -439,7 +439,7 @@ fn sphere_pixels(rays: &CameraRays, within: f64) -> Vec<(usize, DVec3)> {
 }
 
 /// A convex ball that no object can stand in front of, seen from the light's sphere, is
-/// drawn without shadow code (`Scene::may_be_shadowed`); a pebble above the light, which
+/// drawn without shadow code (`Scene::shadowing_lights`); a pebble above the light, which
 /// casts nothing on it, makes its draw hold that code, and the ball's pixels are the same,
 /// bit for bit: the soft shadow's comparisons find nothing of a convex surface in front of
 /// itself (with their bias at −1e-3 instead of 5e-4, 24 of these pixels darken). The ball
@@ -457,7 +457,7 @@ fn a_ball_no_shadow_can_reach_is_drawn_without_shadow_code_as_with_it() {
     let beside = scene(&plane_scene("radius = 0.5", &format!("{ball}{pebble}")));
     let shadowed = |scene: &argil::scene::Scene| {
         let extents: Vec<_> = scene.meshes.iter().map(|m| m.extent()).collect();
-        scene.may_be_shadowed(1, &[0], |m| extents[m])
+        scene.shadowing_lights(1, &[0], |m| extents[m]) != 0
     };
     assert!(!shadowed(&alone) && shadowed(&beside));
     let rays = CameraRays::new(&alone.camera, SIZE.0, SIZE.1);
@@ -469,6 +469,37 @@ fn a_ball_no_shadow_can_reach_is_drawn_without_shadow_code_as_with_it() {
         .filter(|&&(i, _)| (0..4).any(|c| alone[4 * i + c].to_bits() != beside[4 * i + c].to_bits()))
         .count();
     assert_eq!(differing, 0, "{differing} of {} pixels of the ball differ", pixels.len());
+}
+
+/// Each light is weighed alone (`Scene::shadowing_lights`): a pebble between a low side
+/// light and the ball lets that light shadow the ball, whose draw then runs the shadow code
+/// for it alone. The pebble's shadow falls on the ball, and the key light, which nothing can
+/// stand before, leaves the ball's pixels the same bit for bit with its shadows or without.
+#[test]
+fn a_ball_runs_the_shadow_code_of_the_lights_that_may_shadow_it_alone() {
+    let side = DVec3::new(-3.0, 1.3, 0.0);
+    let extra = |side_shadows: bool| {
+        format!(
+            "{SPHERE}[[objects]]\nmesh = \"builtin:sphere\"\nposition = [-1.5, 1.3, 0.0]\nscale = 0.3\n\
+             material = \"ground\"\n[[lights]]\nkind = \"point\"\nposition = [{}, {}, {}]\n\
+             intensity = [6.0, 6.0, 6.0]\nshadows = {side_shadows}\n",
+            side.x, side.y, side.z
+        )
+    };
+    let both = scene(&plane_scene("radius = 0.3", &extra(true)));
+    let extents: Vec<_> = both.meshes.iter().map(|m| m.extent()).collect();
+    assert_eq!(both.shadowing_lights(1, &[0, 1], |m| extents[m]), 0b10);
+    let key_unshadowed = scene(&plane_scene("radius = 0.3\nshadows = false", &extra(true)));
+    let side_unshadowed = scene(&plane_scene("radius = 0.3", &extra(false)));
+    let rays = CameraRays::new(&both.camera, SIZE.0, SIZE.1);
+    let pixels = sphere_pixels(&rays, 0.6);
+    let [both, key_unshadowed, side_unshadowed] =
+        [both, key_unshadowed, side_unshadowed].map(|scene| render(&scene, SIZE.0, SIZE.1).hdr);
+    let differing = |other: &[f32]| {
+        (pixels.iter()).filter(|&&(i, _)| (0..4).any(|c| both[4 * i + c].to_bits() != other[4 * i + c].to_bits())).count()
+    };
+    assert_eq!(differing(&key_unshadowed), 0, "the key light cannot shadow the ball");
+    assert!(differing(&side_unshadowed) > 10, "the pebble shadows the ball");
 }
 
 /// `[shadows] bounce` leaves the ground as it was, bit for bit (nothing is gathered on it),

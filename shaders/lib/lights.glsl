@@ -24,10 +24,11 @@ layout(constant_id = 20) const bool SHADOWS = true;
 // The fraction of point light i that reaches p: 1 without shadows; on the ground that reads
 // its shadows from its map (GROUND_SHADOWS), a soft light's from the map and a hard one's
 // (GROUND_HARD_SHADOWS) looked up at the pixel; else point_light_shadow with the receiver's
-// triangle's normal `face_normal`.
+// triangle's normal `face_normal`, for the lights that may shadow the draw's object.
 float point_light_visibility(uint i, vec3 p, vec3 face_normal) {
     if (!SHADOWS) return 1.0;
-    if (!GROUND_SHADOWS) return point_light_shadow(i, p, face_normal, gl_FragCoord.xy);
+    bool may_shadow = ((object.shadowing_lights >> i) & 1u) != 0u;
+    if (!GROUND_SHADOWS) return point_light_shadow(i, p, face_normal, gl_FragCoord.xy, may_shadow);
     if (!GROUND_HARD_SHADOWS) return ground_map_shadow(i, p);
     // Lavapipe runs both for every light: the hard lookup is one tap, the map's one read.
     float at_pixel = hard_light_shadow(i, p, face_normal);

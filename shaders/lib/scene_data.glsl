@@ -41,6 +41,7 @@ layout(push_constant) uniform ObjectPush {
     mat4 model;
     vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3
     uint material_index;
+    uint shadowing_lights;  // bit i: point light i may shadow it (Scene::shadowing_lights)
     uvec2 own_occluders;  // the run of frame.occluders that is this object: first, count
 } object;
 

@@ -198,9 +198,10 @@ float hard_light_shadow(uint i, vec3 p, vec3 face_normal) {
     return shadow_receiver(i, p, face_normal, r, w) ? shadow_bilinear(r, w) : 1.0;
 }
 
-// The fraction of point light i that reaches p, 1 without a map: PCSS, the blockers'
-// mean distance searched in the cone from p towards the light's sphere, then the
-// comparisons filtered over the penumbra they give; 1 where the search finds none. A
+// The fraction of point light i that reaches p, 1 without a map or where the light
+// `may_shadow` nothing at p (as ObjectPush.shadowing_lights says of a draw's object): PCSS,
+// the blockers' mean distance searched in the cone from p towards the light's sphere, then
+// the comparisons filtered over the penumbra they give; 1 where the search finds none. A
 // light of radius 0 has the hard shadow of one bilinear lookup, the filter's one tap at
 // w. `face_normal` is the receiver's triangle's, which is what the map stores:
 // cross(dFdx(p), dFdy(p)), taken in uniform control flow.
@@ -208,10 +209,10 @@ float hard_light_shadow(uint i, vec3 p, vec3 face_normal) {
 // sides of a branch, so its lookup would run for every pixel beside PCSS's. The loops'
 // counts vary by pixel; kept as loops, each stops once no pixel of its batch has an
 // iteration left.
-float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel) {
+float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel, bool may_shadow) {
     ShadowReceiver r;
     vec3 w;
-    bool receives = shadow_receiver(i, p, face_normal, r, w);
+    bool receives = shadow_receiver(i, p, face_normal, r, w) && may_shadow;
     float d = r.distance;
     float radius = shadow_data.lights[i].map.y;
     bool soft = radius > 0.0;

@@ -220,6 +220,8 @@ pub struct ForwardPass {
     /// How each object reads the other objects' occlusion, in `Scene::objects` order, for
     /// the scene last prepared.
     object_occlusion: Vec<ObjectOcclusion>,
+    /// The lights that may shadow each object, bit i for light i, in the same order.
+    shadowing_lights: Vec<u32>,
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
@@ -315,6 +317,7 @@ impl ForwardPass {
             object_pipelines: Vec::new(),
             split_pipelines: Vec::new(),
             object_occlusion: Vec::new(),
+            shadowing_lights: Vec::new(),
             _pool: pool,
             slots,
             subsurface: None,
@@ -439,7 +442,8 @@ impl ForwardPass {
     /// `occluders` (`Scene::occluders`) are the spheres whose occlusion the objects read
     /// when `choices.objects`, and `gpu`'s meshes say whether an object reads them at its
     /// vertices (`Scene::occlusion_at_vertices`); the draw of object i holds shadow code
-    /// where `shadowed[i]` (`ShadowPass::receivers`). Uses no frame slot, so it may run
+    /// where a light may shadow it, and runs it for the lights `shadowing[i]` (bit i for
+    /// light i, `ShadowPass::receivers`). Uses no frame slot, so it may run
     /// while frames are in flight, or beside the environment's precompute (renderer.rs).
     #[allow(clippy::too_many_arguments)]
     pub fn prepare_pipelines(
@@ -448,7 +452,7 @@ impl ForwardPass {
         gpu: &GpuScene,
         split: Option<&Split>,
         occluders: &[Occluder],
-        shadowed: &[bool],
+        shadowing: &[u32],
         choices: &FrameChoices,
         one_shot: &OneShot,
     ) -> Result<()> {
@@ -467,12 +471,13 @@ impl ForwardPass {
                 },
             })
             .collect();
+        self.shadowing_lights = shadowing.to_vec();
         let parts = 1 + usize::from(split.is_some());
         let pipelines = if choices.floor {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
             let from: Vec<ObjectsOcclusionFrom> = self.object_occlusion.iter().map(|o| o.from).collect();
-            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, shadowed, choices))?
+            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, shadowing, choices))?
         };
         // The objects with the scene's materials, then with the split's.
         let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
@@ -626,7 +631,11 @@ impl ForwardPass {
                 .object_occlusion
                 .get(index)
                 .context("object missing: prepare() was not called for this scene")?;
-            let mut push = ObjectPush::new(object, occlusion);
+            let shadowing_lights = *self
+                .shadowing_lights
+                .get(index)
+                .context("object missing: prepare() was not called for this scene")?;
+            let mut push = ObjectPush::new(object, occlusion, shadowing_lights);
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {
@@ -726,12 +735,12 @@ pub struct FrameChoices {
 
 /// The constants of each draw: `scene`'s objects, then the same with `split`'s materials,
 /// object i reading the other objects' occlusion from `from[i]`, and holding shadow code
-/// where `shadowed[i]` (`ShadowPass::receivers`).
+/// where a light may shadow it (`shadowing[i]`, `ShadowPass::receivers`).
 fn draw_constants(
     scene: &Scene,
     split: Option<&Split>,
     from: &[ObjectsOcclusionFrom],
-    shadowed: &[bool],
+    shadowing: &[u32],
     choices: &FrameChoices,
 ) -> Vec<ForwardConstants> {
     let bounces = scene.bounce && scene.ground().is_some();
@@ -761,7 +770,7 @@ fn draw_constants(
             let ground_shadows = choices.ground_shadows == Some(i);
             constants.ground_shadows = u32::from(ground_shadows);
             constants.ground_hard_shadows = u32::from(ground_shadows && hard_shadows);
-            constants.shadows = held(shadowed[i]);
+            constants.shadows = held(shadowing[i] != 0);
             constants
         })
         .collect()
@@ -949,9 +958,9 @@ mod tests {
             };
             let extents: Vec<_> = scene.meshes.iter().map(|m| m.extent()).collect();
             let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };
-            let shadowed: Vec<bool> =
-                (0..scene.objects.len()).map(|i| scene.may_be_shadowed(i, &lights, |m| extents[m])).collect();
-            draw_constants(&scene, None, &from, &shadowed, &choices)
+            let shadowing: Vec<u32> =
+                (0..scene.objects.len()).map(|i| scene.shadowing_lights(i, &lights, |m| extents[m])).collect();
+            draw_constants(&scene, None, &from, &shadowing, &choices)
         };
         let specialised = constants(true, true);
         assert_eq!(specialised.len(), scene.objects.len());

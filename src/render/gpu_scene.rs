@@ -90,8 +90,9 @@ pub struct ObjectPush {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 3],
     pub material_index: u32,
-    /// std430 aligns `own_occluders` to 8 bytes.
-    pub pad: u32,
+    /// The lights that may shadow it, bit i for light i (`Scene::shadowing_lights`): the
+    /// shadow code runs for those alone.
+    pub shadowing_lights: u32,
     /// The run of `FrameData::occluders` that stands for its own file object, which does
     /// not occlude it: (first, count).
     pub own_occluders: [u32; 2],
@@ -121,8 +122,9 @@ pub struct ObjectOcclusion {
 }
 
 impl ObjectPush {
-    /// The draw of `object`, which skips the occluders `occlusion.own`.
-    pub fn new(object: &Object, occlusion: ObjectOcclusion) -> Self {
+    /// The draw of `object`, which skips the occluders `occlusion.own` and may be shadowed
+    /// by the lights `shadowing_lights`.
+    pub fn new(object: &Object, occlusion: ObjectOcclusion, shadowing_lights: u32) -> Self {
         let model: Mat4 = object.model_matrix();
         // Normals transform by the inverse transpose; with a degenerate matrix, which the
         // scene loader rejects, this would be non-finite.
@@ -135,7 +137,7 @@ impl ObjectPush {
                 normal.z_axis.extend(0.0).to_array(),
             ],
             material_index: object.material as u32,
-            pad: 0,
+            shadowing_lights,
             own_occluders: [occlusion.own.0 as u32, occlusion.own.1 as u32],
         }
     }
@@ -317,9 +319,10 @@ mod tests {
             "    mat4 model;\n",
             "    vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3\n",
             "    uint material_index;\n",
+            "    uint shadowing_lights;  // bit i: point light i may shadow it (Scene::shadowing_lights)\n",
             "    uvec2 own_occluders;  // the run of frame.occluders that is this object",
         )));
-        // std430 aligns a uvec2 to 8 bytes.
+        assert_eq!(std::mem::offset_of!(ObjectPush, shadowing_lights), 116);
         assert_eq!(std::mem::offset_of!(ObjectPush, own_occluders), 120);
         assert_eq!(std::mem::size_of::<ObjectPush>(), 128, "Vulkan's least maxPushConstantsSize");
     }

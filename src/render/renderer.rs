@@ -308,8 +308,8 @@ impl Renderer {
         };
         // The shadow pass finds which objects' draws need shadow code.
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
-        let shadowed = self.shadow.receivers().to_vec();
-        self.prepare_environment_and_pipelines(scene, gpu, &occluders, &shadowed, choices)?;
+        let shadowing = self.shadow.receivers().to_vec();
+        self.prepare_environment_and_pipelines(scene, gpu, &occluders, &shadowing, choices)?;
         self.environment.prepare_skybox(sample_flag(samples))?;
         self.msaa.prepare(slot, target, samples)?;
         let environment = self.environment.generation();
@@ -347,7 +347,7 @@ impl Renderer {
         scene: &Scene,
         gpu: &GpuScene,
         occluders: &[Occluder],
-        shadowed: &[bool],
+        shadowing: &[u32],
         choices: FrameChoices,
     ) -> Result<()> {
         let start = Instant::now();
@@ -365,12 +365,12 @@ impl Renderer {
                 sun: self.environment.has_sun(),
                 ..choices
             };
-            return self.forward.prepare_pipelines(scene, gpu, split, occluders, shadowed, &choices, &self.one_shot);
+            return self.forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, &self.one_shot);
         };
         let choices = FrameChoices { sun, ..choices };
         let pool = low_priority_pool()?;
         let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
-        let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, shadowed, &choices, one_shot);
+        let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, one_shot);
         let (precomputed, pipelines) = std::thread::scope(|threads| {
             let precompute = threads.spawn(move || environment.prepare(scene, plan));
             let pipelines = pool.install(make_pipelines);

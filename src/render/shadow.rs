@@ -5,8 +5,8 @@
 //! binding 1 the maps; the ground's light and shadow maps are computed from them too
 //! (ground_maps.rs), the shadow map over the part of the ground that objects can shadow
 //! (`Scene::ground_shadow_rect`), which `ShadowData` holds. What the shadows can reach,
-//! that rectangle and the objects that may be shadowed (`Scene::may_be_shadowed`), is found
-//! once per change of the lights or the objects.
+//! that rectangle and the lights that may shadow each object (`Scene::shadowing_lights`), is
+//! found once per change of the lights or the objects.
 
 use std::cell::Cell;
 use std::sync::Arc;
@@ -126,8 +126,8 @@ pub struct ShadowPass {
 struct ShadowReach {
     /// The ground's rectangle that objects can shadow.
     ground: Option<GroundRect>,
-    /// Per object, whether a point of it may lie in a shadow.
-    receivers: Vec<bool>,
+    /// Per object, the lights that may shadow a point of it, bit i for light i.
+    receivers: Vec<u32>,
 }
 
 impl ShadowPass {
@@ -170,9 +170,10 @@ impl ShadowPass {
         })
     }
 
-    /// Per object of the scene of the last [`Self::prepare`], whether a point of it may lie
-    /// in a shadow (`Scene::may_be_shadowed`): none without a shadowed light.
-    pub fn receivers(&self) -> &[bool] {
+    /// Per object of the scene of the last [`Self::prepare`], the lights that may shadow a
+    /// point of it, bit i for light i (`Scene::shadowing_lights`): none without a shadowed
+    /// light.
+    pub fn receivers(&self) -> &[u32] {
         &self.reach.0.receivers
     }
 
@@ -240,7 +241,7 @@ impl ShadowPass {
             let reach = ShadowReach {
                 ground: scene.ground_shadow_rect(&shadowed),
                 receivers: (0..scene.objects.len())
-                    .map(|i| scene.may_be_shadowed(i, &shadowed, |mesh| gpu.meshes[mesh].extent))
+                    .map(|i| scene.shadowing_lights(i, &shadowed, |mesh| gpu.meshes[mesh].extent))
                     .collect(),
             };
             self.reach = (reach, reach_key);

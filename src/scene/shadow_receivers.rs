@@ -1,30 +1,32 @@
-//! Which objects a light's shadow can fall on: a convex solid cannot shadow itself, so one
-//! that no other object can stand in front of, seen from any point of a shadowed light's
-//! sphere, is lit whole by every light, and its draw holds no shadow code
-//! (src/render/forward.rs): in the default scene, the ball, a fifth of the frame's pixels.
+//! Which lights' shadows can fall on which objects: a convex solid cannot shadow itself, so
+//! one that no other object can stand in front of, seen from any point of a light's
+//! sphere, is lit whole by that light. A draw holds shadow code only if some light may
+//! shadow it, and runs it only for those lights (src/render/forward.rs): in the default
+//! scene the ball, a fifth of the frame's pixels, holds none.
 
 use glam::Vec3;
 
 use super::{MeshExtent, Scene};
 
-/// The most objects a scene may have for [`Scene::may_be_shadowed`] to test them: it weighs
+/// The most objects a scene may have for [`Scene::shadowing_lights`] to test them: it weighs
 /// every pair, at every change of the lights or objects (0.6 s at 10,000 objects, where the
 /// viewer moves one a frame); beyond this count every object is taken to be shadowable.
 pub const MAX_SHADOW_RECEIVER_OBJECTS: usize = 256;
 
 impl Scene {
-    /// Whether a point of object `receiver` can lie in a shadow of the lights `shadowed`
-    /// (indices into `lights`): where there is one and its mesh is not convex
-    /// ([`super::Mesh::is_convex`]), or where another object may stand between one of its
-    /// points and a point of a shadowed light's sphere. Every such
-    /// segment lies in the convex hull of the receiver's bounding box and the light's, so an
-    /// object apart from that hull casts nothing on it: its bounding box apart from the
-    /// hull's along an axis (touching does not shadow: the ground under an object resting on
-    /// it), or its bounding sphere apart from the capsule about the light's centre and the
+    /// Which of the lights `shadowed` (indices into `lights`, below 32) may cast a shadow on
+    /// a point of object `receiver`, as bit i for light i: every one where the object is not
+    /// convex ([`super::Mesh::is_convex`]); else each where another object may stand
+    /// between one of its points and a point of the light's sphere. Every such segment lies
+    /// in the convex hull of the receiver's bounding box and the light's, so an object
+    /// apart from that hull casts nothing on it: its bounding box apart from the hull's
+    /// along an axis (touching does not shadow: the ground under an object resting on it),
+    /// or its bounding sphere apart from the capsule about the light's centre and the
     /// receiver's bounding sphere's, as wide as the wider of the two, which holds the hull.
-    /// `extent` gives each mesh's. Every object of a scene of more than
-    /// [`MAX_SHADOW_RECEIVER_OBJECTS`] may be.
-    pub fn may_be_shadowed(&self, receiver: usize, shadowed: &[usize], extent: impl Fn(usize) -> MeshExtent) -> bool {
+    /// `extent` gives each mesh's. In a scene of more than [`MAX_SHADOW_RECEIVER_OBJECTS`]
+    /// every light may.
+    pub fn shadowing_lights(&self, receiver: usize, shadowed: &[usize], extent: impl Fn(usize) -> MeshExtent) -> u32 {
+        let bits = |lights: &mut dyn Iterator<Item = usize>| lights.fold(0, |bits, i| bits | 1 << i);
         let world = |i: usize| {
             let o = &self.objects[i];
             let e = extent(o.mesh);
@@ -32,11 +34,12 @@ impl Scene {
             (at(e.low), at(e.high), at(e.centre), e.radius * o.scale, e.convex)
         };
         let (low, high, centre, radius, convex) = world(receiver);
-        if !convex || self.objects.len() > MAX_SHADOW_RECEIVER_OBJECTS || shadowed.is_empty() {
-            return !shadowed.is_empty();
+        if !convex || self.objects.len() > MAX_SHADOW_RECEIVER_OBJECTS {
+            return bits(&mut shadowed.iter().copied());
         }
         let others: Vec<_> = (0..self.objects.len()).filter(|&i| i != receiver).map(world).collect();
-        shadowed.iter().map(|&i| &self.lights[i]).any(|light| {
+        let casts = |&i: &usize| {
+            let light = &self.lights[i];
             let hull_low = low.min(light.position - light.radius);
             let hull_high = high.max(light.position + light.radius);
             let reach = light.radius.max(radius);
@@ -46,7 +49,8 @@ impl Scene {
                     segment_distance(o_centre, light.position, centre) >= o_radius + reach;
                 !(apart_on_an_axis || apart_from_the_capsule)
             })
-        })
+        };
+        bits(&mut shadowed.iter().copied().filter(casts))
     }
 }
 
@@ -66,10 +70,15 @@ mod tests {
     use super::super::{MeshExtent, Object, Scene};
     use super::MAX_SHADOW_RECEIVER_OBJECTS;
 
-    fn shadowed(scene: &Scene) -> Vec<bool> {
+    /// Each object's lights that may shadow it, as bits.
+    fn shadowing(scene: &Scene) -> Vec<u32> {
         let extents: Vec<MeshExtent> = scene.meshes.iter().map(|m| m.extent()).collect();
         let lights: Vec<usize> = (0..scene.lights.len()).filter(|&i| scene.lights[i].shadows).collect();
-        (0..scene.objects.len()).map(|i| scene.may_be_shadowed(i, &lights, |m| extents[m])).collect()
+        (0..scene.objects.len()).map(|i| scene.shadowing_lights(i, &lights, |m| extents[m])).collect()
+    }
+
+    fn shadowed(scene: &Scene) -> Vec<bool> {
+        shadowing(scene).into_iter().map(|bits| bits != 0).collect()
     }
 
     /// In the default scene the ball, convex and away from the torus, resting on the ground,
@@ -84,6 +93,19 @@ mod tests {
         // A light that casts no shadow shadows nothing.
         scene.lights[0].shadows = false;
         assert_eq!(shadowed(&scene), [false, false, false]);
+    }
+
+    /// Each light is weighed alone: a second light beyond the torus, which may stand between
+    /// it and the ball, may shadow the ball, while the key light still cannot.
+    #[test]
+    fn each_light_may_shadow_an_object_or_not() {
+        let mut scene = Scene::default_scene();
+        let mut fill = scene.lights[0];
+        fill.position = Vec3::new(5.0, 1.0, -2.0);
+        scene.lights.push(fill);
+        assert_eq!(shadowing(&scene), [0b10, 0b11, 0b11]);
+        scene.lights[1].shadows = false;
+        assert_eq!(shadowing(&scene), [0b00, 0b01, 0b01]);
     }
 
     /// Two balls side by side under a light above them: apart along an axis, neither shadows
