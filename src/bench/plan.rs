@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use ash::vk;
 
-use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, MapDef, SceneFile};
+use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, MapDef, ObjectDef, SceneFile};
 use crate::scene::{
     DiffuseModel, Distribution, Geometry, Horizon, MapSlot, ReflectionMode, SpecularModel, Subsurface,
     DEFAULT_SCENE_TOML,
@@ -331,15 +331,24 @@ fn scaled(file: &SceneFile, s: f64) -> SceneFile {
     file
 }
 
-/// `file` with a hard fill light from the other side that casts shadows too: the ground
-/// reads the soft light's shadow from its map and looks the hard one's up at its pixels.
+/// `file` with a hard fill light from the other side that casts shadows too, and a pebble
+/// half-way from it to the ball: the ground reads the soft light's shadow from its map and
+/// looks the hard one's up at its pixels, and the ball runs shadow code for the fill
+/// light alone, which the pebble may stand before.
 fn with_hard_fill(file: &SceneFile) -> SceneFile {
     let mut file = file.clone();
+    let fill = [3.5, 3.0, -2.0];
     file.lights.push(LightDef::Point {
-        position: [3.5, 3.0, -2.0],
+        position: fill,
         intensity: [12.0, 12.0, 12.0],
         radius: None,
         shadows: None,
+    });
+    let ball = file.objects[0].clone();
+    file.objects.push(ObjectDef {
+        position: [0, 1, 2].map(|k| 0.5 * (fill[k] + ball.position[k])),
+        scale: 0.25,
+        ..ball
     });
     file
 }
@@ -722,7 +731,8 @@ mod tests {
     }
 
     /// The fill scene's ground reads its soft light's shadow from the map and looks its
-    /// hard light's up at its pixels, which `no-ground-shadow-map` does for both.
+    /// hard light's up at its pixels, which `no-ground-shadow-map` does for both; its ball
+    /// may be shadowed by the fill light alone.
     #[test]
     fn the_fill_scene_has_soft_and_hard_shadows_on_the_ground() {
         let fill = scenes(false, None).unwrap().into_iter().find(|s| s.name == "penumbra-fill").unwrap();
@@ -733,6 +743,8 @@ mod tests {
         let own = scene("split-sum");
         assert!(crate::render::ground_maps::shadow_ground(&own, true).is_some());
         assert!(crate::render::ground_maps::hard_shadows(&own));
+        let extents: Vec<_> = own.meshes.iter().map(|m| m.extent()).collect();
+        assert_eq!(own.shadowing_lights(0, &[0, 1], |m| extents[m]), 0b10, "the ball: the fill light alone");
         assert!(crate::render::ground_maps::shadow_ground(&scene("no-ground-shadow-map"), true).is_none());
     }
 
