@@ -26,7 +26,6 @@ impl Scene {
     /// `extent` gives each mesh's. In a scene of more than [`MAX_SHADOW_RECEIVER_OBJECTS`]
     /// every light may.
     pub fn shadowing_lights(&self, receiver: usize, shadowed: &[usize], extent: impl Fn(usize) -> MeshExtent) -> u32 {
-        let bits = |lights: &mut dyn Iterator<Item = usize>| lights.fold(0, |bits, i| bits | 1 << i);
         let world = |i: usize| {
             let o = &self.objects[i];
             let e = extent(o.mesh);
@@ -35,7 +34,7 @@ impl Scene {
         };
         let (low, high, centre, radius, convex) = world(receiver);
         if !convex || self.objects.len() > MAX_SHADOW_RECEIVER_OBJECTS {
-            return bits(&mut shadowed.iter().copied());
+            return light_bits(shadowed.iter().copied());
         }
         let others: Vec<_> = (0..self.objects.len()).filter(|&i| i != receiver).map(world).collect();
         let casts = |&i: &usize| {
@@ -50,8 +49,13 @@ impl Scene {
                 !(apart_on_an_axis || apart_from_the_capsule)
             })
         };
-        bits(&mut shadowed.iter().copied().filter(casts))
+        light_bits(shadowed.iter().copied().filter(casts))
     }
+}
+
+/// Bit i set for each light i.
+fn light_bits(lights: impl Iterator<Item = usize>) -> u32 {
+    lights.fold(0, |bits, i| bits | 1 << i)
 }
 
 /// The distance from p to the segment from a to b.
