@@ -11,9 +11,11 @@
 //! - [`report`]: the rows and the CSV, JSON and markdown written from them; [`plot`]: the
 //!   plot of time against error.
 //! - [`startup`]: the time from process start to the first frame, cold and warm.
-//! - [`stats`]: median and p95, the date.
+//! - [`stats`]: median and p95, the date; [`host`]: the machine, which a software device
+//!   runs on.
 //! - [`soak`]: `--soak`, a long run that checks memory stays flat.
 
+mod host;
 pub mod plan;
 pub mod plot;
 pub mod references;
@@ -136,6 +138,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     let provenance = Provenance {
         device: device.info.name.clone(),
         driver: device.info.driver.clone(),
+        host: host::describe(),
         date: stats::utc_iso8601(SystemTime::now().duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs())),
         commit: commit(),
     };
@@ -206,7 +209,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
             &out.join("startup.json"),
             serde_json::to_string_pretty(&starts)?.as_bytes(),
         )?;
-        write_bytes(&out.join("startup.md"), startup::markdown(extent, &runs)?.as_bytes())?;
+        write_bytes(&out.join("startup.md"), startup::markdown(extent, &provenance.host, &runs)?.as_bytes())?;
     }
     // With --only, the rows already there are written again beside the new ones (with
     // `--only startup`, in this build's format), but for those of configurations a full

@@ -20,6 +20,8 @@ use crate::render::PASS_NAMES;
 pub struct Provenance {
     pub device: String,
     pub driver: String,
+    /// The CPU and its threads ([`super::host`]).
+    pub host: String,
     pub date: String,
     pub commit: String,
 }
@@ -82,6 +84,9 @@ pub struct Row {
     pub error_height: usize,
     pub device: String,
     pub driver: String,
+    /// Empty in rows written before it was kept.
+    #[serde(default)]
+    pub host: String,
     pub date: String,
     pub commit: String,
 }
@@ -122,6 +127,7 @@ impl Row {
             error_height: full.0.height,
             device: provenance.device.clone(),
             driver: provenance.driver.clone(),
+            host: provenance.host.clone(),
             date: provenance.date.clone(),
             commit: provenance.commit.clone(),
         }
@@ -239,6 +245,7 @@ fn csv(rows: &[Row]) -> String {
         "error_height",
         "device",
         "driver",
+        "host",
         "date",
         "commit",
     ]);
@@ -273,12 +280,18 @@ fn csv(rows: &[Row]) -> String {
             r.error_height.to_string(),
             csv_field(&r.device),
             csv_field(&r.driver),
+            csv_field(&r.host),
             csv_field(&r.date),
             csv_field(&r.commit),
         ]);
         text += &(fields.join(",") + "\n");
     }
     text
+}
+
+/// A row's host, or what rows written before the host was kept say instead.
+fn host_or_unrecorded(host: &str) -> String {
+    if host.is_empty() { "host not recorded" } else { host }.to_owned()
 }
 
 /// A CSV field, quoted when it holds a comma, a quote or a line break (RFC 4180).
@@ -301,16 +314,18 @@ pub fn markdown(rows: &[Row]) -> String {
             .map(|commit| {
                 let at = || rows.iter().filter(|r| &r.commit == commit);
                 let dates = distinct(at(), |r| r.date.get(..10).unwrap_or(&r.date).to_owned()).join(", ");
+                let hosts = distinct(at(), |r| host_or_unrecorded(&r.host)).join("; ");
                 let count = at().count();
-                format!("{commit} ({count} row{}, {dates})", if count == 1 { "" } else { "s" })
+                format!("{commit} ({count} row{}, {dates}, {hosts})", if count == 1 { "" } else { "s" })
             })
             .collect::<Vec<_>>()
             .join(", ");
         let _ = writeln!(
             text,
             "Measured on {devices}. Rows per commit: {commits} (each row's commit and time are in \
-             results.csv). GPU and CPU milliseconds per frame: median (p95) \
-             of the row's steady frames; × floor: the forward pass's median against the trivial-shader floor's, \
+             results.csv). On a software device the host's CPU is the device: compare milliseconds \
+             between rows of one host, ratios to the floor across hosts. GPU and CPU milliseconds per \
+             frame: median (p95) of the row's steady frames; × floor: the forward pass's median against the trivial-shader floor's, \
              the median of the floor frames drawn between the frames of the scene's rows at that size \
              that draw its own meshes, in the run; × floor (work): the same ratio of the CPU time the \
              process spent (on a software device the rendering's work, which other load on the machine \
@@ -409,6 +424,7 @@ mod tests {
             error_height: 16,
             device: "d".to_owned(),
             driver: "v".to_owned(),
+            host: "h".to_owned(),
             date: "2026-12-01".to_owned(),
             commit: "c".to_owned(),
         }
@@ -460,17 +476,22 @@ mod tests {
         assert_eq!(back[0].gpu_ms_median.to_bits(), f64::to_bits(awkward));
     }
 
-    /// Rows kept from an earlier run keep their commit: the header names every commit with
-    /// its rows, and each scene's references.
+    /// Rows kept from an earlier run keep their commit and host: the header names every
+    /// commit with its rows and hosts, and each scene's references.
     #[test]
     fn the_table_names_every_commit_and_each_scenes_references() {
         let mut later = row("b", "x", 64, 3.0);
         later.commit = "d".to_owned();
         later.date = "2026-12-02T10:00:00Z".to_owned();
         later.error_full.reference_spp = 99;
-        let text = markdown(&[row("a", "x", 64, 1.0), row("a", "y", 64, 2.0), later]);
+        let mut unrecorded = row("a", "y", 64, 2.0);
+        unrecorded.host.clear();
+        let text = markdown(&[row("a", "x", 64, 1.0), unrecorded, later]);
         let header = text.lines().next().unwrap();
-        assert!(header.contains("c (2 rows, 2026-12-01), d (1 row, 2026-12-02)"), "{header}");
+        assert!(
+            header.contains("c (2 rows, 2026-12-01, h; host not recorded), d (1 row, 2026-12-02, h)"),
+            "{header}"
+        );
         assert!(text.contains("| a | 32×16 | 16 spp, noise 1.00% | 16 spp, noise 1.00% |"), "{text}");
         assert!(text.contains("| b | 32×16 | 99 spp, noise 1.00% | 16 spp, noise 1.00% |"), "{text}");
     }

@@ -147,12 +147,12 @@ pub fn median(runs: &[[Startup; 2]]) -> Result<[Startup; 2]> {
     }
 }
 
-/// The table of the median cold and warm starts of `runs`, a row per step, and every
-/// run's time to the first frame.
-pub fn markdown(extent: vk::Extent2D, runs: &[[Startup; 2]]) -> Result<String> {
+/// The table of the median cold and warm starts of `runs` on `host`, a row per step, and
+/// every run's time to the first frame.
+pub fn markdown(extent: vk::Extent2D, host: &str, runs: &[[Startup; 2]]) -> Result<String> {
     let [cold, warm] = median(runs)?;
     let mut text = format!(
-        "Start of `argil render` of the default scene at {}×{} to an EXR: wall milliseconds per step, \
+        "Start of `argil render` of the default scene at {}×{} to an EXR on {host}: wall milliseconds per step, \
          cold (empty argil and Mesa caches) and warm (the caches the cold start filled); the median \
          of {} starts of each by the time to the first frame.\n\n\
          | step | cold ms | warm ms |\n| --- | --- | --- |\n",
@@ -214,7 +214,7 @@ mod tests {
         assert!(median(&[]).is_err());
         let [cold, _] = median(&runs(&[(1600.0, 440.0), (1400.0, 460.0), (1500.0, 450.0)])).expect("a median");
         assert_eq!(cold.total_ms, 1501.0, "the median run's own steps and totals");
-        let table = markdown(vk::Extent2D { width: 16, height: 9 }, &runs(&[(1600.0, 440.0), (1400.0, 460.0)]))
+        let table = markdown(vk::Extent2D { width: 16, height: 9 }, "h", &runs(&[(1600.0, 440.0), (1400.0, 460.0)]))
             .expect("a table");
         assert!(table.contains("| **process start to first frame** | **1400.0** | **440.0** |"), "{table}");
         assert!(table.contains("cold 1600.0, 1400.0 ms; warm 440.0, 460.0 ms"), "{table}");
