@@ -325,11 +325,11 @@ pub fn markdown(rows: &[Row]) -> String {
             "Measured on {devices}. Rows per commit: {commits} (each row's commit and time are in \
              results.csv). On a software device the host's CPU is the device: compare milliseconds \
              between rows of one host, ratios to the floor across hosts. GPU and CPU milliseconds per \
-             frame: median (p95) of the row's steady frames; × floor: the forward pass's median against the trivial-shader floor's, \
-             the median of the floor frames drawn between the frames of the scene's rows at that size \
-             that draw its own meshes, in the run; × floor (work): the same ratio of the CPU time the \
-             process spent (on a software device the rendering's work, which other load on the machine \
-             does not stretch). Error against the scene's `full` and `shadows` references, at their size:\n"
+             frame: median (p95) of the row's steady frames; × floor: the forward pass's median against \
+             the trivial-shader floor's, the median of the floor frames drawn between the frames of the \
+             scene's rows at that size that draw its own meshes, in the run; × floor (work): the same \
+             ratio of the CPU time the process spent (on a software device the rendering's work, which \
+             other load on the machine does not stretch). Error against the scene's `full` and `shadows` references, at their size:\n"
         );
         text += "| scene | size | `full` reference | `shadows` reference |\n| --- | --- | --- | --- |\n";
         for scene in distinct(rows, |r| r.scene.clone()) {

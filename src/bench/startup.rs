@@ -218,5 +218,6 @@ mod tests {
             .expect("a table");
         assert!(table.contains("| **process start to first frame** | **1400.0** | **440.0** |"), "{table}");
         assert!(table.contains("cold 1600.0, 1400.0 ms; warm 440.0, 460.0 ms"), "{table}");
+        assert!(table.contains("to an EXR on h:"), "the host: {table}");
     }
 }
