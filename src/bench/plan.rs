@@ -18,6 +18,8 @@ pub const REPORT: &str = "report";
 const PROPERTY_MAPS: &str = "property-maps";
 /// The trivial-shader floor every time is divided by.
 pub const FLOOR: &str = "floor";
+/// argil's defaults: the scene as written, with the split sum's reflection.
+pub const DEFAULTS: &str = "split-sum";
 /// argil's defaults through the generic pipeline: what specialising to the frame saves.
 pub const GENERIC: &str = "generic";
 
@@ -114,7 +116,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
         return Ok(vec![bench_scene(
             "default",
             &default,
-            &[FLOOR, "split-sum", REPORT],
+            &[FLOOR, DEFAULTS, REPORT],
             |_| vec![QUICK],
         )?]);
     }
@@ -133,7 +135,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
             .context("bench/scenes/sphere.toml has no material m")?;
         (m.diffuse, m.specular, m.distribution) = (diffuse, specular, distribution);
         m.diffuse_roughness = 0.5;
-        let mut configurations = vec![FLOOR, "split-sum", "seed", REPORT, "sampled-64"];
+        let mut configurations = vec![FLOOR, DEFAULTS, "seed", REPORT, "sampled-64"];
         if specular == SpecularModel::CookTorrance {
             configurations.extend([SEPARABLE_G, ENERGY_COMPENSATION]);
         }
@@ -151,7 +153,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     let close_up = parse(CLOSE_UP_TOML, "bench/scenes/close-up.toml")?;
     let maps = [
         FLOOR,
-        "split-sum",
+        DEFAULTS,
         GENERIC,
         "no-maps",
         "maps-off",
@@ -164,19 +166,19 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
     ];
     scenes.push(bench_scene("close-up", &close_up, &maps, headline)?);
     let ground = parse(BALL_ON_GROUND_TOML, "bench/scenes/ball-on-ground.toml")?;
-    let mut ground_names = vec![FLOOR, "split-sum", REPORT];
+    let mut ground_names = vec![FLOOR, DEFAULTS, REPORT];
     ground_names.extend(OCCLUSION_CONFIGURATIONS);
     ground_names.extend(BOUNCE_CONFIGURATIONS);
     ground_names.extend(OBJECT_CONFIGURATIONS);
     scenes.push(bench_scene("ball-on-ground", &ground, &ground_names, headline)?);
     let penumbra = parse(PENUMBRA_TOML, "bench/scenes/penumbra.toml")?;
-    let mut penumbra_names = vec![FLOOR, "split-sum"];
+    let mut penumbra_names = vec![FLOOR, DEFAULTS];
     penumbra_names.extend(SHADOW_CONFIGURATIONS);
     scenes.push(bench_scene("penumbra", &penumbra, &penumbra_names, headline)?);
-    let fill = [FLOOR, "split-sum", "no-ground-shadow-map"];
+    let fill = [FLOOR, DEFAULTS, "no-ground-shadow-map"];
     scenes.push(bench_scene("penumbra-fill", &with_hard_fill(&penumbra), &fill, headline)?);
     let ball = parse(SUBSURFACE_BALL_TOML, "bench/scenes/subsurface-ball.toml")?;
-    let subsurface = [FLOOR, "split-sum", "no-subsurface", REPORT];
+    let subsurface = [FLOOR, DEFAULTS, "no-subsurface", REPORT];
     scenes.push(bench_scene("subsurface-ball", &ball, &subsurface, headline)?);
     scenes.push(bench_scene(
         "subsurface-ball-small",
@@ -192,7 +194,7 @@ pub fn scenes(quick: bool, sky: Option<&Path>) -> Result<Vec<BenchScene>> {
 pub fn configuration_names() -> Vec<String> {
     let base = [
         FLOOR,
-        "split-sum",
+        DEFAULTS,
         GENERIC,
         "seed",
         REPORT,
@@ -271,7 +273,7 @@ const SPHERES: [(&str, DiffuseModel, SpecularModel, Distribution); 7] = [
 /// on the map's dynamic range, and the silhouette anti-aliased under split sum and `seed`.
 const SKY_CONFIGURATIONS: [&str; 10] = [
     FLOOR,
-    "split-sum",
+    DEFAULTS,
     "seed",
     REPORT,
     "msaa-4",
@@ -359,7 +361,7 @@ fn resolutions(name: &str, scaling: bool) -> Vec<vk::Extent2D> {
         // Seconds per frame at 1280×720 on lavapipe: 26 s for 1024 lookups.
         "sampled-256" | "sampled-1024" => vec![SMALL],
         // Cost against pixels: argil's defaults at a smaller and a larger size.
-        "split-sum" if scaling => vec![HEADLINE, SMALL, LARGE],
+        DEFAULTS if scaling => vec![HEADLINE, SMALL, LARGE],
         _ => vec![HEADLINE],
     }
 }
@@ -434,7 +436,7 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         return Ok(file);
     }
     match name.strip_prefix("generic-").unwrap_or(name) {
-        FLOOR | GENERIC | "split-sum" => {}
+        FLOOR | GENERIC | DEFAULTS => {}
         "seed" => set_reflection(&mut file.environment, ReflectionMode::Seed, None),
         REPORT => {
             set_reflection(&mut file.environment, ReflectionMode::Seed, None);
@@ -675,7 +677,7 @@ mod tests {
             let row = lambert.configurations.iter().find(|c| c.name == format!("sphere-{n}"));
             assert_eq!(spheres(&row.unwrap().text), [Some(n)]);
         }
-        let own = lambert.configurations.iter().find(|c| c.name == "split-sum").unwrap();
+        let own = lambert.configurations.iter().find(|c| c.name == DEFAULTS).unwrap();
         assert_eq!(spheres(&own.text), [None]);
     }
 
@@ -740,7 +742,7 @@ mod tests {
             let row = fill.configurations.iter().find(|c| c.name == name).unwrap();
             crate::scene::Scene::from_toml(&row.text, "row", Path::new("")).unwrap()
         };
-        let own = scene("split-sum");
+        let own = scene(DEFAULTS);
         assert!(crate::render::ground_maps::shadow_ground(&own, true).is_some());
         assert!(crate::render::ground_maps::hard_shadows(&own));
         let extents: Vec<_> = own.meshes.iter().map(|m| m.extent()).collect();
