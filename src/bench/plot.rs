@@ -68,12 +68,12 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
             .x_label_formatter(&|x| format!("{}", (x * 1e3).round() / 1e3))
             .y_label_formatter(&|y| format!("{}", (y * 1e4).round() / 1e4))
             .draw()?;
-        chart.draw_series(LineSeries::new(pareto_front(&points), BLUE.stroke_width(2)))?;
+        let front = pareto_front(&points);
+        chart.draw_series(LineSeries::new(front.iter().copied(), BLUE.stroke_width(2)))?;
         chart.draw_series(points.iter().map(|&(x, y, _, report)| {
             let colour = if report { RED } else { BLACK };
             Circle::new((x, y), 5, colour.filled())
         }))?;
-        let front = pareto_front(&points);
         let labels: Vec<(String, TextStyle)> = points
             .iter()
             .map(|(_, _, name, report)| {
