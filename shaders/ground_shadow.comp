@@ -18,7 +18,11 @@ void main() {
     for (uint layer = 0u; 4u * layer < frame.counts.x; ++layer) {
         vec4 visibility = vec4(1.0);
         for (uint c = 0u; c < 4u && 4u * layer + c < frame.counts.x; ++c) {
-            visibility[c] = point_light_shadow(4u * layer + c, p, vec3(0.0, 1.0, 0.0), vec2(texel), true);
+            // A hard light's shadow the ground looks up at its pixels (lights.glsl): its
+            // channel is left lit, unread.
+            uint i = 4u * layer + c;
+            bool soft = shadow_data.lights[i].map.y > 0.0;
+            visibility[c] = point_light_shadow(i, p, vec3(0.0, 1.0, 0.0), vec2(texel), soft);
         }
         imageStore(ground_shadow_out, ivec3(texel, layer), visibility);
     }

@@ -217,11 +217,9 @@ pub struct ForwardPass {
     object_pipelines: Vec<vk::Pipeline>,
     /// The same for the right part of a split frame (split.rs); empty without one.
     split_pipelines: Vec<vk::Pipeline>,
-    /// How each object reads the other objects' occlusion, in `Scene::objects` order, for
-    /// the scene last prepared.
-    object_occlusion: Vec<ObjectOcclusion>,
-    /// The lights that may shadow each object, bit i for light i, in the same order.
-    shadowing_lights: Vec<u32>,
+    /// What each object's draw reads besides its object, in `Scene::objects` order, for the
+    /// scene last prepared.
+    object_draws: Vec<ObjectDraw>,
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
@@ -316,8 +314,7 @@ impl ForwardPass {
             floor: HashMap::new(),
             object_pipelines: Vec::new(),
             split_pipelines: Vec::new(),
-            object_occlusion: Vec::new(),
-            shadowing_lights: Vec::new(),
+            object_draws: Vec::new(),
             _pool: pool,
             slots,
             subsurface: None,
@@ -459,24 +456,26 @@ impl ForwardPass {
         let at_vertices = |i: usize| {
             choices.objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
         };
-        self.object_occlusion = (0..scene.objects.len())
-            .map(|i| ObjectOcclusion {
-                own: scene.own_occluders(occluders, i),
-                from: if choices.ground_map == Some(i) {
-                    ObjectsOcclusionFrom::GroundMap
-                } else if at_vertices(i) {
-                    ObjectsOcclusionFrom::Vertices
-                } else {
-                    ObjectsOcclusionFrom::Pixels
+        self.object_draws = (0..scene.objects.len())
+            .map(|i| ObjectDraw {
+                occlusion: ObjectOcclusion {
+                    own: scene.own_occluders(occluders, i),
+                    from: if choices.ground_map == Some(i) {
+                        ObjectsOcclusionFrom::GroundMap
+                    } else if at_vertices(i) {
+                        ObjectsOcclusionFrom::Vertices
+                    } else {
+                        ObjectsOcclusionFrom::Pixels
+                    },
                 },
+                shadowing_lights: shadowing[i],
             })
             .collect();
-        self.shadowing_lights = shadowing.to_vec();
         let parts = 1 + usize::from(split.is_some());
         let pipelines = if choices.floor {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
-            let from: Vec<ObjectsOcclusionFrom> = self.object_occlusion.iter().map(|o| o.from).collect();
+            let from: Vec<ObjectsOcclusionFrom> = self.object_draws.iter().map(|o| o.occlusion.from).collect();
             self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, shadowing, choices))?
         };
         // The objects with the scene's materials, then with the split's.
@@ -627,15 +626,11 @@ impl ForwardPass {
                 .get(index)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
             let mesh = &gpu.meshes[object.mesh];
-            let occlusion = *self
-                .object_occlusion
+            let draw = *self
+                .object_draws
                 .get(index)
                 .context("object missing: prepare() was not called for this scene")?;
-            let shadowing_lights = *self
-                .shadowing_lights
-                .get(index)
-                .context("object missing: prepare() was not called for this scene")?;
-            let mut push = ObjectPush::new(object, occlusion, shadowing_lights);
+            let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights);
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {
@@ -731,6 +726,14 @@ pub struct FrameChoices {
     pub ground_shadows: Option<usize>,
     /// Whether the environment's map has a sun lifted out of it (environment.rs).
     pub sun: bool,
+}
+
+/// What an object's draw reads besides its object: how it reads the other objects'
+/// occlusion, and the lights that may shadow it, bit i for light i.
+#[derive(Clone, Copy)]
+struct ObjectDraw {
+    occlusion: ObjectOcclusion,
+    shadowing_lights: u32,
 }
 
 /// The constants of each draw: `scene`'s objects, then the same with `split`'s materials,
