@@ -9,10 +9,15 @@ use std::path::{Path, PathBuf};
 #[cfg(feature = "system-shaderc")]
 extern crate shaderc_system_link;
 
-/// A stage compiled once more with a macro defined: (source, output, macro, value).
+/// A stage compiled once more with macros defined: (source, output, [(macro, value)]).
 /// `forward_shaded.frag` is forward.frag without its debug views, for the pipelines that
-/// draw the shaded image (src/render/forward.rs).
-const VARIANTS: &[(&str, &str, &str, &str)] = &[("forward.frag", "forward_shaded.frag", "DEBUG_VIEWS", "0")];
+/// draw the shaded image; `forward_lookups.frag` is that without sampled reflection too, for
+/// those whose reflection is a lookup (src/render/forward.rs, `FragmentBuild`).
+type Variant = (&'static str, &'static str, &'static [(&'static str, &'static str)]);
+const VARIANTS: &[Variant] = &[
+    ("forward.frag", "forward_shaded.frag", &[("DEBUG_VIEWS", "0")]),
+    ("forward.frag", "forward_lookups.frag", &[("DEBUG_VIEWS", "0"), ("SAMPLED_REFLECTION", "0")]),
+];
 
 const STAGES: &[(&str, shaderc::ShaderKind)] = &[
     ("vert", shaderc::ShaderKind::Vertex),
@@ -50,10 +55,10 @@ fn main() {
         let variants = VARIANTS
             .iter()
             .filter(|v| v.0 == name)
-            .map(|&(_, output, key, value)| (output, Some((key, value))));
-        for (output, definition) in std::iter::once((name.as_str(), None)).chain(variants) {
+            .map(|&(_, output, definitions)| (output, definitions));
+        for (output, definitions) in std::iter::once((name.as_str(), &[][..])).chain(variants) {
             let mut options = compile_options(&lib_dir, &out_dir);
-            if let Some((key, value)) = definition {
+            for &(key, value) in definitions {
                 options.add_macro_definition(key, Some(value));
             }
             match compiler.compile_into_spirv(&text, kind, &source.display().to_string(), "main", Some(&options)) {

@@ -14,6 +14,13 @@
 #ifndef ENV_SET
 #define ENV_SET 2
 #endif
+// SAMPLED_REFLECTION 0 (build.rs's forward_lookups.frag) leaves the sampled reflection
+// out of the module, a quarter of the shaded image's SPIR-V, for the pipelines specialised
+// to a reflection mode of lookups: its code is never run there, but every pipeline's
+// creation would read it.
+#ifndef SAMPLED_REFLECTION
+#define SAMPLED_REFLECTION 1
+#endif
 
 // EnvironmentData.mode.x, and ENVIRONMENT_KIND
 const uint ENV_NONE = 0u;
@@ -257,6 +264,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
     return radiance + specular_visibility * (prefiltered * m.specular_color.rgb * (f0_a + lobe.y) + sunlight);
 }
 
+#if SAMPLED_REFLECTION
 // PCG hash (Jarzynski & Olano 2020, "Hash Functions for GPU Rendering").
 uint pcg_hash(uint x) {
     uint state = x * 747796405u + 2891336453u;
@@ -320,6 +328,7 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
     }
     return sum;
 }
+#endif
 
 // The light the environment reflects towards v: replaces the report's constant ambient.
 // `occlusion` is applied as environment_split_sum applies it; the sampled mode then
@@ -328,9 +337,10 @@ vec3 environment_sampled(ShadingModels models, Material m, vec3 n, vec3 n_geomet
 vec3 environment_light(ShadingModels models, Material m, float microsurface_roughness, vec3 n, vec3 n_geometric,
                        vec3 v, float curvature, float noise, vec2 pixel, uint sample_set, vec4 occlusion) {
     if (env_kind() == ENV_NONE) return vec3(0.0);
-    if (reflection_mode() != REFLECTION_SAMPLED) {
+    if (!bool(SAMPLED_REFLECTION) || reflection_mode() != REFLECTION_SAMPLED) {
         return environment_split_sum(models, m, microsurface_roughness, n, v, curvature, noise, occlusion);
     }
+#if SAMPLED_REFLECTION
     if (occlusion == vec4(1.0)) return environment_sampled(models, m, n, n_geometric, v, curvature, pixel, sample_set);
     ShadingModels diffuse_only = models;
     diffuse_only.specular = SPECULAR_NONE;
@@ -342,6 +352,7 @@ vec3 environment_light(ShadingModels models, Material m, float microsurface_roug
     return occlusion.rgb * environment_sampled(diffuse_only, m, n, n_geometric, v, curvature, pixel, sample_set)
          + specular_occlusion(n_dot_v, occlusion.a, alpha)
              * environment_sampled(specular_only, m, n, n_geometric, v, curvature, pixel, sample_set);
+#endif
 }
 
 #endif

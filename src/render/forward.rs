@@ -184,6 +184,33 @@ impl ForwardConstants {
     pub fn specialization(&self) -> Specialization {
         Specialization(bytemuck::cast_slice(std::slice::from_ref(self)).to_vec())
     }
+
+    /// The smallest build of forward.frag that holds the code these constants run.
+    fn fragment_build(&self) -> FragmentBuild {
+        let sampled = [reflection_code(ReflectionMode::Sampled), FROM_UNIFORM];
+        if self.debug_view != DebugView::Shaded as u32 {
+            FragmentBuild::DebugViews
+        } else if sampled.contains(&self.reflection_mode) {
+            FragmentBuild::Shaded
+        } else {
+            FragmentBuild::Lookups
+        }
+    }
+}
+
+/// The builds of forward.frag (build.rs), each leaving out code that the pipelines made
+/// from it never run but whose SPIR-V each pipeline's creation would read: on lavapipe,
+/// which translates a module whole at every creation, a third of a warm start's pipeline
+/// time is the sampled reflection's code alone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FragmentBuild {
+    /// Everything: debug views, or the generic pipeline, which reads the view from the
+    /// uniforms.
+    DebugViews,
+    /// The shaded image with any reflection mode.
+    Shaded,
+    /// The shaded image with a reflection of lookups (split sum, seed) or none.
+    Lookups,
 }
 
 /// What one frame in flight owns: its uniforms, materials and the set pointing at them.
@@ -203,11 +230,10 @@ pub struct ForwardPass {
     material_layout: DescriptorSetLayout,
     layout: PipelineLayout,
     vertex: ShaderModule,
-    /// forward.frag, for debug views and the generic pipeline, which reads the debug view
-    /// from the uniforms.
+    /// forward.frag's builds (`FragmentBuild`).
     fragment: ShaderModule,
-    /// forward.frag without its debug views (build.rs), for the shaded image's pipelines.
     shaded_fragment: ShaderModule,
+    lookups_fragment: ShaderModule,
     /// By sample count and constants.
     pipelines: HashMap<(vk::SampleCountFlags, ForwardConstants), Pipeline>,
     /// `floor.frag`'s pipeline by sample count, created the first time a frame asks for it.
@@ -281,6 +307,7 @@ impl ForwardPass {
         let vertex = ShaderModule::new(device, shaders::FORWARD_VERT, "forward.vert")?;
         let fragment = ShaderModule::new(device, shaders::FORWARD_FRAG, "forward.frag")?;
         let shaded_fragment = ShaderModule::new(device, shaders::FORWARD_SHADED_FRAG, "forward_shaded.frag")?;
+        let lookups_fragment = ShaderModule::new(device, shaders::FORWARD_LOOKUPS_FRAG, "forward_lookups.frag")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
         let slots = (0..frames_in_flight)
             .map(|_| {
@@ -310,6 +337,7 @@ impl ForwardPass {
             vertex,
             fragment,
             shaded_fragment,
+            lookups_fragment,
             pipelines: HashMap::new(),
             floor: HashMap::new(),
             object_pipelines: Vec::new(),
@@ -383,8 +411,11 @@ impl ForwardPass {
                 .map(|c| {
                     let specialization = c.specialization();
                     let name = format!("forward {samples:?} {:?}", specialization.0);
-                    let shaded = c.debug_view == DebugView::Shaded as u32;
-                    let fragment = if shaded { &self.shaded_fragment } else { &self.fragment };
+                    let fragment = match c.fragment_build() {
+                        FragmentBuild::DebugViews => &self.fragment,
+                        FragmentBuild::Shaded => &self.shaded_fragment,
+                        FragmentBuild::Lookups => &self.lookups_fragment,
+                    };
                     self.build_pipeline(fragment, samples, &specialization, &name)
                 })
                 .collect::<Result<Vec<_>>>()?;
@@ -934,6 +965,30 @@ mod tests {
                 "{blend:?}"
             );
         }
+    }
+
+    /// A pipeline that may run the sampled reflection, specialised to it or reading the
+    /// mode from the uniforms, is made from a build that holds it; one of lookups from the
+    /// build without it; a debug view from the build with the views.
+    #[test]
+    fn pipelines_are_made_from_a_build_that_holds_their_code() {
+        let m = mapped_material(0.5);
+        let build = |mode, view, specialize| {
+            ForwardConstants::new(&m, &uniform(mode), view, specialize, true).fragment_build()
+        };
+        use FragmentBuild::*;
+        for (mode, specialised) in [
+            (ReflectionMode::SplitSum, Lookups),
+            (ReflectionMode::Seed, Lookups),
+            (ReflectionMode::Sampled, Shaded),
+        ] {
+            assert_eq!(build(mode, DebugView::Shaded, true), specialised, "{mode:?}");
+            assert_eq!(build(mode, DebugView::Shaded, false), DebugViews, "{mode:?}, generic");
+            assert_eq!(build(mode, DebugView::Normals, true), DebugViews, "{mode:?}, a debug view");
+        }
+        let mut generic = ForwardConstants::new(&m, &uniform(ReflectionMode::SplitSum), DebugView::Shaded, true, true);
+        generic.reflection_mode = FROM_UNIFORM;
+        assert_eq!(generic.fragment_build(), Shaded, "the reflection mode from the uniforms");
     }
 
     /// The ground's own draw holds no bounce gather, every other draw of a bouncing scene
