@@ -28,11 +28,12 @@ use anyhow::Result;
 use ash::vk;
 use bytemuck::Zeroable;
 
+use super::environment::environment_kind;
 use super::forward::{ForwardConstants, FROM_UNIFORM};
 use super::gpu_scene::MAX_POINT_LIGHTS;
 use super::shaders;
 use crate::scene::occluders::Occluder;
-use crate::scene::{Environment, MapSlot, Object, Scene, DEFAULT_SHADOW_TAPS};
+use crate::scene::{Environment, MapSlot, Object, Scene};
 use crate::vk::{
     transition_levels, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device, Image,
     ImageUse, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
@@ -97,7 +98,8 @@ pub fn hard_shadows(scene: &Scene) -> bool {
 }
 
 /// One map: its image, written through `compute_set` by its shader's pipeline as the frame
-/// specialises it, and what it was last computed from.
+/// specialises it (made when a frame first reads the map), and what it was last computed
+/// from.
 struct GroundMap {
     image: Image,
     size: u32,
@@ -107,6 +109,8 @@ struct GroundMap {
     /// A pipeline for each specialization a frame has asked for: a frame in flight may
     /// still use the one before.
     pipelines: HashMap<Specialization, Pipeline>,
+    /// The last asked for, whose pipeline [`Self::specialize`] made; a map is computed
+    /// only after it (see [`GroundMaps::prepare`]).
     specialization: Specialization,
     /// What the map was last computed from; empty before the first and after a change the
     /// key does not hold.
@@ -120,20 +124,16 @@ struct GroundMap {
 impl GroundMap {
     /// A map `size` texels on a side: a 2D image, or a 2D array of `layers` when more than
     /// one.
-    #[allow(clippy::too_many_arguments)]
     fn new(
         device: &Arc<Device>,
         one_shot: &OneShot,
-        layout: &PipelineLayout,
         compute_set: vk::DescriptorSet,
         shader: &[u8],
-        specialization: Specialization,
         size: u32,
         layers: u32,
         name: &'static str,
     ) -> Result<Self> {
         let module = ShaderModule::new(device, shader, name)?;
-        let pipeline = Pipeline::compute(device, layout, &module, &specialization, name)?;
         let extent = vk::Extent2D {
             width: size,
             height: size,
@@ -160,8 +160,8 @@ impl GroundMap {
             compute_set,
             module,
             name,
-            pipelines: HashMap::from([(specialization.clone(), pipeline)]),
-            specialization,
+            pipelines: HashMap::new(),
+            specialization: Specialization::default(),
             key: Vec::new(),
             pending: Cell::new(false),
             renders: Cell::new(0),
@@ -295,33 +295,13 @@ impl GroundMaps {
             0,
             vk::ShaderStageFlags::empty(),
         )?;
-        let map = |shader: &[u8], specialization: Specialization, size: u32, layers: u32, name: &'static str| {
+        let map = |shader: &[u8], size: u32, layers: u32, name: &'static str| {
             let compute_set = pools[1].allocate(&compute_set_layout)?;
-            GroundMap::new(device, one_shot, &layout, compute_set, shader, specialization, size, layers, name)
+            GroundMap::new(device, one_shot, compute_set, shader, size, layers, name)
         };
-        let light = map(shaders::GROUND_LIGHT_COMP, Specialization::default(), GROUND_LIGHT_SIZE, 1, "ground light")?;
-        // object_occlusion.glsl's code on, the environment's kind from its uniform.
-        let constants = ForwardConstants {
-            environment_kind: FROM_UNIFORM,
-            reflection_mode: FROM_UNIFORM,
-            debug_view: FROM_UNIFORM,
-            object_occlusion: 1,
-            ..ForwardConstants::zeroed()
-        };
-        let occlusion = map(
-            shaders::GROUND_OCCLUSION_COMP,
-            constants.specialization(),
-            GROUND_OCCLUSION_SIZE,
-            1,
-            "ground occlusion",
-        )?;
-        let shadow = map(
-            shaders::GROUND_SHADOW_COMP,
-            shadow_specialization(GROUND_SHADOW_TAPS_PER_TAP * DEFAULT_SHADOW_TAPS),
-            GROUND_SHADOW_SIZE,
-            GROUND_SHADOW_LAYERS,
-            "ground shadow",
-        )?;
+        let light = map(shaders::GROUND_LIGHT_COMP, GROUND_LIGHT_SIZE, 1, "ground light")?;
+        let occlusion = map(shaders::GROUND_OCCLUSION_COMP, GROUND_OCCLUSION_SIZE, 1, "ground occlusion")?;
+        let shadow = map(shaders::GROUND_SHADOW_COMP, GROUND_SHADOW_SIZE, GROUND_SHADOW_LAYERS, "ground shadow")?;
         let sampler = Sampler::clamped(device)?;
         let sampled = |writer: DescriptorWriter, binding: u32, map: &GroundMap| {
             writer.image(
@@ -369,6 +349,7 @@ impl GroundMaps {
         shadow_ground: Option<usize>,
         environment_generation: u64,
     ) -> Result<()> {
+        self.prepare_pipelines(scene, occlusion_ground, shadow_ground)?;
         // A map's inputs bit for bit, the ground's square first.
         let key = |ground: &Object, inputs: &mut dyn Iterator<Item = f32>| -> Vec<u32> {
             let square = ground.position.extend(ground.scale).to_array();
@@ -386,10 +367,6 @@ impl GroundMaps {
             key
         });
         self.occlusion.prepare(occlusion_key, false);
-        if shadow_ground.is_some() {
-            let taps = GROUND_SHADOW_TAPS_PER_TAP * scene.shadow_taps;
-            self.shadow.specialize(&self.device, &self.layout, shadow_specialization(taps))?;
-        }
         let shadow_key = shadow_ground.map(|index| {
             let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
             let lights = lights.flat_map(|l| l.position.extend(l.radius).to_array());
@@ -398,6 +375,29 @@ impl GroundMaps {
             key
         });
         self.shadow.prepare(shadow_key, shadows_change);
+        Ok(())
+    }
+
+    /// Makes the pipelines of the maps that a frame of `scene` reads (`occlusion_ground`
+    /// and `shadow_ground` as [`Self::prepare`] takes them) as the frame specialises them,
+    /// those no frame asked for before: a scene without a ground makes none.
+    pub fn prepare_pipelines(
+        &mut self,
+        scene: &Scene,
+        occlusion_ground: Option<usize>,
+        shadow_ground: Option<usize>,
+    ) -> Result<()> {
+        let (device, layout) = (&self.device, &self.layout);
+        if scene.bounce_ground().is_some() {
+            self.light.specialize(device, layout, Specialization::default())?;
+        }
+        if occlusion_ground.is_some() {
+            self.occlusion.specialize(device, layout, occlusion_specialization(&scene.environment))?;
+        }
+        if shadow_ground.is_some() {
+            let taps = GROUND_SHADOW_TAPS_PER_TAP * scene.shadow_taps;
+            self.shadow.specialize(device, layout, shadow_specialization(taps))?;
+        }
         Ok(())
     }
 
@@ -453,6 +453,19 @@ impl GroundMaps {
         let (d, layout) = (&self.device.handle, self.layout.handle);
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, first, sets, &[]) };
     }
+}
+
+/// The occlusion map's pipeline: object_occlusion.glsl's code on, for the kind of
+/// `environment`.
+fn occlusion_specialization(environment: &Environment) -> Specialization {
+    ForwardConstants {
+        environment_kind: environment_kind(environment),
+        reflection_mode: FROM_UNIFORM,
+        debug_view: FROM_UNIFORM,
+        object_occlusion: 1,
+        ..ForwardConstants::zeroed()
+    }
+    .specialization()
 }
 
 /// The shadow map's pipeline: shadows.glsl's code with the scene's `taps`.
