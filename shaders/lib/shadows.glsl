@@ -38,6 +38,10 @@ const float SHADOW_SLOPE_BIAS = 1e-4;
 // Taps of the blocker search and of the filter when the light has a radius ([shadows]
 // taps): a constant, so that the compiler folds the taps' radii (src/render/forward.rs).
 layout(constant_id = 18) const uint SHADOW_TAPS = 16u;
+// Whether a light that may shadow the draw's object has a radius (src/render/forward.rs).
+// Off, the pipeline holds the hard shadow's one tap alone: lavapipe would set up the
+// search and filter at every pixel (the disk's frame, its turn, the loops) for none.
+layout(constant_id = 22) const bool SOFT_SHADOWS = true;
 
 // The face that direction d falls in and (a, b) on it: the inverse of cube_direction.
 uint cube_face(vec3 d, out vec2 ab) {
@@ -215,7 +219,7 @@ float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel, bool may_
     bool receives = shadow_receiver(i, p, face_normal, r, w) && may_shadow;
     float d = r.distance;
     float radius = shadow_data.lights[i].map.y;
-    bool soft = radius > 0.0;
+    bool soft = SOFT_SHADOWS && radius > 0.0;
 
     mat3 tangent = tangent_frame(w);
     float texel_angle = 2.0 / float(shadow_data.settings.x);

@@ -56,8 +56,9 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// (environment.glsl), which the generic pipeline always does; a soft shadow's taps
 /// (`[shadows] taps`, shadows.glsl); whether the draw reads its shadows from the
 /// ground's shadow map (ground_shadow.glsl); whether the frame has shadows at all
-/// (lights.glsl), which the generic pipeline always holds; and whether the draw that reads
-/// the ground's map looks hard lights up at its pixels beside it.
+/// (lights.glsl), which the generic pipeline always holds; whether the draw that reads
+/// the ground's map looks hard lights up at its pixels beside it; and whether a light that
+/// may shadow the draw's object is soft (shadows.glsl), which the generic pipeline holds.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -83,11 +84,12 @@ pub struct ForwardConstants {
     pub ground_shadows: u32,
     pub shadows: u32,
     pub ground_hard_shadows: u32,
+    pub soft_shadows: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 22] = [
+    pub const NAMES: [&'static str; 23] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -110,6 +112,7 @@ impl ForwardConstants {
         "GROUND_SHADOWS",
         "SHADOWS",
         "GROUND_HARD_SHADOWS",
+        "SOFT_SHADOWS",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -173,6 +176,7 @@ impl ForwardConstants {
             ground_shadows: 0,
             shadows: 1,
             ground_hard_shadows: 0,
+            soft_shadows: 1,
         }
     }
 
@@ -784,6 +788,11 @@ fn draw_constants(
     // What a specialised pipeline holds only when the frame uses it; the generic one
     // always holds it and reads the frame's uniforms.
     let held = |used: bool| u32::from(used || !choices.specialize);
+    // Whether a light of `bits` (ObjectPush.shadowing_lights) has a radius.
+    let soft_shadowing = |bits: u32| {
+        let mut lights = scene.lights.iter().enumerate();
+        lights.any(|(j, light)| bits >> j & 1 != 0 && light.radius > 0.0)
+    };
     let split_parts = split.map(|s| (s.materials.as_slice(), &s.environment));
     std::iter::once((scene.materials.as_slice(), &scene.environment))
         .chain(split_parts)
@@ -805,6 +814,7 @@ fn draw_constants(
             constants.ground_shadows = u32::from(ground_shadows);
             constants.ground_hard_shadows = u32::from(ground_shadows && hard_shadows);
             constants.shadows = held(shadowing[i] != 0);
+            constants.soft_shadows = held(soft_shadowing(shadowing[i]));
             constants
         })
         .collect()
@@ -995,14 +1005,15 @@ mod tests {
     /// does, and the generic pipeline always does; the ground's draw alone reads its
     /// shadows from the ground's map when the frame has one; a draw that no shadow can
     /// reach, and every draw of a frame without shadow maps, holds no shadow code, but for
-    /// the generic pipeline.
+    /// the generic pipeline; a draw holds the soft shadows' search and filter only where a
+    /// soft light may shadow its object, but for the generic pipeline.
     #[test]
     fn draws_hold_the_bounce_and_the_shadows_they_use() {
         let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
             .expect("the default scene");
         let ground = scene.ground_index().expect("a ground");
         let from = vec![ObjectsOcclusionFrom::Pixels; scene.objects.len()];
-        let constants = |specialize: bool, shadows: bool| -> Vec<ForwardConstants> {
+        let constants = |scene: &Scene, specialize: bool, shadows: bool| -> Vec<ForwardConstants> {
             let choices = FrameChoices {
                 debug_view: DebugView::Shaded,
                 floor: false,
@@ -1018,19 +1029,25 @@ mod tests {
             let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };
             let shadowing: Vec<u32> =
                 (0..scene.objects.len()).map(|i| scene.shadowing_lights(i, &lights, |m| extents[m])).collect();
-            draw_constants(&scene, None, &from, &shadowing, &choices)
+            draw_constants(scene, None, &from, &shadowing, &choices)
         };
-        let specialised = constants(true, true);
+        let specialised = constants(&scene, true, true);
         assert_eq!(specialised.len(), scene.objects.len());
         // The ball, convex and where nothing stands before the light, is lit whole.
-        let ball = 0;
-        for (i, c) in specialised.into_iter().enumerate() {
+        let (ball, ring) = (0, 1);
+        for (i, c) in specialised.iter().enumerate() {
             let expected = (u32::from(i != ground), u32::from(i == ground), u32::from(i != ball));
             assert_eq!((c.bounce, c.ground_shadows, c.shadows), expected);
         }
-        assert!(constants(false, true).iter().all(|c| c.bounce == 1), "the generic pipeline holds the bounce");
-        assert!(constants(true, false).iter().all(|c| c.shadows == 0 && c.ground_shadows == 0));
-        assert!(constants(false, false).iter().all(|c| c.shadows == 1), "the generic pipeline holds the shadows");
+        assert_eq!((specialised[ball].soft_shadows, specialised[ring].soft_shadows), (0, 1));
+        let generic = |scene: &Scene, shadows: bool| constants(scene, false, shadows);
+        assert!(generic(&scene, true).iter().all(|c| c.bounce == 1), "the generic pipeline holds the bounce");
+        assert!(constants(&scene, true, false).iter().all(|c| c.shadows == 0 && c.ground_shadows == 0));
+        assert!(generic(&scene, false).iter().all(|c| c.shadows == 1), "the generic pipeline holds the shadows");
+        let mut hard = scene.clone();
+        hard.lights[0].radius = 0.0;
+        assert!(constants(&hard, true, true).iter().all(|c| c.soft_shadows == 0));
+        assert!(generic(&hard, true).iter().all(|c| c.soft_shadows == 1), "the generic pipeline holds them");
     }
 
     #[test]

@@ -468,10 +468,11 @@ fn occlusion_specialization(environment: &Environment) -> Specialization {
     .specialization()
 }
 
-/// The shadow map's pipeline: shadows.glsl's code with the scene's `taps`.
+/// The shadow map's pipeline: shadows.glsl's code with the scene's `taps`, for soft lights.
 fn shadow_specialization(taps: u32) -> Specialization {
     ForwardConstants {
         shadow_taps: taps,
+        soft_shadows: 1,
         ..ForwardConstants::zeroed()
     }
     .specialization()
