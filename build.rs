@@ -11,12 +11,17 @@ extern crate shaderc_system_link;
 
 /// A stage compiled once more with macros defined: (source, output, [(macro, value)]).
 /// `forward_shaded.frag` is forward.frag without its debug views, for the pipelines that
-/// draw the shaded image; `forward_lookups.frag` is that without sampled reflection too, for
-/// those whose reflection is a lookup (src/render/forward.rs, `FragmentBuild`).
+/// draw the shaded image; `forward_lean.frag` is that without the features of
+/// shaders/lib/specialization.glsl too, for the pipelines that use none of them
+/// (src/render/forward.rs, `FragmentBuild`).
 type Variant = (&'static str, &'static str, &'static [(&'static str, &'static str)]);
 const VARIANTS: &[Variant] = &[
     ("forward.frag", "forward_shaded.frag", &[("DEBUG_VIEWS", "0")]),
-    ("forward.frag", "forward_lookups.frag", &[("DEBUG_VIEWS", "0"), ("SAMPLED_REFLECTION", "0")]),
+    (
+        "forward.frag",
+        "forward_lean.frag",
+        &[("DEBUG_VIEWS", "0"), ("SAMPLED_REFLECTION", "0"), ("SEED_COMPOSITION", "0"), ("SUN_LOBE", "0")],
+    ),
 ];
 
 const STAGES: &[(&str, shaderc::ShaderKind)] = &[

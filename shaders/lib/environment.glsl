@@ -14,13 +14,6 @@
 #ifndef ENV_SET
 #define ENV_SET 2
 #endif
-// SAMPLED_REFLECTION 0 (build.rs's forward_lookups.frag) leaves the sampled reflection
-// out of the module, a quarter of the shaded image's SPIR-V, for the pipelines specialised
-// to a reflection mode of lookups: its code is never run there, but every pipeline's
-// creation would read it.
-#ifndef SAMPLED_REFLECTION
-#define SAMPLED_REFLECTION 1
-#endif
 
 // EnvironmentData.mode.x, and ENVIRONMENT_KIND
 const uint ENV_NONE = 0u;
@@ -252,6 +245,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
             prefiltered += env_prefiltered(normalize(mean + offset * along), lod);
         }
         prefiltered /= taps.x;
+#if SUN_LOBE
         // A map's sun lights as one direction (sun_alpha widens the lobe by its disc).
         float n_dot_sun = dot(n, env.sun.xyz);
         if (ENV_SUN && env.sun.w > 0.0 && n_dot_sun > 0.0) {
@@ -260,6 +254,7 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
             sunlight = env.radiance.rgb * env.sun_irradiance.rgb * n_dot_sun
                      * specular_lobe(models, sunlit, n, v, env.sun.xyz, n_dot_v, n_dot_sun);
         }
+#endif
     }
     return radiance + specular_visibility * (prefiltered * m.specular_color.rgb * (f0_a + lobe.y) + sunlight);
 }

@@ -46,8 +46,13 @@ vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geom
         vec3 l;
         vec3 irradiance = point_light_irradiance(i, p, l) * point_light_visibility(i, p, face_normal)
                         * micro_shadowing(dot(n, l), ao);
-        radiance += irradiance * (seed_horizon ? brdf_cos_seed(models, m, n, v, l, curvature)
-                                               : brdf_cos(models, m, n, n_geometric, v, l, curvature));
+#if SEED_COMPOSITION
+        vec3 f = seed_horizon ? brdf_cos_seed(models, m, n, v, l, curvature)
+                              : brdf_cos(models, m, n, n_geometric, v, l, curvature);
+#else
+        vec3 f = brdf_cos(models, m, n, n_geometric, v, l, curvature);
+#endif
+        radiance += irradiance * f;
     }
     return radiance;
 }

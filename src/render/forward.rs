@@ -32,8 +32,8 @@ use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::occluders::Occluder;
 use crate::scene::{
-    DetailBlend, Environment, MapRef, MapSlot, Material, ReflectionMode, Scene, SpecularModel, Subsurface, Vertex,
-    DEFAULT_SHADOW_TAPS,
+    DetailBlend, Environment, Horizon, MapRef, MapSlot, Material, ReflectionMode, Scene, SpecularModel, Subsurface,
+    Vertex, DEFAULT_SHADOW_TAPS,
 };
 use crate::vk::{
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
@@ -191,21 +191,22 @@ impl ForwardConstants {
 
     /// The smallest build of forward.frag that holds the code these constants run.
     fn fragment_build(&self) -> FragmentBuild {
-        let sampled = [reflection_code(ReflectionMode::Sampled), FROM_UNIFORM];
+        let sampled = [reflection_code(ReflectionMode::Sampled), FROM_UNIFORM].contains(&self.reflection_mode);
+        let seed_composition = self.horizon == Horizon::Seed as u32;
         if self.debug_view != DebugView::Shaded as u32 {
             FragmentBuild::DebugViews
-        } else if sampled.contains(&self.reflection_mode) {
+        } else if sampled || seed_composition || self.sun != 0 {
             FragmentBuild::Shaded
         } else {
-            FragmentBuild::Lookups
+            FragmentBuild::Lean
         }
     }
 }
 
 /// The builds of forward.frag (build.rs), each leaving out code that the pipelines made
 /// from it never run but whose SPIR-V each pipeline's creation would read: on lavapipe,
-/// which translates a module whole at every creation, a third of a warm start's pipeline
-/// time is the sampled reflection's code alone.
+/// which translates a module whole at every creation, the lean build's pipelines take
+/// 0.6× the time of the shaded one's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum FragmentBuild {
     /// Everything: debug views, or the generic pipeline, which reads the view from the
@@ -213,8 +214,9 @@ enum FragmentBuild {
     DebugViews,
     /// The shaded image with any reflection mode.
     Shaded,
-    /// The shaded image with a reflection of lookups (split sum, seed) or none.
-    Lookups,
+    /// The shaded image with a reflection of lookups (split sum, seed) or none, argil's
+    /// composition of the BRDFs and no map's sun.
+    Lean,
 }
 
 /// What one frame in flight owns: its uniforms, materials and the set pointing at them.
@@ -237,7 +239,7 @@ pub struct ForwardPass {
     /// forward.frag's builds (`FragmentBuild`).
     fragment: ShaderModule,
     shaded_fragment: ShaderModule,
-    lookups_fragment: ShaderModule,
+    lean_fragment: ShaderModule,
     /// By sample count and constants.
     pipelines: HashMap<(vk::SampleCountFlags, ForwardConstants), Pipeline>,
     /// `floor.frag`'s pipeline by sample count, created the first time a frame asks for it.
@@ -311,7 +313,7 @@ impl ForwardPass {
         let vertex = ShaderModule::new(device, shaders::FORWARD_VERT, "forward.vert")?;
         let fragment = ShaderModule::new(device, shaders::FORWARD_FRAG, "forward.frag")?;
         let shaded_fragment = ShaderModule::new(device, shaders::FORWARD_SHADED_FRAG, "forward_shaded.frag")?;
-        let lookups_fragment = ShaderModule::new(device, shaders::FORWARD_LOOKUPS_FRAG, "forward_lookups.frag")?;
+        let lean_fragment = ShaderModule::new(device, shaders::FORWARD_LEAN_FRAG, "forward_lean.frag")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
         let slots = (0..frames_in_flight)
             .map(|_| {
@@ -341,7 +343,7 @@ impl ForwardPass {
             vertex,
             fragment,
             shaded_fragment,
-            lookups_fragment,
+            lean_fragment,
             pipelines: HashMap::new(),
             floor: HashMap::new(),
             object_pipelines: Vec::new(),
@@ -418,7 +420,7 @@ impl ForwardPass {
                     let fragment = match c.fragment_build() {
                         FragmentBuild::DebugViews => &self.fragment,
                         FragmentBuild::Shaded => &self.shaded_fragment,
-                        FragmentBuild::Lookups => &self.lookups_fragment,
+                        FragmentBuild::Lean => &self.lean_fragment,
                     };
                     self.build_pipeline(fragment, samples, &specialization, &name)
                 })
@@ -977,9 +979,10 @@ mod tests {
         }
     }
 
-    /// A pipeline that may run the sampled reflection, specialised to it or reading the
-    /// mode from the uniforms, is made from a build that holds it; one of lookups from the
-    /// build without it; a debug view from the build with the views.
+    /// A pipeline that may run the sampled reflection (specialised to it or reading the
+    /// mode from the uniforms), the report's composition or a map's sun is made from a
+    /// build that holds them; one that runs none of them from the lean build; a debug view
+    /// from the build with the views.
     #[test]
     fn pipelines_are_made_from_a_build_that_holds_their_code() {
         let m = mapped_material(0.5);
@@ -988,17 +991,40 @@ mod tests {
         };
         use FragmentBuild::*;
         for (mode, specialised) in [
-            (ReflectionMode::SplitSum, Lookups),
-            (ReflectionMode::Seed, Lookups),
+            (ReflectionMode::SplitSum, Lean),
+            (ReflectionMode::Seed, Lean),
             (ReflectionMode::Sampled, Shaded),
         ] {
             assert_eq!(build(mode, DebugView::Shaded, true), specialised, "{mode:?}");
             assert_eq!(build(mode, DebugView::Shaded, false), DebugViews, "{mode:?}, generic");
             assert_eq!(build(mode, DebugView::Normals, true), DebugViews, "{mode:?}, a debug view");
         }
-        let mut generic = ForwardConstants::new(&m, &uniform(ReflectionMode::SplitSum), DebugView::Shaded, true, true);
-        generic.reflection_mode = FROM_UNIFORM;
-        assert_eq!(generic.fragment_build(), Shaded, "the reflection mode from the uniforms");
+        let lean = ForwardConstants::new(&m, &uniform(ReflectionMode::SplitSum), DebugView::Shaded, true, true);
+        let held = [
+            ("the reflection mode from the uniforms", ForwardConstants { reflection_mode: FROM_UNIFORM, ..lean }),
+            ("the report's composition", ForwardConstants { horizon: Horizon::Seed as u32, ..lean }),
+            ("a map's sun", ForwardConstants { sun: 1, ..lean }),
+        ];
+        for (what, constants) in held {
+            assert_eq!(constants.fragment_build(), Shaded, "{what}");
+        }
+    }
+
+    /// The lean build leaves out every feature that shaders/lib/specialization.glsl lets a
+    /// build leave out, and nothing else.
+    #[test]
+    fn the_lean_build_leaves_out_the_features_the_shaders_name() {
+        let glsl = include_str!("../../shaders/lib/specialization.glsl");
+        let features: Vec<&str> = glsl.lines().filter_map(|l| l.strip_prefix("#ifndef ")).collect();
+        let features: Vec<&str> = features.into_iter().filter(|f| !f.starts_with("ARGIL_")).collect();
+        assert_eq!(features, ["SAMPLED_REFLECTION", "SEED_COMPOSITION", "SUN_LOBE"]);
+        let build = include_str!("../../build.rs");
+        let lean = &build[build.find("\"forward_lean.frag\"").expect("the lean build")..];
+        let macros = &lean[..lean.find(']').expect("its macros")];
+        for feature in features.iter().chain(&["DEBUG_VIEWS"]) {
+            assert!(macros.contains(&format!("(\"{feature}\", \"0\")")), "{feature}");
+        }
+        assert_eq!(macros.matches("\"0\")").count(), features.len() + 1);
     }
 
     /// The ground's own draw holds no bounce gather, every other draw of a bouncing scene

@@ -9,7 +9,7 @@ macro_rules! spirv {
 pub const FORWARD_VERT: &[u8] = spirv!("forward.vert");
 pub const FORWARD_FRAG: &[u8] = spirv!("forward.frag");
 pub const FORWARD_SHADED_FRAG: &[u8] = spirv!("forward_shaded.frag");
-pub const FORWARD_LOOKUPS_FRAG: &[u8] = spirv!("forward_lookups.frag");
+pub const FORWARD_LEAN_FRAG: &[u8] = spirv!("forward_lean.frag");
 pub const FLOOR_FRAG: &[u8] = spirv!("floor.frag");
 pub const FULLSCREEN_VERT: &[u8] = spirv!("fullscreen.vert");
 pub const TONEMAP_FRAG: &[u8] = spirv!("tonemap.frag");
