@@ -336,12 +336,12 @@ impl Renderer {
         self.tonemap.prepare(slot, target, output_format)
     }
 
-    /// The environment's precompute, and the forward pass's pipelines (and subsurface
-    /// table) and the ground's maps' pipelines for `choices`, but the sun, which comes from
-    /// the environment. The precompute runs on the device's queue, which lavapipe's one
-    /// thread serves (compiling its shaders there too), while this thread waits: where the
-    /// sun is known before it, the pipelines and the table are made meanwhile, at a low
-    /// priority (src/priority.rs), so that the queue's thread keeps most of its core.
+    /// The environment's precompute and the forward pass's pipelines (and subsurface table)
+    /// for `choices`, but the sun, which comes from the environment. The precompute runs on
+    /// the device's queue, which lavapipe's one thread serves (compiling its shaders there
+    /// too), while this thread waits: where the sun is known before it, the pipelines, the
+    /// ground's maps' too, and the table are made meanwhile, at a low priority
+    /// (src/priority.rs), so that the queue's thread keeps most of its core.
     fn prepare_environment_and_pipelines(
         &mut self,
         scene: &Scene,
@@ -358,7 +358,6 @@ impl Renderer {
         if changes {
             self.pipelines_beside_environment = beside.is_some();
         }
-        let (ground_occlusion, ground_shadows) = (choices.ground_map, choices.ground_shadows);
         let Some(sun) = beside else {
             self.environment.prepare(scene, plan)?;
             self.environment_time += start.elapsed();
@@ -366,9 +365,10 @@ impl Renderer {
                 sun: self.environment.has_sun(),
                 ..choices
             };
-            self.ground_maps.prepare_pipelines(scene, ground_occlusion, ground_shadows)?;
+            // The ground's maps' pipelines are made by their prepare, which follows.
             return self.forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, &self.one_shot);
         };
+        let (ground_occlusion, ground_shadows) = (choices.ground_map, choices.ground_shadows);
         let choices = FrameChoices { sun, ..choices };
         let pool = low_priority_pool()?;
         let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
