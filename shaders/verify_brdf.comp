@@ -19,17 +19,17 @@ layout(local_size_x = 64) in;
 // src/verify/terms.rs's TERMS.
 layout(constant_id = 0) const uint FUNCTION = 0u;
 // From here on, BRDF models of directions: f(n, v, l) and f(n, l, v) are both written.
-const uint FIRST_MODEL = 32u;
-const uint LAMBERT = 32u;
-const uint OREN_NAYAR = 33u;
-const uint EON = 34u;
-const uint BLINN_PHONG = 35u;
-const uint TORRANCE_SPARROW = 36u;
-const uint COOK_TORRANCE_GGX_SEPARABLE = 37u;
-const uint COOK_TORRANCE_GGX_CORRELATED = 38u;
-const uint COOK_TORRANCE_BECKMANN_SEPARABLE = 39u;
-const uint COOK_TORRANCE_BECKMANN_CORRELATED = 40u;
-// From here on, unit vectors of normal_mapping.glsl and shading.glsl.
+const uint FIRST_MODEL = 36u;
+const uint LAMBERT = 36u;
+const uint OREN_NAYAR = 37u;
+const uint EON = 38u;
+const uint BLINN_PHONG = 39u;
+const uint TORRANCE_SPARROW = 40u;
+const uint COOK_TORRANCE_GGX_SEPARABLE = 41u;
+const uint COOK_TORRANCE_GGX_CORRELATED = 42u;
+const uint COOK_TORRANCE_BECKMANN_SEPARABLE = 43u;
+const uint COOK_TORRANCE_BECKMANN_CORRELATED = 44u;
+// From here on, unit vectors of normal_mapping.glsl, shading.glsl and env_math.glsl.
 const uint FIRST_NORMAL = 48u;
 const uint DECODE_NORMAL = 48u;
 const uint BLEND_RNM = 49u;
@@ -38,6 +38,7 @@ const uint BLEND_WHITEOUT = 51u;
 const uint BLEND_SEED = 52u;
 const uint TANGENT_TO_WORLD = 53u;
 const uint VIEW_FACING_NORMAL = 54u;
+const uint OCTAHEDRAL_DIRECTION = 55u;
 // From here on, brdf_cos of shading.glsl: FUNCTION = FIRST_SHADING + 256 horizon +
 // 64 subsurface + 16 diffuse + 4 specular + 2 distribution + geometry, the models'
 // specialization constant values; horizon 1 is brdf_cos_seed.
@@ -45,7 +46,7 @@ const uint FIRST_SHADING = 64u;
 
 // Terms: a holds the scalar arguments, d a colour argument.
 // Models: a = (n, α / σ / r), b = (v, 0), c = (l, 0), d = (F0 or ρ, 0).
-// Unit vectors: the vector arguments in a, b, c (tangent: all of c), scalars in a.w, b.x.
+// Unit vectors: the vector arguments in a, b, c (tangent: all of c), scalars in a.w, b.x; points in a.xy.
 // brdf_cos: a = (n_geometric, roughness), b = (v, f0), c = (l, diffuse_roughness),
 // d = (base_color, wrap_intensity), e = (specular_color, wrap), f = (wrap_color, wrap_width),
 // g = (scatter_color, curvature), h = (metallic, 0, 0, 0), with scatter_radius 1 (only σκ
@@ -109,6 +110,7 @@ vec4 term(Tuple t) {
     case 29u: return vec4(prefiltered_taps(a.x), 0.0);
     case 30u: return vec4(prefiltered_lod(a.x, a.y));
     case 31u: return vec4(sun_alpha(a.x, a.y));
+    case 32u: return vec4(octahedral_uv(a.xyz, a.w), 0.0, 0.0);
     }
     return vec4(0.0);
 }
@@ -163,6 +165,8 @@ vec3 unit_vector(Tuple t) {
         return tangent_to_world(t.a.xyz, t.b.xyz, t.c);
     case VIEW_FACING_NORMAL: // view_facing_normal(n, v): a = n, b = v
         return view_facing_normal(t.a.xyz, t.b.xyz);
+    case OCTAHEDRAL_DIRECTION: // octahedral_direction(p): a.xy = p
+        return octahedral_direction(t.a.xy);
     }
     return vec3(0.0);
 }

@@ -10,12 +10,13 @@ use glam::DVec3;
 
 use argil::brdf::environment::{
     brdf_lut_estimate, cube_direction, cube_texel_ab, cube_texel_solid_angle, hammersley, lobe_direction,
-    lobe_mean_angle, lut_n_dot_v, lut_parameter, map_rotation, pdf_ggx_vndf, prefiltered_level_alpha, prefiltered_taps,
-    reflect_about, rotate_y, sample_ggx_vndf, studio_radiance, tangent_frame, to_world, LUT_LAYERS,
+    lobe_mean_angle, lut_n_dot_v, lut_parameter, map_rotation, octahedral_direction, octahedral_texel_point,
+    pdf_ggx_vndf, prefiltered_level_alpha, prefiltered_taps, reflect_about, rotate_y, sample_ggx_vndf, studio_radiance,
+    tangent_frame, to_world, LUT_LAYERS,
 };
 use argil::brdf::quadrature::{diffuse_albedo, directional_albedo};
 use argil::brdf::shading::{diffuse_lobe, specular_lobe};
-use argil::render::environment::{equirect, EnvironmentPass, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
+use argil::render::environment::{equirect, EnvironmentPass, LUT_SAMPLES, LUT_SIZE, OCTAHEDRAL_SIDE, PREFILTERED_LEVELS};
 use argil::render::OffscreenFrame;
 use argil::scene::{Environment, Reflection, ReflectionMode, Scene};
 use common::{argil_with, assert_matches_golden, gpu, render, scene, test_dir, try_render};
@@ -1283,51 +1284,57 @@ fn soft_box_prefiltered(r: [f64; 3], roughness: f64, centre: DVec3, samples: u32
 /// highlight, its falloff and grazing reflections of it.
 const SPLIT_SUM_BOX: DVec3 = DVec3::new(0.2683281572999747, 0.35777087639996635, 0.8944271909999159);
 
-/// Each level of the prefiltered cube against its f64 definition at every texel centre:
-/// the filtered importance sampling from the source's mips (128 points a texel at mip 1,
-/// more at coarser mips), in fp16.
+/// Each layer of the prefiltered maps against its f64 definition at every texel centre, at
+/// the texel's octahedral direction (border texels included): the filtered importance
+/// sampling from the source's mips (128 points a texel at mip 1, more at coarser mips) into
+/// the cube's level, read bilinearly at the direction, in fp16.
 #[test]
 fn prefiltered_levels_match_their_f64_definition() {
     let dir = test_dir("prefilter");
     let (path, _) = soft_box_scene_map(&dir, SPLIT_SUM_BOX);
     let eye = DVec3::new(0.0, 0.0, 5.0);
     let scene = sphere_under_map(eye, &path, "reflection = \"split-sum\"", "roughness = 0.5");
-    let levels = gpu().exclusive(|renderer| {
+    let maps = gpu().exclusive(|renderer| {
         try_render(renderer, &scene, 8, 8).expect("render");
-        (0..PREFILTERED_LEVELS)
-            .map(|k| {
-                let level = renderer.environment().read_prefiltered_level(k);
-                level.expect("read back").expect("a prefiltered cube")
-            })
-            .collect::<Vec<_>>()
+        let maps = renderer.environment().read_prefiltered_maps();
+        maps.expect("read back").expect("prefiltered maps")
     });
-    for (k, texels) in levels.iter().enumerate() {
-        let size = ((texels.len() / 6) as f64).sqrt() as u32;
+    let side = OCTAHEDRAL_SIDE;
+    let layer_texels = (side * side) as usize;
+    assert_eq!(maps.len(), layer_texels * PREFILTERED_LEVELS as usize);
+    for (k, texels) in maps.chunks_exact(layer_texels).enumerate() {
         let roughness = prefiltered_level_alpha(k as u32, PREFILTERED_LEVELS - 1).sqrt();
         let (mut signed, mut absolute, mut count) = (0.0, 0.0, 0.0);
-        // At most 16² texels per face: the f64 lobe means are the slow part.
-        let step = (size / 16).max(1) as usize;
-        for face in 0..6 {
-            for y in (0..size).step_by(step) {
-                for x in (0..size).step_by(step) {
-                    let (a, b) = cube_texel_ab(x, y, size);
-                    let expected = soft_box_prefiltered(cube_direction(face, a, b), roughness, SPLIT_SUM_BOX, 1024);
-                    let got = f64::from(texels[((face * size + y) * size + x) as usize][0]);
-                    signed += got / expected - 1.0;
-                    absolute += (got / expected - 1.0).abs();
-                    count += 1.0;
-                }
+        // 33² texels, the borders among them: the f64 lobe means are the slow part.
+        for y in (0..side).step_by(8) {
+            for x in (0..side).step_by(8) {
+                let p = [octahedral_texel_point(x, side), octahedral_texel_point(y, side)];
+                let expected = soft_box_prefiltered(octahedral_direction(p), roughness, SPLIT_SUM_BOX, 1024);
+                let got = f64::from(texels[(y * side + x) as usize][0]);
+                signed += got / expected - 1.0;
+                absolute += (got / expected - 1.0).abs();
+                count += 1.0;
             }
         }
         let (signed, absolute) = (signed / count, absolute / count);
         eprintln!(
-            "prefiltered level {k} ({size}², roughness {roughness:.1}): mean relative error {signed:+.4}, mean |error| {absolute:.4}"
+            "prefiltered layer {k} (roughness {roughness:.1}): mean relative error {signed:+.4}, mean |error| {absolute:.4}"
         );
-        // Measured on lavapipe: mean |error| 4e-4 (level 0) to 0.013 (level 1), mean within
-        // +0.7%; with 128 points at every level, up to 0.041 and +1.7%.
+        // Measured on lavapipe: mean |error| 4e-4 (layer 0) to 0.011 (layer 1), mean within
+        // +0.7% (with 128 points at every level: up to 0.041 and +1.7%), where the cube's
+        // faces are 8² or finer. Layers 5 and 6 are the bilinear lookups of faces of 4² and
+        // 2², which bend the lobe's smooth mean between texel centres (as the split sum's
+        // lookups of the cube did before the maps): +2.1% and +7.8%, mean |error| 0.034 and
+        // 0.124. At texel centres alone, as the cube was checked, they were within the rest's
+        // bounds.
+        let (bias, spread) = match k {
+            0..5 => (0.01, 0.025),
+            5 => (0.03, 0.045),
+            _ => (0.1, 0.15),
+        };
         assert!(
-            signed.abs() < 0.01 && absolute < 0.025,
-            "level {k}: mean relative error {signed:+.4}, mean |error| {absolute:.4}"
+            signed.abs() < bias && absolute < spread,
+            "layer {k}: mean relative error {signed:+.4}, mean |error| {absolute:.4}"
         );
     }
 }

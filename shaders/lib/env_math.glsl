@@ -34,6 +34,33 @@ vec3 cube_direction(uint face, vec2 ab) {
     return normalize(cube_face_point(face, ab));
 }
 
+// +1 or −1 per component, +1 at zero: the octahedral fold's quadrant.
+vec2 sign_not_zero(vec2 p) {
+    return vec2(p.x >= 0.0 ? 1.0 : -1.0, p.y >= 0.0 ? 1.0 : -1.0);
+}
+
+// Where split sum reads direction d in an octahedral map (Engelhardt & Dachsbacher 2008)
+// `side` texels across: d's point p in [−1, 1]², the octahedron |x| + |y| + |z| = 1
+// projected onto z = 0 with its lower half folded out over the square's corners, inside
+// a border of one texel (octahedral_direction).
+vec2 octahedral_uv(vec3 d, float side) {
+    vec2 p = d.xy / (abs(d.x) + abs(d.y) + abs(d.z));
+    if (d.z < 0.0) p = (1.0 - abs(p.yx)) * sign_not_zero(p);
+    return ((p + 1.0) * (0.5 * (side - 2.0)) + 1.0) / side;
+}
+
+// The unit direction of point p of an octahedral map, octahedral_uv's inverse. A point
+// past the square's edge, a border texel's, is read as its neighbour across the edge, the
+// point mirrored about the edge's midpoint (the edge's halves are one edge of the
+// octahedron), so that bilinear lookups cross the fold as if it were not there.
+vec3 octahedral_direction(vec2 p) {
+    if (abs(p.x) > 1.0) p = vec2(sign_not_zero(p).x * (2.0 - abs(p.x)), -p.y);
+    if (abs(p.y) > 1.0) p = vec2(-p.x, sign_not_zero(p).y * (2.0 - abs(p.y)));
+    vec3 d = vec3(p, 1.0 - abs(p.x) - abs(p.y));
+    if (d.z < 0.0) d.xy = (1.0 - abs(d.yx)) * sign_not_zero(d.xy);
+    return normalize(d);
+}
+
 // The solid angle of triangle (a, b, c) seen from the origin, given its triple product
 // a·(b×c) (Van Oosterom & Strackee 1983): 2 atan2(a·(b×c), |a||b||c| + (a·b)|c| + (a·c)|b|
 // + (b·c)|a|).

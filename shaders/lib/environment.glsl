@@ -57,9 +57,9 @@ uint reflection_mode() {
 
 // The environment with a mip chain of solid-angle-weighted means.
 layout(set = ENV_SET, binding = 1) uniform samplerCube radiance_map;
-// Radiance prefiltered by GGX lobes, α = 2^(lod − params.w) above mip 0 (prefiltered_lod;
-// Karis 2013).
-layout(set = ENV_SET, binding = 2) uniform samplerCube prefiltered_map;
+// Radiance prefiltered by GGX lobes (Karis 2013), octahedral maps (octahedral_uv): layer k
+// the prefiltered cube's mip k, α = 2^(k − params.w) above layer 0 (prefiltered_lod).
+layout(set = ENV_SET, binding = 2) uniform sampler2DArray prefiltered_map;
 // BRDF tables: x = lut_x(n·v), y = roughness (σ for Oren-Nayar), layer = lut_layer().
 layout(set = ENV_SET, binding = 3) uniform sampler2DArray brdf_lut;
 // Irradiance over π (f64 twin: irradiance_over_pi_cube in src/brdf/environment.rs).
@@ -131,10 +131,15 @@ vec3 env_radiance(vec3 d, float lod) {
     return env.radiance.rgb * textureLod(radiance_map, env_map_direction(d), lod).rgb;
 }
 
-// Radiance around d prefiltered by GGX lobes, read at mip `lod` (prefiltered_lod).
+// Radiance around d prefiltered by GGX lobes, at level `lod` (prefiltered_lod): the two
+// layers about it blended, as a trilinear lookup blends two mips.
 vec3 env_prefiltered(vec3 d, float lod) {
     if (env_kind() == ENV_UNIFORM) return env.radiance.rgb;
-    return env.radiance.rgb * textureLod(prefiltered_map, env_map_direction(d), lod).rgb;
+    vec2 uv = octahedral_uv(env_map_direction(d), float(textureSize(prefiltered_map, 0).x));
+    float below = floor(lod);
+    vec3 lower = textureLod(prefiltered_map, vec3(uv, below), 0.0).rgb;
+    vec3 upper = textureLod(prefiltered_map, vec3(uv, below + 1.0), 0.0).rgb;
+    return env.radiance.rgb * mix(lower, upper, lod - below);
 }
 
 // ∫ L(l) k(d·l) dl for a zonal kernel k given by its Funk–Hecke coefficients: from the

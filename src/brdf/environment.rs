@@ -46,6 +46,50 @@ pub fn cube_direction(face: u32, a: f64, b: f64) -> Vec3 {
     normalize(cube_face_point(face, a, b))
 }
 
+/// +1 or −1 per component, +1 at zero: the octahedral fold's quadrant.
+fn sign_not_zero(p: [f64; 2]) -> [f64; 2] {
+    p.map(|x| if x >= 0.0 { 1.0 } else { -1.0 })
+}
+
+/// Where split sum reads direction d in an octahedral map (Engelhardt & Dachsbacher 2008)
+/// `side` texels across: d's point p in [−1, 1]² (the octahedron |x| + |y| + |z| = 1
+/// projected onto z = 0, its lower half folded out over the square's corners) inside a
+/// border of one texel ([`octahedral_direction`]).
+pub fn octahedral_uv(d: Vec3, side: f64) -> [f64; 2] {
+    let norm = d[0].abs() + d[1].abs() + d[2].abs();
+    let mut p = [d[0] / norm, d[1] / norm];
+    if d[2] < 0.0 {
+        let s = sign_not_zero(p);
+        p = [(1.0 - p[1].abs()) * s[0], (1.0 - p[0].abs()) * s[1]];
+    }
+    p.map(|x| ((x + 1.0) * (0.5 * (side - 2.0)) + 1.0) / side)
+}
+
+/// The unit direction of point p of an octahedral map, [`octahedral_uv`]'s inverse; a
+/// point past the square's edge (a border texel's) is its neighbour across the edge, the
+/// point mirrored about the edge's midpoint.
+pub fn octahedral_direction(p: [f64; 2]) -> Vec3 {
+    let [mut x, mut y] = p;
+    if x.abs() > 1.0 {
+        (x, y) = (sign_not_zero([x, y])[0] * (2.0 - x.abs()), -y);
+    }
+    if y.abs() > 1.0 {
+        (x, y) = (-x, sign_not_zero([x, y])[1] * (2.0 - y.abs()));
+    }
+    let z = 1.0 - x.abs() - y.abs();
+    if z < 0.0 {
+        let s = sign_not_zero([x, y]);
+        (x, y) = ((1.0 - y.abs()) * s[0], (1.0 - x.abs()) * s[1]);
+    }
+    normalize([x, y, z])
+}
+
+/// The point of an octahedral map `side` texels across (a border of one each side) at the
+/// centre of texel `i` along one axis, as env_octahedral.comp places its texels.
+pub fn octahedral_texel_point(i: u32, side: u32) -> f64 {
+    (f64::from(i) - 0.5) * 2.0 / f64::from(side - 2) - 1.0
+}
+
 /// (a, b) of the centre of texel (x, y) on a face of `size`² texels.
 pub fn cube_texel_ab(x: u32, y: u32, size: u32) -> (f64, f64) {
     let at = |i: u32| (f64::from(i) + 0.5) / f64::from(size) * 2.0 - 1.0;

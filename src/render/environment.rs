@@ -3,12 +3,13 @@
 //! behind the objects.
 //!
 //! Set 2: binding 0 the `EnvironmentData` uniform buffer, 1 the radiance cube map (with
-//! mips), 2 the GGX-prefiltered cube map, 3 the BRDF tables, 4 the irradiance cube, 5 the
-//! luminance distribution's CDFs. What an environment needs is built when a frame first
-//! uses it and kept for the next frames (until another source replaces it): a studio or
-//! map builds its cube maps, spherical harmonics and irradiance cube, split-sum reflection
-//! adds the prefiltered cube, sampled reflection the luminance distribution, and the BRDF
-//! tables (the same for every environment) are built once when a material needs them.
+//! mips), 2 the GGX-prefiltered radiance (octahedral maps, a layer per α), 3 the BRDF
+//! tables, 4 the irradiance cube, 5 the luminance distribution's CDFs. What an environment
+//! needs is built when a frame first uses it and kept for the next frames (until another
+//! source replaces it): a studio or map builds its cube maps, spherical harmonics and
+//! irradiance cube, split-sum reflection adds the prefiltered maps, sampled reflection the
+//! luminance distribution, and the BRDF tables (the same for every environment) are built
+//! once when a material needs them.
 //! Intensity and rotation are uniforms; the kind and reflection mode are uniforms too, and
 //! also specialization constants of the forward pass (see forward.rs), so that a frame runs
 //! only its own mode's code. Unused bindings hold 1² placeholders (a one-float buffer for
@@ -43,7 +44,7 @@ use crate::vk::{
     ShaderModule,
 };
 pub use equirect::MAX_UPLOAD_WIDTH;
-pub use precompute::{Cost, LUT_SAMPLES, LUT_SIZE, PREFILTERED_LEVELS};
+pub use precompute::{Cost, LUT_SAMPLES, LUT_SIZE, OCTAHEDRAL_SIDE, PREFILTERED_LEVELS};
 use precompute::{Precompute, SourceCube};
 use sun::Sun;
 
@@ -125,9 +126,10 @@ impl Plan {
 struct Cubes {
     source: Source,
     radiance: SourceCube,
-    /// Built when split-sum reflection first needs it, from the map without its sun.
+    /// The prefiltered maps, built when split-sum reflection first needs them, from the
+    /// map without its sun.
     prefiltered: Option<Image>,
-    /// A map's sun, lifted out of the prefiltered cube with it.
+    /// A map's sun, lifted out of the prefiltered maps with it.
     sun: Option<Sun>,
     sh: Sh9,
     /// Irradiance over π (`irradiance_over_pi_cube`): the diffuse light of the split sum,
@@ -510,7 +512,7 @@ impl EnvironmentPass {
         let radiance_view = cubes.map_or(self.placeholder_cube.view, |c| c.radiance.image.view);
         let prefiltered_view = cubes
             .and_then(|c| c.prefiltered.as_ref())
-            .map_or(self.placeholder_cube.view, |i| i.view);
+            .map_or(self.placeholder_table.view, |i| i.view);
         let lut_view = self.brdf_lut.as_ref().map_or(self.placeholder_table.view, |i| i.view);
         let irradiance_view = cubes.map_or(self.placeholder_cube.view, |c| c.irradiance.view);
         let cdfs = luminance.map_or(self.placeholder_cdfs.handle, |l| l.cdfs.handle);
@@ -559,13 +561,14 @@ impl EnvironmentPass {
             .transpose()
     }
 
-    /// Mip `level` of the GGX-prefiltered cube map (`prefiltered_level_alpha`, laid out as
-    /// `read_radiance_level`), for checks; `None` before split sum needed it.
-    pub fn read_prefiltered_level(&self, level: u32) -> Result<Option<Vec<[f32; 4]>>> {
+    /// The GGX-prefiltered radiance's octahedral maps, `OCTAHEDRAL_SIDE`² texels a layer,
+    /// layer k for `prefiltered_level_alpha` of level k, rows of increasing v, for checks;
+    /// `None` before split sum needed them.
+    pub fn read_prefiltered_maps(&self) -> Result<Option<Vec<[f32; 4]>>> {
         self.cubes
             .as_ref()
             .and_then(|c| c.prefiltered.as_ref())
-            .map(|i| self.precompute.read_level(i, level))
+            .map(|i| self.precompute.read_level(i, 0))
             .transpose()
     }
 

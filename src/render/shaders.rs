@@ -19,6 +19,7 @@ pub const ENV_STUDIO_COMP: &[u8] = spirv!("env_studio.comp");
 pub const ENV_EQUIRECT_COMP: &[u8] = spirv!("env_equirect.comp");
 pub const ENV_DOWNSAMPLE_COMP: &[u8] = spirv!("env_downsample.comp");
 pub const ENV_PREFILTER_COMP: &[u8] = spirv!("env_prefilter.comp");
+pub const ENV_OCTAHEDRAL_COMP: &[u8] = spirv!("env_octahedral.comp");
 pub const ENV_BRDF_LUT_COMP: &[u8] = spirv!("env_brdf_lut.comp");
 pub const ACCUMULATE_COMP: &[u8] = spirv!("accumulate.comp");
 pub const EXPOSURE_COMP: &[u8] = spirv!("exposure.comp");

@@ -41,15 +41,15 @@ pub type Values<T> = [[T; 4]; 2];
 /// BRDF models of directions. The value is the GLSL `FUNCTION` of verify_brdf.comp.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Model {
-    Lambert = 32,
-    OrenNayar = 33,
-    Eon = 34,
-    BlinnPhong = 35,
-    TorranceSparrow = 36,
-    CookTorranceGgxSeparable = 37,
-    CookTorranceGgxCorrelated = 38,
-    CookTorranceBeckmannSeparable = 39,
-    CookTorranceBeckmannCorrelated = 40,
+    Lambert = 36,
+    OrenNayar = 37,
+    Eon = 38,
+    BlinnPhong = 39,
+    TorranceSparrow = 40,
+    CookTorranceGgxSeparable = 41,
+    CookTorranceGgxCorrelated = 42,
+    CookTorranceBeckmannSeparable = 43,
+    CookTorranceBeckmannCorrelated = 44,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,12 +1,15 @@
-//! The functions of `shaders/lib/normal_mapping.glsl` and `shading.glsl` whose value is a unit
-//! vector: their tuples, their f64 side, and what they promise beyond accuracy and unit
-//! length (decoded normals above the surface, shading normals facing the viewer).
+//! The functions of `shaders/lib/normal_mapping.glsl`, `shading.glsl` and `env_math.glsl`
+//! whose value is a unit vector: their tuples, their f64 side, and what they promise beyond
+//! accuracy and unit length (decoded normals above the surface, shading normals facing the
+//! viewer).
 
 use crate::brdf::normal_mapping::{
     blend_rnm, blend_seed, blend_udn, blend_whiteout, decode_normal, tangent_to_world, MIN_TANGENT_SIN2, MIN_TANGENT_Z,
 };
+use crate::brdf::environment::octahedral_direction;
 use crate::brdf::shading::{view_facing_normal, MIN_SHADING_N_DOT_V};
 use crate::brdf::{dot, Vec3};
+use crate::render::environment::OCTAHEDRAL_SIDE;
 
 use super::functions::{
     about, direction, rgb, sample_cosine, uniform_sphere, vec4, Tuple, Values, DENORMAL, NORMAL, UNIT_TOLERANCE,
@@ -18,7 +21,7 @@ use crate::rng::Rng;
 /// Unit-vector functions. The value is the GLSL `FUNCTION` of verify_brdf.comp. Tuples:
 /// decode_normal a = (texel, strength), b.x = green_down (0 or 1); the blends a = base,
 /// b = detail; tangent_to_world a = n_ts, b = normal, c = tangent (w the handedness);
-/// view_facing_normal a = n, b = v.
+/// view_facing_normal a = n, b = v; octahedral_direction a.xy = p.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum UnitVector {
     DecodeNormal = 48,
@@ -28,6 +31,7 @@ pub enum UnitVector {
     BlendSeed = 52,
     TangentToWorld = 53,
     ViewFacingNormal = 54,
+    OctahedralDirection = 55,
 }
 
 /// Strengths are checked in [0, 8]: normal maps are not in the scene format yet, so nothing
@@ -57,7 +61,7 @@ const STRESS_TEXELS: [[f32; 3]; 9] = [
 const STRESS_STRENGTHS: [f32; 5] = [0.0, DENORMAL, 1e-4, 1.0, MAX_STRENGTH as f32];
 
 impl UnitVector {
-    pub const ALL: [UnitVector; 7] = [
+    pub const ALL: [UnitVector; 8] = [
         UnitVector::DecodeNormal,
         UnitVector::BlendRnm,
         UnitVector::BlendUdn,
@@ -65,6 +69,7 @@ impl UnitVector {
         UnitVector::BlendSeed,
         UnitVector::TangentToWorld,
         UnitVector::ViewFacingNormal,
+        UnitVector::OctahedralDirection,
     ];
 
     pub fn name(self) -> &'static str {
@@ -76,6 +81,7 @@ impl UnitVector {
             UnitVector::BlendSeed => "blend_seed",
             UnitVector::TangentToWorld => "tangent_to_world",
             UnitVector::ViewFacingNormal => "view_facing_normal",
+            UnitVector::OctahedralDirection => "octahedral_direction",
         }
     }
 
@@ -99,6 +105,7 @@ impl UnitVector {
         match self {
             UnitVector::DecodeNormal => decode_normal(a, t.b[0] != 0.0, f64::from(t.a[3])),
             UnitVector::TangentToWorld => tangent_to_world(a, b, t.c.map(f64::from)),
+            UnitVector::OctahedralDirection => octahedral_direction([a[0], a[1]]),
             _ => view_facing_normal(a, b),
         }
     }
@@ -140,6 +147,23 @@ impl UnitVector {
                     _ => sample_cosine(rng),
                 };
                 vectors(n, about(n, direction(n_dot_v, rng.azimuth())))
+            }
+            UnitVector::OctahedralDirection => {
+                // The square and its border texels' half texel past the edges (1/128 at 256²),
+                // a third of them near an edge or the fold |x| + |y| = 1.
+                let p = match rng.uniform() {
+                    u if u < 0.67 => [rng.range(-1.01, 1.01), rng.range(-1.01, 1.01)],
+                    u if u < 0.84 => [rng.range(-1.0, 1.0), 1.0 + rng.range(-0.01, 0.01)],
+                    _ => {
+                        let x = rng.range(-1.0, 1.0);
+                        [x, 1.0 - x.abs() + rng.range(-1e-3, 1e-3)]
+                    }
+                };
+                let [x, y] = if rng.uniform() < 0.5 { p } else { [p[1], -p[0]] };
+                Tuple {
+                    a: [x as f32, y as f32, 0.0, 0.0],
+                    ..Tuple::default()
+                }
             }
             _ => vectors(sample_tangent_space_normal(rng), sample_tangent_space_normal(rng)),
         }
@@ -232,6 +256,18 @@ impl UnitVector {
                     }
                 }
             }
+            UnitVector::OctahedralDirection => {
+                // The centre (+z), the corners (−z), edges and their midpoints, the fold,
+                // border points past edges and corners, signed zeros and denormals.
+                // The split sum's maps' border texels' centres, half a texel past the edges.
+                let border = 1.0 + 1.0 / (OCTAHEDRAL_SIDE - 2) as f32;
+                let values = [-border, -1.0, -0.5, -DENORMAL, -0.0, 0.0, DENORMAL, 0.5, 1.0, border];
+                for x in values {
+                    for y in values {
+                        push([x, y, 0.0, 0.0], [0.0; 4], [0.0; 4]);
+                    }
+                }
+            }
             _ => {
                 let mut normals = vec![NORMAL, [f64::from(DENORMAL), f64::from(DENORMAL), 1.0]];
                 for texel in STRESS_TEXELS {
@@ -255,7 +291,7 @@ impl UnitVector {
     /// direction to 2⁻²³/sin θ, θ between T and N. 0 for the others.
     pub fn argument_rounding(self, t: &Tuple) -> f64 {
         let condition = match self {
-            UnitVector::BlendRnm => 1.0,
+            UnitVector::BlendRnm | UnitVector::OctahedralDirection => 1.0,
             // Bent, or so near the bend that fp32's n·v (a sum of three products, good to
             // 2·2^-24) may fall below m and bend it on the GPU alone.
             UnitVector::ViewFacingNormal
@@ -292,6 +328,12 @@ impl UnitVector {
                  to a few 2^-24 absolute in fp32; bound 8·2^-24/max(|c|, floor); the angle row \
                  is the direction's bound"
             }
+            UnitVector::OctahedralDirection => {
+                "rounding: a component of the point on the octahedron (1 − |x| − |y|, the fold's \
+                 1 − |y|, the border's 2 − |x|) is a sum of O(1) terms, good to a few 2^-24 \
+                 absolute in fp32; bound 8·2^-24/max(|c|, floor); the angle row is the \
+                 direction's bound"
+            }
             UnitVector::TangentToWorld => {
                 "rounding: T − N(N·T) is good to 2^-23·|T| in fp32, so its direction to \
                  2^-23/sin θ, and the TBN sum to a few 2^-24; bound 8·2^-24·(1 + |n_ts.xy|/sin θ)/\
@@ -318,6 +360,7 @@ impl UnitVector {
                 t.c[3]
             ),
             UnitVector::ViewFacingNormal => format!("n={}, v={}, n·v={:e}", v(t.a), v(t.b), dot(rgb(t.a), rgb(t.b))),
+            UnitVector::OctahedralDirection => format!("p=({:e}, {:e})", t.a[0], t.a[1]),
             _ => format!("base={}, detail={}", v(t.a), v(t.b)),
         }
     }

@@ -13,8 +13,9 @@ use crate::brdf::bounce::plane_point_irradiance;
 use crate::brdf::diffuse::e_fon_approx;
 use crate::brdf::distribution::{d_beckmann, d_ggx};
 use crate::brdf::energy::{specular_energy_compensation, MIN_SPECULAR_ALBEDO};
-use crate::brdf::environment::{prefiltered_lod, prefiltered_taps, sun_alpha, PREFILTERED_MAX_TAPS};
+use crate::brdf::environment::{octahedral_uv, prefiltered_lod, prefiltered_taps, sun_alpha, PREFILTERED_MAX_TAPS};
 use crate::render::environment::sun::SUN_MAX_RADIUS_DEGREES;
+use crate::render::environment::OCTAHEDRAL_SIDE;
 use crate::brdf::fresnel::{f_schlick, f_schlick_scalar};
 use crate::brdf::geometry::{
     g1_smith_ggx, g2_smith_correlated_beckmann, g2_smith_correlated_ggx, g2_smith_separable_beckmann,
@@ -31,9 +32,9 @@ use crate::brdf::{dot, safe_half_vector, MIN_N_DOT_V};
 
 use super::composite::terminator_continuity;
 use super::functions::{
-    colour, direction, DENORMAL, rgb, sample_cosine, sample_directions, sample_half_angle, sample_signed_cosine, Cap, Tolerance,
-    Tuple, Values, FP16, FP32, FP32_ARITHMETIC, NORMAL, SH_KERNEL, SLICE, STRESS_ALPHAS, STRESS_COLOURS,
-    STRESS_COSINES, STRESS_RADIANCES, UNIT,
+    colour, direction, rgb, sample_cosine, sample_directions, sample_half_angle, sample_signed_cosine, uniform_sphere,
+    Cap, Tolerance, Tuple, Values, DENORMAL, FP16, FP32, FP32_ARITHMETIC, NORMAL, SH_KERNEL, SLICE, STRESS_ALPHAS,
+    STRESS_COLOURS, STRESS_COSINES, STRESS_RADIANCES, UNIT,
 };
 use super::Row;
 use crate::rng::Rng;
@@ -929,6 +930,40 @@ pub static TERMS: &[TermSpec] = &[
         sample: |rng, _| scalars([rng.uniform(), widest_sun() * rng.uniform(), 0.0, 0.0]),
         // The smallest α, a point, the bench's 1.5° sun and the widest.
         stress: || grid(&[&[0.002025, 0.01, 0.09, 1.0], &[0.0, 1e-6, 0.02618, widest_sun() as f32]]),
+        rounding: None,
+        promise: None,
+    },
+    TermSpec {
+        name: "octahedral_uv",
+        equation: "Engelhardt & Dachsbacher 2008",
+        arguments: &["d.x", "d.y", "d.z", "side"],
+        colour: None,
+        channels: 2,
+        cap: UNIT,
+        tolerance: FP32_ARITHMETIC,
+        lighting_weight: false,
+        eval: |t| {
+            let d = [t.a[0], t.a[1], t.a[2]].map(f64::from);
+            let [u, v] = octahedral_uv(d, f64::from(t.a[3]));
+            [u, v, 0.0, 0.0]
+        },
+        // Any direction, unit or not (the map reads the tap's sum), in the split sum's maps
+        // and a smaller and a larger one.
+        sample: |rng, _| {
+            let [x, y, z] = uniform_sphere(rng);
+            let length = if rng.uniform() < 0.5 { 1.0 } else { rng.range(0.5, 2.0) };
+            let side = [130.0, f64::from(OCTAHEDRAL_SIDE), 1026.0][(rng.uniform() * 3.0) as usize % 3];
+            scalars([x * length, y * length, z * length, side])
+        },
+        // The axes (the centre, the square's edges' midpoints, its corners at −z), the fold
+        // z = 0, signed zeros.
+        stress: || {
+            let axis = [-1.0, -0.0, 0.0, 1.0];
+            let mut out = grid(&[&axis, &axis, &axis, &[OCTAHEDRAL_SIDE as f32]]);
+            out.retain(|t| t.a[..3].iter().any(|&c| c != 0.0));
+            out.extend(grid(&[&[0.6, -0.6], &[0.8, -0.8, DENORMAL], &[0.0, -0.0, -DENORMAL], &[OCTAHEDRAL_SIDE as f32]]));
+            out
+        },
         rounding: None,
         promise: None,
     },

@@ -1,6 +1,7 @@
 //! The once-per-environment GPU work, in compute shaders: the source cube map (the studio,
-//! or an equirectangular map converted), its mip chain, the GGX-prefiltered cube map, and
-//! the environment-independent BRDF tables. Each step is timed (GPU timestamps when the
+//! or an equirectangular map converted), its mip chain, the GGX-prefiltered cube map and
+//! the octahedral maps split sum reads it through, and the environment-independent BRDF
+//! tables. Each step is timed (GPU timestamps when the
 //! queue has them, else CPU time) for `argil render` to print.
 
 use std::collections::HashMap;
@@ -29,6 +30,10 @@ pub const FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 /// and read 4% bright under a soft box.
 pub const PREFILTERED_SIZE: u32 = 128;
 pub const PREFILTERED_LEVELS: u32 = 7;
+/// The octahedral maps of the prefiltered cube's levels, one a layer, that split sum reads
+/// (env_octahedral.comp): 256² texels inside a border of one, about as fine as mip 0's
+/// 128² faces (4π/256² against 4π/(6 · 128²) steradians a texel).
+pub const OCTAHEDRAL_SIDE: u32 = 256 + 2;
 /// GGX samples per texel of the prefiltered cube's mip 1; with filtered importance
 /// sampling, 128 keep each texel within a few percent of the lobe's mean (under a soft box:
 /// 1–5% mean |error|). Coarser mips take more a texel (`prefilter_samples`), up to
@@ -38,7 +43,7 @@ const PREFILTER_MAX_SAMPLES: u32 = 1024;
 /// BRDF tables: n·v × roughness, and the samples per texel (QMC error ~1e-3).
 pub const LUT_SIZE: vk::Extent2D = vk::Extent2D { width: 32, height: 32 };
 pub const LUT_SAMPLES: u32 = 512;
-/// The disk cache's entries of the BRDF tables and of a prefiltered cube map.
+/// The disk cache's entries of the BRDF tables and of an environment's prefiltered maps.
 const LUT_ENTRY: &str = "brdf-tables";
 const PREFILTERED_ENTRY: &str = "prefiltered-environment";
 /// Compute shaders' workgroups are 8×8 texels of one layer.
@@ -96,6 +101,15 @@ fn cube_texels(side: u32) -> vk::Extent3D {
     }
 }
 
+/// What every computed image is used for: written by compute shaders, sampled, read back
+/// for the disk cache and uploaded from it.
+const STORAGE_USAGE: vk::ImageUsageFlags = vk::ImageUsageFlags::from_raw(
+    vk::ImageUsageFlags::STORAGE.as_raw()
+        | vk::ImageUsageFlags::SAMPLED.as_raw()
+        | vk::ImageUsageFlags::TRANSFER_SRC.as_raw()
+        | vk::ImageUsageFlags::TRANSFER_DST.as_raw(),
+);
+
 /// Where every finished image is left: sampled by shaders (the prefilter kernel reads the
 /// source cube in a later submission, which the fence orders).
 pub const SHADING_READ: ImageUse = ImageUse::SHADER_READ;
@@ -115,6 +129,7 @@ enum KernelKind {
     Equirect,
     Downsample,
     Prefilter,
+    Octahedral,
     BrdfLut,
 }
 
@@ -125,6 +140,7 @@ impl KernelKind {
             KernelKind::Equirect => (shaders::ENV_EQUIRECT_COMP, "env_equirect.comp"),
             KernelKind::Downsample => (shaders::ENV_DOWNSAMPLE_COMP, "env_downsample.comp"),
             KernelKind::Prefilter => (shaders::ENV_PREFILTER_COMP, "env_prefilter.comp"),
+            KernelKind::Octahedral => (shaders::ENV_OCTAHEDRAL_COMP, "env_octahedral.comp"),
             KernelKind::BrdfLut => (shaders::ENV_BRDF_LUT_COMP, "env_brdf_lut.comp"),
         }
     }
@@ -137,6 +153,7 @@ impl KernelKind {
             KernelKind::Equirect => (&[T::STORAGE_IMAGE, T::STORAGE_BUFFER], 8),
             KernelKind::Downsample => (&[T::STORAGE_IMAGE, T::STORAGE_IMAGE], 0),
             KernelKind::Prefilter => (&[T::COMBINED_IMAGE_SAMPLER, T::STORAGE_IMAGE], 16),
+            KernelKind::Octahedral => (&[T::COMBINED_IMAGE_SAMPLER, T::STORAGE_IMAGE], 4),
             KernelKind::BrdfLut => (&[T::STORAGE_IMAGE], 4),
         }
     }
@@ -425,20 +442,17 @@ impl Precompute {
 
     /// A cube map that compute shaders write level by level, with one view per level.
     fn storage_cube(&self, size: u32, levels: u32, name: &str) -> Result<(Image, Vec<ImageView>)> {
-        let usage = vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC
-            | vk::ImageUsageFlags::TRANSFER_DST;
-        let image = Image::cube(&self.device, size, levels, FORMAT, usage, name)?;
+        let image = Image::cube(&self.device, size, levels, FORMAT, STORAGE_USAGE, name)?;
         let views = (0..levels)
             .map(|l| image.level_view(l))
             .collect::<Result<Vec<ImageView>>>()?;
         Ok((image, views))
     }
 
-    /// The GGX-prefiltered cube of `source`: mip k filtered for `prefiltered_level_alpha`.
-    /// Read from `disk` when this device and driver prefiltered the same source texels
-    /// before (the studio at every start, a map opened again), else computed and stored.
+    /// The GGX-prefiltered radiance of `source` as octahedral maps, layer k filtered for
+    /// `prefiltered_level_alpha` of level k. Read from `disk` when this device and driver
+    /// prefiltered the same source texels before (the studio at every start, a map opened
+    /// again), else computed (the prefiltered cube, then its levels resampled) and stored.
     pub fn prefilter(
         &mut self,
         source: &SourceCube,
@@ -446,7 +460,11 @@ impl Precompute {
         disk: &DiskCache,
         costs: &mut Vec<Cost>,
     ) -> Result<Image> {
-        let (image, views) = self.storage_cube(PREFILTERED_SIZE, PREFILTERED_LEVELS, "prefiltered environment")?;
+        let side = vk::Extent2D {
+            width: OCTAHEDRAL_SIDE,
+            height: OCTAHEDRAL_SIDE,
+        };
+        let maps = Image::array_2d(&self.device, side, PREFILTERED_LEVELS, FORMAT, STORAGE_USAGE, "prefiltered maps")?;
         // Its mips follow from level 0 by `env_downsample.comp`, so level 0 stands for the
         // whole source.
         let start = Instant::now();
@@ -454,31 +472,62 @@ impl Precompute {
             &self.read_level_bits(&source.image, 0)?,
             shaders::ENV_DOWNSAMPLE_COMP,
             shaders::ENV_PREFILTER_COMP,
+            shaders::ENV_OCTAHEDRAL_COMP,
             &PREFILTERED_SIZE.to_le_bytes(),
             &PREFILTERED_LEVELS.to_le_bytes(),
+            &OCTAHEDRAL_SIDE.to_le_bytes(),
             &(0..PREFILTERED_LEVELS).flat_map(|level| prefilter_samples(level).to_le_bytes()).collect::<Vec<_>>(),
             &level_roughness().map(f32::to_le_bytes).concat(),
             self.device.info.name.as_bytes(),
             self.device.info.driver.as_bytes(),
         ]);
-        if let Some(cached) = disk
-            .load(PREFILTERED_ENTRY, key)
-            .filter(|b| b.len() == level_bytes(&image))
-        {
-            self.upload_levels(&image, &cached)?;
+        if let Some(cached) = disk.load(PREFILTERED_ENTRY, key).filter(|b| b.len() == level_bytes(&maps)) {
+            self.upload_levels(&maps, &cached)?;
             costs.push(Cost {
                 step: "prefilter (disk cache)",
                 ms: start.elapsed().as_secs_f64() * 1e3,
                 gpu: false,
             });
-            return Ok(image);
+            return Ok(maps);
         }
-        self.compute_prefiltered(source, sampler, &image, &views, costs)?;
-        let levels = (0..image.mip_levels)
-            .map(|level| self.read_level_bits(&image, level))
-            .collect::<Result<Vec<_>>>()?;
-        disk.store(PREFILTERED_ENTRY, key, &levels.concat());
-        Ok(image)
+        let (cube, views) = self.storage_cube(PREFILTERED_SIZE, PREFILTERED_LEVELS, "prefiltered cube")?;
+        self.compute_prefiltered(source, sampler, &cube, &views, costs)?;
+        self.resample_octahedral(&cube, sampler, &maps, costs)?;
+        disk.store(PREFILTERED_ENTRY, key, &self.read_level_bits(&maps, 0)?);
+        Ok(maps)
+    }
+
+    /// Each level of the prefiltered `cube` into its layer of `maps`, left readable by shaders.
+    fn resample_octahedral(&mut self, cube: &Image, sampler: &Sampler, maps: &Image, costs: &mut Vec<Cost>) -> Result<()> {
+        let pool = self.pool(KernelKind::Octahedral, PREFILTERED_LEVELS)?;
+        let texels = vk::Extent3D {
+            width: OCTAHEDRAL_SIDE,
+            height: OCTAHEDRAL_SIDE,
+            depth: 1,
+        };
+        self.timed("octahedral maps", costs, |cmd| {
+            transition_levels(
+                &self.device,
+                cmd,
+                maps.handle,
+                maps.all_levels(),
+                ImageUse::UNDEFINED,
+                ImageUse::COMPUTE_STORAGE,
+            );
+            for level in 0..PREFILTERED_LEVELS {
+                let resources = [Resource::Sampled(cube.view, sampler), Resource::Storage(maps.view)];
+                self.dispatch(cmd, KernelKind::Octahedral, &pool, &resources, &level.to_le_bytes(), texels)?;
+            }
+            transition_levels(
+                &self.device,
+                cmd,
+                maps.handle,
+                maps.all_levels(),
+                ImageUse::COMPUTE_STORAGE,
+                SHADING_READ,
+            );
+            Ok(())
+        })
     }
 
     fn compute_prefiltered(
@@ -538,11 +587,7 @@ impl Precompute {
     /// The BRDF tables, `LUT_LAYERS` layers of `LUT_SIZE`: read from `disk` when this
     /// device and driver computed them before with this shader, else computed and stored.
     pub fn brdf_lut(&mut self, disk: &DiskCache, costs: &mut Vec<Cost>) -> Result<Image> {
-        let usage = vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC
-            | vk::ImageUsageFlags::TRANSFER_DST;
-        let image = Image::array_2d(&self.device, LUT_SIZE, LUT_LAYERS, FORMAT, usage, "brdf tables")?;
+        let image = Image::array_2d(&self.device, LUT_SIZE, LUT_LAYERS, FORMAT, STORAGE_USAGE, "brdf tables")?;
         // The driver's arithmetic is part of the result, so its identity is in the key.
         let key = cache::key(&[
             shaders::ENV_BRDF_LUT_COMP,
