@@ -8,17 +8,13 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 0) uniform samplerCube prefiltered;
-layout(set = 0, binding = 1, rgba16f) uniform writeonly image2DArray target;
-layout(push_constant) uniform OctahedralPush {
-    uint layer;
-} push;
+layout(set = 0, binding = 1, rgba16f) uniform writeonly image2D target;
 
 void main() {
     ivec2 texel = ivec2(gl_GlobalInvocationID.xy);
     int side = imageSize(target).x;
     if (any(greaterThanEqual(texel, ivec2(side)))) return;
-    // Texel 0 and side − 1 are the border, half a texel past the square's edges.
-    vec2 p = (vec2(texel) - 0.5) * (2.0 / float(side - 2)) - 1.0;
+    vec2 p = octahedral_texel_point(vec2(texel), float(side));
     vec3 radiance = textureLod(prefiltered, octahedral_direction(p), 0.0).rgb;
-    imageStore(target, ivec3(texel, push.layer), vec4(radiance, 1.0));
+    imageStore(target, texel, vec4(radiance, 1.0));
 }

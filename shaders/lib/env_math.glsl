@@ -61,6 +61,12 @@ vec3 octahedral_direction(vec2 p) {
     return normalize(d);
 }
 
+// The point of an octahedral map `side` texels across, a border of one included, at the
+// centre of texel `texel`: the border texels' half a texel past the square's edges.
+vec2 octahedral_texel_point(vec2 texel, float side) {
+    return (texel - 0.5) * (2.0 / (side - 2.0)) - 1.0;
+}
+
 // The solid angle of triangle (a, b, c) seen from the origin, given its triple product
 // a·(b×c) (Van Oosterom & Strackee 1983): 2 atan2(a·(b×c), |a||b||c| + (a·b)|c| + (a·c)|b|
 // + (b·c)|a|).

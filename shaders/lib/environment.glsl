@@ -58,7 +58,7 @@ uint reflection_mode() {
 // The environment with a mip chain of solid-angle-weighted means.
 layout(set = ENV_SET, binding = 1) uniform samplerCube radiance_map;
 // Radiance prefiltered by GGX lobes (Karis 2013), octahedral maps (octahedral_uv): layer k
-// the prefiltered cube's mip k, α = 2^(k − params.w) above layer 0 (prefiltered_lod).
+// the prefiltered level k, α = 2^(k − params.w) above layer 0 (prefiltered_lod).
 layout(set = ENV_SET, binding = 2) uniform sampler2DArray prefiltered_map;
 // BRDF tables: x = lut_x(n·v), y = roughness (σ for Oren-Nayar), layer = lut_layer().
 layout(set = ENV_SET, binding = 3) uniform sampler2DArray brdf_lut;

@@ -84,8 +84,9 @@ pub fn octahedral_direction(p: [f64; 2]) -> Vec3 {
     normalize([x, y, z])
 }
 
-/// The point of an octahedral map `side` texels across (a border of one each side) at the
-/// centre of texel `i` along one axis, as env_octahedral.comp places its texels.
+/// The point of an octahedral map `side` texels across, a border of one included, at the
+/// centre of texel `i` along one axis: the border texels' half a texel past the square's
+/// edges.
 pub fn octahedral_texel_point(i: u32, side: u32) -> f64 {
     (f64::from(i) - 0.5) * 2.0 / f64::from(side - 2) - 1.0
 }

@@ -1,8 +1,8 @@
 //! The once-per-environment GPU work, in compute shaders: the source cube map (the studio,
 //! or an equirectangular map converted), its mip chain, the GGX-prefiltered cube map and
 //! the octahedral maps split sum reads it through, and the environment-independent BRDF
-//! tables. Each step is timed (GPU timestamps when the
-//! queue has them, else CPU time) for `argil render` to print.
+//! tables. Each step is timed (GPU timestamps when the queue has them, else CPU time) for
+//! `argil render` to print.
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -35,12 +35,12 @@ const PREFILTERED_SIZE: u32 = 128;
 const PREFILTERED_MIN_SIZE: u32 = 8;
 pub const PREFILTERED_LEVELS: u32 = 7;
 /// The octahedral maps of the prefiltered cube's levels, one a layer, that split sum reads
-/// (env_octahedral.comp): 256² texels inside a border of one, about as fine as mip 0's
+/// (env_octahedral.comp): 256² texels inside a border of one, about as fine as level 0's
 /// 128² faces (4π/256² against 4π/(6 · 128²) steradians a texel).
 pub const OCTAHEDRAL_SIDE: u32 = 256 + 2;
-/// GGX samples per texel of the prefiltered cube's mip 1; with filtered importance
+/// GGX samples per texel of the prefiltered level 1; with filtered importance
 /// sampling, 128 keep each texel within a few percent of the lobe's mean (under a soft box:
-/// 1–5% mean |error|). Coarser mips take more a texel (`prefilter_samples`), up to
+/// 1–5% mean |error|). Coarser levels take more a texel (`prefilter_samples`), up to
 /// `PREFILTER_MAX_SAMPLES`.
 const PREFILTER_SAMPLES: u32 = 128;
 const PREFILTER_MAX_SAMPLES: u32 = 1024;
@@ -162,7 +162,7 @@ impl KernelKind {
             KernelKind::Equirect => (&[T::STORAGE_IMAGE, T::STORAGE_BUFFER], 8),
             KernelKind::Downsample => (&[T::STORAGE_IMAGE, T::STORAGE_IMAGE], 0),
             KernelKind::Prefilter => (&[T::COMBINED_IMAGE_SAMPLER, T::STORAGE_IMAGE], 16),
-            KernelKind::Octahedral => (&[T::COMBINED_IMAGE_SAMPLER, T::STORAGE_IMAGE], 4),
+            KernelKind::Octahedral => (&[T::COMBINED_IMAGE_SAMPLER, T::STORAGE_IMAGE], 0),
             KernelKind::BrdfLut => (&[T::STORAGE_IMAGE], 4),
         }
     }
@@ -516,6 +516,9 @@ impl Precompute {
         costs: &mut Vec<Cost>,
     ) -> Result<()> {
         let pool = self.pool(KernelKind::Octahedral, PREFILTERED_LEVELS)?;
+        let layers = (0..PREFILTERED_LEVELS)
+            .map(|layer| maps.layer_view(layer))
+            .collect::<Result<Vec<ImageView>>>()?;
         let texels = vk::Extent3D {
             width: OCTAHEDRAL_SIDE,
             height: OCTAHEDRAL_SIDE,
@@ -530,9 +533,9 @@ impl Precompute {
                 ImageUse::UNDEFINED,
                 ImageUse::COMPUTE_STORAGE,
             );
-            for (layer, (cube, _)) in (0u32..).zip(cubes) {
-                let resources = [Resource::Sampled(cube.view, sampler), Resource::Storage(maps.view)];
-                self.dispatch(cmd, KernelKind::Octahedral, &pool, &resources, &layer.to_le_bytes(), texels)?;
+            for ((cube, _), layer) in cubes.iter().zip(&layers) {
+                let resources = [Resource::Sampled(cube.view, sampler), Resource::Storage(layer.handle)];
+                self.dispatch(cmd, KernelKind::Octahedral, &pool, &resources, &[], texels)?;
             }
             transition_levels(
                 &self.device,
