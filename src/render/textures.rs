@@ -1,5 +1,6 @@
 //! Material textures on the GPU: uploaded once with the full mip chain made on the CPU
-//! (scene/mips.rs); tables read by texel, their top level alone.
+//! (scene/mips.rs; a builtin map's from the disk cache); tables read by texel, their top
+//! level alone.
 
 use std::sync::Arc;
 
@@ -7,7 +8,8 @@ use anyhow::{bail, ensure, Context, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
-use crate::scene::mips::mip_levels;
+use crate::cache::DiskCache;
+use crate::scene::mips::cached_mip_levels;
 use crate::scene::{TexelFormat, TextureData};
 use crate::vk::{copy_region, full_range, transition_levels, Buffer, Device, Image, ImageUse, OneShot};
 
@@ -66,7 +68,11 @@ impl GpuTexture {
                 texture.name
             );
         }
-        let below = if mips { mip_levels(texture) } else { Vec::new() };
+        let below = if mips {
+            cached_mip_levels(texture, &DiskCache::from_env())
+        } else {
+            Vec::new()
+        };
         let levels = [texture.pixels.as_slice()].into_iter().chain(below.iter().map(Vec::as_slice));
         let image = Image::with_mips(
             device,

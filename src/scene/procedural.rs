@@ -45,18 +45,38 @@ pub(super) fn stand_in(name: &str) -> Option<TextureData> {
     BUILTIN_TEXTURES.contains(&name).then(|| rgba8(name, 2, [128, 128, 255, 255].repeat(4)))
 }
 
-/// Builtin texture `index` from `cache`: its texels depend only on this file's code and
-/// the texture's size, which key the entry.
-fn cached(index: usize, cache: &DiskCache) -> TextureData {
-    let size = if index == 2 { NOISE_SIZE } else { NORMAL_MAP_SIZE };
-    let name = BUILTIN_TEXTURES[index];
-    let key = cache::key(&[
+/// Side of builtin texture `index`, in texels.
+fn side(index: usize) -> usize {
+    if index == 2 {
+        NOISE_SIZE
+    } else {
+        NORMAL_MAP_SIZE
+    }
+}
+
+/// The disk cache's key of builtin texture `index`: its texels depend only on this file's
+/// code and the texture's size.
+fn key(index: usize) -> u64 {
+    cache::key(&[
         include_str!("procedural.rs").as_bytes(),
-        name.as_bytes(),
-        &(size as u64).to_le_bytes(),
-    ]);
+        BUILTIN_TEXTURES[index].as_bytes(),
+        &(side(index) as u64).to_le_bytes(),
+    ])
+}
+
+/// The key of `texture`'s texels if it is a builtin map (not its stand-in), which is all
+/// that follows from them needs to key its own cache entries.
+pub(super) fn builtin_key(texture: &TextureData) -> Option<u64> {
+    let index = BUILTIN_TEXTURES.iter().position(|&n| n == texture.name)?;
+    let whole = [texture.width, texture.height].map(|s| s as usize) == [side(index); 2];
+    whole.then(|| key(index))
+}
+
+/// Builtin texture `index` from `cache`, whose entry [`key`] keys.
+fn cached(index: usize, cache: &DiskCache) -> TextureData {
+    let (size, name) = (side(index), BUILTIN_TEXTURES[index]);
     let entry = format!("map-{}", name.trim_start_matches(super::BUILTIN_PREFIX));
-    let pixels = cache.get_or_compute(&entry, key, |b| b.len() == size * size * 4, || generate(index).pixels);
+    let pixels = cache.get_or_compute(&entry, key(index), |b| b.len() == size * size * 4, || generate(index).pixels);
     rgba8(name, size, pixels)
 }
 
