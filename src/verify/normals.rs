@@ -149,8 +149,8 @@ impl UnitVector {
                 vectors(n, about(n, direction(n_dot_v, rng.azimuth())))
             }
             UnitVector::OctahedralDirection => {
-                // The square and its border texels' half texel past the edges (1/128 at 256²),
-                // a third of them near an edge or the fold |x| + |y| = 1.
+                // The square and its border texels' centres, half a texel past the edges
+                // (1/256 at 256²); a third of the points near an edge or the fold |x| + |y| = 1.
                 let p = match rng.uniform() {
                     u if u < 0.67 => [rng.range(-1.01, 1.01), rng.range(-1.01, 1.01)],
                     u if u < 0.84 => [rng.range(-1.0, 1.0), 1.0 + rng.range(-0.01, 0.01)],

@@ -961,7 +961,8 @@ pub static TERMS: &[TermSpec] = &[
             let axis = [-1.0, -0.0, 0.0, 1.0];
             let mut out = grid(&[&axis, &axis, &axis, &[OCTAHEDRAL_SIDE as f32]]);
             out.retain(|t| t.a[..3].iter().any(|&c| c != 0.0));
-            out.extend(grid(&[&[0.6, -0.6], &[0.8, -0.8, DENORMAL], &[0.0, -0.0, -DENORMAL], &[OCTAHEDRAL_SIDE as f32]]));
+            let fold = [&[0.6, -0.6][..], &[0.8, -0.8, DENORMAL], &[0.0, -0.0, -DENORMAL], &[OCTAHEDRAL_SIDE as f32]];
+            out.extend(grid(&fold));
             out
         },
         rounding: None,
