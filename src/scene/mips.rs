@@ -16,17 +16,26 @@ fn half_side(side: u32) -> u32 {
     (side >> 1).max(1)
 }
 
+/// Width and height of every level of `texture`'s full chain, level 0 first, each half the
+/// one above, down to 1×1.
+fn chain_extents(texture: &TextureData) -> Vec<(u32, u32)> {
+    let mut extents = vec![(texture.width, texture.height)];
+    while let Some(&(width, height)) = extents.last().filter(|&&(w, h)| w > 1 || h > 1) {
+        extents.push((half_side(width), half_side(height)));
+    }
+    extents
+}
+
 /// Levels 1 and below of `texture`'s full chain (level 0 is its own texels), each tightly
-/// packed in its format; each level half the size of the one above, down to 1×1.
+/// packed in its format.
 pub fn mip_levels(texture: &TextureData) -> Vec<Vec<u8>> {
     let codec = Codec::new(texture.format);
-    let (mut width, mut height) = (texture.width, texture.height);
+    let extents = chain_extents(texture);
     let mut levels: Vec<Vec<u8>> = Vec::new();
-    while width > 1 || height > 1 {
+    // Each level from the one above, whose extent downsample reads.
+    for &(width, height) in &extents[..extents.len() - 1] {
         let above = levels.last().unwrap_or(&texture.pixels);
-        let level = codec.downsample(above, width, height);
-        (width, height) = (half_side(width), half_side(height));
-        levels.push(level);
+        levels.push(codec.downsample(above, width, height));
     }
     levels
 }
@@ -41,12 +50,8 @@ pub fn cached_mip_levels(texture: &TextureData, cache: &DiskCache) -> Vec<Vec<u8
     let key = cache::key(&[&texels.to_le_bytes(), include_str!("mips.rs").as_bytes()]);
     let entry = format!("mips-{}", texture.name.trim_start_matches(BUILTIN_PREFIX));
     let bytes_per_texel = texture.format.bytes_per_texel();
-    let (mut width, mut height) = (texture.width, texture.height);
-    let mut sizes = Vec::new();
-    while width > 1 || height > 1 {
-        (width, height) = (half_side(width), half_side(height));
-        sizes.push(width as usize * height as usize * bytes_per_texel);
-    }
+    let below = chain_extents(texture).into_iter().skip(1);
+    let sizes: Vec<usize> = below.map(|(w, h)| w as usize * h as usize * bytes_per_texel).collect();
     let total: usize = sizes.iter().sum();
     let chain = cache.get_or_compute(&entry, key, |b| b.len() == total, || mip_levels(texture).concat());
     let mut rest = chain.as_slice();
