@@ -16,6 +16,7 @@ pub mod surface;
 pub mod swapchain;
 pub mod sync;
 pub mod timestamps;
+pub mod transfer;
 
 pub use buffer::Buffer;
 pub use commands::{CommandPool, OneShot};

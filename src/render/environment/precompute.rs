@@ -10,14 +10,13 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
 use super::equirect::Equirect;
 use crate::brdf::environment::{prefiltered_level_alpha, LUT_LAYERS};
 use crate::cache::{self, DiskCache};
 use crate::render::shaders;
 use crate::vk::{
-    copy_region, transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    transfer, transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
     DescriptorWriter, Device, Image, ImageUse, ImageView, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule,
     Specialization, Timestamps,
 };
@@ -90,15 +89,9 @@ fn level_roughness() -> [f32; PREFILTERED_LEVELS as usize] {
 /// Bytes of an RGBA16F texel.
 const TEXEL_BYTES: u64 = 8;
 
-/// Bytes of mip `level` of an RGBA16F image, every layer.
-fn level_size(image: &Image, level: u32) -> u64 {
-    let extent = image.level_extent(level);
-    u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * TEXEL_BYTES
-}
-
 /// Bytes of every level and layer of an RGBA16F image, as `upload_levels` takes them.
 fn level_bytes(image: &Image) -> usize {
-    (0..image.mip_levels).map(|level| level_size(image, level)).sum::<u64>() as usize
+    transfer::image_size(image, TEXEL_BYTES)
 }
 
 /// The texels of a cube map level with `side`² faces, for a dispatch.
@@ -681,50 +674,8 @@ impl Precompute {
     /// Fills every level and layer of an image with `bits` (the levels' `read_level_bits`
     /// one after another), leaving it in `SHADING_READ`.
     fn upload_levels(&self, image: &Image, bits: &[u8]) -> Result<()> {
-        let mut staging = Buffer::new(
-            &self.device,
-            bits.len() as u64,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
-            "environment upload",
-        )?;
-        staging.write(bits)?;
-        let mut offset = 0;
-        let regions: Vec<vk::BufferImageCopy> = (0..image.mip_levels)
-            .map(|level| {
-                let region =
-                    copy_region(image.aspect, level, image.layers, image.level_extent(level)).buffer_offset(offset);
-                offset += level_size(image, level);
-                region
-            })
-            .collect();
-        self.one_shot.run(|cmd| {
-            transition_levels(
-                &self.device,
-                cmd,
-                image.handle,
-                image.all_levels(),
-                ImageUse::UNDEFINED,
-                ImageUse::TRANSFER_DST,
-            );
-            unsafe {
-                self.device.handle.cmd_copy_buffer_to_image(
-                    cmd,
-                    staging.handle,
-                    image.handle,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &regions,
-                )
-            };
-            transition_levels(
-                &self.device,
-                cmd,
-                image.handle,
-                image.all_levels(),
-                ImageUse::TRANSFER_DST,
-                SHADING_READ,
-            );
-        })
+        let (device, one_shot) = (&self.device, &self.one_shot);
+        transfer::upload_image(device, one_shot, image, bits, TEXEL_BYTES, ImageUse::UNDEFINED, SHADING_READ)
     }
 
     /// Mip `level` of an RGBA16F image, every layer, as f32 texels (layer-major, rows from
@@ -740,51 +691,7 @@ impl Precompute {
 
     /// `read_level`'s texels as the image holds them: RGBA16F bits, native byte order.
     fn read_level_bits(&self, image: &Image, level: u32) -> Result<Vec<u8>> {
-        let extent = image.level_extent(level);
-        let buffer = Buffer::new(
-            &self.device,
-            level_size(image, level),
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-            "environment readback",
-        )?;
-        let range = image.level_range(level);
-        self.one_shot.run(|cmd| {
-            transition_levels(
-                &self.device,
-                cmd,
-                image.handle,
-                range,
-                SHADING_READ,
-                ImageUse::TRANSFER_SRC,
-            );
-            let region = copy_region(image.aspect, level, image.layers, extent);
-            unsafe {
-                self.device.handle.cmd_copy_image_to_buffer(
-                    cmd,
-                    image.handle,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    buffer.handle,
-                    &[region],
-                )
-            };
-            transition_levels(
-                &self.device,
-                cmd,
-                image.handle,
-                range,
-                ImageUse::TRANSFER_SRC,
-                SHADING_READ,
-            );
-            let to_host = [vk::MemoryBarrier2::default()
-                .src_stage_mask(vk::PipelineStageFlags2::COPY)
-                .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-                .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-                .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-            let dependency = vk::DependencyInfo::default().memory_barriers(&to_host);
-            unsafe { self.device.handle.cmd_pipeline_barrier2(cmd, &dependency) };
-        })?;
-        Ok(buffer.read()?.to_vec())
+        transfer::read_level(&self.device, &self.one_shot, image, level, TEXEL_BYTES, SHADING_READ)
     }
 
     /// Placeholders for descriptors an environment does not use (Vulkan needs every

@@ -1,0 +1,114 @@
+//! Whole images to and from the host, each copy a one-shot submission that is waited for:
+//! what the disk cache stores of images computed on the device and uploads in their place.
+
+use std::sync::Arc;
+
+use anyhow::Result;
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::Buffer;
+use super::commands::OneShot;
+use super::device::Device;
+use super::image::{copy_region, Image};
+use super::sync::{transition_levels, ImageUse};
+
+/// Bytes of mip `level` of `image`, every layer, at `texel_bytes` a texel.
+pub fn level_size(image: &Image, level: u32, texel_bytes: u64) -> u64 {
+    let extent = image.level_extent(level);
+    u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * texel_bytes
+}
+
+/// Bytes of every level and layer of `image`, as [`upload_image`] takes them.
+pub fn image_size(image: &Image, texel_bytes: u64) -> usize {
+    (0..image.mip_levels)
+        .map(|level| level_size(image, level, texel_bytes))
+        .sum::<u64>() as usize
+}
+
+/// Fills every level and layer of `image` with `bits` (each level's [`read_level`] one
+/// after another). The image is in use `from` before (an `UNDEFINED` layout discards its
+/// contents) and `to` after.
+pub fn upload_image(
+    device: &Arc<Device>,
+    one_shot: &OneShot,
+    image: &Image,
+    bits: &[u8],
+    texel_bytes: u64,
+    from: ImageUse,
+    to: ImageUse,
+) -> Result<()> {
+    let mut staging = Buffer::new(
+        device,
+        bits.len() as u64,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+        "image upload",
+    )?;
+    staging.write(bits)?;
+    let mut offset = 0;
+    let regions: Vec<vk::BufferImageCopy> = (0..image.mip_levels)
+        .map(|level| {
+            let extent = image.level_extent(level);
+            let region = copy_region(image.aspect, level, image.layers, extent).buffer_offset(offset);
+            offset += level_size(image, level, texel_bytes);
+            region
+        })
+        .collect();
+    one_shot.run(|cmd| {
+        let all = image.all_levels();
+        transition_levels(device, cmd, image.handle, all, from, ImageUse::TRANSFER_DST);
+        unsafe {
+            device.handle.cmd_copy_buffer_to_image(
+                cmd,
+                staging.handle,
+                image.handle,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &regions,
+            )
+        };
+        transition_levels(device, cmd, image.handle, all, ImageUse::TRANSFER_DST, to);
+    })
+}
+
+/// Mip `level` of `image`, every layer, as the image holds its texels (layer-major, rows
+/// from the top); the image is in use `at` and is left there.
+pub fn read_level(
+    device: &Arc<Device>,
+    one_shot: &OneShot,
+    image: &Image,
+    level: u32,
+    texel_bytes: u64,
+    at: ImageUse,
+) -> Result<Vec<u8>> {
+    let buffer = Buffer::new(
+        device,
+        level_size(image, level, texel_bytes),
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+        "image readback",
+    )?;
+    let range = image.level_range(level);
+    one_shot.run(|cmd| {
+        transition_levels(device, cmd, image.handle, range, at, ImageUse::TRANSFER_SRC);
+        let region = copy_region(image.aspect, level, image.layers, image.level_extent(level));
+        unsafe {
+            device.handle.cmd_copy_image_to_buffer(
+                cmd,
+                image.handle,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buffer.handle,
+                &[region],
+            )
+        };
+        transition_levels(device, cmd, image.handle, range, ImageUse::TRANSFER_SRC, at);
+        let to_host = [vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::COPY)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
+            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
+        let dependency = vk::DependencyInfo::default().memory_barriers(&to_host);
+        unsafe { device.handle.cmd_pipeline_barrier2(cmd, &dependency) };
+    })?;
+    Ok(buffer.read()?.to_vec())
+}
