@@ -13,12 +13,15 @@
 
 use std::path::{Path, PathBuf};
 
+use xxhash_rust::xxh3::Xxh3;
+
 use crate::atomic::write_bytes;
 
 const MAGIC: &[u8; 8] = b"argilc02";
 const HEADER: usize = 32;
 
-/// FNV-1a, 64 bits: a stable hash of bytes (`std`'s hashers may change between releases).
+/// FNV-1a, 64 bits: a stable hash of bytes (`std`'s hashers may change between releases),
+/// which names the bench's references and the fuzzer's findings.
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     const OFFSET_BASIS: u64 = 0xcbf2_9ce4_8422_2325;
     const PRIME: u64 = 0x0000_0100_0000_01b3;
@@ -27,13 +30,15 @@ pub fn fnv1a(bytes: &[u8]) -> u64 {
         .fold(OFFSET_BASIS, |hash, &b| (hash ^ u64::from(b)).wrapping_mul(PRIME))
 }
 
-/// The key of bytes that depend on `parts` (source texts, sizes, device identities).
+/// The key of bytes that depend on `parts` (source texts, sizes, device identities,
+/// texels, meshes): XXH3-64 of argil's version and each part's length and bytes in turn.
 pub fn key(parts: &[&[u8]]) -> u64 {
-    parts
-        .iter()
-        .fold(fnv1a(env!("CARGO_PKG_VERSION").as_bytes()), |k, part| {
-            fnv1a(&[k.to_le_bytes().as_slice(), part].concat())
-        })
+    let mut hasher = Xxh3::new();
+    for part in std::iter::once(env!("CARGO_PKG_VERSION").as_bytes()).chain(parts.iter().copied()) {
+        hasher.update(&(part.len() as u64).to_le_bytes());
+        hasher.update(part);
+    }
+    hasher.digest()
 }
 
 #[derive(Clone, Debug)]
