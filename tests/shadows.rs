@@ -6,7 +6,9 @@ mod common;
 use argil::reference::integrator::CameraRays;
 use argil::render::OffscreenTarget;
 use ash::vk;
-use common::{gpu, render, scene};
+use argil::cache::DiskCache;
+use argil::scene::DEFAULT_SCENE_TOML;
+use common::{argil_with, gpu, render, scene, test_dir};
 use glam::DVec3;
 
 /// A grey plane at y = 0 under one light and a uniform environment, seen from above at
@@ -574,4 +576,63 @@ fn the_bounce_is_the_f64_gather_of_the_grounds_light() {
     assert!(errors.len() > 300, "{} sphere pixels lit by the bounce", errors.len());
     eprintln!("{} px: median {median:.2e}, p95 {p95:.2e}, max {:.2e}", errors.len(), errors[errors.len() - 1]);
     assert!(median < 2e-3 && p95 < 1e-2, "relative error: median {median:.2e}, p95 {p95:.2e}");
+}
+
+/// A start reads the ground's maps from the disk cache where a start before computed them
+/// from the same inputs, and draws the same bits: the default scene's warm start gives the
+/// cold one's frame, and each stored map changed on disk changes it. Another camera reads
+/// the same entries; a moved light makes new ones.
+#[test]
+fn the_grounds_maps_come_from_the_disk_cache_on_a_warm_start() {
+    let dir = test_dir("ground-cache");
+    let cache = dir.join("cache");
+    let render = |scene: Option<&str>, name: &str| -> Vec<u8> {
+        let out = dir.join(name);
+        let mut args = vec!["render", "--width", "96", "--height", "54", "--out", out.to_str().expect("utf-8")];
+        args.extend(scene);
+        let o = argil_with(&args, &[("ARGIL_CACHE_DIR", cache.to_str().expect("utf-8"))]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read(out).expect("output")
+    };
+    // Each entry's name and key, from its file name (NAME-KEY.bin).
+    let entries = || -> Vec<(String, u64)> {
+        let mut entries: Vec<(String, u64)> = std::fs::read_dir(&cache)
+            .expect("the cache folder")
+            .map(|e| e.expect("entry").file_name().into_string().expect("utf-8"))
+            .filter(|file| file.starts_with("ground-"))
+            .map(|file| {
+                let (name, key) = file.trim_end_matches(".bin").rsplit_once('-').expect("NAME-KEY");
+                (name.to_owned(), u64::from_str_radix(key, 16).expect("hex key"))
+            })
+            .collect();
+        entries.sort();
+        entries
+    };
+    let cold = render(None, "cold.exr");
+    let stored = entries();
+    let names: Vec<&str> = stored.iter().map(|(name, _)| name.as_str()).collect();
+    assert_eq!(names, ["ground-light", "ground-occlusion", "ground-shadow"]);
+    assert!(render(None, "warm.exr") == cold, "the warm start drew other bits");
+    let disk = DiskCache::at(Some(&cache));
+    for (name, key) in &stored {
+        let map = disk.load(name, *key).expect("a whole entry");
+        disk.store(name, *key, &vec![0; map.len()]);
+        assert!(render(None, "changed.exr") != cold, "{name} was not read from the disk cache");
+        disk.store(name, *key, &map);
+    }
+    // The maps do not depend on the view: another camera reads the same entries.
+    let scene = |name: &str, from: &str, to: &str| {
+        let text = DEFAULT_SCENE_TOML.replace(from, to);
+        assert_ne!(text, DEFAULT_SCENE_TOML);
+        let path = dir.join(name);
+        std::fs::write(&path, text).expect("scene");
+        path.to_str().expect("utf-8").to_owned()
+    };
+    let turned = scene("turned.toml", "position = [0.0, 1.4, 6.2]", "position = [0.5, 1.6, 6.0]");
+    assert!(render(Some(&turned), "turned.exr") != cold);
+    assert_eq!(entries(), stored);
+    let moved = scene("moved.toml", "position = [-4.0, 4.0, 2.5]", "position = [-3.5, 4.0, 2.5]");
+    assert!(render(Some(&moved), "moved.exr") != cold);
+    let added: Vec<String> = entries().into_iter().filter(|e| !stored.contains(e)).map(|(name, _)| name).collect();
+    assert_eq!(added, ["ground-light", "ground-occlusion", "ground-shadow"]);
 }

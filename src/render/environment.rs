@@ -169,6 +169,8 @@ pub struct EnvironmentPass {
     current: Option<Environment>,
     /// Counts the changes of what `set` holds.
     generation: u64,
+    /// A key of what `set` holds, where one is cheap to find (see [`Self::disk_key`]).
+    disk_key: Option<u64>,
     skybox: Option<Skybox>,
     costs: Vec<Cost>,
 }
@@ -214,6 +216,7 @@ impl EnvironmentPass {
             brdf_lut: None,
             current: None,
             generation: 0,
+            disk_key: None,
             skybox: None,
             costs: Vec::new(),
         })
@@ -233,6 +236,13 @@ impl EnvironmentPass {
     /// again), and only then.
     pub fn generation(&self) -> u64 {
         self.generation
+    }
+
+    /// A key of everything the set holds (its data, and the code that makes its images):
+    /// what a disk cache entry of an image computed from it is keyed by (ground_maps.rs).
+    /// None for a map, whose texels would cost more to key than such an image to compute.
+    pub fn disk_key(&self) -> Option<u64> {
+        self.disk_key
     }
 
     /// Builds the cubes of the map at `path` from `map`, as the caller decoded it (to check
@@ -509,6 +519,18 @@ impl EnvironmentPass {
             sh,
         };
         self.data.write(bytemuck::bytes_of(&data))?;
+        // A studio's cubes follow from the code and STUDIO_SIZE alone.
+        self.disk_key = cubes.filter(|c| matches!(c.source, Source::Map(_))).is_none().then(|| {
+            cache::key(&[
+                bytemuck::bytes_of(&data),
+                &STUDIO_SIZE.to_le_bytes(),
+                shaders::ENV_STUDIO_COMP,
+                shaders::ENV_DOWNSAMPLE_COMP,
+                include_str!("environment.rs").as_bytes(),
+                include_str!("environment/precompute.rs").as_bytes(),
+                include_str!("../brdf/environment.rs").as_bytes(),
+            ])
+        });
         let radiance_view = cubes.map_or(self.placeholder_cube.view, |c| c.radiance.image.view);
         let prefiltered_view = cubes
             .and_then(|c| c.prefiltered.as_ref())

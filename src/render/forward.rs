@@ -255,6 +255,8 @@ pub struct ForwardPass {
     /// Owns the slots' sets.
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
+    /// The frame data the last [`Self::prepare`] wrote.
+    frame_data: FrameData,
     /// The pre-integrated subsurface table, once a scene's material has needed it; until
     /// then `placeholder` fills its binding.
     subsurface: Option<SubsurfaceTable>,
@@ -351,6 +353,7 @@ impl ForwardPass {
             object_draws: Vec::new(),
             _pool: pool,
             slots,
+            frame_data: bytemuck::Zeroable::zeroed(),
             subsurface: None,
             placeholder,
             pipeline_time: Duration::ZERO,
@@ -360,6 +363,11 @@ impl ForwardPass {
     /// The layout of set 0: the frame's data, materials and subsurface table.
     pub fn frame_layout(&self) -> &DescriptorSetLayout {
         &self.set_layout
+    }
+
+    /// The frame data of set 0, as the last [`Self::prepare`] wrote it.
+    pub fn frame_data(&self) -> &FrameData {
+        &self.frame_data
     }
 
     /// Set 0 of `slot`.
@@ -554,6 +562,7 @@ impl ForwardPass {
             .chain(split_materials)
             .map(MaterialData::from)
             .collect();
+        self.frame_data = frame_data;
         let s = &mut self.slots[slot];
         s.frame_data.write(bytemuck::bytes_of(&frame_data))?;
         let bytes: &[u8] = bytemuck::cast_slice(&materials);

@@ -18,7 +18,15 @@
 //!   shadow maps at every one of them. It follows the lights, the ground, the shadow maps
 //!   and the soft shadows' taps.
 //!
-//! Each starts cleared to 0, which a frame that does not use the map never reads.
+//! Each starts cleared to 0, which a frame that does not use the map never reads. A map's
+//! first computation in a renderer is read from the disk cache (src/cache.rs) when this
+//! device and driver computed it before from the same inputs (their bits, and the code
+//! that makes them), and else stored there once its frame is done: each map of the
+//! default scene costs a start more to compute (its shadow map about 40 ms on lavapipe)
+//! than to read. The key holds the frame's data that the shaders read, the shadows' and
+//! the environment's keys (`ShadowPass::disk_key`, `EnvironmentPass::disk_key`), the
+//! shader and its specialization; an environment without a key (a map) keeps the
+//! occlusion map off the disk.
 
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -27,16 +35,18 @@ use std::sync::Arc;
 use anyhow::Result;
 use ash::vk;
 use bytemuck::Zeroable;
+use rayon::prelude::*;
 
 use super::environment::environment_kind;
 use super::forward::{ForwardConstants, FROM_UNIFORM};
-use super::gpu_scene::MAX_POINT_LIGHTS;
+use super::gpu_scene::{FrameData, MAX_POINT_LIGHTS};
 use super::shaders;
+use crate::cache::{self, DiskCache};
 use crate::scene::occluders::Occluder;
 use crate::scene::{Environment, MapSlot, Object, Scene};
 use crate::vk::{
-    transition_levels, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter, Device, Image,
-    ImageUse, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
+    transfer, transition_levels, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
+    Device, Image, ImageUse, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
 };
 
 /// Texels on a side of the light map: 6.25 cm on the default scene's 16 m ground, finer
@@ -58,6 +68,8 @@ pub const GROUND_SHADOW_TAPS_PER_TAP: u32 = 4;
 const GROUND_SHADOW_LAYERS: u32 = MAX_POINT_LIGHTS.div_ceil(4) as u32;
 /// fp16: a value to 2⁻¹¹ of itself, which Vulkan requires to filter and store.
 const FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
+/// Bytes of a `FORMAT` texel.
+const TEXEL_BYTES: u64 = 8;
 /// The compute shaders' `local_size_x` and `local_size_y`.
 const WORKGROUP: u32 = 8;
 
@@ -105,19 +117,24 @@ struct GroundMap {
     size: u32,
     compute_set: vk::DescriptorSet,
     module: ShaderModule,
+    shader: &'static [u8],
     name: &'static str,
-    /// A pipeline for each specialization a frame has asked for: a frame in flight may
-    /// still use the one before.
+    /// A pipeline for each specialization a computation has run with: a frame in flight
+    /// may still use the one before.
     pipelines: HashMap<Specialization, Pipeline>,
-    /// The last asked for, whose pipeline [`Self::specialize`] made; a map is computed
-    /// only after it (see [`GroundMaps::prepare`]).
+    /// The last a frame asked for (see [`GroundMaps::prepare`]).
     specialization: Specialization,
     /// What the map was last computed from; empty before the first and after a change the
     /// key does not hold.
     key: Vec<u32>,
     /// Whether the next recorded frame computes the map.
     pending: Cell<bool>,
-    /// Frames that computed it.
+    /// The disk cache's key of that computation, when it is the map's first.
+    disk_key: Cell<Option<u64>>,
+    /// The disk cache's key of the last computation, until [`GroundMaps::store_computed`]
+    /// stores it.
+    unsaved: Cell<Option<u64>>,
+    /// Times the map was made: computed by a frame, or read from the disk cache.
     renders: Cell<u64>,
 }
 
@@ -128,7 +145,7 @@ impl GroundMap {
         device: &Arc<Device>,
         one_shot: &OneShot,
         compute_set: vk::DescriptorSet,
-        shader: &[u8],
+        shader: &'static [u8],
         size: u32,
         layers: u32,
         name: &'static str,
@@ -138,7 +155,10 @@ impl GroundMap {
             width: size,
             height: size,
         };
-        let usage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
+        let usage = vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_DST
+            | vk::ImageUsageFlags::TRANSFER_SRC;
         let image = if layers > 1 {
             Image::array_2d(device, extent, layers, FORMAT, usage, name)?
         } else {
@@ -159,46 +179,89 @@ impl GroundMap {
             size,
             compute_set,
             module,
+            shader,
             name,
             pipelines: HashMap::new(),
             specialization: Specialization::default(),
             key: Vec::new(),
             pending: Cell::new(false),
+            disk_key: Cell::new(None),
+            unsaved: Cell::new(None),
             renders: Cell::new(0),
         })
     }
 
-    /// Computes the map from now on with `specialization`, creating its pipeline the first
-    /// time; the caller's key tells whether the map is computed again.
-    fn specialize(
-        &mut self,
-        device: &Arc<Device>,
-        layout: &PipelineLayout,
-        specialization: Specialization,
-    ) -> Result<()> {
-        if !self.pipelines.contains_key(&specialization) {
-            let pipeline = Pipeline::compute(device, layout, &self.module, &specialization, self.name)?;
-            self.pipelines.insert(specialization.clone(), pipeline);
-        }
+    /// Has the next computation of the map, if its pipeline exists, run with
+    /// `specialization` (see [`Self::make_pipeline`]).
+    fn specialize(&mut self, specialization: Specialization) {
         self.specialization = specialization;
+    }
+
+    /// Creates the pipeline of the computation that the next recorded frame runs, if it
+    /// runs one and no frame has run it before.
+    fn make_pipeline(&mut self, device: &Arc<Device>, layout: &PipelineLayout) -> Result<()> {
+        if self.pending.get() && !self.pipelines.contains_key(&self.specialization) {
+            let pipeline = Pipeline::compute(device, layout, &self.module, &self.specialization, self.name)?;
+            self.pipelines.insert(self.specialization.clone(), pipeline);
+        }
         Ok(())
     }
 
     /// Has the next recorded frame compute the map when it is made of `key` (None: this
-    /// frame does not read it) and that differs from what it was computed from, or
-    /// `changed`. A frame that does not read it leaves it as it is (a floor frame of the
-    /// bench between two frames of the scene), but for a change the key does not hold,
-    /// which makes the next frame that reads it compute it again.
-    fn prepare(&mut self, key: Option<Vec<u32>>, changed: bool) {
-        match key {
-            None if changed => self.key.clear(),
-            None => {}
-            Some(key) if changed || key != self.key => {
-                self.key = key;
-                self.pending.set(true);
-            }
-            Some(_) => {}
+    /// frame does not read it) and that differs from what it was computed from. A frame
+    /// that does not read it leaves it as it is (a floor frame of the bench between two
+    /// frames of the scene).
+    fn prepare(&mut self, key: Option<Vec<u32>>) {
+        if let Some(key) = key.filter(|key| *key != self.key) {
+            self.key = key;
+            self.pending.set(true);
         }
+    }
+
+    /// Reads the map from `disk` in place of its first computation, if [`Self::prepare`]
+    /// asked for that and the disk holds it under `inputs`' key (None: these inputs have
+    /// no key); else has that computation stored under it.
+    fn read_first_from_disk(
+        &mut self,
+        device: &Arc<Device>,
+        one_shot: &OneShot,
+        disk: &DiskCache,
+        inputs: impl FnOnce() -> Option<u64>,
+    ) -> Result<()> {
+        let first = self.pending.get() && self.renders.get() == 0;
+        let Some(key) = inputs().filter(|_| first && disk.dir().is_some()).map(|inputs| {
+            let specialization: Vec<u8> = self.specialization.0.iter().flat_map(|c| c.to_le_bytes()).collect();
+            let device = &device.info;
+            cache::key(&[
+                &inputs.to_le_bytes(),
+                self.shader,
+                &specialization,
+                &self.size.to_le_bytes(),
+                &self.image.layers.to_le_bytes(),
+                device.name.as_bytes(),
+                device.driver.as_bytes(),
+                include_str!("ground_maps.rs").as_bytes(),
+            ])
+        }) else {
+            self.disk_key.set(None);
+            return Ok(());
+        };
+        let size = transfer::image_size(&self.image, TEXEL_BYTES);
+        let Some(bits) = disk.load(&self.entry(), key).filter(|b| b.len() == size) else {
+            self.disk_key.set(Some(key));
+            return Ok(());
+        };
+        let image = &self.image;
+        transfer::upload_image(device, one_shot, image, &bits, TEXEL_BYTES, AFTER_READS, ImageUse::FRAGMENT_READ)?;
+        self.pending.set(false);
+        self.disk_key.set(None);
+        self.renders.set(self.renders.get() + 1);
+        Ok(())
+    }
+
+    /// The map's entries' name in the disk cache.
+    fn entry(&self) -> String {
+        self.name.replace(' ', "-")
     }
 
     /// Computes the map if [`Self::prepare`] found it out of date, with the other sets of
@@ -207,15 +270,11 @@ impl GroundMap {
         if !self.pending.replace(false) {
             return;
         }
+        self.unsaved.set(self.disk_key.take());
         self.renders.set(self.renders.get() + 1);
         let image = &self.image;
-        // The old map goes once the frames before this one have read it.
-        let after_reads = ImageUse {
-            stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
-            ..ImageUse::UNDEFINED
-        };
         let layers = image.all_levels();
-        transition_levels(device, cmd, image.handle, layers, after_reads, ImageUse::COMPUTE_STORAGE);
+        transition_levels(device, cmd, image.handle, layers, AFTER_READS, ImageUse::COMPUTE_STORAGE);
         let d = &device.handle;
         let groups = self.size.div_ceil(WORKGROUP);
         unsafe {
@@ -235,8 +294,26 @@ impl GroundMap {
     }
 }
 
+/// Where a map is made again from: its old texels go once the frames before have read them.
+const AFTER_READS: ImageUse = ImageUse {
+    stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
+    ..ImageUse::UNDEFINED
+};
+
+/// What the maps' disk cache entries are keyed by besides each map's own code.
+pub struct MapInputs<'a> {
+    /// Set 0's data as the frame writes it.
+    pub frame: &'a FrameData,
+    /// `ShadowPass::disk_key` of the frame's shadows, asked for only by a map's first
+    /// computation.
+    pub shadows: &'a dyn Fn() -> u64,
+    /// `EnvironmentPass::disk_key`.
+    pub environment: Option<u64>,
+}
+
 pub struct GroundMaps {
     device: Arc<Device>,
+    disk: DiskCache,
     /// Set 5 of the forward pass: the maps, sampled.
     _set_layout: DescriptorSetLayout,
     set: vk::DescriptorSet,
@@ -295,7 +372,7 @@ impl GroundMaps {
             0,
             vk::ShaderStageFlags::empty(),
         )?;
-        let map = |shader: &[u8], size: u32, layers: u32, name: &'static str| {
+        let map = |shader: &'static [u8], size: u32, layers: u32, name: &'static str| {
             let compute_set = pools[1].allocate(&compute_set_layout)?;
             GroundMap::new(device, one_shot, compute_set, shader, size, layers, name)
         };
@@ -316,6 +393,7 @@ impl GroundMaps {
         sampled(sampled(writer, 1, &occlusion), 2, &shadow).write(device, set);
         Ok(Self {
             device: device.clone(),
+            disk: DiskCache::from_env(),
             _set_layout: set_layout,
             set,
             _compute_set_layout: compute_set_layout,
@@ -334,84 +412,112 @@ impl GroundMaps {
     }
 
     /// Has the next recorded frame compute each map the frame reads whose inputs changed:
-    /// the light map when the scene bounces light and its lights or ground changed, or
-    /// `shadows_change` (the shadow maps are rendered again, or switched on or off); the
+    /// the light map when the scene bounces light and its lights, its ground or the shadow
+    /// maps (their `shadow_generation`: rendered again, or switched on or off) changed; the
     /// occlusion map when `occlusion_ground` (see [`occlusion_ground`]) reads it and the
     /// ground, the frame's `occluders` or the environment (its `environment_generation`)
     /// changed; the shadow map when `shadow_ground` (see [`shadow_ground`]) reads it and
-    /// the ground, the lights or the taps changed, or `shadows_change`.
+    /// the ground, the lights, the taps or the shadow maps changed. A map's first
+    /// computation is read from the disk cache instead, through `one_shot`, when it holds
+    /// one of the same `inputs`.
+    #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
         scene: &Scene,
         occluders: &[Occluder],
-        shadows_change: bool,
+        shadow_generation: u64,
         occlusion_ground: Option<usize>,
         shadow_ground: Option<usize>,
         environment_generation: u64,
+        one_shot: &OneShot,
+        inputs: &MapInputs,
     ) -> Result<()> {
-        self.prepare_pipelines(scene, occlusion_ground, shadow_ground)?;
-        // A map's inputs bit for bit, the ground's square first.
-        let key = |ground: &Object, inputs: &mut dyn Iterator<Item = f32>| -> Vec<u32> {
+        self.specialize(scene, occlusion_ground, shadow_ground);
+        // A map's inputs bit for bit, the ground's square first, and the generation of the
+        // images it reads.
+        let key = |ground: &Object, inputs: &mut dyn Iterator<Item = f32>, generation: u64| -> Vec<u32> {
             let square = ground.position.extend(ground.scale).to_array();
-            square.into_iter().chain(inputs).map(f32::to_bits).collect()
+            let bits = square.into_iter().chain(inputs).map(f32::to_bits);
+            bits.chain([generation as u32, (generation >> 32) as u32]).collect()
         };
         let light_key = scene.bounce_ground().map(|ground| {
             let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
-            key(ground, &mut lights.flat_map(|l| [l.position, l.intensity]).flat_map(|v| v.to_array()))
+            let lights = lights.flat_map(|l| [l.position, l.intensity]).flat_map(|v| v.to_array());
+            key(ground, &mut lights.into_iter(), shadow_generation)
         });
-        self.light.prepare(light_key, shadows_change);
+        self.light.prepare(light_key);
         let occlusion_key = occlusion_ground.map(|index| {
             let spheres = occluders.iter().flat_map(|s| [s.centre.extend(s.radius), s.albedo.extend(0.0)]);
-            let mut key = key(&scene.objects[index], &mut spheres.flat_map(|v| v.to_array()));
-            key.extend([environment_generation as u32, (environment_generation >> 32) as u32]);
-            key
+            key(&scene.objects[index], &mut spheres.flat_map(|v| v.to_array()), environment_generation)
         });
-        self.occlusion.prepare(occlusion_key, false);
+        self.occlusion.prepare(occlusion_key);
         let shadow_key = shadow_ground.map(|index| {
             let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
             let lights = lights.flat_map(|l| l.position.extend(l.radius).to_array());
-            let mut key = key(&scene.objects[index], &mut lights.into_iter());
+            let mut key = key(&scene.objects[index], &mut lights.into_iter(), shadow_generation);
             key.push(scene.shadow_taps);
             key
         });
-        self.shadow.prepare(shadow_key, shadows_change);
+        self.shadow.prepare(shadow_key);
+        // The view and the sample set are the frame's alone: no map reads them.
+        let frame = FrameData {
+            view_proj: [[0.0; 4]; 4],
+            camera_position: [0.0; 4],
+            counts: [inputs.frame.counts[0], inputs.frame.counts[1], 0, inputs.frame.counts[3]],
+            ..*inputs.frame
+        };
+        let with_frame = |upstream: u64| cache::key(&[bytemuck::bytes_of(&frame), &upstream.to_le_bytes()]);
+        let (device, disk) = (&self.device, &self.disk);
+        let from_shadows = || Some(with_frame((inputs.shadows)()));
+        self.light.read_first_from_disk(device, one_shot, disk, from_shadows)?;
+        self.shadow.read_first_from_disk(device, one_shot, disk, from_shadows)?;
+        let from_environment = || inputs.environment.map(with_frame);
+        self.occlusion.read_first_from_disk(device, one_shot, disk, from_environment)?;
+        // The pipelines of the maps left to compute, on both cores: a warm start makes none.
+        let layout = &self.layout;
+        let mut maps = [&mut self.light, &mut self.occlusion, &mut self.shadow];
+        maps.par_iter_mut().try_for_each(|map| map.make_pipeline(device, layout))
+    }
+
+    /// Stores in the disk cache each map whose first computation it did not hold, once the
+    /// frame that computed it is done (the caller has waited for it).
+    pub fn store_computed(&self, one_shot: &OneShot) -> Result<()> {
+        for map in [&self.light, &self.occlusion, &self.shadow] {
+            if let Some(key) = map.unsaved.take() {
+                let (device, at) = (&self.device, ImageUse::FRAGMENT_READ);
+                let bits = transfer::read_level(device, one_shot, &map.image, 0, TEXEL_BYTES, at)?;
+                self.disk.store(&map.entry(), key, &bits);
+            }
+        }
         Ok(())
     }
 
-    /// Makes the pipelines of the maps that a frame of `scene` reads (`occlusion_ground`
-    /// and `shadow_ground` as [`Self::prepare`] takes them) as the frame specialises them,
-    /// those no frame asked for before: a scene without a ground makes none.
-    pub fn prepare_pipelines(
-        &mut self,
-        scene: &Scene,
-        occlusion_ground: Option<usize>,
-        shadow_ground: Option<usize>,
-    ) -> Result<()> {
-        let (device, layout) = (&self.device, &self.layout);
+    /// Specialises the maps that a frame of `scene` reads (`occlusion_ground` and
+    /// `shadow_ground` as [`Self::prepare`] takes them) as the frame does.
+    fn specialize(&mut self, scene: &Scene, occlusion_ground: Option<usize>, shadow_ground: Option<usize>) {
         if scene.bounce_ground().is_some() {
-            self.light.specialize(device, layout, Specialization::default())?;
+            self.light.specialize(Specialization::default());
         }
         if occlusion_ground.is_some() {
-            self.occlusion.specialize(device, layout, occlusion_specialization(&scene.environment))?;
+            self.occlusion.specialize(occlusion_specialization(&scene.environment));
         }
         if shadow_ground.is_some() {
             let taps = GROUND_SHADOW_TAPS_PER_TAP * scene.shadow_taps;
-            self.shadow.specialize(device, layout, shadow_specialization(taps))?;
+            self.shadow.specialize(shadow_specialization(taps));
         }
-        Ok(())
     }
 
-    /// Frames that have computed the light map.
+    /// Times the light map was made (computed, or read from the disk cache).
     pub fn light_renders(&self) -> u64 {
         self.light.renders.get()
     }
 
-    /// Frames that have computed the occlusion map.
+    /// Times the occlusion map was made.
     pub fn occlusion_renders(&self) -> u64 {
         self.occlusion.renders.get()
     }
 
-    /// Frames that have computed the shadow map.
+    /// Times the shadow map was made.
     pub fn shadow_renders(&self) -> u64 {
         self.shadow.renders.get()
     }
@@ -481,6 +587,44 @@ fn shadow_specialization(taps: u32) -> Specialization {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The (set, binding) pairs a SPIR-V module decorates: the resources its entry point
+    /// reads and writes (the compiler drops those it does not use).
+    fn bindings(spirv: &[u8]) -> Vec<(u32, u32)> {
+        const OP_DECORATE: u32 = 71;
+        const BINDING: u32 = 33;
+        const DESCRIPTOR_SET: u32 = 34;
+        let words: Vec<u32> = spirv.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap())).collect();
+        let (mut sets, mut bindings) = (HashMap::new(), HashMap::new());
+        let mut at = 5;
+        while at < words.len() {
+            let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+            if opcode == OP_DECORATE && count == 4 {
+                let (target, decoration, value) = (words[at + 1], words[at + 2], words[at + 3]);
+                match decoration {
+                    DESCRIPTOR_SET => sets.insert(target, value),
+                    BINDING => bindings.insert(target, value),
+                    _ => None,
+                };
+            }
+            at += count.max(1);
+        }
+        let mut pairs: Vec<(u32, u32)> = sets.iter().map(|(target, &set)| (set, bindings[target])).collect();
+        pairs.sort_unstable();
+        pairs
+    }
+
+    /// A map's disk cache key holds what its shader reads: set 0's frame data (binding 0),
+    /// the shadows' set 3 (`ShadowPass::disk_key`) or the environment's data, radiance and
+    /// irradiance (`EnvironmentPass::disk_key`), beside the map it writes (set 1). A shader
+    /// that reads more needs its key to hold it too.
+    #[test]
+    fn the_disk_keys_hold_every_resource_the_shaders_read() {
+        let from_shadows = [(0, 0), (1, 0), (3, 0), (3, 1)];
+        assert_eq!(bindings(shaders::GROUND_LIGHT_COMP), from_shadows);
+        assert_eq!(bindings(shaders::GROUND_SHADOW_COMP), from_shadows);
+        assert_eq!(bindings(shaders::GROUND_OCCLUSION_COMP), [(0, 0), (1, 0), (2, 0), (2, 1), (2, 4)]);
+    }
 
     #[test]
     fn the_workgroup_and_format_are_the_shaders() {

@@ -16,7 +16,7 @@ use super::environment::EnvironmentPass;
 use super::exposure::ExposurePass;
 use super::forward::{FrameChoices, ForwardPass};
 use super::gpu_scene::GpuScene;
-use super::ground_maps::{occlusion_ground, shadow_ground, GroundMaps};
+use super::ground_maps::{occlusion_ground, shadow_ground, GroundMaps, MapInputs};
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
 use super::occlusion::{OcclusionMode, OcclusionPass};
 use super::shadow::ShadowPass;
@@ -255,20 +255,20 @@ impl Renderer {
         self.shadow.renders()
     }
 
-    /// How many times the ground's light map has been computed: once per change of the
-    /// lights, the ground or the shadow maps, not per frame.
+    /// How many times the ground's light map has been made (computed, or read from the disk
+    /// cache): once per change of the lights, the ground or the shadow maps, not per frame.
     pub fn ground_light_renders(&self) -> u64 {
         self.ground_maps.light_renders()
     }
 
-    /// How many times the ground's occlusion map has been computed: once per change of the
+    /// How many times the ground's occlusion map has been made: once per change of the
     /// objects, the ground or the environment, not per frame.
     pub fn ground_occlusion_renders(&self) -> u64 {
         self.ground_maps.occlusion_renders()
     }
 
-    /// How many times the ground's shadow map has been computed: once per change of the
-    /// lights, the ground, the shadow maps or the taps, not per frame.
+    /// How many times the ground's shadow map has been made: once per change of the lights,
+    /// the ground, the shadow maps or the taps, not per frame.
     pub fn ground_shadow_renders(&self) -> u64 {
         self.ground_maps.shadow_renders()
     }
@@ -312,9 +312,6 @@ impl Renderer {
         self.prepare_environment_and_pipelines(scene, gpu, &occluders, &shadowing, choices)?;
         self.environment.prepare_skybox(sample_flag(samples))?;
         self.msaa.prepare(slot, target, samples)?;
-        let environment = self.environment.generation();
-        let shadows_change = self.shadow.pending();
-        self.ground_maps.prepare(scene, &occluders, shadows_change, ground, shadow_ground, environment)?;
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
         let switches = [self.shadows, self.floor, self.generic, self.occlusion];
         let view = (self.accumulation != Accumulation::Off)
@@ -332,6 +329,22 @@ impl Renderer {
         let sample_set = self.accumulate.prepare(slot, view, self.accumulation, target)?;
         self.forward
             .prepare(slot, scene, self.split.as_ref(), target.aspect(), sample_set, &occluders, &choices)?;
+        let inputs = MapInputs {
+            frame: self.forward.frame_data(),
+            shadows: &|| self.shadow.disk_key(scene),
+            environment: self.environment.disk_key(),
+        };
+        let (environment, shadows) = (self.environment.generation(), self.shadow.generation());
+        self.ground_maps.prepare(
+            scene,
+            &occluders,
+            shadows,
+            ground,
+            shadow_ground,
+            environment,
+            &self.one_shot,
+            &inputs,
+        )?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
     }
@@ -339,9 +352,10 @@ impl Renderer {
     /// The environment's precompute and the forward pass's pipelines (and subsurface table)
     /// for `choices`, but the sun, which comes from the environment. The precompute runs on
     /// the device's queue, which lavapipe's one thread serves (compiling its shaders there
-    /// too), while this thread waits: where the sun is known before it, the pipelines, the
-    /// ground's maps' too, and the table are made meanwhile, at a low priority
-    /// (src/priority.rs), so that the queue's thread keeps most of its core.
+    /// too), while this thread waits: where the sun is known before it, the pipelines and
+    /// the table are made meanwhile, at a low priority (src/priority.rs), so that the
+    /// queue's thread keeps most of its core. The ground's maps make theirs once they know
+    /// which maps the disk cache does not hold (`GroundMaps::prepare`).
     fn prepare_environment_and_pipelines(
         &mut self,
         scene: &Scene,
@@ -365,22 +379,12 @@ impl Renderer {
                 sun: self.environment.has_sun(),
                 ..choices
             };
-            // The ground's maps' pipelines are made by their prepare, which follows.
             return self.forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, &self.one_shot);
         };
-        let (ground_occlusion, ground_shadows) = (choices.ground_map, choices.ground_shadows);
         let choices = FrameChoices { sun, ..choices };
         let pool = low_priority_pool()?;
         let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
-        let ground_maps = &mut self.ground_maps;
-        // The ground's three take the thread that the forward pass's pipelines leave idle.
-        let make_pipelines = || {
-            let (forward, ground) = rayon::join(
-                || forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, one_shot),
-                || ground_maps.prepare_pipelines(scene, ground_occlusion, ground_shadows),
-            );
-            forward.and(ground)
-        };
+        let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, one_shot);
         let (precomputed, pipelines) = std::thread::scope(|threads| {
             let precompute = threads.spawn(move || environment.prepare(scene, plan));
             let pipelines = pool.install(make_pipelines);
@@ -643,6 +647,7 @@ impl Renderer {
         });
         self.one_shot
             .run(|cmd| self.record(cmd, 0, scene, gpu, &offscreen.target, output.as_ref()))??;
+        self.ground_maps.store_computed(&self.one_shot)?;
         self.gpu_times(0)
     }
 

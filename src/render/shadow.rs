@@ -21,7 +21,8 @@ use super::gpu_scene::{GpuScene, MAX_POINT_LIGHTS};
 use super::shaders;
 use super::target::DEPTH_FORMAT;
 use crate::brdf::shadow::CUBE_FACE_AXES;
-use crate::scene::{GroundRect, Scene, Vertex};
+use crate::cache;
+use crate::scene::{GroundRect, Mesh, Scene, Vertex};
 use crate::vk::{
     begin_full_rendering, transition_levels, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
     DescriptorWriter, Device, GraphicsPipelineBuilder, Image, ImageUse, ImageView, Pipeline, PipelineLayout, Sampler,
@@ -112,9 +113,15 @@ pub struct ShadowPass {
     maps: Option<ShadowMaps>,
     /// What the maps were last rendered from (lights, objects, meshes, settings).
     key: Vec<u64>,
+    /// The lights that cast shadows and the data of the last [`Self::prepare`]: with the
+    /// meshes' vertices, what [`Self::disk_key`] holds.
+    shadowed: Vec<usize>,
+    data: ShadowData,
     faces: Vec<Face>,
     /// Whether the next recorded frame renders the maps.
     pending: Cell<bool>,
+    /// Counts the changes of what the maps are rendered from.
+    generation: u64,
     /// Frames that rendered them.
     renders: Cell<u64>,
     /// What the shadows reach, and the key and lights' radii it was found from.
@@ -163,8 +170,11 @@ impl ShadowPass {
             sampler: Sampler::nearest(device)?,
             maps: None,
             key: Vec::new(),
+            shadowed: Vec::new(),
+            data: ShadowData::zeroed(),
             faces: Vec::new(),
             pending: Cell::new(false),
+            generation: 0,
             renders: Cell::new(0),
             reach: (ShadowReach::default(), Vec::new()),
         })
@@ -201,7 +211,7 @@ impl ShadowPass {
             scene.shadow_resolution
         };
         let layers = 6 * shadowed.len().max(1) as u32;
-        let key = shadow_key(scene, gpu, &shadowed, resolution);
+        let key = shadow_key(scene, &shadowed, resolution, |_| gpu.id);
         if self
             .maps
             .as_ref()
@@ -230,6 +240,7 @@ impl ShadowPass {
                 .collect();
             self.key = key;
             self.pending.set(true);
+            self.generation += 1;
         }
         for (k, &i) in shadowed.iter().enumerate() {
             let face = &self.faces[6 * k];
@@ -250,7 +261,24 @@ impl ShadowPass {
             let (centre, half) = ((rect.min + rect.max) * 0.5, (rect.max - rect.min) * 0.5);
             data.ground = [centre.x, centre.y, half.x, half.y];
         }
-        self.slots[slot].data.write(bytemuck::bytes_of(&data))
+        self.slots[slot].data.write(bytemuck::bytes_of(&data))?;
+        (self.shadowed, self.data) = (shadowed, data);
+        Ok(())
+    }
+
+    /// A key of everything the maps and the data of the last [`Self::prepare`] of `scene`
+    /// hold, the meshes by their vertices and the code by its text: what a disk cache entry
+    /// of an image computed from them is keyed by (ground_maps.rs), where [`Self::prepare`]'s
+    /// key stands for the meshes by their upload, which another process does not share.
+    pub fn disk_key(&self, scene: &Scene) -> u64 {
+        let resolution = self.data.settings[0];
+        let key = shadow_key(scene, &self.shadowed, resolution, |mesh| mesh_key(&scene.meshes[mesh]));
+        cache::key(&[
+            bytemuck::cast_slice(&key),
+            bytemuck::bytes_of(&self.data),
+            shaders::SHADOW_VERT,
+            include_str!("shadow.rs").as_bytes(),
+        ])
     }
 
     /// New maps (waiting for the frames that read the old ones) and every set pointed at them.
@@ -288,9 +316,10 @@ impl ShadowPass {
         Ok(())
     }
 
-    /// Whether the next recorded frame renders the maps.
-    pub fn pending(&self) -> bool {
-        self.pending.get()
+    /// Changes when what the maps are rendered from changes (the lights, the objects or
+    /// the settings, or shadows switched on or off), and only then.
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// Frames that have rendered the maps.
@@ -406,10 +435,15 @@ pub(super) fn draw_depth(
     }
 }
 
-/// Everything the maps depend on, as bits: the resolution, the upload the meshes come
-/// from, each shadowed light's position and each object's placement.
-fn shadow_key(scene: &Scene, gpu: &GpuScene, shadowed: &[usize], resolution: u32) -> Vec<u64> {
-    let mut key = vec![u64::from(resolution), gpu.id];
+/// Everything the maps depend on, as bits: the resolution, each shadowed light's position,
+/// and each object's placement and mesh, whose vertices `mesh_vertices(index)` stands for.
+fn shadow_key(
+    scene: &Scene,
+    shadowed: &[usize],
+    resolution: u32,
+    mesh_vertices: impl Fn(usize) -> u64,
+) -> Vec<u64> {
+    let mut key = vec![u64::from(resolution)];
     let vector = |key: &mut Vec<u64>, v: DVec3| key.extend(v.to_array().map(f64::to_bits));
     for &i in shadowed {
         key.push(i as u64);
@@ -417,9 +451,15 @@ fn shadow_key(scene: &Scene, gpu: &GpuScene, shadowed: &[usize], resolution: u32
     }
     for object in &scene.objects {
         vector(&mut key, object.position.as_dvec3());
-        key.extend([u64::from(object.scale.to_bits()), object.mesh as u64]);
+        key.extend([u64::from(object.scale.to_bits()), object.mesh as u64, mesh_vertices(object.mesh)]);
     }
     key
+}
+
+/// A key of what the maps read of `mesh`: its positions and triangles.
+fn mesh_key(mesh: &Mesh) -> u64 {
+    let positions: Vec<[f32; 3]> = mesh.vertices.iter().map(|v| v.position).collect();
+    cache::key(&[bytemuck::cast_slice(&positions), bytemuck::cast_slice(&mesh.indices)])
 }
 
 #[cfg(test)]
