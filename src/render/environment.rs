@@ -392,7 +392,7 @@ impl EnvironmentPass {
     fn build_cubes(&mut self, source: Source, given_map: Option<equirect::Equirect>) -> Result<Cubes> {
         let mut loaded_map = None;
         let radiance = match &source {
-            Source::Studio => self.precompute.studio(STUDIO_SIZE, &mut self.costs)?,
+            Source::Studio => self.precompute.studio(STUDIO_SIZE, &DiskCache::from_env(), &mut self.costs)?,
             Source::Map(path) => {
                 let map = match given_map {
                     Some(map) => map,

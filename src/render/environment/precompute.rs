@@ -46,8 +46,10 @@ const PREFILTER_MAX_SAMPLES: u32 = 1024;
 /// BRDF tables: n·v × roughness, and the samples per texel (QMC error ~1e-3).
 pub const LUT_SIZE: vk::Extent2D = vk::Extent2D { width: 32, height: 32 };
 pub const LUT_SAMPLES: u32 = 512;
-/// The disk cache's entries of the BRDF tables and of an environment's prefiltered maps.
+/// The disk cache's entries of the BRDF tables, the studio's cube with its mips and an
+/// environment's prefiltered maps.
 const LUT_ENTRY: &str = "brdf-tables";
+const STUDIO_ENTRY: &str = "studio-cube";
 const PREFILTERED_ENTRY: &str = "prefiltered-environment";
 /// Compute shaders' workgroups are 8×8 texels of one layer.
 const GROUP: u32 = 8;
@@ -426,9 +428,35 @@ impl Precompute {
         );
     }
 
-    /// The studio's cube map.
-    pub fn studio(&mut self, size: u32, costs: &mut Vec<Cost>) -> Result<SourceCube> {
-        self.source(KernelKind::Studio, size, None, ["studio", "mips"], costs)
+    /// The studio's cube map with its mips: read from `disk` when this device and driver
+    /// made it before, else made and stored.
+    pub fn studio(&mut self, size: u32, disk: &DiskCache, costs: &mut Vec<Cost>) -> Result<SourceCube> {
+        let key = cache::key(&[
+            shaders::ENV_STUDIO_COMP,
+            shaders::ENV_DOWNSAMPLE_COMP,
+            &size.to_le_bytes(),
+            self.device.info.name.as_bytes(),
+            self.device.info.driver.as_bytes(),
+        ]);
+        let start = Instant::now();
+        let levels = crate::vk::mip_count(vk::Extent2D {
+            width: size,
+            height: size,
+        });
+        let (image, _) = self.storage_cube(size, levels, "environment cube")?;
+        if let Some(cached) = disk.load(STUDIO_ENTRY, key).filter(|b| b.len() == level_bytes(&image)) {
+            self.upload_levels(&image, &cached)?;
+            costs.push(Cost {
+                step: "studio and mips (disk cache)",
+                ms: start.elapsed().as_secs_f64() * 1e3,
+                gpu: false,
+            });
+            return Ok(SourceCube { image });
+        }
+        let cube = self.source(KernelKind::Studio, size, None, ["studio", "mips"], costs)?;
+        let levels = (0..cube.image.mip_levels).map(|level| self.read_level_bits(&cube.image, level));
+        disk.store(STUDIO_ENTRY, key, &levels.collect::<Result<Vec<_>>>()?.concat());
+        Ok(cube)
     }
 
     /// An equirectangular map's cube map.
