@@ -251,8 +251,7 @@ impl GroundMap {
             self.disk_key.set(Some(key));
             return Ok(());
         };
-        let image = &self.image;
-        transfer::upload_image(device, one_shot, image, &bits, TEXEL_BYTES, AFTER_READS, ImageUse::FRAGMENT_READ)?;
+        transfer::upload_image(device, one_shot, &self.image, &[&bits], AFTER_READS, ImageUse::FRAGMENT_READ)?;
         self.pending.set(false);
         self.disk_key.set(None);
         self.renders.set(self.renders.get() + 1);

@@ -6,12 +6,11 @@ use std::sync::Arc;
 
 use anyhow::{bail, ensure, Context, Result};
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
 use crate::cache::DiskCache;
 use crate::scene::mips::cached_mip_levels;
 use crate::scene::{TexelFormat, TextureData};
-use crate::vk::{copy_region, full_range, transition_levels, Buffer, Device, Image, ImageUse, OneShot};
+use crate::vk::{transfer, Device, Image, ImageUse, OneShot};
 
 fn vk_format(format: TexelFormat) -> (vk::Format, u32) {
     match format {
@@ -73,58 +72,22 @@ impl GpuTexture {
         } else {
             Vec::new()
         };
-        let levels = [texture.pixels.as_slice()].into_iter().chain(below.iter().map(Vec::as_slice));
+        let levels: Vec<&[u8]> = std::iter::once(texture.pixels.as_slice())
+            .chain(below.iter().map(Vec::as_slice))
+            .collect();
         let image = Image::with_mips(
             device,
             extent,
-            1 + below.len() as u32,
+            levels.len() as u32,
             format,
             vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
             vk::ImageAspectFlags::COLOR,
             &texture.name,
         )?;
-        let mut staging = Buffer::new(
-            device,
-            levels.clone().map(|l| l.len() as u64).sum(),
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
-            "texture staging",
-        )?;
-        let mut regions = Vec::new();
-        let mut offset = 0;
-        for (level, bytes) in (0..).zip(levels) {
-            staging.write_at(offset, bytes)?;
-            let region = copy_region(image.aspect, level, 1, image.level_extent(level));
-            regions.push(region.buffer_offset(offset as u64));
-            offset += bytes.len();
-        }
-        one_shot
-            .run(|cmd| record_upload(device, cmd, &staging, &image, &regions))
+        transfer::upload_image(device, one_shot, &image, &levels, ImageUse::UNDEFINED, ImageUse::FRAGMENT_READ)
             .with_context(|| format!("uploading texture '{}'", texture.name))?;
         Ok(Self { image })
     }
-}
-
-/// Copies every level from `staging` and leaves them readable by fragment shaders.
-fn record_upload(
-    device: &Device,
-    cmd: vk::CommandBuffer,
-    staging: &Buffer,
-    image: &Image,
-    regions: &[vk::BufferImageCopy],
-) {
-    let all = full_range(image.aspect).level_count(image.mip_levels);
-    transition_levels(device, cmd, image.handle, all, ImageUse::UNDEFINED, ImageUse::TRANSFER_DST);
-    unsafe {
-        device.handle.cmd_copy_buffer_to_image(
-            cmd,
-            staging.handle,
-            image.handle,
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            regions,
-        )
-    };
-    transition_levels(device, cmd, image.handle, all, ImageUse::TRANSFER_DST, ImageUse::FRAGMENT_READ);
 }
 
 /// A 1×1 stand-in bound where a material has no map, so every material binds the same

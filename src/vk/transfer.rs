@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use anyhow::Result;
+use anyhow::{ensure, Result};
 use ash::vk;
 use gpu_allocator::MemoryLocation;
 
@@ -19,42 +19,53 @@ pub fn level_size(image: &Image, level: u32, texel_bytes: u64) -> u64 {
     u64::from(extent.width) * u64::from(extent.height) * u64::from(image.layers) * texel_bytes
 }
 
-/// Bytes of every level and layer of `image`, as [`upload_image`] takes them.
+/// Bytes of every level and layer of `image`, as [`split_levels`] takes them.
 pub fn image_size(image: &Image, texel_bytes: u64) -> usize {
     (0..image.mip_levels)
         .map(|level| level_size(image, level, texel_bytes))
         .sum::<u64>() as usize
 }
 
-/// Fills every level and layer of `image` with `bits` (each level's [`read_level`] one
-/// after another). The image is in use `from` before (an `UNDEFINED` layout discards its
-/// contents) and `to` after.
+/// `bits`, every level of `image` one after another (each as [`read_level`] gives it), as
+/// one slice a level.
+pub fn split_levels<'a>(image: &Image, bits: &'a [u8], texel_bytes: u64) -> Result<Vec<&'a [u8]>> {
+    let expected = image_size(image, texel_bytes);
+    ensure!(bits.len() == expected, "{} bytes for an image of {expected}", bits.len());
+    let mut rest = bits;
+    Ok((0..image.mip_levels)
+        .map(|level| {
+            let (bytes, tail) = rest.split_at(level_size(image, level, texel_bytes) as usize);
+            rest = tail;
+            bytes
+        })
+        .collect())
+}
+
+/// Fills every layer of each level of `image` with its slice of `levels`. The image is in
+/// use `from` before (an `UNDEFINED` layout discards its contents) and `to` after.
 pub fn upload_image(
     device: &Arc<Device>,
     one_shot: &OneShot,
     image: &Image,
-    bits: &[u8],
-    texel_bytes: u64,
+    levels: &[&[u8]],
     from: ImageUse,
     to: ImageUse,
 ) -> Result<()> {
     let mut staging = Buffer::new(
         device,
-        bits.len() as u64,
+        levels.iter().map(|l| l.len() as u64).sum(),
         vk::BufferUsageFlags::TRANSFER_SRC,
         MemoryLocation::CpuToGpu,
         "image upload",
     )?;
-    staging.write(bits)?;
+    let mut regions = Vec::new();
     let mut offset = 0;
-    let regions: Vec<vk::BufferImageCopy> = (0..image.mip_levels)
-        .map(|level| {
-            let extent = image.level_extent(level);
-            let region = copy_region(image.aspect, level, image.layers, extent).buffer_offset(offset);
-            offset += level_size(image, level, texel_bytes);
-            region
-        })
-        .collect();
+    for (level, bytes) in (0..).zip(levels) {
+        staging.write_at(offset, bytes)?;
+        let extent = image.level_extent(level);
+        regions.push(copy_region(image.aspect, level, image.layers, extent).buffer_offset(offset as u64));
+        offset += bytes.len();
+    }
     one_shot.run(|cmd| {
         let all = image.all_levels();
         transition_levels(device, cmd, image.handle, all, from, ImageUse::TRANSFER_DST);

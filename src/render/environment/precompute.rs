@@ -702,8 +702,8 @@ impl Precompute {
     /// Fills every level and layer of an image with `bits` (the levels' `read_level_bits`
     /// one after another), leaving it in `SHADING_READ`.
     fn upload_levels(&self, image: &Image, bits: &[u8]) -> Result<()> {
-        let (device, one_shot) = (&self.device, &self.one_shot);
-        transfer::upload_image(device, one_shot, image, bits, TEXEL_BYTES, ImageUse::UNDEFINED, SHADING_READ)
+        let levels = transfer::split_levels(image, bits, TEXEL_BYTES)?;
+        transfer::upload_image(&self.device, &self.one_shot, image, &levels, ImageUse::UNDEFINED, SHADING_READ)
     }
 
     /// Mip `level` of an RGBA16F image, every layer, as f32 texels (layer-major, rows from
