@@ -8,8 +8,8 @@
 //! KEY a hash of everything the bytes depend on, holding a header (magic, key, length,
 //! CRC-32 of the payload: SIMD-fast, where FNV-1a took 10 ms of a warm start) and the
 //! payload. A missing, truncated or corrupt entry is computed again and rewritten; a cache
-//! that cannot be written costs only the time, so failures to write are reported once on
-//! stderr and otherwise ignored.
+//! that cannot be written costs only the time, so a failure to write an entry is reported
+//! on stderr (a line an entry) and otherwise ignored.
 
 use std::path::{Path, PathBuf};
 

@@ -51,6 +51,7 @@ pub fn upload_image(
     from: ImageUse,
     to: ImageUse,
 ) -> Result<()> {
+    ensure!(levels.len() == image.mip_levels as usize, "{} levels for an image of {}", levels.len(), image.mip_levels);
     let mut staging = Buffer::new(
         device,
         levels.iter().map(|l| l.len() as u64).sum(),
