@@ -1419,9 +1419,10 @@ fn split_sum_specular_is_its_f64_product() {
         // Measured on lavapipe, roughness 0.3 and 0.7: product vs truth −0.057, +0.010
         // (−0.039, −0.019 with two lookups of the lobe's solid angle either side of
         // Lagarde's dominant direction; −0.032, −0.098 with one lookup at the lobe's
-        // roughness); split sum vs product +0.022, +0.001 (the blend of mips an octave of α
-        // apart; +0.027, +0.003 with 128 prefilter points at every mip; +0.039, +0.029 with
-        // 64² faces in roughness steps of 1/5).
+        // roughness); split sum vs product +0.022, +0.004 (the blend of two octahedral layers
+        // an octave of α apart; +0.022, +0.001 reading the cube's mips; +0.027, +0.003 with 128
+        // prefilter points at every mip; +0.039, +0.029 with 64² faces in roughness steps of
+        // 1/5).
         assert!(
             reference.abs() < 0.01,
             "the f64 truth disagrees with sampling: {reference:+.4}"
