@@ -228,8 +228,9 @@ impl GroundMap {
         disk: &DiskCache,
         inputs: impl FnOnce() -> Option<u64>,
     ) -> Result<()> {
-        let first = self.pending.get() && self.renders.get() == 0;
-        let Some(key) = inputs().filter(|_| first && disk.dir().is_some()).map(|inputs| {
+        // The inputs' key is found only for a first computation, which a cache may hold.
+        let first = self.pending.get() && self.renders.get() == 0 && disk.dir().is_some();
+        let Some(key) = first.then(inputs).flatten().map(|inputs| {
             let specialization: Vec<u8> = self.specialization.0.iter().flat_map(|c| c.to_le_bytes()).collect();
             let device = &device.info;
             cache::key(&[
