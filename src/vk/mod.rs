@@ -22,7 +22,7 @@ pub use buffer::Buffer;
 pub use commands::{CommandPool, OneShot};
 pub use descriptors::{DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter};
 pub use device::{Device, DeviceChoice, DeviceInfo, DeviceOptions, WindowHandles};
-pub use image::{copy_region, full_range, mip_count, Image, ImageView};
+pub use image::{mip_count, Image, ImageView};
 pub use pipeline::{
     begin_full_rendering, begin_rendering, GraphicsPipelineBuilder, Pipeline, PipelineLayout, Specialization,
 };
