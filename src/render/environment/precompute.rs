@@ -341,21 +341,26 @@ impl Precompute {
         Ok(())
     }
 
-    /// Level 0 of a cube map of `size`² faces from `kind` (studio or equirect), then its
-    /// mip chain down to 1², left readable by shaders; `steps` names the two in `costs`.
-    fn source(
-        &mut self,
-        kind: KernelKind,
-        size: u32,
-        map: Option<&Equirect>,
-        steps: [&'static str; 2],
-        costs: &mut Vec<Cost>,
-    ) -> Result<SourceCube> {
+    /// A source cube of `size`² faces with its mip chain down to 1², one view a level.
+    fn source_cube(&self, size: u32) -> Result<(Image, Vec<ImageView>)> {
         let levels = crate::vk::mip_count(vk::Extent2D {
             width: size,
             height: size,
         });
-        let (image, views) = self.storage_cube(size, levels, "environment cube")?;
+        self.storage_cube(size, levels, "environment cube")
+    }
+
+    /// Level 0 of `cube` (a [`Self::source_cube`]) from `kind` (studio or equirect), then
+    /// its mip chain, left readable by shaders; `steps` names the two in `costs`.
+    fn source(
+        &mut self,
+        kind: KernelKind,
+        (image, views): (Image, Vec<ImageView>),
+        map: Option<&Equirect>,
+        steps: [&'static str; 2],
+        costs: &mut Vec<Cost>,
+    ) -> Result<SourceCube> {
+        let (size, levels) = (image.extent.width, image.mip_levels);
         let upload = map
             .map(|m| {
                 Buffer::with_data(
@@ -431,6 +436,7 @@ impl Precompute {
     /// The studio's cube map with its mips: read from `disk` when this device and driver
     /// made it before, else made and stored.
     pub fn studio(&mut self, size: u32, disk: &DiskCache, costs: &mut Vec<Cost>) -> Result<SourceCube> {
+        let start = Instant::now();
         let key = cache::key(&[
             shaders::ENV_STUDIO_COMP,
             shaders::ENV_DOWNSAMPLE_COMP,
@@ -438,36 +444,26 @@ impl Precompute {
             self.device.info.name.as_bytes(),
             self.device.info.driver.as_bytes(),
         ]);
-        let start = Instant::now();
-        let levels = crate::vk::mip_count(vk::Extent2D {
-            width: size,
-            height: size,
-        });
-        let (image, _) = self.storage_cube(size, levels, "environment cube")?;
-        if let Some(cached) = disk.load(STUDIO_ENTRY, key).filter(|b| b.len() == level_bytes(&image)) {
-            self.upload_levels(&image, &cached)?;
-            costs.push(Cost {
-                step: "studio and mips (disk cache)",
-                ms: start.elapsed().as_secs_f64() * 1e3,
-                gpu: false,
-            });
-            return Ok(SourceCube { image });
+        let cube = self.source_cube(size)?;
+        if self.load_cached(disk, STUDIO_ENTRY, key, &cube.0, ("studio and mips (disk cache)", start), costs)? {
+            return Ok(SourceCube { image: cube.0 });
         }
-        let cube = self.source(KernelKind::Studio, size, None, ["studio", "mips"], costs)?;
-        let levels = (0..cube.image.mip_levels).map(|level| self.read_level_bits(&cube.image, level));
-        disk.store(STUDIO_ENTRY, key, &levels.collect::<Result<Vec<_>>>()?.concat());
-        Ok(cube)
+        let studio = self.source(KernelKind::Studio, cube, None, ["studio", "mips"], costs)?;
+        self.store_cached(disk, STUDIO_ENTRY, key, &studio.image)?;
+        Ok(studio)
     }
 
     /// An equirectangular map's cube map.
     pub fn equirect(&mut self, map: &Equirect, size: u32, costs: &mut Vec<Cost>) -> Result<SourceCube> {
-        self.source(KernelKind::Equirect, size, Some(map), ["equirect to cube", "mips"], costs)
+        let cube = self.source_cube(size)?;
+        self.source(KernelKind::Equirect, cube, Some(map), ["equirect to cube", "mips"], costs)
     }
 
     /// The cube map of a map whose sun was taken out (`sun::extract`), which the
     /// prefiltered cube is made from; its steps are named apart from the map's own cube's.
     pub fn sunless(&mut self, map: &Equirect, size: u32, costs: &mut Vec<Cost>) -> Result<SourceCube> {
-        self.source(KernelKind::Equirect, size, Some(map), ["sunless equirect to cube", "sunless mips"], costs)
+        let cube = self.source_cube(size)?;
+        self.source(KernelKind::Equirect, cube, Some(map), ["sunless equirect to cube", "sunless mips"], costs)
     }
 
     /// A cube map that compute shaders write level by level, with one view per level.
@@ -510,13 +506,7 @@ impl Precompute {
             self.device.info.name.as_bytes(),
             self.device.info.driver.as_bytes(),
         ]);
-        if let Some(cached) = disk.load(PREFILTERED_ENTRY, key).filter(|b| b.len() == level_bytes(&maps)) {
-            self.upload_levels(&maps, &cached)?;
-            costs.push(Cost {
-                step: "prefilter (disk cache)",
-                ms: start.elapsed().as_secs_f64() * 1e3,
-                gpu: false,
-            });
+        if self.load_cached(disk, PREFILTERED_ENTRY, key, &maps, ("prefilter (disk cache)", start), costs)? {
             return Ok(maps);
         }
         let cubes = (0..PREFILTERED_LEVELS)
@@ -524,7 +514,7 @@ impl Precompute {
             .collect::<Result<Vec<_>>>()?;
         self.compute_prefiltered(source, sampler, &cubes, costs)?;
         self.resample_octahedral(&cubes, sampler, &maps, costs)?;
-        disk.store(PREFILTERED_ENTRY, key, &self.read_level_bits(&maps, 0)?);
+        self.store_cached(disk, PREFILTERED_ENTRY, key, &maps)?;
         Ok(maps)
     }
 
@@ -620,6 +610,7 @@ impl Precompute {
     /// The BRDF tables, `LUT_LAYERS` layers of `LUT_SIZE`: read from `disk` when this
     /// device and driver computed them before with this shader, else computed and stored.
     pub fn brdf_lut(&mut self, disk: &DiskCache, costs: &mut Vec<Cost>) -> Result<Image> {
+        let start = Instant::now();
         let image = Image::array_2d(&self.device, LUT_SIZE, LUT_LAYERS, FORMAT, STORAGE_USAGE, "brdf tables")?;
         // The driver's arithmetic is part of the result, so its identity is in the key.
         let key = cache::key(&[
@@ -631,20 +622,9 @@ impl Precompute {
             self.device.info.name.as_bytes(),
             self.device.info.driver.as_bytes(),
         ]);
-        match disk.load(LUT_ENTRY, key).filter(|b| b.len() == level_bytes(&image)) {
-            Some(cached) => {
-                let start = Instant::now();
-                self.upload_levels(&image, &cached)?;
-                costs.push(Cost {
-                    step: "brdf tables (disk cache)",
-                    ms: start.elapsed().as_secs_f64() * 1e3,
-                    gpu: false,
-                });
-            }
-            None => {
-                self.compute_brdf_lut(&image, costs)?;
-                disk.store(LUT_ENTRY, key, &self.read_level_bits(&image, 0)?);
-            }
+        if !self.load_cached(disk, LUT_ENTRY, key, &image, ("brdf tables (disk cache)", start), costs)? {
+            self.compute_brdf_lut(&image, costs)?;
+            self.store_cached(disk, LUT_ENTRY, key, &image)?;
         }
         Ok(image)
     }
@@ -697,6 +677,37 @@ impl Precompute {
             .collect();
         self.upload_levels(&image, &bits)?;
         Ok(image)
+    }
+
+    /// Fills `image` from `disk`'s entry `name` under `key` (as [`Self::store_cached`] wrote
+    /// it) if the disk holds it whole, leaving it in `SHADING_READ`, with a cost `step` from
+    /// `start`; whether it did.
+    fn load_cached(
+        &self,
+        disk: &DiskCache,
+        name: &str,
+        key: u64,
+        image: &Image,
+        (step, start): (&'static str, Instant),
+        costs: &mut Vec<Cost>,
+    ) -> Result<bool> {
+        let Some(cached) = disk.load(name, key).filter(|b| b.len() == level_bytes(image)) else {
+            return Ok(false);
+        };
+        self.upload_levels(image, &cached)?;
+        costs.push(Cost {
+            step,
+            ms: start.elapsed().as_secs_f64() * 1e3,
+            gpu: false,
+        });
+        Ok(true)
+    }
+
+    /// Stores every level of `image`, in `SHADING_READ`, in `disk` under `name` and `key`.
+    fn store_cached(&self, disk: &DiskCache, name: &str, key: u64, image: &Image) -> Result<()> {
+        let levels = (0..image.mip_levels).map(|level| self.read_level_bits(image, level));
+        disk.store(name, key, &levels.collect::<Result<Vec<_>>>()?.concat());
+        Ok(())
     }
 
     /// Fills every level and layer of an image with `bits` (the levels' `read_level_bits`
