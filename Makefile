@@ -24,7 +24,7 @@ run: build
 		target/release/argil view; \
 	else \
 		echo "argil: no display; rendering the default scene to clay.png"; \
-		target/release/argil render --out clay.png && echo "argil: wrote $(CURDIR)/clay.png"; \
+		target/release/argil render --out clay.png --overwrite && echo "argil: wrote $(CURDIR)/clay.png"; \
 	fi
 
 # Release build, shared with `make run`; the tests turn the validation layer on themselves.

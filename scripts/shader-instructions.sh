@@ -45,7 +45,8 @@ trap 'rm -rf "$work"' EXIT
 printf '%-40s %18s %18s\n' scene shader_instructions all_instructions
 for scene in "$@"; do
   valgrind --tool=callgrind --callgrind-out-file="$work/out" \
-    "$argil" render "$scene" --width "${size%x*}" --height "${size#*x}" --out "$work/frame.exr" --accumulate "$frames" \
+    "$argil" render "$scene" --width "${size%x*}" --height "${size#*x}" --accumulate "$frames" \
+    --out "$work/frame.exr" --overwrite \
     >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
   # Functions of no object file ([???]) are the run-time compiled shaders.
   shaders=$(callgrind_annotate --inclusive=no --threshold=100 "$work/out" |

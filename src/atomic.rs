@@ -2,6 +2,8 @@
 //! is flushed to the disk and renamed over the path, so an interrupted or failed write
 //! (kill -9, a full disk, a crash) never leaves half a file or clobbers the previous one.
 //! A process killed mid-write can leave its temporary, `.NAME.PID.tmp`, beside the output.
+//! A command's outputs that already exist are refused before it starts, unless it was given
+//! `--overwrite` ([`refuse_existing`]).
 
 use std::fs::File;
 use std::io::{BufWriter, Seek, SeekFrom, Write};
@@ -9,7 +11,20 @@ use std::path::Path;
 
 use anyhow::{Context, Result};
 
+use crate::error::InputError;
 use crate::fault::{Faults, VARIABLE};
+
+/// Refuses the first of `outputs` that already exists, unless `overwrite`: a file at an
+/// output's path may be the user's own work, so replacing it must be asked for.
+pub fn refuse_existing<'a>(outputs: impl IntoIterator<Item = &'a Path>, overwrite: bool) -> Result<(), InputError> {
+    match outputs.into_iter().find(|path| !overwrite && path.exists()) {
+        Some(path) => Err(InputError::file(
+            path,
+            "already exists; pass --overwrite to replace it",
+        )),
+        None => Ok(()),
+    }
+}
 
 /// The temporary file an output is written to: buffered, seekable (PNG and EXR encoders
 /// need it), and failing after its first N bytes under `ARGIL_FAULT=write:N`.
@@ -113,6 +128,19 @@ mod tests {
         );
         write_atomically(&path, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?)).unwrap();
         assert_eq!(image::open(&path).unwrap().to_rgba8(), image);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    #[test]
+    fn an_existing_output_is_refused_unless_overwriting() {
+        let dir = std::env::temp_dir().join(format!("argil-existing-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (old, new) = (dir.join("old.png"), dir.join("new.png"));
+        write_bytes(&old, b"the user's image").unwrap();
+        let refused = refuse_existing([new.as_path(), old.as_path()], false).unwrap_err().to_string();
+        assert!(refused.contains("old.png") && refused.contains("--overwrite"), "{refused}");
+        refuse_existing([new.as_path(), old.as_path()], true).unwrap();
+        refuse_existing([new.as_path()], false).unwrap();
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

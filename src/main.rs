@@ -25,9 +25,10 @@ const MAX_SIDE: i64 = argil::render::target::MAX_SIDE as i64;
 /// The exit-code contract, also in the README.
 const AFTER_HELP: &str = "\
 Exit codes: 0 success; 2 the input is wrong (a scene, mesh, texture, environment map or EXR, \
-an argument, --device, ARGIL_FAULT), and nothing was written; 1 argil or the machine failed \
-(no Vulkan driver, the device lost, out of memory, an I/O error while writing). Outputs are \
-written to a temporary file and renamed, so a failed run leaves the previous file as it was.
+an argument, --device, ARGIL_FAULT, an output that exists without --overwrite), and nothing was \
+written; 1 argil or the machine failed (no Vulkan driver, the device lost, out of memory, an I/O \
+error while writing). Outputs are written to a temporary file and renamed, so a failed run with \
+--overwrite leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
 the N-th GPU allocation (alloc), queue submission (submit, device-lost), present (present: \
@@ -49,6 +50,11 @@ struct Cli {
     /// Any validation error makes the command fail.
     #[arg(long, global = true)]
     validation: bool,
+    /// Replace output files that already exist (`--out`, `--json`, `--timings`,
+    /// `--screenshot`). Without it such a file is refused before the command starts: exit
+    /// code 2, nothing written. `bench` updates its own results folder either way.
+    #[arg(long, global = true)]
+    overwrite: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -261,6 +267,23 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
     },
+}
+
+impl Command {
+    /// The files the command writes where its arguments say.
+    fn outputs(&self) -> Vec<&Path> {
+        let (required, optional): (Option<&PathBuf>, [&Option<PathBuf>; 2]) = match self {
+            Command::Render { out, timings, .. } => (Some(out), [timings, &None]),
+            Command::View {
+                screenshot, soak_log, ..
+            } => (None, [screenshot, soak_log]),
+            Command::Reference { out, .. } => (Some(out), [&None, &None]),
+            Command::Verify { json, .. } => (None, [json, &None]),
+            Command::Compare { out, json, .. } => (None, [out, json]),
+            Command::Bench { .. } | Command::Devices => (None, [&None, &None]),
+        };
+        required.into_iter().chain(optional.into_iter().flatten()).map(PathBuf::as_path).collect()
+    }
 }
 
 fn load_with_stand_ins(path: Option<&Path>) -> Result<(Scene, PendingMaps)> {
@@ -564,6 +587,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
         Some(DeviceChoice::Best) | None => None,
     };
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
+    argil::atomic::refuse_existing(cli.command.outputs(), cli.overwrite)?;
     match cli.command {
         Command::Render {
             scene,

@@ -114,8 +114,9 @@ fn without_a_vulkan_driver_argil_says_what_to_install() {
     assert!(!out.exists());
 }
 
-/// A disk that fills half-way through writing an output (injected): the previous file is
-/// still there, byte for byte, and no temporary is left beside it.
+/// An output that exists is refused without `--overwrite`; with it, a disk that fills
+/// half-way through writing (injected) leaves the previous file there, byte for byte, and no
+/// temporary beside it.
 #[test]
 fn a_write_failing_half_way_leaves_the_previous_output() {
     let dir = test_dir("half-write");
@@ -123,7 +124,10 @@ fn a_write_failing_half_way_leaves_the_previous_output() {
         let out = dir.join(name);
         let previous = format!("the previous {name}, kept");
         std::fs::write(&out, &previous).expect("write");
-        let args = ["render", "--out", path_str(&out), "--width", "48", "--height", "32"];
+        let kept = ["render", "--out", path_str(&out), "--width", "48", "--height", "32"];
+        assert_failure(&argil(&kept), 2, &[name, "already exists", "--overwrite"]);
+        assert_eq!(std::fs::read(&out).expect("read"), previous.as_bytes());
+        let args = [&kept[..], &["--overwrite"]].concat();
         let o = argil_with(&args, &[("ARGIL_FAULT", "write:200")]);
         assert_failure(&o, 1, &[name, "no space left"]);
         assert_eq!(std::fs::read(&out).expect("read"), previous.as_bytes());
@@ -133,7 +137,7 @@ fn a_write_failing_half_way_leaves_the_previous_output() {
             .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
             .collect();
         assert!(temporaries.is_empty(), "temporaries left: {temporaries:?}");
-        // Without the fault the same command replaces it.
+        // Without the fault the same command replaces it, as asked.
         assert_clean_success(&argil(&args));
         assert_ne!(std::fs::read(&out).expect("read"), previous.as_bytes());
     }

@@ -184,8 +184,13 @@ fn compare_refuses_bad_input_with_exit_code_2_and_writes_nothing() {
         (&a, &b, &a, &json, &["a.exr", ".png"]),
         (&a, &b, &out, &out_again, &["diff.png", "would overwrite"]),
     ];
-    for (i, (x, y, out, json, mentions)) in cases.iter().enumerate() {
-        let o = argil(&["compare", x, y, "--out", out, "--json", json]);
+    // `--overwrite` lets none of them through; without it, each is refused as existing.
+    let existing: (&str, &str, &str, &str, &[&str]) = (&a, &b, &out, &b, &["b.exr", "already exists", "--overwrite"]);
+    let runs = cases.iter().map(|case| (case, true)).chain([(&existing, false)]);
+    for (i, ((x, y, out, json, mentions), overwrite)) in runs.enumerate() {
+        let mut args = vec!["compare", x, y, "--out", out, "--json", json];
+        args.extend(overwrite.then_some("--overwrite"));
+        let o = argil(&args);
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "case {i}: {err}");
         assert!(!err.contains("panicked"), "case {i}: {err}");

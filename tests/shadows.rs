@@ -588,7 +588,8 @@ fn the_grounds_maps_come_from_the_disk_cache_on_a_warm_start() {
     let cache = dir.join("cache");
     let render = |scene: Option<&str>, name: &str| -> Vec<u8> {
         let out = dir.join(name);
-        let mut args = vec!["render", "--width", "96", "--height", "54", "--out", out.to_str().expect("utf-8")];
+        let out_arg = out.to_str().expect("utf-8");
+        let mut args = vec!["render", "--width", "96", "--height", "54", "--overwrite", "--out", out_arg];
         args.extend(scene);
         let o = argil_with(&args, &[("ARGIL_CACHE_DIR", cache.to_str().expect("utf-8"))]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -107,7 +107,7 @@ fn measure_pair(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2
         let timings = dir.join(format!("{run}.json"));
         let output = Command::new(&exe)
             .args(["--device", &device_index.to_string(), "render", "--out"])
-            .arg(dir.join("frame.exr"))
+            .arg(dir.join(format!("{run}.exr")))
             .args([
                 "--width",
                 &extent.width.to_string(),
