@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 
 use crate::cache::fnv1a;
 use crate::compare::input::read_exr;
@@ -11,7 +11,7 @@ use crate::compare::metrics::Rgba32;
 use crate::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use crate::render::output::write_linear;
 use crate::scene::file::{EnvironmentDef, LightDef, MaterialDef, SceneFile};
-use crate::scene::{Scene, BUILTIN_PREFIX};
+use crate::scene::{builtin_texture, Mesh, Scene, BUILTIN_PREFIX};
 
 /// A reference image and its own estimated relative RMS noise.
 pub struct CachedReference {
@@ -60,9 +60,9 @@ pub fn path(dir: &Path, name: &str, text: &str, settings: &Settings) -> Result<P
 ///   references of the scenes that rely on it.
 ///
 /// The files it names (the environment's map, meshes, map textures; relative to the
-/// working directory, as the bench loads them) are keyed by their content (an image's
-/// texels, another file's bytes), not their paths: a reference follows an edited file, and
-/// keeps its name wherever the files sit.
+/// working directory, as the bench loads them) and the builtin meshes and maps are keyed by
+/// their content ([`content_key`]), not their names: a reference follows an edited file or
+/// builtin, and keeps its name wherever the files sit.
 pub fn key_text(text: &str) -> Result<String> {
     let mut file: SceneFile = toml::from_str(text).context("a bench reference's scene")?;
     if let EnvironmentDef::Map { path, .. } = &mut file.environment {
@@ -98,12 +98,24 @@ pub fn key_text(text: &str) -> Result<String> {
     Ok(toml::to_string(&value)?)
 }
 
-/// `builtin:` names as they are; an image as `image-HASH`, the hash over its size and
-/// texels, so that one encoded again (the bench's generated sky, written by another EXR
-/// writer) keeps its references; any other file as `file-HASH`, the hash over its bytes.
+/// A builtin mesh as `mesh-HASH`, the hash over its vertices and triangles at its default
+/// tessellation (a `subdivisions` key stays in the text, and the same code makes every
+/// tessellation); an image, a builtin map or a file, as `image-HASH`, the hash over its size
+/// and texels, so that one encoded again (the bench's generated sky, written by another EXR
+/// writer) keeps its references; any other file as `file-HASH`, the hash over its bytes. A
+/// change to how a builtin is made thus names new references, as an edited file does.
 fn content_key(name: &str) -> Result<String> {
+    if let Some(mesh) = Mesh::builtin(name) {
+        let triangles: &[u8] = bytemuck::cast_slice(&mesh.indices);
+        let vertices: &[u8] = bytemuck::cast_slice(&mesh.vertices);
+        return Ok(format!("mesh-{:016x}", fnv1a(&[vertices, triangles].concat())));
+    }
+    if let Some(map) = builtin_texture(name) {
+        let size = [map.width, map.height].map(u32::to_le_bytes).concat();
+        return Ok(format!("image-{:016x}", fnv1a(&[size.as_slice(), &map.pixels].concat())));
+    }
     if name.starts_with(BUILTIN_PREFIX) {
-        return Ok(name.to_owned());
+        bail!("{name}: no builtin mesh or map has this name");
     }
     let cannot = || format!("cannot read {name}, which a bench scene names");
     let extension = Path::new(name).extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
@@ -227,6 +239,22 @@ mod tests {
         texels.save(&copy).unwrap();
         assert_ne!(scene(&sky), scene(&copy));
         assert!(key_text(&DEFAULT_SCENE_TOML.replace("builtin:torus", "missing.obj")).is_err());
+    }
+
+    /// Builtin meshes and maps are keyed by what they are, as files are: a change to how one
+    /// is made names other references.
+    #[test]
+    fn builtins_are_keyed_by_their_content() {
+        let mapped = format!("{DEFAULT_SCENE_TOML}\n[materials.ground.normal_map]\ntexture = \"builtin:clay-lumps\"\n");
+        let key = key_text(&mapped).unwrap();
+        assert!(mapped.contains("builtin:torus") && mapped.contains("builtin:clay-lumps"));
+        assert!(!key.contains(BUILTIN_PREFIX), "{key}");
+        let sphere = content_key("builtin:sphere").unwrap();
+        assert!(sphere.starts_with("mesh-") && sphere != content_key("builtin:torus").unwrap());
+        assert!(key.contains(&content_key("builtin:clay-lumps").unwrap()));
+        assert!(content_key("builtin:clay-lumps").unwrap().starts_with("image-"));
+        let unknown = content_key("builtin:teapot").unwrap_err().to_string();
+        assert!(unknown.contains("builtin:teapot"), "{unknown}");
     }
 
     /// A key added to the materials comes with a default that keeps them as they were;
