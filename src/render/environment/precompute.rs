@@ -187,6 +187,9 @@ pub struct Precompute {
 /// A cube map with its mip chain of solid-angle-weighted means.
 pub struct SourceCube {
     pub image: Image,
+    /// The disk cache's key of its texels where they follow from code alone (the studio's),
+    /// which then stands for them in the keys of what is made from them.
+    pub key: Option<u64>,
 }
 
 impl Precompute {
@@ -418,7 +421,7 @@ impl Precompute {
             );
             Ok(())
         })?;
-        Ok(SourceCube { image })
+        Ok(SourceCube { image, key: None })
     }
 
     /// Orders one compute dispatch's image writes before the next one's reads.
@@ -446,11 +449,17 @@ impl Precompute {
         ]);
         let cube = self.source_cube(size)?;
         if self.load_cached(disk, STUDIO_ENTRY, key, &cube.0, ("studio and mips (disk cache)", start), costs)? {
-            return Ok(SourceCube { image: cube.0 });
+            return Ok(SourceCube {
+                image: cube.0,
+                key: Some(key),
+            });
         }
         let studio = self.source(KernelKind::Studio, cube, None, ["studio", "mips"], costs)?;
         self.store_cached(disk, STUDIO_ENTRY, key, &studio.image)?;
-        Ok(studio)
+        Ok(SourceCube {
+            key: Some(key),
+            ..studio
+        })
     }
 
     /// An equirectangular map's cube map.
@@ -492,10 +501,14 @@ impl Precompute {
         };
         let maps = Image::array_2d(&self.device, side, PREFILTERED_LEVELS, FORMAT, STORAGE_USAGE, "prefiltered maps")?;
         // Its mips follow from level 0 by `env_downsample.comp`, so level 0 stands for the
-        // whole source.
+        // whole source where its own key does not (a map's cube, read back: 3 MiB at 256²).
         let start = Instant::now();
+        let source_key = match source.key {
+            Some(key) => key.to_le_bytes().to_vec(),
+            None => self.read_level_bits(&source.image, 0)?,
+        };
         let key = cache::key(&[
-            &self.read_level_bits(&source.image, 0)?,
+            &source_key,
             shaders::ENV_DOWNSAMPLE_COMP,
             shaders::ENV_PREFILTER_COMP,
             shaders::ENV_OCTAHEDRAL_COMP,
@@ -733,13 +746,13 @@ impl Precompute {
         transfer::read_level(&self.device, &self.one_shot, image, level, TEXEL_BYTES, SHADING_READ)
     }
 
-    /// Placeholders for descriptors an environment does not use (Vulkan needs every
-    /// statically used binding valid): a 1² cube and a 1×1 table layer, cleared to 0.
     /// A device-local storage buffer holding `data`.
     pub fn upload_storage(&self, data: &[f32], name: &str) -> Result<Buffer> {
         Buffer::with_data(&self.device, &self.one_shot, data, vk::BufferUsageFlags::STORAGE_BUFFER, name)
     }
 
+    /// Placeholders for descriptors an environment does not use (Vulkan needs every
+    /// statically used binding valid): a 1² cube and a 1×1 table layer, cleared to 0.
     pub fn placeholders(&self) -> Result<(Image, Image)> {
         let usage = vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST;
         let unit = vk::Extent2D { width: 1, height: 1 };
