@@ -85,8 +85,9 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
 
     let starts: Vec<Value> =
         serde_json::from_slice(&std::fs::read(out.join("startup.json")).expect("startup.json")).expect("JSON starts");
-    assert_eq!(starts.len(), 2, "a cold and a warm start");
-    for start in &starts {
+    assert_eq!(starts.len(), 3, "a cold start, one with argil's cache alone empty, and a warm one");
+    for (start, kind) in starts.iter().zip(["cold", "argil cold", "warm"]) {
+        assert_eq!(start["kind"], kind);
         let total = finite(start, "total_ms");
         let steps = start["steps"].as_array().expect("steps");
         assert!(steps.len() >= 8, "{steps:?}");

@@ -196,7 +196,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         let extent = if options.quick { plan::QUICK } else { plan::HEADLINE };
         let runs = startup::measure(device.info.index, extent, options.startup_runs)?;
         let starts = startup::median(&runs)?;
-        for (run, start) in ["cold", "warm"].iter().zip(&starts) {
+        for ((run, _), start) in startup::KINDS.iter().zip(&starts) {
             eprintln!(
                 "startup ({run}, the median of {}): {:.1} ms from process start to the first frame, {:.1} ms to it \
                  written",

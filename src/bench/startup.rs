@@ -1,7 +1,9 @@
 //! Startup: wall time from process start to the first finished frame, in its parts. A
-//! child `argil render --timings` records its steps; the bench runs it twice on the
-//! default scene, with empty caches (cold: argil's disk cache and Mesa's shader cache) and
-//! again with the caches the first run filled (warm).
+//! child `argil render --timings` records its steps; the bench runs it three times on the
+//! default scene ([`KINDS`]): with empty caches (cold: argil's disk cache and Mesa's shader
+//! cache), with argil's cache empty and Mesa's as the cold start left it (the driver has
+//! compiled these shaders before, as after any earlier run of this build), and with the
+//! caches the cold start filled (warm).
 
 use std::path::Path;
 use std::process::Command;
@@ -20,10 +22,23 @@ pub struct Step {
     pub ms: f64,
 }
 
+/// The kinds of start, in the order a run makes them, and what each one's caches hold.
+pub const KINDS: [(&str, &str); 3] = [
+    ("cold", "empty argil and Mesa caches"),
+    ("argil cold", "an empty argil cache, Mesa's as the cold start left it"),
+    ("warm", "the caches the cold start filled"),
+];
+
+/// One start of each of [`KINDS`].
+pub type Run = [Startup; KINDS.len()];
+
 /// One start: its steps in order, the work other threads did beside them, and from process
 /// start to the first frame (read back) and to that frame written.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Startup {
+    /// Which of [`KINDS`] it is, when the bench measured it.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub kind: String,
     pub steps: Vec<Step>,
     /// Wall time of work on other threads, which the steps do not count.
     #[serde(default)]
@@ -77,6 +92,7 @@ impl Recorder {
     /// The start so far, as JSON written atomically to `path`.
     pub fn write(&self, path: &Path) -> Result<()> {
         let startup = Startup {
+            kind: String::new(),
             steps: self.steps.clone(),
             beside: self.beside.clone(),
             first_frame_ms: self.first_frame.as_secs_f64() * 1e3,
@@ -93,17 +109,19 @@ fn step(name: &str, time: Duration) -> Step {
     }
 }
 
-/// `runs` pairs of a cold and a warm start of the default scene at `extent` on device
-/// `device_index`, each pair from empty caches of its own.
-pub fn measure(device_index: usize, extent: vk::Extent2D, runs: u32) -> Result<Vec<[Startup; 2]>> {
-    (0..runs).map(|_| measure_pair(device_index, extent)).collect()
+/// `runs` runs of the starts of [`KINDS`] of the default scene at `extent` on device
+/// `device_index`, each run from empty caches of its own.
+pub fn measure(device_index: usize, extent: vk::Extent2D, runs: u32) -> Result<Vec<Run>> {
+    (0..runs).map(|_| measure_run(device_index, extent)).collect()
 }
 
-/// A cold and a warm start, the warm one with the caches the cold one filled.
-fn measure_pair(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2]> {
+/// A start of each of [`KINDS`], in order: the cold one fills the caches that the others
+/// read.
+fn measure_run(device_index: usize, extent: vk::Extent2D) -> Result<Run> {
     let dir = Scratch::new("startup")?;
     let exe = std::env::current_exe().context("cannot find the argil executable")?;
-    let start = |run: &str| -> Result<Startup> {
+    let start = |kind: usize, argil_cache: &str| -> Result<Startup> {
+        let run = KINDS[kind].0.replace(' ', "-");
         let timings = dir.join(format!("{run}.json"));
         let output = Command::new(&exe)
             .args(["--device", &device_index.to_string(), "render", "--out"])
@@ -116,7 +134,7 @@ fn measure_pair(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2
             ])
             .arg("--timings")
             .arg(&timings)
-            .env("ARGIL_CACHE_DIR", dir.join("argil-cache"))
+            .env("ARGIL_CACHE_DIR", dir.join(argil_cache))
             .env("MESA_SHADER_CACHE_DIR", dir.join("mesa-cache"))
             .output()
             .context("cannot start argil render")?;
@@ -127,61 +145,69 @@ fn measure_pair(device_index: usize, extent: vk::Extent2D) -> Result<[Startup; 2
             );
         }
         let bytes = std::fs::read(&timings).with_context(|| format!("cannot read {}", timings.display()))?;
-        serde_json::from_slice(&bytes).with_context(|| format!("{}: not a startup record", timings.display()))
+        let start: Startup =
+            serde_json::from_slice(&bytes).with_context(|| format!("{}: not a startup record", timings.display()))?;
+        Ok(Startup {
+            kind: KINDS[kind].0.to_owned(),
+            ..start
+        })
     };
-    Ok([start("cold")?, start("warm")?])
+    Ok([
+        start(0, "argil-cache")?,
+        start(1, "argil-cache-empty")?,
+        start(2, "argil-cache")?,
+    ])
 }
 
-/// Of `runs`, the cold start and the warm start whose times to the first frame are the
-/// medians (the lower of the middle two of an even count): whole starts, so that their
-/// steps add up as they happened.
-pub fn median(runs: &[[Startup; 2]]) -> Result<[Startup; 2]> {
-    let median_of = |kind: usize| {
-        let mut starts: Vec<&Startup> = runs.iter().map(|pair| &pair[kind]).collect();
-        starts.sort_by(|a, b| a.first_frame_ms.total_cmp(&b.first_frame_ms));
-        starts.get(starts.len().saturating_sub(1) / 2).map(|s| (*s).clone())
-    };
-    match (median_of(0), median_of(1)) {
-        (Some(cold), Some(warm)) => Ok([cold, warm]),
-        _ => bail!("no startup was measured"),
+/// Of `runs`, the start of each kind whose time to the first frame is the median (the
+/// lower of the middle two of an even count): whole starts, so that their steps add up as
+/// they happened.
+pub fn median(runs: &[Run]) -> Result<Run> {
+    if runs.is_empty() {
+        bail!("no startup was measured");
     }
+    Ok(std::array::from_fn(|kind| {
+        let mut starts: Vec<&Startup> = runs.iter().map(|run| &run[kind]).collect();
+        starts.sort_by(|a, b| a.first_frame_ms.total_cmp(&b.first_frame_ms));
+        starts[(starts.len() - 1) / 2].clone()
+    }))
 }
 
-/// The table of the median cold and warm starts of `runs` on `host`, a row per step, and
+/// The table of the median start of each kind of `runs` on `host`, a row per step, and
 /// every run's time to the first frame.
-pub fn markdown(extent: vk::Extent2D, host: &str, runs: &[[Startup; 2]]) -> Result<String> {
-    let [cold, warm] = median(runs)?;
+pub fn markdown(extent: vk::Extent2D, host: &str, runs: &[Run]) -> Result<String> {
+    let medians = median(runs)?;
+    let kinds: Vec<String> = KINDS.iter().map(|(kind, caches)| format!("{kind} ({caches})")).collect();
     let mut text = format!(
         "Start of `argil render` of the default scene at {}×{} to an EXR on {host}: wall milliseconds per step, \
-         cold (empty argil and Mesa caches) and warm (the caches the cold start filled); the median \
-         of {} starts of each by the time to the first frame.\n\n\
-         | step | cold ms | warm ms |\n| --- | --- | --- |\n",
+         {}; the median of {} starts of each by the time to the first frame.\n\n\
+         | step | {} |\n|{}\n",
         extent.width,
         extent.height,
-        runs.len()
+        kinds.join(", "),
+        runs.len(),
+        KINDS.map(|(kind, _)| format!("{kind} ms")).join(" | "),
+        " --- |".repeat(KINDS.len() + 1),
     );
-    for (c, w) in cold.steps.iter().zip(&warm.steps) {
-        text += &format!("| {} | {:.1} | {:.1} |\n", c.name, c.ms, w.ms);
+    let row = |name: &str, ms: &mut dyn Iterator<Item = f64>, bold: bool| {
+        let cells: Vec<String> = ms.map(|ms| if bold { format!("**{ms:.1}**") } else { format!("{ms:.1}") }).collect();
+        format!("| {name} | {} |\n", cells.join(" | "))
+    };
+    for (i, step) in medians[0].steps.iter().enumerate() {
+        text += &row(&step.name, &mut medians.iter().map(|m| m.steps.get(i).map_or(f64::NAN, |s| s.ms)), false);
     }
-    let totals = [
-        ("first frame", cold.first_frame_ms, warm.first_frame_ms),
-        ("frame written", cold.total_ms, warm.total_ms),
-    ];
-    for (to, cold, warm) in totals {
-        text += &format!("| **process start to {to}** | **{cold:.1}** | **{warm:.1}** |\n");
-    }
-    for (c, w) in cold.beside.iter().zip(&warm.beside) {
-        text += &format!("| *beside the steps, on other threads:* {} | {:.1} | {:.1} |\n", c.name, c.ms, w.ms);
+    text += &row("**process start to first frame**", &mut medians.iter().map(|m| m.first_frame_ms), true);
+    text += &row("**process start to frame written**", &mut medians.iter().map(|m| m.total_ms), true);
+    for (i, step) in medians[0].beside.iter().enumerate() {
+        let name = format!("*beside the steps, on other threads:* {}", step.name);
+        text += &row(&name, &mut medians.iter().map(|m| m.beside.get(i).map_or(f64::NAN, |s| s.ms)), false);
     }
     let first_frames = |kind: usize| {
-        let times: Vec<String> = runs.iter().map(|pair| format!("{:.1}", pair[kind].first_frame_ms)).collect();
-        times.join(", ")
+        let times: Vec<String> = runs.iter().map(|run| format!("{:.1}", run[kind].first_frame_ms)).collect();
+        format!("{} {} ms", KINDS[kind].0, times.join(", "))
     };
-    text += &format!(
-        "\nProcess start to the first frame, each run in order: cold {} ms; warm {} ms.\n",
-        first_frames(0),
-        first_frames(1)
-    );
+    let every: Vec<String> = (0..KINDS.len()).map(first_frames).collect();
+    text += &format!("\nProcess start to the first frame, each run in order: {}.\n", every.join("; "));
     Ok(text)
 }
 
@@ -201,23 +227,22 @@ mod tests {
     /// The median start of each kind is a whole run's, the lower middle one of an even count.
     #[test]
     fn the_median_starts_are_whole_runs() {
-        let runs = |times: &[(f64, f64)]| -> Vec<[Startup; 2]> {
-            times.iter().map(|&(cold, warm)| [start(cold), start(warm)]).collect()
+        let runs = |times: &[(f64, f64, f64)]| -> Vec<Run> {
+            times.iter().map(|&(cold, argil_cold, warm)| [start(cold), start(argil_cold), start(warm)]).collect()
         };
-        let medians = |times: &[(f64, f64)]| {
-            let [cold, warm] = median(&runs(times)).expect("a median");
-            (cold.first_frame_ms, warm.first_frame_ms)
-        };
-        assert_eq!(medians(&[(1500.0, 450.0)]), (1500.0, 450.0));
-        assert_eq!(medians(&[(1600.0, 440.0), (1400.0, 460.0), (1500.0, 450.0)]), (1500.0, 450.0));
-        assert_eq!(medians(&[(4.0, 1.0), (1.0, 4.0), (3.0, 2.0), (2.0, 3.0)]), (2.0, 2.0));
+        let medians = |times: &[(f64, f64, f64)]| median(&runs(times)).expect("a median").map(|s| s.first_frame_ms);
+        assert_eq!(medians(&[(1500.0, 900.0, 450.0)]), [1500.0, 900.0, 450.0]);
+        let three = [(1600.0, 800.0, 440.0), (1400.0, 1000.0, 460.0), (1500.0, 900.0, 450.0)];
+        assert_eq!(medians(&three), [1500.0, 900.0, 450.0]);
+        assert_eq!(medians(&[(4.0, 1.0, 1.0), (1.0, 4.0, 4.0), (3.0, 2.0, 2.0), (2.0, 3.0, 3.0)]), [2.0; 3]);
         assert!(median(&[]).is_err());
-        let [cold, _] = median(&runs(&[(1600.0, 440.0), (1400.0, 460.0), (1500.0, 450.0)])).expect("a median");
+        let [cold, ..] = median(&runs(&three)).expect("a median");
         assert_eq!(cold.total_ms, 1501.0, "the median run's own steps and totals");
-        let table = markdown(vk::Extent2D { width: 16, height: 9 }, "h", &runs(&[(1600.0, 440.0), (1400.0, 460.0)]))
-            .expect("a table");
-        assert!(table.contains("| **process start to first frame** | **1400.0** | **440.0** |"), "{table}");
-        assert!(table.contains("cold 1600.0, 1400.0 ms; warm 440.0, 460.0 ms"), "{table}");
+        let table = markdown(vk::Extent2D { width: 16, height: 9 }, "h", &runs(&three[..2])).expect("a table");
+        assert!(table.contains("| step | cold ms | argil cold ms | warm ms |\n| --- | --- | --- | --- |"), "{table}");
+        assert!(table.contains("| first frame and readback | 1400.0 | 800.0 | 440.0 |"), "the steps: {table}");
+        assert!(table.contains("| **process start to first frame** | **1400.0** | **800.0** | **440.0** |"), "{table}");
+        assert!(table.contains("cold 1600.0, 1400.0 ms; argil cold 800.0, 1000.0 ms; warm 440.0, 460.0 ms"), "{table}");
         assert!(table.contains("to an EXR on h:"), "the host: {table}");
     }
 }
