@@ -678,10 +678,14 @@ fn view_rejects_bad_arguments_before_opening_a_window() {
         &argil(&["view", "/nonexistent/scene.toml"]),
         &["/nonexistent/scene.toml"],
     );
+    let dir = test_dir("view-existing");
+    let shot = dir.join("shot.png");
+    std::fs::write(&shot, "the user's picture").expect("write");
+    let o = argil(&["view", "--frames", "1", "--screenshot", path_str(&shot)]);
+    assert_clean_failure(&o, &["shot.png", "already exists", "--overwrite"]);
+    assert_eq!(std::fs::read(&shot).expect("read"), b"the user's picture");
 }
 
-/// The scene file is reloaded when it changes on disk: a broken edit is reported and the
-/// last good scene stays on screen; the next good edit is shown, with the camera kept.
 /// The scene the reload test edits on disk.
 const RELOADED_SCENE: &str = r#"
 [camera]
@@ -786,6 +790,8 @@ impl WatchedView {
     }
 }
 
+/// The scene file is reloaded when it changes on disk: a broken edit is reported and the
+/// last good scene stays on screen; the next good edit is shown, with the camera kept.
 #[test]
 fn view_reloads_the_scene_when_its_file_changes() {
     let dir = test_dir("reload");
