@@ -352,7 +352,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     // below, replace them (src/scene/pending.rs).
     let scene_path = options.scene.as_deref();
     let load = || load_with_stand_ins(scene_path);
-    let (mut scene, maps) = startup.step("scene (stand-ins for its builtin maps)", load)?;
+    let (mut scene, mut maps) = startup.step("scene (stand-ins for its builtin maps)", load)?;
     if let Some(msaa) = options.msaa {
         scene.antialiasing.msaa = msaa;
     }
@@ -387,7 +387,9 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     // An EXR is the linear frame: no display transform runs for it.
     let display = (OutputKind::of(&options.out)? == OutputKind::Png).then_some(exposure);
     // A frame of a few pixels drawn with the stand-ins, while the builtin maps are made
-    // (src/render/warm_up.rs).
+    // (src/render/warm_up.rs), those the frame samples.
+    let sampled = renderer.sampled_textures(&scene);
+    maps.retain(|texture| sampled[texture]);
     let warmed = warm_up(&mut renderer, &mut scene, &mut gpu, maps, display.is_some())?;
     let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()

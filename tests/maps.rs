@@ -439,3 +439,20 @@ texture = "halves.png"
         assert!(bottom_blue > 10.0 * bottom_red, "{name}: the quad's bottom is not blue: {bottom_red} {bottom_blue}");
     }
 }
+
+/// A frame samples the maps its pipelines read: the presets' noise map only under the
+/// report's reflection (`argil render` makes it only then), their normal maps in both.
+#[test]
+fn the_noise_map_is_sampled_only_under_the_reports_reflection() {
+    let sampled = |toml: &str, name: &str| {
+        let scene = common::scene(toml);
+        let texture = scene.textures.iter().position(|t| t.name == name).expect("a builtin map");
+        common::gpu().exclusive(|renderer| renderer.sampled_textures(&scene)[texture])
+    };
+    let default = argil::scene::DEFAULT_SCENE_TOML;
+    let seed = default.replace("intensity = 0.6\n", "intensity = 0.6\nreflection = \"seed\"\n");
+    assert_ne!(seed, default);
+    assert!(!sampled(default, "builtin:noise"));
+    assert!(sampled(&seed, "builtin:noise"));
+    assert!(sampled(default, "builtin:clay-lumps") && sampled(&seed, "builtin:clay-lumps"));
+}

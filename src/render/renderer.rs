@@ -14,7 +14,7 @@ use super::debug_view::DebugView;
 use super::environment::equirect::Equirect;
 use super::environment::EnvironmentPass;
 use super::exposure::ExposurePass;
-use super::forward::{FrameChoices, ForwardPass};
+use super::forward::{ForwardConstants, FrameChoices, ForwardPass};
 use super::gpu_scene::GpuScene;
 use super::ground_maps::{occlusion_ground, shadow_ground, GroundMaps, MapInputs};
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
@@ -25,7 +25,7 @@ use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
 use crate::priority::low_priority_pool;
 use crate::scene::occluders::Occluder;
-use crate::scene::{Environment, Scene};
+use crate::scene::{Environment, MapSlot, Scene};
 use crate::vk::{transition, Device, Image, ImageUse, OneShot, Readback, Timestamps};
 
 /// The passes of a frame, in order; GPU times are reported with these names.
@@ -237,6 +237,25 @@ impl Renderer {
     /// them (see [`GpuScene::replace_textures`]).
     pub fn replace_textures(&self, gpu: &mut GpuScene, scene: &Scene, indices: &[usize]) -> Result<()> {
         gpu.replace_textures(&self.device, &self.one_shot, scene, indices)
+    }
+
+    /// Which of `scene.textures` the frames of `scene` sample, by index: the maps of the
+    /// objects' materials that their pipelines read (a specialised pipeline only those whose
+    /// effect it draws, such as the noise map in the report's reflection alone; the generic
+    /// one every map). With a split view, every texture.
+    pub fn sampled_textures(&self, scene: &Scene) -> Vec<bool> {
+        let mut sampled = vec![self.split.is_some(); scene.textures.len()];
+        for object in &scene.objects {
+            let m = &scene.materials[object.material];
+            let (view, specialize, specular_aa) = (self.debug_view, !self.generic, scene.antialiasing.specular);
+            let constants = ForwardConstants::new(m, &scene.environment, view, specialize, specular_aa);
+            for slot in MapSlot::ALL.into_iter().filter(|&slot| constants.samples(slot)) {
+                if let Some(map) = &m.maps[slot] {
+                    sampled[map.texture] = true;
+                }
+            }
+        }
+        sampled
     }
 
     /// Samples per pixel that frames of `scene` are drawn with: its `[antialiasing] msaa`,

@@ -59,6 +59,14 @@ impl PendingMaps {
         (scene, maps)
     }
 
+    /// Leaves the stand-ins at the texture indices `keep` refuses in place for good, their
+    /// maps not made: a frame that never samples a map draws the same with its stand-in.
+    /// Before [`Self::begin`], whose threads [`Self::finish`] takes in the stand-ins' order.
+    pub fn retain(&mut self, keep: impl Fn(usize) -> bool) {
+        debug_assert!(self.begun.is_none(), "the maps' threads are already running");
+        self.stand_ins.retain(|(index, _)| keep(*index));
+    }
+
     /// Where the stand-ins are among the scene's textures: what [`Self::finish`] replaces.
     pub fn stand_ins(&self) -> Vec<usize> {
         self.stand_ins.iter().map(|(index, _)| *index).collect()
@@ -125,6 +133,22 @@ mod tests {
         }
         maps.finish(&mut scene).unwrap();
         assert_eq!(scene, Scene::default_scene());
+    }
+
+    /// A map left out stays a stand-in; the others are made and put in as before.
+    #[test]
+    fn a_map_left_out_keeps_its_stand_in() {
+        let (mut scene, mut maps) = PendingMaps::load(None).unwrap();
+        let noise = scene.textures.iter().position(|t| t.name == "builtin:noise").unwrap();
+        maps.retain(|index| index != noise);
+        assert!(!maps.stand_ins().contains(&noise) && !maps.stand_ins().is_empty());
+        maps.finish(&mut scene).unwrap();
+        let whole = Scene::default_scene();
+        for (i, (texture, made)) in scene.textures.iter().zip(&whole.textures).enumerate() {
+            let kept = (texture.width, texture.height) == (2, 2);
+            assert_eq!(kept, i == noise, "{}", texture.name);
+            assert!(kept || texture == made, "{}", texture.name);
+        }
     }
 
     /// The maps go into the scene they came with, not another.
