@@ -100,10 +100,11 @@ pub fn key_text(text: &str) -> Result<String> {
 
 /// A builtin mesh as `mesh-HASH`, the hash over its vertices and triangles at its default
 /// tessellation (a `subdivisions` key stays in the text, and the same code makes every
-/// tessellation); an image, a builtin map or a file, as `image-HASH`, the hash over its size
-/// and texels, so that one encoded again (the bench's generated sky, written by another EXR
-/// writer) keeps its references; any other file as `file-HASH`, the hash over its bytes. A
-/// change to how a builtin is made thus names new references, as an edited file does.
+/// tessellation); an image file or a builtin map (a preset's too: the text holds its merged
+/// maps) as `image-HASH`, the hash over its size and texels, so that one encoded again (the
+/// bench's generated sky, written by another EXR writer) keeps its references; any other
+/// file as `file-HASH`, the hash over its bytes. A change to how a builtin is made thus
+/// names new references, as an edited file does.
 fn content_key(name: &str) -> Result<String> {
     if let Some(mesh) = Mesh::builtin(name) {
         let triangles: &[u8] = bytemuck::cast_slice(&mesh.indices);
