@@ -184,7 +184,8 @@ fn compare_refuses_bad_input_with_exit_code_2_and_writes_nothing() {
         (&a, &b, &a, &json, &["a.exr", ".png"]),
         (&a, &b, &out, &out_again, &["diff.png", "would overwrite"]),
     ];
-    // `--overwrite` lets none of them through; without it, each is refused as existing.
+    // With `--overwrite`, which lets none of them through; then one without it, whose
+    // existing output is refused.
     let existing: (&str, &str, &str, &str, &[&str]) = (&a, &b, &out, &b, &["b.exr", "already exists", "--overwrite"]);
     let runs = cases.iter().map(|case| (case, true)).chain([(&existing, false)]);
     for (i, ((x, y, out, json, mentions), overwrite)) in runs.enumerate() {
