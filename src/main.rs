@@ -272,17 +272,17 @@ enum Command {
 impl Command {
     /// The files the command writes where its arguments say.
     fn outputs(&self) -> Vec<&Path> {
-        let (required, optional): (Option<&PathBuf>, [&Option<PathBuf>; 2]) = match self {
-            Command::Render { out, timings, .. } => (Some(out), [timings, &None]),
+        let outputs: [Option<&PathBuf>; 2] = match self {
+            Command::Render { out, timings, .. } => [Some(out), timings.as_ref()],
             Command::View {
                 screenshot, soak_log, ..
-            } => (None, [screenshot, soak_log]),
-            Command::Reference { out, .. } => (Some(out), [&None, &None]),
-            Command::Verify { json, .. } => (None, [json, &None]),
-            Command::Compare { out, json, .. } => (None, [out, json]),
-            Command::Bench { .. } | Command::Devices => (None, [&None, &None]),
+            } => [screenshot.as_ref(), soak_log.as_ref()],
+            Command::Reference { out, .. } => [Some(out), None],
+            Command::Verify { json, .. } => [json.as_ref(), None],
+            Command::Compare { out, json, .. } => [out.as_ref(), json.as_ref()],
+            Command::Bench { .. } | Command::Devices => [None, None],
         };
-        required.into_iter().chain(optional.into_iter().flatten()).map(PathBuf::as_path).collect()
+        outputs.into_iter().flatten().map(PathBuf::as_path).collect()
     }
 }
 
