@@ -3,10 +3,11 @@
 //! (kill -9, a full disk, a crash) never leaves half a file or clobbers the previous one.
 //! A process killed mid-write can leave its temporary, `.NAME.PID.tmp`, beside the output.
 //! A command's outputs that already exist are refused before it starts, unless it was given
-//! `--overwrite` ([`refuse_existing`]).
+//! `--overwrite` ([`refuse_existing`]); one that appears at its path while the command runs
+//! is not replaced either ([`Existing::Refuse`]).
 
 use std::fs::File;
-use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::io::{BufWriter, ErrorKind, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use anyhow::{Context, Result};
@@ -23,6 +24,28 @@ pub fn refuse_existing<'a>(outputs: impl IntoIterator<Item = &'a Path>, overwrit
             "already exists; pass --overwrite to replace it",
         )),
         None => Ok(()),
+    }
+}
+
+/// What writing an output does with a file already at its path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Existing {
+    /// Replaces it: argil's own files (caches, bench results), outputs under `--overwrite`,
+    /// and a scene saved where the user chose.
+    Replace,
+    /// Leaves it as it is and fails with an [`InputError`] naming it: an output the command
+    /// line did not allow to replace a file, which another program created meanwhile.
+    Refuse,
+}
+
+impl Existing {
+    /// What `--overwrite` (or its absence) asks of a command's outputs.
+    pub fn from_overwrite(overwrite: bool) -> Self {
+        if overwrite {
+            Existing::Replace
+        } else {
+            Existing::Refuse
+        }
     }
 }
 
@@ -60,9 +83,11 @@ impl Seek for Sink {
     }
 }
 
-/// Runs `write` on a temporary file in `path`'s folder, then renames it to `path`; on an
-/// error the temporary file is removed and `path` is untouched.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&mut Sink) -> Result<()>) -> Result<()> {
+/// Runs `write` on a temporary file in `path`'s folder, then moves it to `path` as
+/// `existing` says; on an error the temporary file is removed and `path` is untouched, but
+/// for a file found at `path` under [`Existing::Refuse`], where the finished output stays in
+/// the temporary file that the error names.
+pub fn write_atomically(path: &Path, existing: Existing, write: impl FnOnce(&mut Sink) -> Result<()>) -> Result<()> {
     let budget = Faults::from_env()?.write;
     let name = path
         .file_name()
@@ -71,7 +96,7 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut Sink) -> Result<()>
     temporary.push(name);
     temporary.push(format!(".{}.tmp", std::process::id()));
     let temporary = path.with_file_name(temporary);
-    let written = (|| -> Result<()> {
+    let written = (|| -> Result<bool> {
         let mut sink = Sink {
             file: BufWriter::new(File::create(&temporary)?),
             budget,
@@ -81,18 +106,49 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&mut Sink) -> Result<()>
         // On the disk before the rename: after a crash the name holds the old file or the
         // new one, never an empty one.
         file.sync_all()?;
-        Ok(std::fs::rename(&temporary, path)?)
+        Ok(place(&temporary, path, existing)?)
     })();
-    if written.is_err() {
-        // Best effort: the temporary may not exist, and the write error is what matters.
-        let _ = std::fs::remove_file(&temporary);
+    match written {
+        Ok(true) => Ok(()),
+        Ok(false) => Err(InputError::file(
+            path,
+            format!(
+                "appeared while argil ran and is left as it is (--overwrite replaces it); argil's output is in {}",
+                temporary.display()
+            ),
+        )
+        .into()),
+        Err(e) => {
+            // Best effort: the temporary may not exist, and the write error is what matters.
+            let _ = std::fs::remove_file(&temporary);
+            Err(e.context(format!("cannot write {}", path.display())))
+        }
     }
-    written.with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Moves the finished `temporary` to `path`, or leaves both as they are and returns false
+/// where `existing` refuses a file found at `path`. Under [`Existing::Refuse`] a hard link
+/// makes the new name, which fails rather than replace a file, with no moment between a
+/// check and the move; on a file system without hard links, the check and then the move.
+fn place(temporary: &Path, path: &Path, existing: Existing) -> std::io::Result<bool> {
+    if existing == Existing::Replace {
+        return std::fs::rename(temporary, path).map(|()| true);
+    }
+    match std::fs::hard_link(temporary, path) {
+        Ok(()) => {
+            // Best effort: the output is in place, and a leftover temporary is only clutter.
+            let _ = std::fs::remove_file(temporary);
+            Ok(true)
+        }
+        Err(e) if e.kind() == ErrorKind::AlreadyExists => Ok(false),
+        Err(_) if path.symlink_metadata().is_ok() => Ok(false),
+        Err(_) => std::fs::rename(temporary, path).map(|()| true),
+    }
 }
 
 /// [`write_atomically`] of a byte string.
-pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
-    write_atomically(path, |sink| Ok(sink.write_all(bytes)?))
+pub fn write_bytes(path: &Path, existing: Existing, bytes: &[u8]) -> Result<()> {
+    write_atomically(path, existing, |sink| Ok(sink.write_all(bytes)?))
 }
 
 #[cfg(test)]
@@ -105,10 +161,10 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("argil-atomic-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("frame.png");
-        write_bytes(&path, b"the previous frame").unwrap();
+        write_bytes(&path, Existing::Replace, b"the previous frame").unwrap();
         let image = image::RgbaImage::from_fn(64, 64, |x, y| image::Rgba([x as u8 * 4, y as u8 * 4, 7, 255]));
         let mut reached = 0;
-        let failed = write_atomically(&path, |sink| {
+        let failed = write_atomically(&path, Existing::Replace, |sink| {
             sink.budget = Some(100);
             let result = image.write_to(sink, image::ImageFormat::Png);
             reached = 100 - sink.budget.unwrap_or(0);
@@ -126,7 +182,7 @@ mod tests {
             1,
             "the temporary file is removed"
         );
-        write_atomically(&path, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?)).unwrap();
+        write_atomically(&path, Existing::Replace, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?)).unwrap();
         assert_eq!(image::open(&path).unwrap().to_rgba8(), image);
         std::fs::remove_dir_all(dir).unwrap();
     }
@@ -136,11 +192,40 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("argil-existing-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let (old, new) = (dir.join("old.png"), dir.join("new.png"));
-        write_bytes(&old, b"the user's image").unwrap();
+        write_bytes(&old, Existing::Replace, b"the user's image").unwrap();
         let refused = refuse_existing([new.as_path(), old.as_path()], false).unwrap_err().to_string();
         assert!(refused.contains("old.png") && refused.contains("--overwrite"), "{refused}");
         refuse_existing([new.as_path(), old.as_path()], true).unwrap();
         refuse_existing([new.as_path()], false).unwrap();
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Another program creates the output while it is being written: under `Refuse` its
+    /// file stays, and the finished output waits in the temporary file the error names.
+    #[test]
+    fn a_file_that_appears_during_the_write_is_not_replaced_unless_allowed() {
+        let dir = std::env::temp_dir().join(format!("argil-appears-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("frame.exr");
+        let appearing = |sink: &mut Sink| {
+            std::fs::write(&path, b"another program's frame")?;
+            Ok(sink.write_all(b"argil's frame")?)
+        };
+        let error = write_atomically(&path, Existing::Refuse, appearing).unwrap_err();
+        assert!(error.is::<InputError>(), "{error:#}");
+        assert_eq!(std::fs::read(&path).unwrap(), b"another program's frame");
+        let kept = dir.join(format!(".frame.exr.{}.tmp", std::process::id()));
+        let message = error.to_string();
+        assert!(message.contains("frame.exr: appeared") && message.contains(&kept.display().to_string()), "{message}");
+        assert_eq!(std::fs::read(&kept).unwrap(), b"argil's frame");
+        std::fs::remove_file(&kept).unwrap();
+
+        write_atomically(&path, Existing::Replace, appearing).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"argil's frame");
+        std::fs::remove_file(&path).unwrap();
+        write_bytes(&path, Existing::Refuse, b"a new frame").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"a new frame");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary is left");
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 
 use xxhash_rust::xxh3::Xxh3;
 
-use crate::atomic::write_bytes;
+use crate::atomic::{write_bytes, Existing};
 
 const MAGIC: &[u8; 8] = b"argilc02";
 const HEADER: usize = 32;
@@ -98,7 +98,7 @@ impl DiskCache {
             .parent()
             .map_or(Ok(()), std::fs::create_dir_all)
             .map_err(anyhow::Error::from)
-            .and_then(|()| write_bytes(&path, &bytes));
+            .and_then(|()| write_bytes(&path, Existing::Replace, &bytes));
         if let Err(e) = written {
             eprintln!("argil: warning: cannot write the cache entry {}: {e:#}", path.display());
         }

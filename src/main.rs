@@ -9,6 +9,7 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 use clap::{Parser, Subcommand};
 
+use argil::atomic::Existing;
 use argil::bench::startup::Recorder;
 use argil::brdf::subsurface::PreintegratedTable;
 use argil::error::{advice, is_input_error, InputError};
@@ -52,7 +53,9 @@ struct Cli {
     validation: bool,
     /// Replace output files that already exist (`--out`, `--json`, `--timings`,
     /// `--screenshot`). Without it such a file is refused before the command starts: exit
-    /// code 2, nothing written. `bench` updates its own results folder either way.
+    /// code 2, nothing written; one created meanwhile is not replaced either (exit code 2,
+    /// the output left in the temporary file named). `bench` updates its own results folder
+    /// either way.
     #[arg(long, global = true)]
     overwrite: bool,
     #[command(subcommand)]
@@ -330,6 +333,7 @@ struct RenderOptions {
     validation: bool,
     scene: Option<PathBuf>,
     out: PathBuf,
+    outputs: Existing,
     width: u32,
     height: u32,
     exposure: f32,
@@ -430,9 +434,9 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     if bad > 0 {
         eprintln!("argil: warning: {bad} NaN/Inf values in the frame");
     }
-    startup.step("write", || write_frame(&frame, &options.out))?;
+    startup.step("write", || write_frame(&frame, &options.out, options.outputs))?;
     if let Some(path) = &options.timings {
-        startup.write(path)?;
+        startup.write(path, options.outputs)?;
     }
     let times = |gpu_ms: &Option<Vec<f64>>| {
         let passes = gpu_ms.as_ref().map(|ms| {
@@ -487,6 +491,7 @@ impl argil::reference::Progress for ProgressBar {
 fn reference(
     scene: Option<PathBuf>,
     out: PathBuf,
+    outputs: Existing,
     settings: Settings,
     threads: Option<usize>,
     exposure: f32,
@@ -511,7 +516,7 @@ fn reference(
     let image = pool.install(|| argil::reference::render(&scene, &settings, &ProgressBar(bar.clone())))?;
     bar.finish_and_clear();
     let attributes = image.exr_attributes(&settings);
-    write_linear(&out, image.width, image.height, &image.rgba, exposure, &attributes)?;
+    write_linear(&out, outputs, image.width, image.height, &image.rgba, exposure, &attributes)?;
     println!("{}", out.display());
     eprintln!(
         "argil: reference {}x{}, {} transport, {} filter, {} spp, noise {:.2}%, {:.1} s, {:.2} Mrays/s on {} threads",
@@ -532,13 +537,14 @@ fn verify(
     choice: DeviceChoice,
     validation: bool,
     json: Option<PathBuf>,
+    outputs: Existing,
     options: argil::verify::Options,
 ) -> Result<()> {
     let device = Arc::new(Device::new(DeviceOptions { choice, validation }, None)?);
     let report = argil::verify::run(&device, &options)?;
     print!("{}", report.table());
     if let Some(path) = json {
-        argil::atomic::write_bytes(&path, report.json().as_bytes())?;
+        argil::atomic::write_bytes(&path, outputs, report.json().as_bytes())?;
     }
     if let Some(validation) = device.validation() {
         if validation.error_count() > 0 {
@@ -590,6 +596,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
     };
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
     argil::atomic::refuse_existing(cli.command.outputs(), cli.overwrite)?;
+    let outputs = Existing::from_overwrite(cli.overwrite);
     match cli.command {
         Command::Render {
             scene,
@@ -607,6 +614,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 validation,
                 scene,
                 out,
+                outputs,
                 width,
                 height,
                 exposure,
@@ -643,13 +651,14 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 resize_storm,
                 seconds,
                 soak_log,
+                outputs,
                 debug_view,
                 split,
             };
             argil::viewer::run(loaded, document, options)
         }
         Command::Verify { json, samples, seed } => {
-            verify(choice, validation, json, argil::verify::Options { samples, seed })
+            verify(choice, validation, json, outputs, argil::verify::Options { samples, seed })
         }
         Command::Reference {
             scene,
@@ -686,7 +695,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 seed,
                 max_depth,
             };
-            reference(scene, out, settings, threads, exposure)
+            reference(scene, out, outputs, settings, threads, exposure)
         }
         Command::Bench { soak: Some(soak), .. } => soak_run(choice, validation, &soak),
         Command::Bench {
@@ -717,7 +726,13 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             };
             bench(choice, validation, options)
         }
-        Command::Compare { a, b, out, json } => compare(argil::compare::Options { a, b, out, json }),
+        Command::Compare { a, b, out, json } => compare(argil::compare::Options {
+            a,
+            b,
+            out,
+            json,
+            outputs,
+        }),
         Command::Devices => {
             let devices = device::list_devices().context("cannot list Vulkan devices")?;
             if devices.is_empty() {

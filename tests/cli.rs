@@ -2,9 +2,10 @@
 //! and the window under Xvfb. Every run has the validation layer on and must print no
 //! validation message (leaked handles are reported when the device is destroyed).
 
-use std::path::Path;
 mod common;
 
+use std::io::Write;
+use std::path::Path;
 use std::process::{Command, Output};
 
 use common::{argil, argil_with, gpu, sampled_sphere_toml, test_dir, Xvfb};
@@ -32,7 +33,6 @@ fn assert_failure(o: &Output, code: i32, mentions: &[&str]) {
         assert!(err.contains(m), "error does not mention {m:?}: {err}");
     }
 }
-
 
 fn path_str(p: &Path) -> &str {
     p.to_str().expect("utf-8 temp path")
@@ -141,6 +141,39 @@ fn a_write_failing_half_way_leaves_the_previous_output() {
         assert_clean_success(&argil(&args));
         assert_ne!(std::fs::read(&out).expect("read"), previous.as_bytes());
     }
+}
+
+/// An output that another program creates while `argil render` runs is not replaced either:
+/// exit code 2 naming it, the file as that program wrote it, and the frame in the temporary
+/// file the message names. The scene comes through a FIFO, which argil opens after its check
+/// of the outputs: the file appears between that check and the frame's write.
+#[test]
+fn an_output_that_appears_during_the_run_is_not_replaced() {
+    let dir = test_dir("appears");
+    let (fifo, out) = (dir.join("scene.toml"), dir.join("frame.exr"));
+    assert!(Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
+    let mut command = Command::new(env!("CARGO_BIN_EXE_argil"));
+    command.args(["render", path_str(&fifo), "--out", path_str(&out), "--width", "48", "--height", "32"]);
+    let appearing = out.clone();
+    let writer = std::thread::spawn(move || {
+        // Opening for writing waits for argil to open the scene to read it.
+        let mut scene = std::fs::OpenOptions::new().write(true).open(&fifo).expect("open the FIFO");
+        std::fs::write(&appearing, "another program's frame").expect("write");
+        scene.write_all(SPHERE.as_bytes()).expect("write the scene");
+    });
+    let o = common::run(command);
+    assert_failure(&o, 2, &["frame.exr", "appeared", "--overwrite", "argil's output is in"]);
+    writer.join().expect("the scene's writer");
+    assert_eq!(std::fs::read(&out).expect("read"), b"another program's frame");
+    let kept: Vec<_> = std::fs::read_dir(&dir)
+        .expect("list")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.file_name().is_some_and(|n| n.to_string_lossy().starts_with(".frame.exr.")))
+        .collect();
+    assert_eq!(kept.len(), 1, "{kept:?}");
+    assert!(stderr(&o).contains(path_str(&kept[0])), "{}", stderr(&o));
+    let frame = argil::compare::input::read_exr(&kept[0]).expect("the kept frame is an EXR");
+    assert_eq!((frame.image.width, frame.image.height), (48, 32));
 }
 
 #[test]

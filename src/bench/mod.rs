@@ -33,7 +33,7 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 use anyhow::{bail, Context, Result};
 use ash::vk;
 
-use crate::atomic::write_bytes;
+use crate::atomic::{write_bytes, Existing};
 use crate::compare::metrics::{compare, Metrics, Rgba32};
 use crate::error::InputError;
 use crate::reference::{Stop, Transport};
@@ -205,11 +205,12 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
                 start.total_ms
             );
         }
-        write_bytes(
-            &out.join("startup.json"),
-            serde_json::to_string_pretty(&starts)?.as_bytes(),
-        )?;
-        write_bytes(&out.join("startup.md"), startup::markdown(extent, &provenance.host, &runs)?.as_bytes())?;
+        let (json, markdown) = (
+            serde_json::to_string_pretty(&starts)?,
+            startup::markdown(extent, &provenance.host, &runs)?,
+        );
+        write_bytes(&out.join("startup.json"), Existing::Replace, json.as_bytes())?;
+        write_bytes(&out.join("startup.md"), Existing::Replace, markdown.as_bytes())?;
     }
     // With --only, the rows already there are written again beside the new ones (with
     // `--only startup`, in this build's format), but for those of configurations a full

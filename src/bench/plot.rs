@@ -11,7 +11,7 @@ use plotters::style::{register_font, FontStyle};
 
 use super::plan::DEFAULTS;
 use super::report::Row;
-use crate::atomic::write_atomically;
+use crate::atomic::{write_atomically, Existing};
 
 const SIZE: (u32, u32) = (960, 640);
 const FONT: &str = "sans-serif";
@@ -115,7 +115,7 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
         root.present()?;
     }
     let image = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb).context("plot buffer of the wrong size")?;
-    write_atomically(path, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?))
+    write_atomically(path, Existing::Replace, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?))
 }
 
 /// The top-left corners of the labels of `marks` (pixels), each of its size in `sizes`,

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 
+use crate::atomic::Existing;
 use crate::cache::fnv1a;
 use crate::compare::input::read_exr;
 use crate::compare::metrics::Rgba32;
@@ -152,6 +153,7 @@ pub fn get(dir: &Path, name: &str, text: &str, settings: &Settings) -> Result<Ca
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
         write_linear(
             &path,
+            Existing::Replace,
             image.width,
             image.height,
             &image.rgba,

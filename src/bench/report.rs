@@ -12,7 +12,7 @@ use super::plan::{Configuration, FLOOR, REPORT};
 use super::plot::plot;
 use super::references::CachedReference;
 use super::{Floor, Timing};
-use crate::atomic::write_bytes;
+use crate::atomic::{write_bytes, Existing};
 use crate::compare::metrics::Metrics;
 use crate::render::PASS_NAMES;
 
@@ -191,12 +191,10 @@ pub fn merged(old: Vec<Row>, new: Vec<Row>, planned: impl Fn(&Row) -> bool) -> V
 /// Writes `results.csv`, `results.json`, `results.md` and a `plot-SCENE.png` per scene
 /// (each configuration at its first size) into `dir`.
 pub fn write(dir: &Path, rows: &[Row]) -> Result<()> {
-    write_bytes(&dir.join("results.csv"), csv(rows).as_bytes())?;
-    write_bytes(
-        &dir.join("results.json"),
-        serde_json::to_string_pretty(rows)?.as_bytes(),
-    )?;
-    write_bytes(&dir.join("results.md"), markdown(rows).as_bytes())?;
+    let json = serde_json::to_string_pretty(rows)?;
+    write_bytes(&dir.join("results.csv"), Existing::Replace, csv(rows).as_bytes())?;
+    write_bytes(&dir.join("results.json"), Existing::Replace, json.as_bytes())?;
+    write_bytes(&dir.join("results.md"), Existing::Replace, markdown(rows).as_bytes())?;
     let mut scenes: Vec<&str> = rows.iter().map(|r| r.scene.as_str()).collect();
     scenes.dedup();
     for scene in scenes {

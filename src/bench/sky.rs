@@ -10,6 +10,7 @@ use anyhow::{Context, Result};
 use glam::DVec3;
 
 use crate::brdf::environment::equirect_direction;
+use crate::atomic::Existing;
 use crate::render::output::write_exr;
 
 /// Texels of the map: 0.7° each, so the sun spans about four across.
@@ -42,6 +43,7 @@ pub fn ensure(dir: &Path) -> Result<PathBuf> {
             .collect();
         write_exr(
             &path,
+            Existing::Replace,
             WIDTH as u32,
             HEIGHT as u32,
             &rgba,

@@ -22,6 +22,7 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 use serde::{Deserialize, Serialize};
 
+use crate::atomic::Existing;
 use crate::scratch::Scratch;
 use crate::render::{OffscreenTarget, Renderer};
 use crate::scene::{Scene, DEFAULT_SCENE_TOML};
@@ -157,7 +158,7 @@ pub fn run(device: &Arc<Device>, frames: u64, renders: u64) -> Result<()> {
         let every = (renders / SAMPLES).max(1);
         let mut samples = Vec::new();
         for render in 1..=renders {
-            crate::atomic::write_bytes(&path, variant(DEFAULT_SCENE_TOML, render).as_bytes())?;
+            crate::atomic::write_bytes(&path, Existing::Replace, variant(DEFAULT_SCENE_TOML, render).as_bytes())?;
             let reloaded = Scene::load(&path)?;
             let gpu = renderer.upload(&reloaded)?;
             renderer.render_offscreen(&reloaded, &gpu, RENDER, 1.0)?;

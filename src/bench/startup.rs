@@ -13,7 +13,7 @@ use anyhow::{bail, Context, Result};
 use ash::vk;
 use serde::{Deserialize, Serialize};
 
-use crate::atomic::write_bytes;
+use crate::atomic::{write_bytes, Existing};
 use crate::scratch::Scratch;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -90,7 +90,7 @@ impl Recorder {
     }
 
     /// The start so far, as JSON written atomically to `path`.
-    pub fn write(&self, path: &Path) -> Result<()> {
+    pub fn write(&self, path: &Path, existing: Existing) -> Result<()> {
         let startup = Startup {
             kind: String::new(),
             steps: self.steps.clone(),
@@ -98,7 +98,7 @@ impl Recorder {
             first_frame_ms: self.first_frame.as_secs_f64() * 1e3,
             total_ms: self.process_start.elapsed().as_secs_f64() * 1e3,
         };
-        write_bytes(path, serde_json::to_string_pretty(&startup)?.as_bytes())
+        write_bytes(path, existing, serde_json::to_string_pretty(&startup)?.as_bytes())
     }
 }
 

@@ -75,7 +75,7 @@ fn write_crasher(dir: &Path, target: Target, input: &[u8]) -> Result<PathBuf> {
     let dir = dir.join(target.name());
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let path = dir.join(crasher_name(target, input));
-    argil::atomic::write_bytes(&path, input)?;
+    argil::atomic::write_bytes(&path, argil::atomic::Existing::Replace, input)?;
     Ok(path)
 }
 

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use serde::Serialize;
 
-use crate::atomic::write_bytes;
+use crate::atomic::{write_bytes, Existing};
 use crate::error::InputError;
 use input::read_exr;
 use metrics::{compare, Metrics};
@@ -55,6 +55,8 @@ pub struct Options {
     pub out: Option<PathBuf>,
     /// The report as JSON.
     pub json: Option<PathBuf>,
+    /// What `out` and `json` do with a file at their paths (`--overwrite`).
+    pub outputs: Existing,
 }
 
 /// The figures and what the EXR headers say about how each image was made.
@@ -150,12 +152,12 @@ pub fn run(options: &Options) -> Result<Report> {
             .heat_map
             .write_to(&mut png, image::ImageFormat::Png)
             .context("cannot encode the heat map")?;
-        write_bytes(out, png.get_ref())?;
+        write_bytes(out, options.outputs, png.get_ref())?;
     }
     if let Some(json) = &options.json {
         let mut text = serde_json::to_string_pretty(&report).context("cannot encode the JSON report")?;
         text.push('\n');
-        write_bytes(json, text.as_bytes())?;
+        write_bytes(json, options.outputs, text.as_bytes())?;
     }
     Ok(report)
 }

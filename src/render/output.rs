@@ -9,7 +9,7 @@ use exr::prelude::{
 };
 
 use super::renderer::OffscreenFrame;
-use crate::atomic::write_atomically;
+use crate::atomic::{write_atomically, Existing};
 use crate::brdf::tonemap::display_srgb8;
 use crate::error::InputError;
 
@@ -38,10 +38,10 @@ impl OutputKind {
 }
 
 /// Writes the frame in the format the extension names: `.png` or `.exr`.
-pub fn write_frame(frame: &OffscreenFrame, path: &Path) -> Result<()> {
+pub fn write_frame(frame: &OffscreenFrame, path: &Path, existing: Existing) -> Result<()> {
     match OutputKind::of(path)? {
-        OutputKind::Png => write_png(path, frame.width, frame.height, &frame.display),
-        OutputKind::Exr => write_exr(path, frame.width, frame.height, &frame.hdr, &[]),
+        OutputKind::Png => write_png(path, existing, frame.width, frame.height, &frame.display),
+        OutputKind::Exr => write_exr(path, existing, frame.width, frame.height, &frame.hdr, &[]),
     }
 }
 
@@ -50,6 +50,7 @@ pub fn write_frame(frame: &OffscreenFrame, path: &Path) -> Result<()> {
 /// Neutral, sRGB), here in f64.
 pub fn write_linear(
     path: &Path,
+    existing: Existing,
     width: u32,
     height: u32,
     rgba: &[f32],
@@ -57,7 +58,7 @@ pub fn write_linear(
     attributes: &[(&str, String)],
 ) -> Result<()> {
     match OutputKind::of(path)? {
-        OutputKind::Exr => write_exr(path, width, height, rgba, attributes),
+        OutputKind::Exr => write_exr(path, existing, width, height, rgba, attributes),
         OutputKind::Png => {
             let display: Vec<u8> = rgba
                 .chunks_exact(4)
@@ -67,19 +68,26 @@ pub fn write_linear(
                     [r, g, b, 255]
                 })
                 .collect();
-            write_png(path, width, height, &display)
+            write_png(path, existing, width, height, &display)
         }
     }
 }
 
-fn write_png(path: &Path, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
+fn write_png(path: &Path, existing: Existing, width: u32, height: u32, rgba8: &[u8]) -> Result<()> {
     let image =
         image::RgbaImage::from_raw(width, height, rgba8.to_vec()).context("display frame has the wrong size")?;
-    write_atomically(path, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?))
+    write_atomically(path, existing, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?))
 }
 
 /// An RGBA32F EXR with string attributes in its header (`argil.spp`, …).
-pub fn write_exr(path: &Path, width: u32, height: u32, rgba: &[f32], attributes: &[(&str, String)]) -> Result<()> {
+pub fn write_exr(
+    path: &Path,
+    existing: Existing,
+    width: u32,
+    height: u32,
+    rgba: &[f32],
+    attributes: &[(&str, String)],
+) -> Result<()> {
     let (w, h) = (width as usize, height as usize);
     if rgba.len() != 4 * w * h {
         bail!("HDR frame has the wrong size");
@@ -101,7 +109,7 @@ pub fn write_exr(path: &Path, width: u32, height: u32, rgba: &[f32], attributes:
     };
     let layer = Layer::new((w, h), layer_attributes, encoding, channels);
     let image = Image::from_layer(layer);
-    write_atomically(path, |sink| Ok(image.write().to_buffered(sink)?))
+    write_atomically(path, existing, |sink| Ok(image.write().to_buffered(sink)?))
 }
 
 /// How many values of the frame are NaN or infinite.
@@ -126,7 +134,7 @@ mod tests {
         let dir = temp_dir("attributes");
         let path = dir.join("ref.exr");
         let rgba = [0.5, 0.25, 0.125, 1.0, 4.0, 0.0, 1e-3, 0.5];
-        write_exr(&path, 2, 1, &rgba, &[("argil.spp", "64".into())]).unwrap();
+        write_exr(&path, Existing::Replace, 2, 1, &rgba, &[("argil.spp", "64".into())]).unwrap();
         let image = exr::prelude::read_first_rgba_layer_from_file(
             &path,
             |resolution, _| vec![[0.0f32; 4]; resolution.width() * resolution.height()],

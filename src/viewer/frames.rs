@@ -11,7 +11,7 @@ use ash::vk;
 use egui::{ClippedPrimitive, TexturesDelta};
 
 use super::overlay::Overlay;
-use crate::atomic::write_atomically;
+use crate::atomic::{write_atomically, Existing};
 use crate::render::accumulate::{Accumulation, CONVERGED_LOOKUPS};
 use crate::render::environment::equirect::Equirect;
 use crate::render::{DebugView, DisplayOutput, GpuScene, OffscreenFrame, RenderTarget, Renderer, PASS_NAMES};
@@ -41,6 +41,7 @@ pub enum CaptureStage {
 /// A screenshot request for one frame.
 pub struct Capture {
     pub path: PathBuf,
+    pub existing: Existing,
     pub stage: CaptureStage,
 }
 
@@ -55,6 +56,7 @@ pub struct UiFrame {
 struct PendingCapture {
     readback: Readback,
     path: PathBuf,
+    existing: Existing,
     format: vk::Format,
     /// The part of the image written (the frame alone leaves out the panel's place).
     crop: vk::Rect2D,
@@ -368,6 +370,7 @@ impl FrameLoop {
                     PendingCapture {
                         readback: Readback::new(&self.device, region, 4)?,
                         path: c.path,
+                        existing: c.existing,
                         format,
                         crop: match c.stage {
                             CaptureStage::BeforeUi => area,
@@ -512,7 +515,7 @@ fn write_screenshot(capture: &PendingCapture) -> Result<()> {
     .to_image();
     let format = image::ImageFormat::from_path(&capture.path)
         .with_context(|| format!("cannot write {}", capture.path.display()))?;
-    write_atomically(&capture.path, |sink| Ok(image.write_to(sink, format)?))
+    write_atomically(&capture.path, capture.existing, |sink| Ok(image.write_to(sink, format)?))
 }
 
 impl Drop for FrameLoop {

@@ -40,6 +40,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
 
+use crate::atomic::Existing;
 use crate::render::environment::equirect::{self, Equirect};
 use crate::render::gpu_scene::FrameData;
 use crate::render::DebugView;
@@ -93,6 +94,8 @@ pub struct ViewOptions {
     pub seconds: Option<f64>,
     /// Run the scripted leak hunt over `frames` and write its memory samples here.
     pub soak_log: Option<PathBuf>,
+    /// What `screenshot` and `soak_log` do with a file at their paths (`--overwrite`).
+    pub outputs: Existing,
     /// The debug view shown first.
     pub debug_view: DebugView,
     /// Start with the split view on, its right half in this bench configuration.
@@ -285,7 +288,7 @@ impl App {
             .soak_log
             .clone()
             .zip(options.frames)
-            .map(|(log, frames)| Soak::new(log, frames));
+            .map(|(log, frames)| Soak::new(log, options.outputs, frames));
         view.debug_view = options.debug_view;
         if let Some(configuration) = &options.split {
             view.split.on = true;
@@ -754,10 +757,13 @@ impl App {
         let capture = match (&self.options.screenshot, last_frame) {
             (Some(path), true) => Some(Capture {
                 path: path.clone(),
+                existing: self.options.outputs,
                 stage: CaptureStage::AfterUi,
             }),
+            // A name no file had a moment ago.
             _ if actions.screenshot => Some(Capture {
                 path: next_screenshot_path(),
+                existing: Existing::Refuse,
                 stage: CaptureStage::BeforeUi,
             }),
             _ => None,
@@ -1039,6 +1045,7 @@ mod tests {
             resize_storm: false,
             seconds: None,
             soak_log: None,
+            outputs: Existing::Refuse,
             debug_view: DebugView::default(),
             split: None,
         }

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
+use crate::atomic::Existing;
 use crate::scene::{Scene, DEFAULT_SCENE_TOML};
 
 /// The scene file the viewer shows, as it was read.
@@ -99,7 +100,7 @@ pub fn save(scene: &Scene, document: &Document, to: &Path, overwrite: bool) -> R
         _ => {}
     }
     let text = scene.edit_document(&document.text, to)?;
-    crate::atomic::write_bytes(to, text.as_bytes())?;
+    crate::atomic::write_bytes(to, Existing::Replace, text.as_bytes())?;
     Ok(Saved {
         path: absolute,
         document: Document {

@@ -10,6 +10,7 @@ use std::time::Instant;
 use anyhow::Result;
 use glam::Quat;
 
+use crate::atomic::Existing;
 use crate::bench::soak::{sample, Sample, SAMPLES};
 use crate::scene::{DiffuseModel, Scene};
 use crate::vk::Device;
@@ -21,6 +22,7 @@ const ORBIT_STEP: f32 = 0.01;
 
 pub struct Soak {
     log: PathBuf,
+    existing: Existing,
     /// The edited material's own diffuse model, which every second edit restores.
     original: Option<DiffuseModel>,
     frames: u64,
@@ -29,9 +31,10 @@ pub struct Soak {
 }
 
 impl Soak {
-    pub fn new(log: PathBuf, frames: u64) -> Self {
+    pub fn new(log: PathBuf, existing: Existing, frames: u64) -> Self {
         Self {
             log,
+            existing,
             original: None,
             frames,
             start: Instant::now(),
@@ -63,7 +66,7 @@ impl Soak {
 
     /// Writes the samples (JSON) to the log.
     pub fn write(&self) -> Result<()> {
-        crate::atomic::write_bytes(&self.log, serde_json::to_string_pretty(&self.samples)?.as_bytes())
+        crate::atomic::write_bytes(&self.log, self.existing, serde_json::to_string_pretty(&self.samples)?.as_bytes())
     }
 }
 
@@ -77,7 +80,7 @@ mod tests {
         let distance = (scene.camera.position - scene.camera.target).length();
         let material = scene.objects[0].material;
         let first = scene.materials[material].diffuse;
-        let mut soak = Soak::new(PathBuf::new(), 1000);
+        let mut soak = Soak::new(PathBuf::new(), Existing::Replace, 1000);
         let mut models = Vec::new();
         for frame in 0..=2 * EDIT_EVERY {
             soak.before_frame(frame, &mut scene);
