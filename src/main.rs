@@ -223,6 +223,7 @@ enum Command {
         /// Only these rows: a scene or configuration name, or SCENE/CONFIGURATION (`*` matches
         /// any run of characters); repeatable. Their rows replace the same rows of the results already in the
         /// folder, and the other rows are kept, but for those of configurations the bench no longer has.
+        /// A pattern that names no row, or `startup`, is refused (exit code 2).
         #[arg(long, value_name = "PATTERN")]
         only: Vec<String>,
         /// Cold and warm starts measured, each pair from empty caches; the median of each is

@@ -123,12 +123,21 @@ fn quick_bench_rows_have_finite_times_and_errors_and_references_are_cached() {
     assert_eq!(frames(&merged, "floor"), frames(&rows, "floor"));
 }
 
+/// Alone or beside a pattern that names rows, a pattern that names none is refused before
+/// any row runs, with the scenes there are.
 #[test]
 fn bench_rejects_a_pattern_that_names_no_row() {
-    let output = argil(&["bench", "--quick", "--only", "no-such-scene"]);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2), "{stderr}");
-    assert!(stderr.contains("no-such-scene"), "{stderr}");
+    for only in [&["no-such-scene"][..], &["default/report", "default/no-such-configuration"]] {
+        let mut args = vec!["bench", "--quick", "--frames", "1", "--warmup", "0"];
+        args.extend(only.iter().flat_map(|p| ["--only", *p]));
+        let output = argil(&args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{stderr}");
+        let unmatched = only.last().expect("a pattern");
+        assert!(stderr.contains(&format!("--only {unmatched}: names no row")), "{stderr}");
+        assert!(stderr.contains("its scenes: default"), "{stderr}");
+        assert!(!stderr.contains("default report"), "a row ran: {stderr}");
+    }
 }
 
 #[test]

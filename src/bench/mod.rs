@@ -143,14 +143,30 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         commit: commit(),
     };
     let spec = ErrorSpec::new(options.quick);
-    let mut renderer = Renderer::new(device.clone(), 1)?;
-    let mut rows = Vec::new();
     let sky = if options.quick {
         None
     } else {
         Some(sky::ensure(&reference_dir)?)
     };
     let plan = plan::scenes(options.quick, sky.as_deref())?;
+    // A pattern that names nothing is a typo, which would otherwise leave its rows out
+    // silently beside the others'.
+    let unmatched: Vec<&str> = (options.only.iter())
+        .filter(|p| *p != STARTUP && !plan.iter().any(|scene| scene.has(p)))
+        .map(String::as_str)
+        .collect();
+    if !unmatched.is_empty() {
+        let scenes: Vec<&str> = plan.iter().map(|s| s.name).collect();
+        return Err(InputError(format!(
+            "--only {}: names no row of the bench{} (its scenes: {}; or {STARTUP})",
+            unmatched.join(" --only "),
+            if options.quick { " --quick" } else { "" },
+            scenes.join(", ")
+        ))
+        .into());
+    }
+    let mut renderer = Renderer::new(device.clone(), 1)?;
+    let mut rows = Vec::new();
     let planned_rows: HashSet<(String, String, u32, u32)> = plan
         .iter()
         .flat_map(|s| {
@@ -184,13 +200,6 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     }
     drop(renderer);
     let startup = options.only.is_empty() || options.only.iter().any(|p| p == STARTUP);
-    if rows.is_empty() && !startup {
-        return Err(InputError(format!(
-            "--only {}: no bench row matches",
-            options.only.join(" --only ")
-        ))
-        .into());
-    }
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     if startup {
         let extent = if options.quick { plan::QUICK } else { plan::HEADLINE };

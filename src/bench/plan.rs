@@ -53,16 +53,25 @@ impl BenchScene {
     /// patterns): a scene or configuration name, or `SCENE/CONFIGURATION`, where `*`
     /// stands for any run of characters (`occlusion*`, `*/sampled-*`).
     pub fn selected(mut self, patterns: &[String]) -> Self {
-        let matches = |configuration: &str| {
-            patterns.iter().any(|p| match p.split_once('/') {
-                Some((s, c)) => wildcard(s, self.name) && wildcard(c, configuration),
-                None => wildcard(p, self.name) || wildcard(p, configuration),
-            })
-        };
         if !patterns.is_empty() {
-            self.configurations.retain(|c| matches(&c.name));
+            let name = self.name;
+            (self.configurations).retain(|c| patterns.iter().any(|p| pattern_names(p, name, &c.name)));
         }
         self
+    }
+
+    /// Whether `pattern` names one of the scene's configurations, as [`Self::selected`]
+    /// reads it.
+    pub fn has(&self, pattern: &str) -> bool {
+        self.configurations.iter().any(|c| pattern_names(pattern, self.name, &c.name))
+    }
+}
+
+/// Whether `pattern` (see [`BenchScene::selected`]) names `configuration` of `scene`.
+fn pattern_names(pattern: &str, scene: &str, configuration: &str) -> bool {
+    match pattern.split_once('/') {
+        Some((s, c)) => wildcard(s, scene) && wildcard(c, configuration),
+        None => wildcard(pattern, scene) || wildcard(pattern, configuration),
     }
 }
 
@@ -701,6 +710,8 @@ mod tests {
             ["sampled-1", "sampled-16", "sampled-1024"]
         );
         assert_eq!(names(default().selected(&["d*t/*-10*4".into()])), ["sampled-1024"]);
+        assert!(default().has("d*t/*-10*4") && default().has("default") && default().has("*/floor"));
+        assert!(!default().has("studio") && !default().has("default/studio") && !default().has("studio/seed"));
     }
 
     #[test]
