@@ -140,6 +140,32 @@ fn bench_rejects_a_pattern_that_names_no_row() {
     }
 }
 
+/// Results that could not be written or merged fail the run before any row is timed,
+/// not after: a results folder under a file, and with `--only` a `results.json` that is not
+/// the bench's, which is left as it was.
+#[test]
+fn bench_checks_its_results_folder_before_the_rows() {
+    let dir = common::test_dir("results-folder");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "").expect("write");
+    let malformed = dir.join("results");
+    std::fs::create_dir_all(&malformed).expect("create");
+    std::fs::write(malformed.join("results.json"), "not JSON").expect("write");
+    for (out, only, mention) in [
+        (file.join("results"), None, "cannot create"),
+        (malformed.clone(), Some("default/report"), "not the bench's results"),
+    ] {
+        let mut args = vec!["bench", "--quick", "--frames", "1", "--warmup", "0", "--out", out.to_str().expect("utf-8")];
+        args.extend(only.into_iter().flat_map(|p| ["--only", p]));
+        let output = argil(&args);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains(mention), "{stderr}");
+        assert!(!stderr.contains("default report"), "a row ran first: {stderr}");
+    }
+    assert_eq!(std::fs::read(malformed.join("results.json")).expect("read"), b"not JSON");
+}
+
 #[test]
 fn bench_rejects_a_time_budget_that_is_not_positive() {
     let output = argil(&["bench", "--quick", "--max-seconds", "0"]);

@@ -165,6 +165,14 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         ))
         .into());
     }
+    // The folder, and with --only the rows already in it, before any row runs: a run of
+    // an hour must not end unable to write or merge what it measured.
+    std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
+    let earlier = if options.only.is_empty() {
+        Vec::new()
+    } else {
+        report::read(&out)?
+    };
     let mut renderer = Renderer::new(device.clone(), 1)?;
     let mut rows = Vec::new();
     let planned_rows: HashSet<(String, String, u32, u32)> = plan
@@ -200,7 +208,6 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     }
     drop(renderer);
     let startup = options.only.is_empty() || options.only.iter().any(|p| p == STARTUP);
-    std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     if startup {
         let extent = if options.quick { plan::QUICK } else { plan::HEADLINE };
         let runs = startup::measure(device.info.index, extent, options.startup_runs)?;
@@ -228,7 +235,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         let planned = |r: &report::Row| {
             options.quick || planned_rows.contains(&(r.scene.clone(), r.configuration.clone(), r.width, r.height))
         };
-        rows = report::merged(report::read(&out)?, rows, planned);
+        rows = report::merged(earlier, rows, planned);
     }
     if !rows.is_empty() {
         report::write(&out, &rows)?;
