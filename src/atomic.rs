@@ -2,29 +2,61 @@
 //! is flushed to the disk and renamed over the path, so an interrupted or failed write
 //! (kill -9, a full disk, a crash) never leaves half a file or clobbers the previous one.
 //! A process killed mid-write can leave its temporary, `.NAME.PID.tmp`, beside the output.
-//! A command's outputs that already exist are refused before it starts, unless it was given
-//! `--overwrite` ([`refuse_existing`]); one that appears at its path while the command runs
-//! is not replaced either ([`Existing::Refuse`]).
+//! Before a command starts, its outputs are checked ([`check_outputs`]): one that already
+//! exists is refused unless the command was given `--overwrite`, and one it could not write
+//! (a missing or unwritable folder) is refused too, rather than after hours of work. One
+//! that appears at its path while the command runs is not replaced ([`Existing::Refuse`]).
 
-use std::fs::File;
+use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, ErrorKind, Seek, SeekFrom, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
 use crate::error::InputError;
 use crate::fault::{Faults, VARIABLE};
 
-/// Refuses the first of `outputs` that already exists, unless `overwrite`: a file at an
-/// output's path may be the user's own work, so replacing it must be asked for.
-pub fn refuse_existing<'a>(outputs: impl IntoIterator<Item = &'a Path>, overwrite: bool) -> Result<(), InputError> {
-    match outputs.into_iter().find(|path| !overwrite && path.exists()) {
-        Some(path) => Err(InputError::file(
-            path,
-            "already exists; pass --overwrite to replace it",
-        )),
-        None => Ok(()),
+/// Refuses the first of `outputs` that already exists, unless `overwrite` (a file at an
+/// output's path may be the user's own work, so replacing it must be asked for), that is a
+/// folder, or that its folder would not take: missing, not a folder, or refusing the
+/// temporary file a write begins with, which is made and removed here to find out.
+pub fn check_outputs<'a>(outputs: impl IntoIterator<Item = &'a Path>, overwrite: bool) -> Result<(), InputError> {
+    for path in outputs {
+        if path.is_dir() {
+            return Err(InputError::file(path, "is a folder, not a file"));
+        }
+        if !overwrite && path.exists() {
+            return Err(InputError::file(path, "already exists; pass --overwrite to replace it"));
+        }
+        let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        if !folder.is_dir() {
+            let problem = if folder.exists() { "is not a folder" } else { "does not exist" };
+            return Err(InputError::file(path, format!("its folder {} {problem}", folder.display())));
+        }
+        let probe = temporary(path)?;
+        match OpenOptions::new().write(true).create_new(true).open(&probe) {
+            Ok(file) => {
+                drop(file);
+                // Best effort: a leftover empty temporary is only clutter.
+                let _ = std::fs::remove_file(&probe);
+            }
+            // Another run's, killed mid-write: a write replaces it.
+            Err(e) if e.kind() == ErrorKind::AlreadyExists => {}
+            Err(e) => {
+                return Err(InputError::file(path, format!("cannot be written in {}: {e}", folder.display())));
+            }
+        }
     }
+    Ok(())
+}
+
+/// The temporary file a write of `path` goes to first: `.NAME.PID.tmp` beside it.
+fn temporary(path: &Path) -> Result<PathBuf, InputError> {
+    let name = path.file_name().ok_or_else(|| InputError::file(path, "not a file name"))?;
+    let mut temporary = std::ffi::OsString::from(".");
+    temporary.push(name);
+    temporary.push(format!(".{}.tmp", std::process::id()));
+    Ok(path.with_file_name(temporary))
 }
 
 /// What writing an output does with a file already at its path.
@@ -89,13 +121,7 @@ impl Seek for Sink {
 /// the temporary file that the error names.
 pub fn write_atomically(path: &Path, existing: Existing, write: impl FnOnce(&mut Sink) -> Result<()>) -> Result<()> {
     let budget = Faults::from_env()?.write;
-    let name = path
-        .file_name()
-        .with_context(|| format!("{}: not a file name", path.display()))?;
-    let mut temporary = std::ffi::OsString::from(".");
-    temporary.push(name);
-    temporary.push(format!(".{}.tmp", std::process::id()));
-    let temporary = path.with_file_name(temporary);
+    let temporary = temporary(path)?;
     let written = (|| -> Result<bool> {
         let mut sink = Sink {
             file: BufWriter::new(File::create(&temporary)?),
@@ -193,10 +219,31 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let (old, new) = (dir.join("old.png"), dir.join("new.png"));
         write_bytes(&old, Existing::Replace, b"the user's image").unwrap();
-        let refused = refuse_existing([new.as_path(), old.as_path()], false).unwrap_err().to_string();
+        let refused = check_outputs([new.as_path(), old.as_path()], false).unwrap_err().to_string();
         assert!(refused.contains("old.png") && refused.contains("--overwrite"), "{refused}");
-        refuse_existing([new.as_path(), old.as_path()], true).unwrap();
-        refuse_existing([new.as_path()], false).unwrap();
+        check_outputs([new.as_path(), old.as_path()], true).unwrap();
+        check_outputs([new.as_path()], false).unwrap();
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "the probes are removed");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// What a write could only fail at its end is refused at the start, `--overwrite` or not.
+    #[test]
+    fn an_output_its_folder_would_not_take_is_refused() {
+        let dir = std::env::temp_dir().join(format!("argil-unwritable-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("a-file");
+        std::fs::write(&file, "").unwrap();
+        for (output, problem) in [
+            (dir.join("missing/frame.exr"), "missing does not exist"),
+            (file.join("frame.exr"), "a-file is not a folder"),
+            (dir.clone(), "is a folder, not a file"),
+        ] {
+            for overwrite in [false, true] {
+                let refused = check_outputs([output.as_path()], overwrite).unwrap_err().to_string();
+                assert!(refused.contains(problem), "{refused}");
+            }
+        }
         std::fs::remove_dir_all(dir).unwrap();
     }
 

@@ -26,9 +26,9 @@ const MAX_SIDE: i64 = argil::render::target::MAX_SIDE as i64;
 /// The exit-code contract, also in the README.
 const AFTER_HELP: &str = "\
 Exit codes: 0 success; 2 the input is wrong (a scene, mesh, texture, environment map or EXR, \
-an argument, --device, ARGIL_FAULT, an output that exists without --overwrite), and nothing was \
-written; 1 argil or the machine failed (no Vulkan driver, the device lost, out of memory, an I/O \
-error while writing). Outputs are written to a temporary file and renamed, so a failed run with \
+an argument, --device, ARGIL_FAULT, an output that exists without --overwrite or whose folder \
+is missing or unwritable), and nothing was written; 1 argil or the machine failed (no Vulkan \
+driver, the device lost, out of memory, an I/O error while writing). Outputs are written to a temporary file and renamed, so a failed run with \
 --overwrite leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
@@ -596,7 +596,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
         Some(DeviceChoice::Best) | None => None,
     };
     let choice = cli.device.unwrap_or(DeviceChoice::Best);
-    argil::atomic::refuse_existing(cli.command.outputs(), cli.overwrite)?;
+    argil::atomic::check_outputs(cli.command.outputs(), cli.overwrite)?;
     let outputs = Existing::from_overwrite(cli.overwrite);
     match cli.command {
         Command::Render {

@@ -143,6 +143,31 @@ fn a_write_failing_half_way_leaves_the_previous_output() {
     }
 }
 
+/// An output its folder would not take (missing, a file, or the output a folder) is refused
+/// before any work, by every command that writes one, with or without `--overwrite`: an
+/// hour's reference must not end unable to write its image.
+#[test]
+fn an_output_that_could_not_be_written_is_refused_at_the_start() {
+    let dir = test_dir("unwritable");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "").expect("write");
+    let missing = dir.join("missing/frame.exr");
+    let under_file = file.join("frame.exr");
+    let (missing, under_file, folder) = (path_str(&missing), path_str(&under_file), path_str(&dir));
+    for (args, problem) in [
+        (vec!["render", "--out", missing], "missing does not exist"),
+        (vec!["reference", "--out", under_file, "--spp", "4096"], "a-file is not a folder"),
+        (vec!["reference", "--out", folder, "--overwrite"], "is a folder, not a file"),
+        (vec!["verify", "--json", missing], "missing does not exist"),
+        (vec!["compare", "a.exr", "b.exr", "--json", under_file], "a-file is not a folder"),
+    ] {
+        let o = argil(&args);
+        assert_failure(&o, 2, &[problem]);
+        assert_eq!(stderr(&o).lines().count(), 1, "{args:?} began its work: {}", stderr(&o));
+    }
+    assert_eq!(std::fs::read_dir(&dir).expect("list").count(), 1, "nothing written");
+}
+
 /// An output that another program creates while `argil render` runs is not replaced either:
 /// exit code 2 naming it, the file as that program wrote it, and the frame in the temporary
 /// file the message names. The scene comes through a FIFO, which argil opens after its check
