@@ -55,7 +55,7 @@ impl BenchScene {
     pub fn selected(mut self, patterns: &[String]) -> Self {
         if !patterns.is_empty() {
             let name = self.name;
-            (self.configurations).retain(|c| patterns.iter().any(|p| pattern_names(p, name, &c.name)));
+            self.configurations.retain(|c| patterns.iter().any(|p| pattern_names(p, name, &c.name)));
         }
         self
     }
