@@ -180,12 +180,12 @@ pub fn write_bytes(path: &Path, existing: Existing, bytes: &[u8]) -> Result<()> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scratch::Scratch;
 
     /// A PNG encoder stopped half-way by a sink that fails after 100 bytes.
     #[test]
     fn a_write_failing_half_way_leaves_the_old_file_byte_identical() {
-        let dir = std::env::temp_dir().join(format!("argil-atomic-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = Scratch::new("atomic").unwrap();
         let path = dir.join("frame.png");
         write_bytes(&path, Existing::Replace, b"the previous frame").unwrap();
         let image = image::RgbaImage::from_fn(64, 64, |x, y| image::Rgba([x as u8 * 4, y as u8 * 4, 7, 255]));
@@ -210,13 +210,11 @@ mod tests {
         );
         write_atomically(&path, Existing::Replace, |sink| Ok(image.write_to(sink, image::ImageFormat::Png)?)).unwrap();
         assert_eq!(image::open(&path).unwrap().to_rgba8(), image);
-        std::fs::remove_dir_all(dir).unwrap();
     }
 
     #[test]
     fn an_existing_output_is_refused_unless_overwriting() {
-        let dir = std::env::temp_dir().join(format!("argil-existing-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = Scratch::new("existing").unwrap();
         let (old, new) = (dir.join("old.png"), dir.join("new.png"));
         write_bytes(&old, Existing::Replace, b"the user's image").unwrap();
         let refused = check_outputs([new.as_path(), old.as_path()], false).unwrap_err().to_string();
@@ -224,35 +222,31 @@ mod tests {
         check_outputs([new.as_path(), old.as_path()], true).unwrap();
         check_outputs([new.as_path()], false).unwrap();
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "the probes are removed");
-        std::fs::remove_dir_all(dir).unwrap();
     }
 
     /// What a write could only fail at its end is refused at the start, `--overwrite` or not.
     #[test]
     fn an_output_its_folder_would_not_take_is_refused() {
-        let dir = std::env::temp_dir().join(format!("argil-unwritable-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = Scratch::new("unwritable").unwrap();
         let file = dir.join("a-file");
         std::fs::write(&file, "").unwrap();
         for (output, problem) in [
             (dir.join("missing/frame.exr"), "missing does not exist"),
             (file.join("frame.exr"), "a-file is not a folder"),
-            (dir.clone(), "is a folder, not a file"),
+            (dir.to_path_buf(), "is a folder, not a file"),
         ] {
             for overwrite in [false, true] {
                 let refused = check_outputs([output.as_path()], overwrite).unwrap_err().to_string();
                 assert!(refused.contains(problem), "{refused}");
             }
         }
-        std::fs::remove_dir_all(dir).unwrap();
     }
 
     /// Another program creates the output while it is being written: under `Refuse` its
     /// file stays, and the finished output waits in the temporary file the error names.
     #[test]
     fn a_file_that_appears_during_the_write_is_not_replaced_unless_allowed() {
-        let dir = std::env::temp_dir().join(format!("argil-appears-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = Scratch::new("appears").unwrap();
         let path = dir.join("frame.exr");
         let appearing = |sink: &mut Sink| {
             std::fs::write(&path, b"another program's frame")?;
@@ -273,6 +267,5 @@ mod tests {
         write_bytes(&path, Existing::Refuse, b"a new frame").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"a new frame");
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary is left");
-        std::fs::remove_dir_all(dir).unwrap();
     }
 }
