@@ -28,8 +28,8 @@ const AFTER_HELP: &str = "\
 Exit codes: 0 success; 2 the input is wrong (a scene, mesh, texture, environment map or EXR, \
 an argument, --device, ARGIL_FAULT, an output that exists without --overwrite or whose folder \
 is missing or unwritable), and nothing was written; 1 argil or the machine failed (no Vulkan \
-driver, the device lost, out of memory, an I/O error while writing). Outputs are written to a temporary file and renamed, so a failed run with \
---overwrite leaves the previous file as it was.
+driver, the device lost, out of memory, an I/O error while writing). Outputs are written to a \
+temporary file and renamed, so a failed run with --overwrite leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
 the N-th GPU allocation (alloc), queue submission (submit, device-lost), present (present: \
@@ -223,11 +223,12 @@ enum Command {
         /// Only these rows: a scene or configuration name, or SCENE/CONFIGURATION (`*` matches
         /// any run of characters); repeatable. Their rows replace the same rows of the results already in the
         /// folder, and the other rows are kept, but for those of configurations the bench no longer has.
-        /// A pattern that names no row, or `startup`, is refused (exit code 2).
+        /// A pattern that names neither a row nor `startup` is refused before any row runs (exit
+        /// code 2).
         #[arg(long, value_name = "PATTERN")]
         only: Vec<String>,
-        /// Cold and warm starts measured, each pair from empty caches; the median of each is
-        /// reported [default: 5, --quick 1].
+        /// Runs of the three starts measured (cold, argil cold, warm), each run from empty
+        /// caches; the median start of each kind is reported [default: 5, --quick 1].
         #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
         startup_runs: Option<u32>,
         /// Instead of timing, a long run looking for leaks: FRAMES frames, then RENDERS renders

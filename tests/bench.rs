@@ -155,7 +155,8 @@ fn bench_checks_its_results_folder_before_the_rows() {
         (file.join("results"), None, "cannot create"),
         (malformed.clone(), Some("default/report"), "not the bench's results"),
     ] {
-        let mut args = vec!["bench", "--quick", "--frames", "1", "--warmup", "0", "--out", out.to_str().expect("utf-8")];
+        let out = out.to_str().expect("utf-8");
+        let mut args = vec!["bench", "--quick", "--frames", "1", "--warmup", "0", "--out", out];
         args.extend(only.into_iter().flat_map(|p| ["--only", p]));
         let output = argil(&args);
         let stderr = String::from_utf8_lossy(&output.stderr);

@@ -45,7 +45,8 @@ or infinite (psnr of equal images).
 
 --out writes the ꟻLIP heat map: magma on covered pixels, black elsewhere, green at NaN/Inf.
 Exit code 2: bad input (a file missing, unreadable, not an EXR; sizes differ; nothing
-covered), bad arguments or an output that exists without --overwrite; nothing is written. Exit code 1: any other failure.";
+covered), bad arguments, or an output that exists without --overwrite or whose folder is
+missing or unwritable; nothing is written. Exit code 1: any other failure.";
 
 /// What to compare and where the results go.
 pub struct Options {

@@ -245,9 +245,9 @@ impl Renderer {
     /// one every map). With a split view, every texture.
     pub fn sampled_textures(&self, scene: &Scene) -> Vec<bool> {
         let mut sampled = vec![self.split.is_some(); scene.textures.len()];
+        let (view, specialize, specular_aa) = (self.debug_view, !self.generic, scene.antialiasing.specular);
         for object in &scene.objects {
             let m = &scene.materials[object.material];
-            let (view, specialize, specular_aa) = (self.debug_view, !self.generic, scene.antialiasing.specular);
             let constants = ForwardConstants::new(m, &scene.environment, view, specialize, specular_aa);
             for slot in MapSlot::ALL.into_iter().filter(|&slot| constants.samples(slot)) {
                 if let Some(map) = &m.maps[slot] {
