@@ -136,6 +136,7 @@ fn bench_rejects_a_pattern_that_names_no_row() {
         let unmatched = only.last().expect("a pattern");
         assert!(stderr.contains(&format!("--only {unmatched}: names no row")), "{stderr}");
         assert!(stderr.contains("its scenes: default"), "{stderr}");
+        assert!(!stderr.contains("vulkan validation"), "validation messages: {stderr}");
         assert!(!stderr.contains("default report"), "a row ran: {stderr}");
     }
 }
@@ -162,6 +163,7 @@ fn bench_checks_its_results_folder_before_the_rows() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(1), "{stderr}");
         assert!(stderr.contains(mention), "{stderr}");
+        assert!(!stderr.contains("vulkan validation"), "validation messages: {stderr}");
         assert!(!stderr.contains("default report"), "a row ran first: {stderr}");
     }
     assert_eq!(std::fs::read(malformed.join("results.json")).expect("read"), b"not JSON");

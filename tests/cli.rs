@@ -188,6 +188,7 @@ fn an_output_that_appears_during_the_run_is_not_replaced() {
     });
     let o = common::run(command);
     assert_failure(&o, 2, &["frame.exr", "appeared", "--overwrite", "argil's output is in"]);
+    assert!(!stderr(&o).contains("vulkan validation"), "validation messages: {}", stderr(&o));
     writer.join().expect("the scene's writer");
     assert_eq!(std::fs::read(&out).expect("read"), b"another program's frame");
     let kept: Vec<_> = std::fs::read_dir(&dir)
