@@ -7,6 +7,7 @@ use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
+use rayon::prelude::*;
 
 use super::antialiasing::{Antialiasing, MSAA_COUNTS};
 use super::file::{
@@ -286,11 +287,18 @@ pub(super) fn resolve(
         embedded: &requests.embedded,
         builtin_maps,
     };
-    let textures = requests
+    // Decoded in parallel (PNG and JPEG decoders use one core each), the first error in
+    // the scene's order reported.
+    let loaded: Vec<_> = requests
         .pending
-        .iter()
-        .map(|(field, texture, role)| load_map_texture(&check, field, texture, *role, &source, &mut inputs))
-        .collect::<Result<_, _>>()?;
+        .par_iter()
+        .map(|(field, texture, role)| load_map_texture(&check, field, texture, *role, &source))
+        .collect();
+    let mut textures = Vec::with_capacity(loaded.len());
+    for (texture, file) in loaded {
+        inputs.extend(file);
+        textures.push(texture?);
+    }
     let mut seen = HashSet::new();
     inputs.retain(|file| seen.insert(file.clone()));
 
@@ -645,39 +653,37 @@ struct TextureSource<'a> {
     builtin_maps: BuiltinMaps,
 }
 
-/// The texture of a map, built in, embedded in a model, or read from a file, which joins
-/// `files`.
+/// The texture of a map, built in, embedded in a model, or read from a file, which is
+/// returned beside it.
 fn load_map_texture(
     check: &Checker,
     field: &str,
     texture: &str,
     role: TextureRole,
     source: &TextureSource,
-    files: &mut Vec<PathBuf>,
-) -> Result<TextureData, SceneError> {
+) -> (Result<TextureData, SceneError>, Option<PathBuf>) {
     if texture.starts_with(BUILTIN_PREFIX) {
         let builtin = match source.builtin_maps {
             BuiltinMaps::Now => builtin_texture(texture),
             BuiltinMaps::StandIns => procedural::stand_in(texture),
         };
         // Names were checked with the map; this only avoids an unwrap.
-        return builtin.ok_or_else(|| check.invalid(field, texture, "unknown builtin texture"));
+        return (builtin.ok_or_else(|| check.invalid(field, texture, "unknown builtin texture")), None);
     }
-    let loaded = match source.embedded.get(texture) {
-        Some(bytes) => decode_texture(bytes, texture, role),
+    let (loaded, file) = match source.embedded.get(texture) {
+        Some(bytes) => (decode_texture(bytes, texture, role), None),
         None => {
             let file = source.base_dir.join(texture);
-            let loaded = load_texture(&file, role);
-            files.push(file);
-            loaded
+            (load_texture(&file, role), Some(file))
         }
     };
-    loaded.map_err(|error| SceneError::MaterialTexture {
+    let loaded = loaded.map_err(|error| SceneError::MaterialTexture {
         origin: check.origin.to_owned(),
         field: field.to_owned(),
         value: texture.to_owned(),
         error: Box::new(error),
-    })
+    });
+    (loaded, file)
 }
 
 /// The index of the built-in `default` material (or the file's `[materials.default]`),

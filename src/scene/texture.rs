@@ -223,7 +223,7 @@ fn decode<R: BufRead + Seek>(mut data: R, name: &Path, role: TextureRole) -> Res
     }
 
     let image = DynamicImage::from_decoder(decoder).map_err(|e| fail(describe(format, e)))?;
-    let pixels = match texel_format {
+    let mut pixels = match texel_format {
         TexelFormat::Rgba8Srgb | TexelFormat::Rgba8Unorm => image.into_rgba8().into_raw(),
         TexelFormat::Rgba16Unorm => bytemuck::cast_slice(&image.into_rgba16().into_raw()).to_vec(),
         // Float files; the other float textures are 16-bit sRGB colour.
@@ -245,8 +245,7 @@ fn decode<R: BufRead + Seek>(mut data: R, name: &Path, role: TextureRole) -> Res
     };
     // Mesh UVs have v up the image (OBJ's, and glTF's after its loader's 1 − v) and the
     // samplers put row 0 at v = 0, so a file's rows are stored from its bottom row up.
-    let row = width as usize * texel_format.bytes_per_texel();
-    let pixels = pixels.chunks_exact(row).rev().flatten().copied().collect();
+    flip_rows(&mut pixels, width as usize * texel_format.bytes_per_texel());
     Ok(TextureData {
         name: name.display().to_string(),
         width,
@@ -254,6 +253,16 @@ fn decode<R: BufRead + Seek>(mut data: R, name: &Path, role: TextureRole) -> Res
         format: texel_format,
         pixels,
     })
+}
+
+/// Reverses the order of the `row`-byte rows of `pixels` in place, a row swap at a time
+/// (a copy texel by texel took 22 ms of a 2048² PNG's 55 ms load).
+fn flip_rows(pixels: &mut [u8], row: usize) {
+    let rows = pixels.len() / row;
+    for top in 0..rows / 2 {
+        let (above, below) = pixels.split_at_mut((rows - 1 - top) * row);
+        above[top * row..(top + 1) * row].swap_with_slice(&mut below[..row]);
+    }
 }
 
 /// The stored format for a decoded colour type, or `None` if unsupported.
@@ -341,6 +350,16 @@ mod tests {
         let prefix = format!("{}: ", path.display());
         assert!(message.starts_with(&prefix), "{message}");
         message[prefix.len()..].to_owned()
+    }
+
+    #[test]
+    fn rows_are_reversed_in_place() {
+        for rows in [1u8, 2, 3, 4] {
+            let mut pixels: Vec<u8> = (0..rows).flat_map(|r| [r, r, 10 + r]).collect();
+            flip_rows(&mut pixels, 3);
+            let reversed: Vec<u8> = (0..rows).rev().flat_map(|r| [r, r, 10 + r]).collect();
+            assert_eq!(pixels, reversed, "{rows} rows");
+        }
     }
 
     #[test]
