@@ -208,13 +208,16 @@ pub fn configuration_names() -> Vec<String> {
         "seed",
         REPORT,
         "no-subsurface",
+        "generic-no-subsurface",
         "no-maps",
         "maps-off",
         "generic-maps-off",
         "no-environment",
         "generic-no-environment",
         "no-bounce",
+        "generic-no-bounce",
         "no-objects",
+        "generic-no-objects",
         "no-ground-map",
         "per-pixel",
     ];
@@ -222,6 +225,7 @@ pub fn configuration_names() -> Vec<String> {
     names.extend(SAMPLED.iter().map(|n| format!("sampled-{n}")));
     let others = SHADOW_CONFIGURATIONS
         .iter()
+        .chain(&["generic-no-shadows"])
         .chain(&ANTIALIASING_CONFIGURATIONS)
         .chain(&OCCLUSION_CONFIGURATIONS);
     names.extend(others.map(|n| (*n).to_owned()));
@@ -444,7 +448,8 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
         file.antialiasing = Some(antialiasing_configured(antialiasing));
         return Ok(file);
     }
-    match name.strip_prefix("generic-").unwrap_or(name) {
+    let name = name.strip_prefix("generic-").unwrap_or(name);
+    match name {
         FLOOR | GENERIC | DEFAULTS => {}
         "seed" => set_reflection(&mut file.environment, ReflectionMode::Seed, None),
         REPORT => {
