@@ -25,7 +25,7 @@ pub mod soak;
 pub mod startup;
 pub mod stats;
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
@@ -175,7 +175,9 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     };
     let mut renderer = Renderer::new(device.clone(), 1)?;
     let mut rows = Vec::new();
-    let planned_rows: HashSet<(String, String, u32, u32)> = plan
+    // Each planned row's place in the results: the plan's order of scenes, configurations
+    // and sizes, whichever order the rows were measured or merged in.
+    let planned_rows: HashMap<(String, String, u32, u32), usize> = plan
         .iter()
         .flat_map(|s| {
             s.configurations.iter().flat_map(move |c| {
@@ -184,6 +186,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
                     .map(move |r| (s.name.to_owned(), c.name.clone(), r.width, r.height))
             })
         })
+        .zip(0..)
         .collect();
     for scene in plan {
         let scene = scene.selected(&options.only);
@@ -231,12 +234,12 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
     // With --only, the rows already there are written again beside the new ones (with
     // `--only startup`, in this build's format), but for those of configurations a full
     // run no longer makes. A quick run plans fewer rows, so it keeps every row.
+    let place = |r: &report::Row| planned_rows.get(&(r.scene.clone(), r.configuration.clone(), r.width, r.height));
     if !options.only.is_empty() {
-        let planned = |r: &report::Row| {
-            options.quick || planned_rows.contains(&(r.scene.clone(), r.configuration.clone(), r.width, r.height))
-        };
-        rows = report::merged(earlier, rows, planned);
+        rows = report::merged(earlier, rows, |r| options.quick || place(r).is_some());
     }
+    // A quick run's earlier rows, which it did not plan, stay after its own.
+    rows.sort_by_key(|r| place(r).copied().unwrap_or(usize::MAX));
     if !rows.is_empty() {
         report::write(&out, &rows)?;
     }
