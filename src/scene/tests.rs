@@ -908,6 +908,13 @@ fn unloadable_map_textures_name_the_map_and_the_file() {
     assert!(message.starts_with(&expected), "{message}");
 
     std::fs::write(dir.0.join("broken.png"), b"\x89PNG\r\n\x1a\nnot really").unwrap();
+    // The files are decoded in parallel; the error is the first map's in the scene's order.
+    let two = format!(
+        "{CUBE}[materials.m]\n{}{}",
+        "base_color_map = { texture = \"missing.png\" }\n", "normal_map = { texture = \"broken.png\" }\n"
+    );
+    let message = Scene::from_toml(&two, "s.toml", &dir.0).unwrap_err().to_string();
+    assert!(message.starts_with(&expected), "{message}");
     let message = scene("broken.png", "normal_map");
     let expected = format!(
         "s.toml: materials.m.normal_map.texture = \"broken.png\": {}: ",
