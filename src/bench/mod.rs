@@ -239,7 +239,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         rows = report::merged(earlier, rows, |r| options.quick || place(r).is_some());
     }
     // A quick run's earlier rows, which it did not plan, stay after its own.
-    rows.sort_by_key(|r| place(r).copied().unwrap_or(usize::MAX));
+    rows.sort_by_cached_key(|r| place(r).copied().unwrap_or(usize::MAX));
     if !rows.is_empty() {
         report::write(&out, &rows)?;
     }
