@@ -1,6 +1,7 @@
 #version 460
 #include "scene_data.glsl"
 #include "object_occlusion.glsl"
+#define BOUNCE_GATHER_LOOP
 #include "bounce.glsl"
 
 layout(location = 0) in vec3 in_position;

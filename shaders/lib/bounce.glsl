@@ -78,6 +78,12 @@ vec3 ground_bounce_irradiance(vec3 p, vec3 n) {
     mat3 basis = tangent_frame(n);
     vec3 ground_environment = PI * bounce_environment(vec3(0.0, 1.0, 0.0));
     vec3 sum = vec3(0.0);
+    // A loop in forward.vert, whose gather lavapipe compiles twice at a start (for the
+    // warm-up frame's few pixels and the frame's) and runs once a vertex; unrolled at the
+    // pixels, where the frames are faster for it (docs/performance.md).
+#ifdef BOUNCE_GATHER_LOOP
+    [[dont_unroll]]
+#endif
     for (uint k = 0u; k < BOUNCE_TAPS; ++k) {
         vec3 d = basis * cosine_hemisphere_tap(k, BOUNCE_TAPS);
         if (d.y < 0.0) sum += ground_tap(p, d, height, ground_environment);
@@ -99,6 +105,7 @@ mat3 ground_bounce_gradient(vec3 p) {
     float height = bounce_height(p);
     vec3 ground_environment = PI * bounce_environment(vec3(0.0, 1.0, 0.0));
     mat3 sum = mat3(0.0);
+    [[dont_unroll]]
     for (uint k = 0u; k < BOUNCE_GRADIENT_TAPS; ++k) {
         vec3 d = lower_hemisphere_tap(k, BOUNCE_GRADIENT_TAPS);
         sum += outerProduct(d, ground_tap(p, d, height, ground_environment));
