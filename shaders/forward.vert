@@ -1,8 +1,6 @@
 #version 460
 #include "scene_data.glsl"
 #include "object_occlusion.glsl"
-#define BOUNCE_GATHER_LOOP
-#include "bounce.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -24,11 +22,6 @@ layout(location = 5) out vec2 out_map_uv[MAP_COUNT];
 // Scene::occlusion_at_vertices): interpolating zeros gives 0 exactly, where ones would
 // round to 1 − 2⁻²⁴ here and there.
 layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
-// The ground's bounce at the mesh's normal and its gradient in the normal (bounce.glsl),
-// where the draw gathers it at its vertices: the gather's taps read the environment and the
-// ground's light map, which a vertex does once for the many pixels it stands for.
-layout(location = 6 + MAP_COUNT) out vec3 out_bounce;
-layout(location = 7 + MAP_COUNT) out mat3 out_bounce_gradient;
 
 void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
@@ -46,15 +39,11 @@ void main() {
     // have one); under a non-uniform scale it is only an average.
     float scale = pow(abs(determinant(mat3(object.model))), 1.0 / 3.0);
     out_curvature = scale > 0.0 ? in_curvature / scale : 0.0;
-    // Both at the mesh's own normal, the side a closed mesh shows.
-    float len2 = dot(out_normal, out_normal);
-    vec3 n = len2 > MIN_NORMAL_LENGTH2 ? out_normal * inversesqrt(len2) : vec3(0.0);
     if (OBJECT_OCCLUSION && OBJECTS_OCCLUSION_FROM == OBJECTS_OCCLUSION_FROM_VERTICES) {
+        // At the mesh's own normal, the side a closed mesh shows.
+        float len2 = dot(out_normal, out_normal);
+        vec3 n = len2 > MIN_NORMAL_LENGTH2 ? out_normal * inversesqrt(len2) : vec3(0.0);
         out_objects_take = 1.0 - object_occlusion(world.xyz, n, object.own_occluders);
-    }
-    if (BOUNCE && BOUNCE_AT_VERTICES) {
-        out_bounce = ground_bounce_irradiance(world.xyz, n);
-        out_bounce_gradient = ground_bounce_gradient(world.xyz);
     }
     gl_Position = frame.view_proj * world;
 }

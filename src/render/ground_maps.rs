@@ -164,7 +164,7 @@ impl GroundMap {
         } else {
             Image::new_2d(device, extent, FORMAT, usage, vk::ImageAspectFlags::COLOR, name)?
         };
-        one_shot.run(|cmd| image.record_clear(cmd, FORWARD_READ))?;
+        one_shot.run(|cmd| image.record_clear(cmd, ImageUse::FRAGMENT_READ))?;
         DescriptorWriter::default()
             .image(
                 0,
@@ -252,7 +252,7 @@ impl GroundMap {
             self.disk_key.set(Some(key));
             return Ok(());
         };
-        transfer::upload_image(device, one_shot, &self.image, &[&bits], AFTER_READS, FORWARD_READ)?;
+        transfer::upload_image(device, one_shot, &self.image, &[&bits], AFTER_READS, ImageUse::FRAGMENT_READ)?;
         self.pending.set(false);
         self.disk_key.set(None);
         self.renders.set(self.renders.get() + 1);
@@ -265,7 +265,7 @@ impl GroundMap {
     }
 
     /// Computes the map if [`Self::prepare`] found it out of date, with the other sets of
-    /// `layout` bound, leaving it readable by the forward pass.
+    /// `layout` bound, leaving it readable by fragment shaders.
     fn record(&self, device: &Device, cmd: vk::CommandBuffer, layout: &PipelineLayout) {
         if !self.pending.replace(false) {
             return;
@@ -290,22 +290,13 @@ impl GroundMap {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.handle);
             d.cmd_dispatch(cmd, groups, groups, 1);
         }
-        transition_levels(device, cmd, image.handle, layers, ImageUse::COMPUTE_STORAGE, FORWARD_READ);
+        transition_levels(device, cmd, image.handle, layers, ImageUse::COMPUTE_STORAGE, ImageUse::FRAGMENT_READ);
     }
 }
 
-/// How the forward pass reads the maps: the light map at the vertices too (forward.vert's
-/// bounce), the others at the pixels.
-const FORWARD_READ: ImageUse = ImageUse {
-    stage: vk::PipelineStageFlags2::from_raw(
-        vk::PipelineStageFlags2::VERTEX_SHADER.as_raw() | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
-    ),
-    ..ImageUse::FRAGMENT_READ
-};
-
 /// Where a map is made again from: its old texels go once the frames before have read them.
 const AFTER_READS: ImageUse = ImageUse {
-    stage: FORWARD_READ.stage,
+    stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
     ..ImageUse::UNDEFINED
 };
 
@@ -341,10 +332,9 @@ impl GroundMaps {
     /// The layout of set 5 of the forward pass, which [`Self::new`] takes over.
     pub fn forward_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout> {
         DescriptorSetLayoutBuilder::default()
-            // The light map: the bounce's gather runs at the vertices (forward.vert).
             .binding(
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                vk::ShaderStageFlags::FRAGMENT,
             )
             .binding(
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
@@ -494,7 +484,7 @@ impl GroundMaps {
     pub fn store_computed(&self, one_shot: &OneShot) -> Result<()> {
         for map in [&self.light, &self.occlusion, &self.shadow] {
             if let Some(key) = map.unsaved.take() {
-                let (device, at) = (&self.device, FORWARD_READ);
+                let (device, at) = (&self.device, ImageUse::FRAGMENT_READ);
                 let bits = transfer::read_level(device, one_shot, &map.image, 0, TEXEL_BYTES, at)?;
                 self.disk.store(&map.entry(), key, &bits);
             }
