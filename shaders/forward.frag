@@ -45,6 +45,8 @@ layout(location = 3) in vec4 in_tangent;
 layout(location = 4) in float in_curvature;
 layout(location = 5) in vec2 in_map_uv[MAP_COUNT];
 layout(location = 5 + MAP_COUNT) in vec3 in_objects_take;
+layout(location = 6 + MAP_COUNT) in vec3 in_bounce;
+layout(location = 7 + MAP_COUNT) in mat3 in_bounce_gradient;
 
 layout(location = 0) out vec4 out_radiance;
 
@@ -91,7 +93,7 @@ void main() {
         occlusion.rgb *= from == OBJECTS_OCCLUSION_FROM_GROUND_MAP ? ground_map_occlusion(in_world_position)
                          : from == OBJECTS_OCCLUSION_FROM_VERTICES
                              ? 1.0 - in_objects_take
-                             : object_occlusion(in_world_position, n, object.own_occluders);
+                             : object_occlusion(in_world_position, n, own_occluders());
     }
     // The occlusion map's baked visibility multiplies the environment's light, occluded by
     // the screen-space visibility already, as glTF 2.0 applies it; the point lights it
@@ -104,18 +106,22 @@ void main() {
                        * map_visibility;
     vec3 radiance = point_lights_radiance(models, m, n, n_geometric, v, in_world_position, in_curvature,
                                           seed_horizon, light_visibility) + environment;
-    if (models.diffuse != DIFFUSE_NONE) {
-        // The bounced light, gathered by a Lambertian lobe.
-        radiance += m.base_color.rgb / PI * ground_bounce_irradiance(in_world_position, n);
+    // The bounced light, gathered by a Lambertian lobe.
+    vec3 bounced = vec3(0.0);
+    if (BOUNCE && models.diffuse != DIFFUSE_NONE) {
+        vec3 irradiance = BOUNCE_AT_VERTICES ? bounce_at_pixel(in_bounce, in_bounce_gradient, n, n_geometric)
+                                             : ground_bounce_irradiance(in_world_position, n);
+        bounced = m.base_color.rgb / PI * irradiance;
     }
+    radiance += bounced;
     // The surface's own light, which no light, occlusion or shadow changes.
     out_radiance = vec4(radiance + mapped_emission(m, in_map_uv[MAP_EMISSION]), 1.0);
 #if DEBUG_VIEWS
     uint debug_view = DEBUG_VIEW == FROM_UNIFORM ? frame.counts.y : DEBUG_VIEW;
     if (debug_view != DEBUG_VIEW_SHADED) {
         out_radiance.rgb = debug_view_radiance(debug_view, models, m, n, n_geometric, v, in_world_position,
-                                               in_normal, in_uv, in_tangent, environment, radiance, in_curvature,
-                                               visibility, light_visibility);
+                                               in_normal, in_uv, in_tangent, environment, bounced, radiance,
+                                               in_curvature, visibility, light_visibility);
     }
 #endif
 }

@@ -1,6 +1,7 @@
 #version 460
 #include "scene_data.glsl"
 #include "object_occlusion.glsl"
+#include "bounce.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -22,6 +23,15 @@ layout(location = 5) out vec2 out_map_uv[MAP_COUNT];
 // Scene::occlusion_at_vertices): interpolating zeros gives 0 exactly, where ones would
 // round to 1 − 2⁻²⁴ here and there.
 layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
+// The ground's bounce at the mesh's normal and its gradient in the normal (bounce.glsl),
+// where the draw gathers it at its vertices: shaders/vertex_bounce.comp gathered them for
+// the object's vertices, from object.bounce_first on, when what they are made of changed.
+layout(location = 6 + MAP_COUNT) out vec3 out_bounce;
+layout(location = 7 + MAP_COUNT) out mat3 out_bounce_gradient;
+
+layout(set = 5, binding = 3, std430) readonly buffer VertexBounce {
+    BounceAtVertex vertex_bounce[];
+};
 
 void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
@@ -43,7 +53,12 @@ void main() {
         // At the mesh's own normal, the side a closed mesh shows.
         float len2 = dot(out_normal, out_normal);
         vec3 n = len2 > MIN_NORMAL_LENGTH2 ? out_normal * inversesqrt(len2) : vec3(0.0);
-        out_objects_take = 1.0 - object_occlusion(world.xyz, n, object.own_occluders);
+        out_objects_take = 1.0 - object_occlusion(world.xyz, n, own_occluders());
+    }
+    if (BOUNCE && BOUNCE_AT_VERTICES) {
+        BounceAtVertex gathered = vertex_bounce[object.bounce_first + gl_VertexIndex];
+        out_bounce = gathered_irradiance(gathered);
+        out_bounce_gradient = gathered_gradient(gathered);
     }
     gl_Position = frame.view_proj * world;
 }

@@ -274,8 +274,9 @@ fn a_hard_light_beside_a_soft_one_shadows_the_ground_at_its_pixels() {
 /// The maps are rendered when the scene changes, not every frame: two frames of the same
 /// scene render them once, moving the light renders them again, and the frame is the same
 /// either way. So are the ground's light map of the bounce, which a light's intensity
-/// changes too, and its shadow map, which a light's radius and the taps change too, and
-/// which a floor frame between two of the scene's leaves as it is.
+/// changes too, its shadow map, which a light's radius and the taps change too, and the
+/// sphere's bounce gathered at its vertices, which follows the light map and where the
+/// sphere stands; a floor frame between two of the scene's leaves them as they are.
 #[test]
 fn shadow_maps_render_only_when_the_scene_changes() {
     let toml = plane_scene("radius = 0.2", SPHERE).replace("resolution = 2048", "resolution = 2048\nbounce = true");
@@ -288,12 +289,17 @@ fn shadow_maps_render_only_when_the_scene_changes() {
             renderer.read_offscreen(&offscreen, ms).expect("read").hdr
         };
         let renders = |renderer: &argil::render::Renderer| {
-            [renderer.shadow_map_renders(), renderer.ground_light_renders(), renderer.ground_shadow_renders()]
+            [
+                renderer.shadow_map_renders(),
+                renderer.ground_light_renders(),
+                renderer.ground_shadow_renders(),
+                renderer.vertex_bounce_computes(),
+            ]
         };
-        let [shadows, ground, ground_shadows] = renders(renderer);
+        let [shadows, ground, ground_shadows, bounce] = renders(renderer);
         let first = frame(renderer, &s);
         let second = frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 1, ground + 1, ground_shadows + 1]);
+        assert_eq!(renders(renderer), [shadows + 1, ground + 1, ground_shadows + 1, bounce + 1]);
         assert_eq!(first, second);
         renderer.floor = true;
         frame(renderer, &s);
@@ -301,24 +307,31 @@ fn shadow_maps_render_only_when_the_scene_changes() {
         assert_eq!(frame(renderer, &s), second);
         s.lights[0].position.x += 0.5;
         let moved = frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 2, ground + 2, ground_shadows + 2]);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 2, ground_shadows + 2, bounce + 2]);
         assert_ne!(moved, second);
         // Changing only the radius needs no new shadow map, but the penumbra on the ground.
         s.lights[0].radius = 0.4;
         frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 2, ground + 2, ground_shadows + 3]);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 2, ground_shadows + 3, bounce + 2]);
         // The intensity changes the ground's light, not the shadows.
         s.lights[0].intensity *= 0.5;
         frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 2, ground + 3, ground_shadows + 3]);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 3, ground_shadows + 3, bounce + 3]);
         s.shadow_taps = 8;
         frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 2, ground + 3, ground_shadows + 4]);
+        assert_eq!(renders(renderer), [shadows + 2, ground + 3, ground_shadows + 4, bounce + 3]);
         // Without the map, the ground's pixels find its shadows.
         s.shadow_ground_map = false;
         s.lights[0].position.x += 0.5;
-        frame(renderer, &s);
-        assert_eq!(renders(renderer), [shadows + 3, ground + 4, ground_shadows + 4]);
+        let lowered = frame(renderer, &s);
+        assert_eq!(renders(renderer), [shadows + 3, ground + 4, ground_shadows + 4, bounce + 4]);
+        // The sphere raised and lowered again: its shadow, the ground's light and its own
+        // bounce each time, and the frame as it was.
+        s.objects[1].position.y += 0.25;
+        assert_ne!(frame(renderer, &s), lowered);
+        s.objects[1].position.y -= 0.25;
+        assert_eq!(frame(renderer, &s), lowered);
+        assert_eq!(renders(renderer), [shadows + 5, ground + 6, ground_shadows + 4, bounce + 6]);
     });
 }
 
@@ -525,57 +538,108 @@ fn bounce_lights_the_sphere_from_the_ground_and_leaves_the_ground_alone() {
 }
 
 /// The bounce view of a sphere over a lit ground (its light casting no shadow) is the f64
-/// gather (src/brdf/bounce.rs) at the sphere's exact surface under each pixel's centre,
-/// with the ground's exact light: the ground's light map read bilinearly, and the GLSL
-/// gather, agree with their twins. The ground reaches 40 from the sphere, so that the
-/// taps a tilt of the mesh's normals moves across its edge are few; its light map's texels
-/// are 0.31 wide there, where the light's irradiance, 4 above, bends by 2e-3 of itself.
+/// gather (src/brdf/bounce.rs) and its gradient at the vertices of the sphere's triangle
+/// under each pixel's centre, interpolated there and moved to the pixel's normal (read
+/// from the normals view), with the ground's exact light: the ground's light map read
+/// bilinearly, and the GLSL gather and gradient, agree with their twins. Without a normal
+/// map the pixel's normal is the interpolated one and the gradient moves nothing; with
+/// the lumps' map it moves the gather by 9% (the median pixel). A coarse sphere (8 cells
+/// a cube edge) gathers at its pixels, the f64 gather at the mesh's surface. The ground reaches 40 from the
+/// sphere, so that the taps a tilt of the mesh's normals moves across its edge are few; its
+/// light map's texels are 0.31 wide there, where the light's irradiance, 4 above, bends by
+/// 2e-3 of itself.
 #[test]
 fn the_bounce_is_the_f64_gather_of_the_grounds_light() {
-    use argil::brdf::bounce::{ground_bounce_irradiance, ground_lights_irradiance, BounceLight, Ground, BOUNCE_TAPS};
-    let toml = plane_scene("shadows = false", SPHERE)
-        .replace("scale = 4.0", "scale = 40.0")
-        .replace("resolution = 2048", "resolution = 2048\nbounce = true");
-    let scene = scene(&toml);
-    let frame = gpu().exclusive(|renderer| {
-        renderer.debug_view = argil::render::DebugView::Bounce;
-        let frame = common::try_render(renderer, &scene, SIZE.0, SIZE.1);
-        renderer.debug_view = argil::render::DebugView::Shaded;
-        frame.expect("render").hdr
-    });
-    let rays = CameraRays::new(&scene.camera, SIZE.0, SIZE.1);
-    let ground = Ground {
-        centre: [0.0; 3],
-        half_side: 40.0,
-        albedo: [0.6; 3],
+    use argil::brdf::bounce::{
+        bounce_at_pixel, ground_lights_irradiance, BounceLight, BounceSource, Ground, BOUNCE_GRADIENT_TAPS,
+        BOUNCE_TAPS,
     };
-    let light = BounceLight {
-        position: LIGHT.to_array(),
-        intensity: [20.0, 18.0, 16.0],
-    };
-    let mut errors = Vec::new();
-    // Pixels well inside the silhouette, where mesh and sphere cover the centre alike.
-    for (i, p) in sphere_pixels(&rays, 0.9) {
-        let n = (p - SPHERE_CENTRE) / SPHERE_RADIUS;
-        let gathered = ground_bounce_irradiance(
-            p.to_array(),
-            n.to_array(),
-            &ground,
-            |g| ground_lights_irradiance(g, &[light], |_, _| 1.0),
-            |_| [0.1, 0.1, 0.12],
-            BOUNCE_TAPS,
-        );
-        let expected = gathered[1] * 0.6 / std::f64::consts::PI;
-        if expected > 0.0 {
-            errors.push((f64::from(frame[4 * i + 1]) - expected).abs() / expected);
+    use argil::reference::world::World;
+    use argil::render::DebugView;
+    let lumps = "\n[materials.ground.normal_map]\ntexture = \"builtin:clay-lumps\"\nstrength = 1.0\nuv_scale = [4.0, 2.0]\n";
+    for (mapped, cells) in [(false, 32), (true, 32), (false, 8)] {
+        let mut toml = plane_scene("shadows = false", SPHERE)
+            .replace("scale = 4.0", "scale = 40.0")
+            .replace("scale = 0.6", &format!("scale = 0.6\nsubdivisions = {cells}"))
+            .replace("resolution = 2048", "resolution = 2048\nbounce = true");
+        if mapped {
+            toml.push_str(lumps);
         }
+        let scene = scene(&toml);
+        let at_vertices = argil::scene::Scene::bounce_at_vertices(scene.meshes[scene.objects[1].mesh].extent());
+        assert_eq!(at_vertices, cells == 32);
+        let [bounce, normals] = gpu().exclusive(|renderer| {
+            let frames = [DebugView::Bounce, DebugView::Normals].map(|view| {
+                renderer.debug_view = view;
+                common::try_render(renderer, &scene, SIZE.0, SIZE.1)
+            });
+            renderer.debug_view = DebugView::Shaded;
+            frames.map(|frame| frame.expect("render").hdr)
+        });
+        let rays = CameraRays::new(&scene.camera, SIZE.0, SIZE.1);
+        let world = World::new(&scene);
+        let ground = Ground {
+            centre: [0.0; 3],
+            half_side: 40.0,
+            albedo: [0.6; 3],
+        };
+        let light = BounceLight {
+            position: LIGHT.to_array(),
+            intensity: [20.0, 18.0, 16.0],
+        };
+        let source = BounceSource {
+            ground: &ground,
+            ground_light: |g| ground_lights_irradiance(g, &[light], |_, _| 1.0),
+            environment_over_pi: |_| [0.1, 0.1, 0.12],
+        };
+        let (mut errors, mut moves) = (Vec::new(), Vec::new());
+        // Pixels well inside the silhouette, where mesh and sphere cover the centre alike.
+        for (i, _) in sphere_pixels(&rays, 0.9) {
+            let (x, y) = ((i % SIZE.0 as usize) as f64 + 0.5, (i / SIZE.0 as usize) as f64 + 0.5);
+            let (o, d) = rays.ray(x, y, SIZE.0, SIZE.1);
+            let hit = world.intersect(o, d, 0.0, f64::INFINITY, None).expect("the sphere");
+            let surface = world.surface(&hit, d);
+            let n: [f64; 3] = std::array::from_fn(|c| 2.0 * f64::from(normals[4 * i + c]) - 1.0);
+            if !at_vertices {
+                let gathered = source.irradiance(surface.position.to_array(), n, BOUNCE_TAPS)[1];
+                if gathered > 0.0 {
+                    let expected = gathered * 0.6 / std::f64::consts::PI;
+                    errors.push((f64::from(bounce[4 * i + 1]) - expected).abs() / expected);
+                }
+                continue;
+            }
+            let weights = [1.0 - hit.b1 - hit.b2, hit.b1, hit.b2];
+            let (mut at_mesh_normal, mut gradient) = ([0.0; 3], [[0.0; 3]; 3]);
+            for ((p, n), w) in world.hit_vertices(&hit).into_iter().zip(weights) {
+                let e = source.irradiance(p.to_array(), n.to_array(), BOUNCE_TAPS);
+                let g = source.gradient(p.to_array(), BOUNCE_GRADIENT_TAPS);
+                for c in 0..3 {
+                    at_mesh_normal[c] += w * e[c];
+                    gradient[c] = std::array::from_fn(|k| gradient[c][k] + w * g[c][k]);
+                }
+            }
+            let n_geometric = surface.normal.to_array();
+            let bounced = bounce_at_pixel(at_mesh_normal, &gradient, n, n_geometric)[1];
+            let expected = bounced * 0.6 / std::f64::consts::PI;
+            if expected > 0.0 && at_mesh_normal[1] > 0.0 {
+                moves.push((bounced - at_mesh_normal[1]).abs() / at_mesh_normal[1]);
+                errors.push((f64::from(bounce[4 * i + 1]) - expected).abs() / expected);
+            }
+        }
+        errors.sort_by(f64::total_cmp);
+        let median = errors[errors.len() / 2];
+        let p95 = errors[errors.len() * 95 / 100];
+        assert!(errors.len() > 300, "{} sphere pixels lit by the bounce", errors.len());
+        moves.sort_by(f64::total_cmp);
+        let moved = moves.get(moves.len() / 2).copied().unwrap_or(0.0);
+        eprintln!(
+            "mapped {mapped}, {cells} cells: {} px: median {median:.2e}, p95 {p95:.2e}, max {:.2e}; moved by the normal: median {moved:.2e}",
+            errors.len(),
+            errors[errors.len() - 1]
+        );
+        assert!(median < 2e-3 && p95 < 1e-2, "relative error: median {median:.2e}, p95 {p95:.2e}");
+        assert!(mapped == (moved > 1e-2), "the normal moves the bounce by {moved:.2e} (median)");
     }
-    errors.sort_by(f64::total_cmp);
-    let median = errors[errors.len() / 2];
-    let p95 = errors[errors.len() * 95 / 100];
-    assert!(errors.len() > 300, "{} sphere pixels lit by the bounce", errors.len());
-    eprintln!("{} px: median {median:.2e}, p95 {p95:.2e}, max {:.2e}", errors.len(), errors[errors.len() - 1]);
-    assert!(median < 2e-3 && p95 < 1e-2, "relative error: median {median:.2e}, p95 {p95:.2e}");
 }
 
 /// A start reads the ground's maps from the disk cache where a start before computed them

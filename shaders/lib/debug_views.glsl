@@ -7,7 +7,6 @@
 #include "scene_data.glsl"
 #include "shading.glsl"
 #include "lights.glsl"
-#include "bounce.glsl"
 #include "shadows.glsl"
 
 const uint DEBUG_VIEW_SHADED = 0u;
@@ -68,11 +67,11 @@ vec3 shadow_map_view(vec3 p, vec3 face_normal) {
 // What debug view `view` shows at a surface point; `shaded` is the normal result there.
 // `n` is the shading normal, `n_geometric` the surface's, `normal`, `tangent` and
 // `curvature` the interpolated vertex attributes (curvature in 1/world length),
-// `environment` the environment's term, `visibility` the ambient occlusion's, `ao` the
+// `environment` the environment's term, `bounced` the ground's bounce, `visibility` the ambient occlusion's, `ao` the
 // occlusion map's (point_lights_radiance).
 vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
                          vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 environment,
-                         vec3 shaded, float curvature, float visibility, float ao) {
+                         vec3 bounced, vec3 shaded, float curvature, float visibility, float ao) {
     vec3 face_normal = cross(dFdx(p), dFdy(p));
     if (view == DEBUG_VIEW_NORMALS) return direction_color(n);
     if (view == DEBUG_VIEW_TANGENTS) return direction_color(tangent.xyz);
@@ -131,12 +130,10 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         return vec3(total > 0.0 ? lit / total : 1.0);
     }
     if (view == DEBUG_VIEW_BOUNCE) {
-        // The light bounced off the ground alone (bounce.glsl); where the ground is darker
-        // than the sky it takes light away, shown in red by the luminance it takes.
-        vec3 bounce = models.diffuse == MODEL_NONE ? vec3(0.0)
-                    : m.base_color.rgb / PI * ground_bounce_irradiance(p, n);
-        float taken = max(-dot(bounce, vec3(0.2126, 0.7152, 0.0722)), 0.0);
-        return max(bounce, vec3(0.0)) + vec3(taken, 0.0, 0.0);
+        // The light bounced off the ground alone (bounce.glsl), `bounced`; where the ground
+        // is darker than the sky it takes light away, shown in red by the luminance it takes.
+        float taken = max(-dot(bounced, vec3(0.2126, 0.7152, 0.0722)), 0.0);
+        return max(bounced, vec3(0.0)) + vec3(taken, 0.0, 0.0);
     }
     if (view == DEBUG_VIEW_SHADOW_MAP) return shadow_map_view(p, face_normal);
     if (view == DEBUG_VIEW_NAN) {

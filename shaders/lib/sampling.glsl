@@ -27,6 +27,16 @@ vec2 vogel_disk_step(uint k, uint n, inout vec2 direction) {
     return tap;
 }
 
+// Tap k of n spread evenly over the hemisphere below the horizon (−y), each standing for
+// the solid angle 2π/n: heights evenly spaced in (−1, 0), each turned from the last by the
+// golden angle (a spherical Fibonacci set, González 2010).
+vec3 lower_hemisphere_tap(uint k, uint n) {
+    float y = -(float(k) + 0.5) / float(n);
+    float r = sqrt(max(1.0 - y * y, 0.0));
+    float angle = float(k) * GOLDEN_ANGLE;
+    return vec3(r * cos(angle), y, r * sin(angle));
+}
+
 // Tap k of n of a cosine-weighted hemisphere about +z: Vogel disk point k lifted onto the
 // hemisphere (Malley's method, pbrt-v4 §A.5.3).
 vec3 cosine_hemisphere_tap(uint k, uint n) {

@@ -42,7 +42,13 @@ layout(push_constant) uniform ObjectPush {
     vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3
     uint material_index;
     uint shadowing_lights;  // bit i: point light i may shadow it (Scene::shadowing_lights)
-    uvec2 own_occluders;  // the run of frame.occluders that is this object: first, count
+    uint own_occluders;  // the run of frame.occluders that is this object: first | count << 16
+    uint bounce_first;  // its first vertex in the bounce at the vertices (vertex_bounce.rs)
 } object;
+
+// The run of frame.occluders that is the object: (first, count).
+uvec2 own_occluders() {
+    return uvec2(object.own_occluders & 0xffffu, object.own_occluders >> 16);
+}
 
 #endif

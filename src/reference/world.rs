@@ -223,6 +223,14 @@ impl World {
             .occluded(origin, dir, t_min, t_max, |t| Some(self.object_of(t)) == skip)
     }
 
+    /// The position and unit normal of each vertex of a hit's triangle, in the order of its
+    /// barycentric weights (1 − b1 − b2, b1, b2): what the vertex shader computes at.
+    pub fn hit_vertices(&self, hit: &Hit) -> [(DVec3, DVec3); 3] {
+        self.triangles[hit.triangle]
+            .0
+            .map(|i| (self.vertices[i as usize].position, self.vertices[i as usize].normal.normalize_or_zero()))
+    }
+
     /// The surface at a hit of a ray with direction `dir`, as the fragment shader sees it.
     pub fn surface(&self, hit: &Hit, dir: DVec3) -> Surface {
         let (ids, object) = self.triangles[hit.triangle];

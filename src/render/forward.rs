@@ -29,6 +29,7 @@ use super::shaders;
 use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
+use super::vertex_bounce::gpu_bounce_firsts;
 use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::occluders::Occluder;
 use crate::scene::{
@@ -57,8 +58,9 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// (`[shadows] taps`, shadows.glsl); whether the draw reads its shadows from the
 /// ground's shadow map (ground_shadow.glsl); whether the frame has shadows at all
 /// (lights.glsl), which the generic pipeline always holds; whether the draw that reads
-/// the ground's map looks hard lights up at its pixels beside it; and whether a light that
-/// may shadow the draw's object is soft (shadows.glsl), which the generic pipeline holds.
+/// the ground's map looks hard lights up at its pixels beside it; whether a light that may
+/// shadow the draw's object is soft (shadows.glsl), which the generic pipeline holds; and
+/// whether the draw gathers the bounce at its vertices (bounce.glsl), by its mesh.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -85,11 +87,12 @@ pub struct ForwardConstants {
     pub shadows: u32,
     pub ground_hard_shadows: u32,
     pub soft_shadows: u32,
+    pub bounce_at_vertices: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 23] = [
+    pub const NAMES: [&'static str; 24] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -113,6 +116,7 @@ impl ForwardConstants {
         "SHADOWS",
         "GROUND_HARD_SHADOWS",
         "SOFT_SHADOWS",
+        "BOUNCE_AT_VERTICES",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -177,6 +181,7 @@ impl ForwardConstants {
             shadows: 1,
             ground_hard_shadows: 0,
             soft_shadows: 1,
+            bounce_at_vertices: 0,
         }
     }
 
@@ -501,6 +506,7 @@ impl ForwardPass {
         let at_vertices = |i: usize| {
             choices.objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
         };
+        let bounce_firsts = gpu_bounce_firsts(scene, gpu);
         self.object_draws = (0..scene.objects.len())
             .map(|i| ObjectDraw {
                 occlusion: ObjectOcclusion {
@@ -514,6 +520,7 @@ impl ForwardPass {
                     },
                 },
                 shadowing_lights: shadowing[i],
+                bounce_first: bounce_firsts[i],
             })
             .collect();
         let parts = 1 + usize::from(split.is_some());
@@ -521,7 +528,9 @@ impl ForwardPass {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
             let from: Vec<ObjectsOcclusionFrom> = self.object_draws.iter().map(|o| o.occlusion.from).collect();
-            self.pipelines_for(choices.samples, &draw_constants(scene, split, &from, shadowing, choices))?
+            let at_vertices: Vec<bool> = bounce_firsts.iter().map(Option::is_some).collect();
+            let constants = draw_constants(scene, split, &from, shadowing, &at_vertices, choices);
+            self.pipelines_for(choices.samples, &constants)?
         };
         // The objects with the scene's materials, then with the split's.
         let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
@@ -676,7 +685,7 @@ impl ForwardPass {
                 .object_draws
                 .get(index)
                 .context("object missing: prepare() was not called for this scene")?;
-            let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights);
+            let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights, draw.bounce_first.unwrap_or(0));
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {
@@ -780,16 +789,20 @@ pub struct FrameChoices {
 struct ObjectDraw {
     occlusion: ObjectOcclusion,
     shadowing_lights: u32,
+    /// Its first vertex in the bounce at the vertices, where it gathers there.
+    bounce_first: Option<u32>,
 }
 
 /// The constants of each draw: `scene`'s objects, then the same with `split`'s materials,
-/// object i reading the other objects' occlusion from `from[i]`, and holding shadow code
-/// where a light may shadow it (`shadowing[i]`, `ShadowPass::receivers`).
+/// object i reading the other objects' occlusion from `from[i]`, holding shadow code
+/// where a light may shadow it (`shadowing[i]`, `ShadowPass::receivers`), and gathering
+/// the bounce at its vertices where `bounce_at_vertices[i]`.
 fn draw_constants(
     scene: &Scene,
     split: Option<&Split>,
     from: &[ObjectsOcclusionFrom],
     shadowing: &[u32],
+    bounce_at_vertices: &[bool],
     choices: &FrameChoices,
 ) -> Vec<ForwardConstants> {
     let bounces = scene.bounce && scene.ground().is_some();
@@ -819,6 +832,7 @@ fn draw_constants(
             constants.object_occlusion = u32::from(choices.objects);
             constants.objects_occlusion_from = from as u32;
             constants.bounce = held(bounces && !is_ground);
+            constants.bounce_at_vertices = u32::from(bounce_at_vertices[i]);
             constants.sun = held(choices.sun);
             constants.shadow_taps = scene.shadow_taps;
             let ground_shadows = choices.ground_shadows == Some(i);
@@ -1064,7 +1078,9 @@ mod tests {
             let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };
             let shadowing: Vec<u32> =
                 (0..scene.objects.len()).map(|i| scene.shadowing_lights(i, &lights, |m| extents[m])).collect();
-            draw_constants(scene, None, &from, &shadowing, &choices)
+            let firsts = crate::render::vertex_bounce::bounce_firsts(scene, |m| (extents[m], 1));
+            let at_vertices: Vec<bool> = firsts.iter().map(Option::is_some).collect();
+            draw_constants(scene, None, &from, &shadowing, &at_vertices, &choices)
         };
         let specialised = constants(&scene, true, true);
         assert_eq!(specialised.len(), scene.objects.len());
@@ -1074,6 +1090,9 @@ mod tests {
             let expected = (u32::from(i != ground), u32::from(i == ground), u32::from(i != ball));
             assert_eq!((c.bounce, c.ground_shadows, c.shadows), expected);
         }
+        // The ball's and the ring's fine meshes gather at their vertices; the ground does not.
+        let at_vertices: Vec<u32> = specialised.iter().map(|c| c.bounce_at_vertices).collect();
+        assert_eq!(at_vertices, [1, 1, 0]);
         assert_eq!((specialised[ball].soft_shadows, specialised[ring].soft_shadows), (0, 1));
         let generic = |scene: &Scene, shadows: bool| constants(scene, false, shadows);
         assert!(generic(&scene, true).iter().all(|c| c.bounce == 1), "the generic pipeline holds the bounce");

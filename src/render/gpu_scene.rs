@@ -94,8 +94,11 @@ pub struct ObjectPush {
     /// shadow code runs for those alone.
     pub shadowing_lights: u32,
     /// The run of `FrameData::occluders` that stands for its own file object, which does
-    /// not occlude it: (first, count).
-    pub own_occluders: [u32; 2],
+    /// not occlude it: first | count << 16.
+    pub own_occluders: u32,
+    /// Its first vertex's gather in the ground's bounce at the vertices (vertex_bounce.rs),
+    /// where it gathers there.
+    pub bounce_first: u32,
 }
 
 /// Where a draw's occlusion by the other objects (`[occlusion] objects`) comes from:
@@ -121,10 +124,13 @@ pub struct ObjectOcclusion {
     pub from: ObjectsOcclusionFrom,
 }
 
+// `own_occluders` packs a first occluder and a count, each below 2¹⁶.
+const _: () = assert!(MAX_OCCLUDERS < 1 << 16);
+
 impl ObjectPush {
-    /// The draw of `object`, which skips the occluders `occlusion.own` and may be shadowed
-    /// by the lights `shadowing_lights`.
-    pub fn new(object: &Object, occlusion: ObjectOcclusion, shadowing_lights: u32) -> Self {
+    /// The draw of `object`, which skips the occluders `occlusion.own`, may be shadowed by
+    /// the lights `shadowing_lights` and reads its vertices' bounce from `bounce_first` on.
+    pub fn new(object: &Object, occlusion: ObjectOcclusion, shadowing_lights: u32, bounce_first: u32) -> Self {
         let model: Mat4 = object.model_matrix();
         // Normals transform by the inverse transpose; with a degenerate matrix, which the
         // scene loader rejects, this would be non-finite.
@@ -138,13 +144,17 @@ impl ObjectPush {
             ],
             material_index: object.material as u32,
             shadowing_lights,
-            own_occluders: [occlusion.own.0 as u32, occlusion.own.1 as u32],
+            own_occluders: occlusion.own.0 as u32 | (occlusion.own.1 as u32) << 16,
+            bounce_first,
         }
     }
 }
 
 pub struct GpuMesh {
+    /// Read as vertices by the draws, and as a storage buffer by the bounce's gather at
+    /// them (vertex_bounce.rs).
     pub vertices: Buffer,
+    pub vertex_count: u32,
     pub indices: Buffer,
     pub index_count: u32,
     /// Where the mesh bounds a solid (`Mesh::bounds_solid`), its bounding sphere in object
@@ -161,9 +171,10 @@ impl GpuMesh {
                 device,
                 one_shot,
                 &mesh.vertices,
-                vk::BufferUsageFlags::VERTEX_BUFFER,
+                vk::BufferUsageFlags::VERTEX_BUFFER | vk::BufferUsageFlags::STORAGE_BUFFER,
                 &mesh.name,
             )?,
+            vertex_count: mesh.vertices.len() as u32,
             indices: Buffer::with_data(
                 device,
                 one_shot,
@@ -320,10 +331,12 @@ mod tests {
             "    vec4 normal_matrix[3];  // columns of the inverse-transpose of model's 3x3\n",
             "    uint material_index;\n",
             "    uint shadowing_lights;  // bit i: point light i may shadow it (Scene::shadowing_lights)\n",
-            "    uvec2 own_occluders;  // the run of frame.occluders that is this object",
+            "    uint own_occluders;  // the run of frame.occluders that is this object: first | count << 16\n",
+            "    uint bounce_first;  // its first vertex in the bounce at the vertices (vertex_bounce.rs)\n",
         )));
         assert_eq!(std::mem::offset_of!(ObjectPush, shadowing_lights), 116);
         assert_eq!(std::mem::offset_of!(ObjectPush, own_occluders), 120);
+        assert_eq!(std::mem::offset_of!(ObjectPush, bounce_first), 124);
         assert_eq!(std::mem::size_of::<ObjectPush>(), 128, "Vulkan's least maxPushConstantsSize");
     }
 

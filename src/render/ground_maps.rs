@@ -164,7 +164,7 @@ impl GroundMap {
         } else {
             Image::new_2d(device, extent, FORMAT, usage, vk::ImageAspectFlags::COLOR, name)?
         };
-        one_shot.run(|cmd| image.record_clear(cmd, ImageUse::FRAGMENT_READ))?;
+        one_shot.run(|cmd| image.record_clear(cmd, MAP_READ))?;
         DescriptorWriter::default()
             .image(
                 0,
@@ -252,7 +252,7 @@ impl GroundMap {
             self.disk_key.set(Some(key));
             return Ok(());
         };
-        transfer::upload_image(device, one_shot, &self.image, &[&bits], AFTER_READS, ImageUse::FRAGMENT_READ)?;
+        transfer::upload_image(device, one_shot, &self.image, &[&bits], AFTER_READS, MAP_READ)?;
         self.pending.set(false);
         self.disk_key.set(None);
         self.renders.set(self.renders.get() + 1);
@@ -265,7 +265,7 @@ impl GroundMap {
     }
 
     /// Computes the map if [`Self::prepare`] found it out of date, with the other sets of
-    /// `layout` bound, leaving it readable by fragment shaders.
+    /// `layout` bound, leaving it readable by the forward pass.
     fn record(&self, device: &Device, cmd: vk::CommandBuffer, layout: &PipelineLayout) {
         if !self.pending.replace(false) {
             return;
@@ -290,13 +290,22 @@ impl GroundMap {
             d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, pipeline.handle);
             d.cmd_dispatch(cmd, groups, groups, 1);
         }
-        transition_levels(device, cmd, image.handle, layers, ImageUse::COMPUTE_STORAGE, ImageUse::FRAGMENT_READ);
+        transition_levels(device, cmd, image.handle, layers, ImageUse::COMPUTE_STORAGE, MAP_READ);
     }
 }
 
+/// How the maps are read: by the forward pass's fragments, and the light map by the
+/// bounce's gather at the vertices too (vertex_bounce.rs).
+const MAP_READ: ImageUse = ImageUse {
+    stage: vk::PipelineStageFlags2::from_raw(
+        vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw() | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
+    ),
+    ..ImageUse::FRAGMENT_READ
+};
+
 /// Where a map is made again from: its old texels go once the frames before have read them.
 const AFTER_READS: ImageUse = ImageUse {
-    stage: vk::PipelineStageFlags2::FRAGMENT_SHADER,
+    stage: MAP_READ.stage,
     ..ImageUse::UNDEFINED
 };
 
@@ -315,7 +324,7 @@ pub struct GroundMaps {
     device: Arc<Device>,
     disk: DiskCache,
     /// Set 5 of the forward pass: the maps, sampled.
-    _set_layout: DescriptorSetLayout,
+    set_layout: DescriptorSetLayout,
     set: vk::DescriptorSet,
     _compute_set_layout: DescriptorSetLayout,
     _pools: [DescriptorPool; 2],
@@ -329,12 +338,14 @@ pub struct GroundMaps {
 }
 
 impl GroundMaps {
-    /// The layout of set 5 of the forward pass, which [`Self::new`] takes over.
+    /// The layout of set 5 of the forward pass, which [`Self::new`] takes over: the three
+    /// maps, and the bounce at the vertices that vertex_bounce.rs computes from the first.
     pub fn forward_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout> {
         DescriptorSetLayoutBuilder::default()
+            // The light map: the bounce's gather at the vertices reads it too (vertex_bounce.rs).
             .binding(
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                vk::ShaderStageFlags::FRAGMENT,
+                vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT,
             )
             .binding(
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
@@ -344,6 +355,7 @@ impl GroundMaps {
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 vk::ShaderStageFlags::FRAGMENT,
             )
+            .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX)
             .build(device, "ground maps set")
     }
 
@@ -394,7 +406,7 @@ impl GroundMaps {
         Ok(Self {
             device: device.clone(),
             disk: DiskCache::from_env(),
-            _set_layout: set_layout,
+            set_layout,
             set,
             _compute_set_layout: compute_set_layout,
             _pools: pools,
@@ -409,6 +421,11 @@ impl GroundMaps {
     /// Set 5 of the forward pass.
     pub fn set(&self) -> vk::DescriptorSet {
         self.set
+    }
+
+    /// Its layout.
+    pub fn set_layout(&self) -> &DescriptorSetLayout {
+        &self.set_layout
     }
 
     /// Has the next recorded frame compute each map the frame reads whose inputs changed:
@@ -484,7 +501,7 @@ impl GroundMaps {
     pub fn store_computed(&self, one_shot: &OneShot) -> Result<()> {
         for map in [&self.light, &self.occlusion, &self.shadow] {
             if let Some(key) = map.unsaved.take() {
-                let (device, at) = (&self.device, ImageUse::FRAGMENT_READ);
+                let (device, at) = (&self.device, MAP_READ);
                 let bits = transfer::read_level(device, one_shot, &map.image, 0, TEXEL_BYTES, at)?;
                 self.disk.store(&map.entry(), key, &bits);
             }
@@ -505,6 +522,12 @@ impl GroundMaps {
             let taps = GROUND_SHADOW_TAPS_PER_TAP * scene.shadow_taps;
             self.shadow.specialize(shadow_specialization(taps));
         }
+    }
+
+    /// What the light map was last computed from (its lights, the ground, the shadow maps'
+    /// generation): the bounce at the vertices follows it.
+    pub fn light_key(&self) -> &[u32] {
+        &self.light.key
     }
 
     /// Times the light map was made (computed, or read from the disk cache).

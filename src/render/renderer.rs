@@ -23,6 +23,7 @@ use super::shadow::ShadowPass;
 use super::split::Split;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
+use super::vertex_bounce::VertexBounce;
 use crate::priority::low_priority_pool;
 use crate::scene::occluders::Occluder;
 use crate::scene::{Environment, MapSlot, Scene};
@@ -84,6 +85,7 @@ pub struct Renderer {
     environment: EnvironmentPass,
     shadow: ShadowPass,
     ground_maps: GroundMaps,
+    vertex_bounce: VertexBounce,
     occlusion_pass: OcclusionPass,
     forward: ForwardPass,
     msaa: MsaaPass,
@@ -189,10 +191,20 @@ impl Renderer {
             environment.set_layout(),
             shadow.set_layout(),
         )?;
+        let vertex_bounce = VertexBounce::new(
+            &device,
+            forward.frame_layout(),
+            environment.set_layout(),
+            shadow.set_layout(),
+            occlusion_pass.set_layout(),
+            ground_maps.set_layout(),
+            ground_maps.set(),
+        )?;
         Ok(Self {
             forward,
             shadow,
             ground_maps,
+            vertex_bounce,
             msaa: MsaaPass::new(&device, frames_in_flight)?,
             occlusion_pass,
             one_shot,
@@ -280,6 +292,12 @@ impl Renderer {
         self.ground_maps.light_renders()
     }
 
+    /// How many times the bounce at the vertices has been computed: once per change of the
+    /// ground's light map, the environment or where the objects stand, not per frame.
+    pub fn vertex_bounce_computes(&self) -> u64 {
+        self.vertex_bounce.computes()
+    }
+
     /// How many times the ground's occlusion map has been made: once per change of the
     /// objects, the ground or the environment, not per frame.
     pub fn ground_occlusion_renders(&self) -> u64 {
@@ -364,6 +382,10 @@ impl Renderer {
             &self.one_shot,
             &inputs,
         )?;
+        let bounces = !self.floor;
+        let (light_key, ground_set) = (self.ground_maps.light_key(), self.ground_maps.set());
+        let frame = self.forward.frame_data();
+        self.vertex_bounce.prepare(scene, gpu, bounces, light_key, frame, environment, ground_set)?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
     }
@@ -449,10 +471,14 @@ impl Renderer {
             ImageUse::DEPTH_ATTACHMENT,
         );
         // The ground's light and shadow maps are computed from the shadow maps, and timed
-        // with them; its occlusion map with the occlusion.
+        // with them, as is the bounce at the vertices from the light map; its occlusion map
+        // with the occlusion.
         self.timed(cmd, slot, PASS_SHADOW, || {
             self.shadow.record(cmd, scene, gpu)?;
-            self.ground_maps.record_from_shadow_maps(cmd, self.forward.frame_set(slot), self.shadow.set(slot));
+            let frame_set = self.forward.frame_set(slot);
+            self.ground_maps.record_from_shadow_maps(cmd, frame_set, self.shadow.set(slot));
+            let (environment_set, ground_set) = (self.environment.set(), self.ground_maps.set());
+            self.vertex_bounce.record(cmd, scene, gpu, frame_set, environment_set, ground_set);
             Ok(())
         })?;
         self.timed(cmd, slot, PASS_OCCLUSION, || {

@@ -52,6 +52,12 @@ pub use material::{
     Subsurface,
 };
 pub use mesh::{Mesh, MeshExtent, Vertex, BUILTIN_PREFIX};
+
+/// The longest edge, as a share of its mesh's bounding radius, of an object that gathers
+/// the ground's bounce at its vertices ([`Scene::bounce_at_vertices`]): the builtin sphere
+/// (0.07 at its 32 cells a cube edge) and torus (0.06) do, a sphere of 16 cells (0.14) or
+/// fewer and the cube (1.6) do not.
+pub const BOUNCE_VERTEX_EDGE_SHARE: f32 = 0.125;
 pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
 pub use pending::PendingMaps;
 pub use preset::Preset;
@@ -171,6 +177,15 @@ impl Scene {
     /// The ground that bounces the lights' light when `bounce` is on.
     pub fn bounce_ground(&self) -> Option<&Object> {
         self.ground().filter(|_| self.bounce)
+    }
+
+    /// Whether an object of mesh `extent` gathers the ground's bounce at its vertices
+    /// (bounce.glsl) rather than at its pixels: where its longest edge is at most
+    /// [`BOUNCE_VERTEX_EDGE_SHARE`] of its bounding radius, so that its triangles are small
+    /// beside the object and the ground it stands over. A coarse mesh's large faces (a
+    /// cube's) would stretch one gather at each corner over the shadow it casts below.
+    pub fn bounce_at_vertices(extent: MeshExtent) -> bool {
+        extent.longest_edge <= BOUNCE_VERTEX_EDGE_SHARE * extent.radius
     }
 
     /// The folder its relative paths are resolved against: its file's, else the working

@@ -1306,3 +1306,18 @@ fn bounce_is_read_defaulted_saved_and_finds_the_largest_plane() {
     let no_plane = Scene::from_toml(&format!("{CUBE}[shadows]\nbounce = true\n"), "s.toml", Path::new("")).unwrap();
     assert!(no_plane.bounce_ground().is_none());
 }
+
+/// The builtin sphere at its 32 cells and the torus gather the bounce at their vertices; a
+/// sphere of 16 cells and the cube, whose edges are long beside them, at their pixels.
+#[test]
+fn fine_meshes_gather_the_bounce_at_their_vertices() {
+    let share = |mesh: Mesh| {
+        let extent = mesh.extent();
+        (extent.longest_edge / extent.radius, Scene::bounce_at_vertices(extent))
+    };
+    let builtin = |name: &str| Mesh::builtin(&format!("{BUILTIN_PREFIX}{name}")).expect("a builtin mesh");
+    let (sphere, torus) = (share(builtin("sphere")), share(builtin("torus")));
+    let (coarse, cube) = (share(Mesh::sphere(16)), share(builtin("cube")));
+    eprintln!("longest edge over radius: sphere {sphere:?}, torus {torus:?}, 16 cells {coarse:?}, cube {cube:?}");
+    assert!(sphere.1 && torus.1 && !coarse.1 && !cube.1);
+}

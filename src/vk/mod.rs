@@ -31,5 +31,5 @@ pub use readback::{ImageRegion, Readback};
 pub use sampler::Sampler;
 pub use shader::ShaderModule;
 pub use swapchain::{Acquired, Swapchain};
-pub use sync::{transition, transition_levels, Fence, ImageUse, Semaphore};
+pub use sync::{buffer_barrier, transition, transition_levels, BufferUse, Fence, ImageUse, Semaphore};
 pub use timestamps::Timestamps;

@@ -207,3 +207,39 @@ pub fn transition_levels(
     let dependency = vk::DependencyInfo::default().image_memory_barriers(&barriers);
     unsafe { device.handle.cmd_pipeline_barrier2(cmd, &dependency) };
 }
+
+/// One side of a buffer's barrier: the stage and access that last touched (or will next
+/// touch) it.
+#[derive(Clone, Copy, Debug)]
+pub struct BufferUse {
+    pub stage: vk::PipelineStageFlags2,
+    pub access: vk::AccessFlags2,
+}
+
+impl BufferUse {
+    /// Written as a storage buffer by compute shaders.
+    pub const COMPUTE_WRITE: Self = Self {
+        stage: vk::PipelineStageFlags2::COMPUTE_SHADER,
+        access: vk::AccessFlags2::SHADER_STORAGE_WRITE,
+    };
+    /// Read as a storage buffer by vertex shaders.
+    pub const VERTEX_READ: Self = Self {
+        stage: vk::PipelineStageFlags2::VERTEX_SHADER,
+        access: vk::AccessFlags2::SHADER_STORAGE_READ,
+    };
+}
+
+/// Records a barrier between two uses of the whole of `buffer`.
+pub fn buffer_barrier(device: &Device, cmd: vk::CommandBuffer, buffer: vk::Buffer, from: BufferUse, to: BufferUse) {
+    let barrier = vk::BufferMemoryBarrier2::default()
+        .buffer(buffer)
+        .offset(0)
+        .size(vk::WHOLE_SIZE)
+        .src_stage_mask(from.stage)
+        .src_access_mask(from.access)
+        .dst_stage_mask(to.stage)
+        .dst_access_mask(to.access);
+    let barriers = [barrier];
+    let dependency = vk::DependencyInfo::default().buffer_memory_barriers(&barriers);
+    unsafe { device.handle.cmd_pipeline_barrier2(cmd, &dependency) };
+}

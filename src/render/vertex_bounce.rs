@@ -1,0 +1,325 @@
+//! The ground's bounce at the vertices (shaders/lib/bounce.glsl): for each object of a fine
+//! mesh (`Scene::bounce_at_vertices`), the gather at each of its vertices and its gradient
+//! in the normal, computed by shaders/vertex_bounce.comp into one buffer that the forward
+//! pass's vertex shader reads (set 5, binding 3, beside the ground's maps), and computed
+//! again only when what it is made of changes: the ground's light map, the ground's albedo,
+//! the environment, or where the objects stand. Steady frames record nothing, where the
+//! gather in the vertex shader ran every frame (and grew lavapipe's memory frame by frame;
+//! docs/performance.md).
+
+use std::cell::Cell;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use anyhow::Result;
+use ash::vk;
+use bytemuck::Zeroable;
+use gpu_allocator::MemoryLocation;
+
+use super::environment::environment_kind;
+use super::forward::{ForwardConstants, FROM_UNIFORM};
+use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom};
+use super::shaders;
+use crate::scene::{MeshExtent, Scene};
+use crate::vk::{
+    buffer_barrier, Buffer, BufferUse, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    DescriptorWriter, Device, Pipeline, PipelineLayout, ShaderModule, Specialization,
+};
+
+/// Bytes of one vertex's gather and gradient: bounce.glsl's `BounceAtVertex`, three vec4s.
+const BYTES_PER_VERTEX: u64 = 48;
+/// vertex_bounce.comp's `local_size_x`.
+const WORKGROUP: u32 = 64;
+
+/// Where each of `scene`'s objects' vertices start in the buffer, for the objects that
+/// gather the bounce at their vertices: when the scene bounces light, each but the ground
+/// whose mesh is fine enough (`Scene::bounce_at_vertices`), one after the other.
+/// `mesh(i)` is mesh i's extent and vertex count.
+pub fn bounce_firsts(scene: &Scene, mesh: impl Fn(usize) -> (MeshExtent, u32)) -> Vec<Option<u32>> {
+    let ground = scene.bounce_ground().and(scene.ground_index());
+    let mut next = 0;
+    (scene.objects.iter().enumerate())
+        .map(|(i, object)| {
+            let (extent, vertices) = mesh(object.mesh);
+            let gathers = ground.is_some_and(|g| g != i) && Scene::bounce_at_vertices(extent);
+            gathers.then(|| {
+                next += vertices;
+                next - vertices
+            })
+        })
+        .collect()
+}
+
+/// [`bounce_firsts`] of the meshes of `gpu`.
+pub fn gpu_bounce_firsts(scene: &Scene, gpu: &GpuScene) -> Vec<Option<u32>> {
+    bounce_firsts(scene, |m| (gpu.meshes[m].extent, gpu.meshes[m].vertex_count))
+}
+
+/// The objects the buffer was laid out for, with a compute set each (its mesh's vertices,
+/// the buffer) for those that gather.
+struct Layout {
+    /// The upload of the meshes, and each object's mesh and first vertex.
+    key: (u64, Vec<(usize, Option<u32>)>),
+    sets: Vec<Option<vk::DescriptorSet>>,
+    _pool: Option<DescriptorPool>,
+}
+
+pub struct VertexBounce {
+    device: Arc<Device>,
+    set_layout: DescriptorSetLayout,
+    /// The forward pass's sets but for set 1, this pass's own.
+    layout: PipelineLayout,
+    module: ShaderModule,
+    /// A pipeline for each environment kind computed with: a frame in flight may still use
+    /// the one before.
+    pipelines: HashMap<Specialization, Pipeline>,
+    specialization: Specialization,
+    /// Every gathering object's vertices' gather, in `bounce_firsts` order.
+    buffer: Buffer,
+    objects: Layout,
+    /// What the buffer was last computed from; empty before the first.
+    key: Vec<u32>,
+    /// Whether the next recorded frame computes it.
+    pending: Cell<bool>,
+    /// Times it was computed.
+    computes: Cell<u64>,
+}
+
+impl VertexBounce {
+    /// The pass, with the layouts of the forward pass's sets 0 (`frame_layout`), 2 to 4 and 5
+    /// (`ground_layout`), whose set `ground_set` it points at its buffer.
+    pub fn new(
+        device: &Arc<Device>,
+        frame_layout: &DescriptorSetLayout,
+        environment_layout: &DescriptorSetLayout,
+        shadow_layout: &DescriptorSetLayout,
+        occlusion_layout: &DescriptorSetLayout,
+        ground_layout: &DescriptorSetLayout,
+        ground_set: vk::DescriptorSet,
+    ) -> Result<Self> {
+        let set_layout = DescriptorSetLayoutBuilder::default()
+            .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE)
+            .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE)
+            .build(device, "vertex bounce compute set")?;
+        let sets = [frame_layout, &set_layout, environment_layout, shadow_layout, occlusion_layout, ground_layout];
+        let push = std::mem::size_of::<ObjectPush>() as u32;
+        let layout = PipelineLayout::new(device, &sets, push, vk::ShaderStageFlags::COMPUTE)?;
+        let pass = Self {
+            module: ShaderModule::new(device, shaders::VERTEX_BOUNCE_COMP, "vertex bounce")?,
+            // Read by no frame until a scene gathers at its vertices.
+            buffer: Self::new_buffer(device, 1)?,
+            device: device.clone(),
+            set_layout,
+            layout,
+            pipelines: HashMap::new(),
+            specialization: Specialization::default(),
+            objects: Layout {
+                key: (u64::MAX, Vec::new()),
+                sets: Vec::new(),
+                _pool: None,
+            },
+            key: Vec::new(),
+            pending: Cell::new(false),
+            computes: Cell::new(0),
+        };
+        pass.point_ground_set_at_buffer(ground_set);
+        Ok(pass)
+    }
+
+    fn new_buffer(device: &Arc<Device>, vertices: u32) -> Result<Buffer> {
+        let size = u64::from(vertices.max(1)) * BYTES_PER_VERTEX;
+        Buffer::new(device, size, vk::BufferUsageFlags::STORAGE_BUFFER, MemoryLocation::GpuOnly, "vertex bounce")
+    }
+
+    fn point_ground_set_at_buffer(&self, ground_set: vk::DescriptorSet) {
+        DescriptorWriter::default()
+            .buffer(3, vk::DescriptorType::STORAGE_BUFFER, self.buffer.handle)
+            .write(&self.device, ground_set);
+    }
+
+    /// Times the buffer was computed: once per change of what it is made of, not per frame.
+    pub fn computes(&self) -> u64 {
+        self.computes.get()
+    }
+
+    /// Has the next recorded frame compute the buffer when a frame of `scene` (`bounces`:
+    /// drawn with the materials' shaders) reads it and what it is made of changed: the
+    /// ground's light map (`light_key`, `GroundMaps::light_key`), the frame's ground and
+    /// its albedo (`frame`), the environment (its `environment_generation`), the meshes'
+    /// upload and where each gathering object stands. A new layout of the objects makes a
+    /// new buffer, pointed at by the forward pass's `ground_set`, once the frames in flight
+    /// are done.
+    #[allow(clippy::too_many_arguments)]
+    pub fn prepare(
+        &mut self,
+        scene: &Scene,
+        gpu: &GpuScene,
+        bounces: bool,
+        light_key: &[u32],
+        frame: &FrameData,
+        environment_generation: u64,
+        ground_set: vk::DescriptorSet,
+    ) -> Result<()> {
+        let firsts = gpu_bounce_firsts(scene, gpu);
+        if !bounces || firsts.iter().all(Option::is_none) {
+            return Ok(());
+        }
+        let layout_key = (gpu.id, scene.objects.iter().map(|o| o.mesh).zip(firsts.iter().copied()).collect());
+        if layout_key != self.objects.key {
+            self.lay_out(scene, gpu, layout_key, ground_set)?;
+        }
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
+        let mut key = light_key.to_vec();
+        key.extend(bits(&frame.ground));
+        key.extend(bits(&frame.ground_albedo));
+        key.extend([environment_generation as u32, (environment_generation >> 32) as u32, gpu.id as u32]);
+        for (object, _) in scene.objects.iter().zip(&firsts).filter(|(_, first)| first.is_some()) {
+            key.extend(bits(&object.model_matrix().to_cols_array()));
+        }
+        if key != self.key {
+            self.key = key;
+            self.pending.set(true);
+        }
+        self.specialization = ForwardConstants {
+            environment_kind: environment_kind(&scene.environment),
+            reflection_mode: FROM_UNIFORM,
+            debug_view: FROM_UNIFORM,
+            bounce: 1,
+            ..ForwardConstants::zeroed()
+        }
+        .specialization();
+        if self.pending.get() && !self.pipelines.contains_key(&self.specialization) {
+            let pipeline = Pipeline::compute(&self.device, &self.layout, &self.module, &self.specialization, "vertex bounce")?;
+            self.pipelines.insert(self.specialization.clone(), pipeline);
+        }
+        Ok(())
+    }
+
+    /// A buffer and compute sets for the objects of `key`, the frames in flight done with the
+    /// old ones.
+    fn lay_out(
+        &mut self,
+        scene: &Scene,
+        gpu: &GpuScene,
+        key: (u64, Vec<(usize, Option<u32>)>),
+        ground_set: vk::DescriptorSet,
+    ) -> Result<()> {
+        self.device.wait_idle()?;
+        let gathering: Vec<(usize, u32)> = (key.1.iter())
+            .filter_map(|&(mesh, first)| first.map(|first| (mesh, first + gpu.meshes[mesh].vertex_count)))
+            .collect();
+        let vertices = gathering.iter().map(|&(_, end)| end).max().unwrap_or(0);
+        self.buffer = Self::new_buffer(&self.device, vertices)?;
+        self.point_ground_set_at_buffer(ground_set);
+        let pool = DescriptorPool::for_layout(&self.device, &self.set_layout, gathering.len() as u32)?;
+        let sets = (scene.objects.iter().zip(&key.1))
+            .map(|(object, (_, first))| {
+                first
+                    .map(|_| {
+                        let set = pool.allocate(&self.set_layout)?;
+                        DescriptorWriter::default()
+                            .buffer(0, vk::DescriptorType::STORAGE_BUFFER, gpu.meshes[object.mesh].vertices.handle)
+                            .buffer(1, vk::DescriptorType::STORAGE_BUFFER, self.buffer.handle)
+                            .write(&self.device, set);
+                        Ok(set)
+                    })
+                    .transpose()
+            })
+            .collect::<Result<_>>()?;
+        self.objects = Layout {
+            key,
+            sets,
+            _pool: Some(pool),
+        };
+        self.key.clear();
+        Ok(())
+    }
+
+    /// Computes the buffer if [`Self::prepare`] found it out of date, from the frame's set 0
+    /// (`frame_set`), the environment's (`environment_set`) and the ground's maps
+    /// (`ground_set`), whose light map is computed before; records nothing otherwise.
+    pub fn record(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &Scene,
+        gpu: &GpuScene,
+        frame_set: vk::DescriptorSet,
+        environment_set: vk::DescriptorSet,
+        ground_set: vk::DescriptorSet,
+    ) {
+        if !self.pending.replace(false) {
+            return;
+        }
+        self.computes.set(self.computes.get() + 1);
+        let (device, d, layout) = (&self.device, &self.device.handle, self.layout.handle);
+        // The frames before have read the old values.
+        let after_reads = BufferUse {
+            access: vk::AccessFlags2::NONE,
+            ..BufferUse::VERTEX_READ
+        };
+        buffer_barrier(device, cmd, self.buffer.handle, after_reads, BufferUse::COMPUTE_WRITE);
+        let compute = vk::PipelineBindPoint::COMPUTE;
+        unsafe {
+            d.cmd_bind_pipeline(cmd, compute, self.pipelines[&self.specialization].handle);
+            d.cmd_bind_descriptor_sets(cmd, compute, layout, 0, &[frame_set], &[]);
+            d.cmd_bind_descriptor_sets(cmd, compute, layout, 2, &[environment_set], &[]);
+            d.cmd_bind_descriptor_sets(cmd, compute, layout, 5, &[ground_set], &[]);
+        }
+        let firsts = self.objects.key.1.iter().map(|&(_, first)| first);
+        for ((object, first), set) in scene.objects.iter().zip(firsts).zip(&self.objects.sets) {
+            let (Some(first), Some(set)) = (first, set) else { continue };
+            let occlusion = ObjectOcclusion {
+                own: (0, 0),
+                from: ObjectsOcclusionFrom::Pixels,
+            };
+            let push = ObjectPush::new(object, occlusion, 0, first);
+            let groups = gpu.meshes[object.mesh].vertex_count.div_ceil(WORKGROUP);
+            unsafe {
+                d.cmd_bind_descriptor_sets(cmd, compute, layout, 1, &[*set], &[]);
+                d.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, bytemuck::bytes_of(&push));
+                d.cmd_dispatch(cmd, groups, 1, 1);
+            }
+        }
+        buffer_barrier(device, cmd, self.buffer.handle, BufferUse::COMPUTE_WRITE, BufferUse::VERTEX_READ);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    use crate::scene::DEFAULT_SCENE_TOML;
+
+    /// The buffer's layout and workgroup are the shaders'.
+    #[test]
+    fn the_layout_and_workgroup_are_the_shaders() {
+        let compute = include_str!("../../shaders/vertex_bounce.comp");
+        assert!(compute.contains(&format!("local_size_x = {WORKGROUP})")));
+        let floats = std::mem::size_of::<crate::scene::Vertex>() / 4;
+        assert!(compute.contains(&format!("const uint VERTEX_FLOATS = {floats}u;")));
+        let bounce = include_str!("../../shaders/lib/bounce.glsl");
+        assert!(bounce.contains("struct BounceAtVertex {\n    vec4 channels[3];\n};"));
+        assert_eq!(BYTES_PER_VERTEX, 3 * 16);
+    }
+
+    /// The default scene's ball and ring gather at their vertices, one after the other; the
+    /// ground does not, nor anything without a bounce.
+    #[test]
+    fn the_fine_meshes_but_the_ground_gather_one_after_the_other() {
+        let mut scene = Scene::from_toml(DEFAULT_SCENE_TOML, "default", Path::new("")).expect("the default scene");
+        let vertices = |scene: &Scene, object: usize| scene.meshes[scene.objects[object].mesh].vertices.len() as u32;
+        let firsts = |scene: &Scene| bounce_firsts(scene, |m| (scene.meshes[m].extent(), scene.meshes[m].vertices.len() as u32));
+        let ground = scene.ground_index().expect("the default scene has a ground");
+        let gathering: Vec<(usize, u32)> =
+            (firsts(&scene).into_iter().enumerate()).filter_map(|(i, first)| first.map(|f| (i, f))).collect();
+        let objects: Vec<usize> = gathering.iter().map(|&(i, _)| i).collect();
+        assert_eq!(objects, (0..scene.objects.len()).filter(|&i| i != ground).collect::<Vec<_>>());
+        assert_eq!(gathering[0].1, 0);
+        for pair in gathering.windows(2) {
+            assert_eq!(pair[1].1, pair[0].1 + vertices(&scene, pair[0].0));
+        }
+        scene.bounce = false;
+        assert!(firsts(&scene).iter().all(Option::is_none));
+    }
+}
