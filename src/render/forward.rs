@@ -506,7 +506,7 @@ impl ForwardPass {
         let at_vertices = |i: usize| {
             choices.objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
         };
-        let bounce_firsts = gpu_bounce_firsts(scene, gpu);
+        let bounce_firsts = gpu_bounce_firsts(scene, !choices.specialize, gpu);
         self.object_draws = (0..scene.objects.len())
             .map(|i| ObjectDraw {
                 occlusion: ObjectOcclusion {
@@ -1078,7 +1078,7 @@ mod tests {
             let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };
             let shadowing: Vec<u32> =
                 (0..scene.objects.len()).map(|i| scene.shadowing_lights(i, &lights, |m| extents[m])).collect();
-            let firsts = crate::render::vertex_bounce::bounce_firsts(scene, |m| (extents[m], 1));
+            let firsts = crate::render::vertex_bounce::bounce_firsts(scene, !specialize, |m| (extents[m], 1));
             let at_vertices: Vec<bool> = firsts.iter().map(Option::is_some).collect();
             draw_constants(scene, None, &from, &shadowing, &at_vertices, &choices)
         };

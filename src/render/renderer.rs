@@ -382,10 +382,10 @@ impl Renderer {
             &self.one_shot,
             &inputs,
         )?;
-        let bounces = !self.floor;
+        let (bounces, generic) = (!self.floor, self.generic);
         let (light_key, ground_set) = (self.ground_maps.light_key(), self.ground_maps.set());
         let frame = self.forward.frame_data();
-        self.vertex_bounce.prepare(scene, gpu, bounces, light_key, frame, environment, ground_set)?;
+        self.vertex_bounce.prepare(scene, gpu, bounces, generic, light_key, frame, environment, ground_set)?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
     }

@@ -32,16 +32,18 @@ const BYTES_PER_VERTEX: u64 = 48;
 const WORKGROUP: u32 = 64;
 
 /// Where each of `scene`'s objects' vertices start in the buffer, for the objects that
-/// gather the bounce at their vertices: when the scene bounces light, each but the ground
-/// whose mesh is fine enough (`Scene::bounce_at_vertices`), one after the other.
-/// `mesh(i)` is mesh i's extent and vertex count.
-pub fn bounce_firsts(scene: &Scene, mesh: impl Fn(usize) -> (MeshExtent, u32)) -> Vec<Option<u32>> {
-    let ground = scene.bounce_ground().and(scene.ground_index());
+/// gather the bounce at their vertices, one after the other: each but the ground whose mesh
+/// is fine enough (`Scene::bounce_at_vertices`), when the scene bounces light or the
+/// pipelines are `generic`, which read the bounce's flag at run time from the same
+/// pipelines (the buffer then holds zeros). `mesh(i)` is mesh i's extent and vertex count.
+pub fn bounce_firsts(scene: &Scene, generic: bool, mesh: impl Fn(usize) -> (MeshExtent, u32)) -> Vec<Option<u32>> {
+    let bounces = generic || scene.bounce_ground().is_some();
+    let ground = scene.ground_index();
     let mut next = 0;
     (scene.objects.iter().enumerate())
         .map(|(i, object)| {
             let (extent, vertices) = mesh(object.mesh);
-            let gathers = ground.is_some_and(|g| g != i) && Scene::bounce_at_vertices(extent);
+            let gathers = bounces && ground != Some(i) && Scene::bounce_at_vertices(extent);
             gathers.then(|| {
                 next += vertices;
                 next - vertices
@@ -51,8 +53,8 @@ pub fn bounce_firsts(scene: &Scene, mesh: impl Fn(usize) -> (MeshExtent, u32)) -
 }
 
 /// [`bounce_firsts`] of the meshes of `gpu`.
-pub fn gpu_bounce_firsts(scene: &Scene, gpu: &GpuScene) -> Vec<Option<u32>> {
-    bounce_firsts(scene, |m| (gpu.meshes[m].extent, gpu.meshes[m].vertex_count))
+pub fn gpu_bounce_firsts(scene: &Scene, generic: bool, gpu: &GpuScene) -> Vec<Option<u32>> {
+    bounce_firsts(scene, generic, |m| (gpu.meshes[m].extent, gpu.meshes[m].vertex_count))
 }
 
 /// The objects the buffer was laid out for, with a compute set each (its mesh's vertices,
@@ -143,7 +145,8 @@ impl VertexBounce {
     }
 
     /// Has the next recorded frame compute the buffer when a frame of `scene` (`bounces`:
-    /// drawn with the materials' shaders) reads it and what it is made of changed: the
+    /// drawn with the materials' shaders, `generic` or specialised pipelines) reads it and
+    /// what it is made of changed: the
     /// ground's light map (`light_key`, `GroundMaps::light_key`), the frame's ground and
     /// its albedo (`frame`), the environment (its `environment_generation`), the meshes'
     /// upload and where each gathering object stands. A new layout of the objects makes a
@@ -155,12 +158,13 @@ impl VertexBounce {
         scene: &Scene,
         gpu: &GpuScene,
         bounces: bool,
+        generic: bool,
         light_key: &[u32],
         frame: &FrameData,
         environment_generation: u64,
         ground_set: vk::DescriptorSet,
     ) -> Result<()> {
-        let firsts = gpu_bounce_firsts(scene, gpu);
+        let firsts = gpu_bounce_firsts(scene, generic, gpu);
         if !bounces || firsts.iter().all(Option::is_none) {
             return Ok(());
         }
@@ -304,22 +308,27 @@ mod tests {
     }
 
     /// The default scene's ball and ring gather at their vertices, one after the other; the
-    /// ground does not, nor anything without a bounce.
+    /// ground does not, nor anything without a bounce but in the generic pipelines.
     #[test]
     fn the_fine_meshes_but_the_ground_gather_one_after_the_other() {
         let mut scene = Scene::from_toml(DEFAULT_SCENE_TOML, "default", Path::new("")).expect("the default scene");
         let vertices = |scene: &Scene, object: usize| scene.meshes[scene.objects[object].mesh].vertices.len() as u32;
-        let firsts = |scene: &Scene| bounce_firsts(scene, |m| (scene.meshes[m].extent(), scene.meshes[m].vertices.len() as u32));
+        let firsts = |scene: &Scene, generic: bool| {
+            bounce_firsts(scene, generic, |m| (scene.meshes[m].extent(), scene.meshes[m].vertices.len() as u32))
+        };
         let ground = scene.ground_index().expect("the default scene has a ground");
+        let specialised = firsts(&scene, false);
         let gathering: Vec<(usize, u32)> =
-            (firsts(&scene).into_iter().enumerate()).filter_map(|(i, first)| first.map(|f| (i, f))).collect();
+            (specialised.iter().enumerate()).filter_map(|(i, first)| first.map(|f| (i, f))).collect();
         let objects: Vec<usize> = gathering.iter().map(|&(i, _)| i).collect();
         assert_eq!(objects, (0..scene.objects.len()).filter(|&i| i != ground).collect::<Vec<_>>());
         assert_eq!(gathering[0].1, 0);
         for pair in gathering.windows(2) {
             assert_eq!(pair[1].1, pair[0].1 + vertices(&scene, pair[0].0));
         }
+        assert_eq!(firsts(&scene, true), specialised);
         scene.bounce = false;
-        assert!(firsts(&scene).iter().all(Option::is_none));
+        assert!(firsts(&scene, false).iter().all(Option::is_none));
+        assert_eq!(firsts(&scene, true), specialised, "the generic pipelines are the same with or without");
     }
 }
