@@ -556,7 +556,10 @@ fn the_bounce_is_the_f64_gather_of_the_grounds_light() {
     };
     use argil::reference::world::World;
     use argil::render::DebugView;
-    let lumps = "\n[materials.ground.normal_map]\ntexture = \"builtin:clay-lumps\"\nstrength = 1.0\nuv_scale = [4.0, 2.0]\n";
+    let lumps = concat!(
+        "\n[materials.ground.normal_map]\ntexture = \"builtin:clay-lumps\"\n",
+        "strength = 1.0\nuv_scale = [4.0, 2.0]\n"
+    );
     for (mapped, cells) in [(false, 32), (true, 32), (false, 8)] {
         let mut toml = plane_scene("shadows = false", SPHERE)
             .replace("scale = 4.0", "scale = 40.0")
@@ -632,10 +635,10 @@ fn the_bounce_is_the_f64_gather_of_the_grounds_light() {
         assert!(errors.len() > 300, "{} sphere pixels lit by the bounce", errors.len());
         moves.sort_by(f64::total_cmp);
         let moved = moves.get(moves.len() / 2).copied().unwrap_or(0.0);
+        let (pixels, max) = (errors.len(), errors[errors.len() - 1]);
         eprintln!(
-            "mapped {mapped}, {cells} cells: {} px: median {median:.2e}, p95 {p95:.2e}, max {:.2e}; moved by the normal: median {moved:.2e}",
-            errors.len(),
-            errors[errors.len() - 1]
+            "mapped {mapped}, {cells} cells: {pixels} px: median {median:.2e}, p95 {p95:.2e}, max {max:.2e}; \
+             moved by the normal: median {moved:.2e}"
         );
         assert!(median < 2e-3 && p95 < 1e-2, "relative error: median {median:.2e}, p95 {p95:.2e}");
         assert!(mapped == (moved > 1e-2), "the normal moves the bounce by {moved:.2e} (median)");

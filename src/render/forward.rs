@@ -685,7 +685,8 @@ impl ForwardPass {
                 .object_draws
                 .get(index)
                 .context("object missing: prepare() was not called for this scene")?;
-            let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights, draw.bounce_first.unwrap_or(0));
+            let bounce_first = draw.bounce_first.unwrap_or(0);
+            let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights, bounce_first);
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {

@@ -193,7 +193,8 @@ impl VertexBounce {
         }
         .specialization();
         if self.pending.get() && !self.pipelines.contains_key(&self.specialization) {
-            let pipeline = Pipeline::compute(&self.device, &self.layout, &self.module, &self.specialization, "vertex bounce")?;
+            let (device, layout, module) = (&self.device, &self.layout, &self.module);
+            let pipeline = Pipeline::compute(device, layout, module, &self.specialization, "vertex bounce")?;
             self.pipelines.insert(self.specialization.clone(), pipeline);
         }
         Ok(())
