@@ -166,6 +166,8 @@ impl VertexBounce {
     ) -> Result<()> {
         let firsts = gpu_bounce_firsts(scene, generic, gpu);
         if !bounces || firsts.iter().all(Option::is_none) {
+            // No frame reads it; a computation asked for before is moot.
+            self.pending.set(false);
             return Ok(());
         }
         let layout_key = (gpu.id, scene.objects.iter().map(|o| o.mesh).zip(firsts.iter().copied()).collect());
