@@ -67,8 +67,8 @@ vec3 shadow_map_view(vec3 p, vec3 face_normal) {
 // What debug view `view` shows at a surface point; `shaded` is the normal result there.
 // `n` is the shading normal, `n_geometric` the surface's, `normal`, `tangent` and
 // `curvature` the interpolated vertex attributes (curvature in 1/world length),
-// `environment` the environment's term, `bounced` the ground's bounce, `visibility` the ambient occlusion's, `ao` the
-// occlusion map's (point_lights_radiance).
+// `environment` the environment's term, `bounced` the ground's bounce, `visibility` the
+// ambient occlusion's, `ao` the occlusion map's (point_lights_radiance).
 vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, vec3 n_geometric,
                          vec3 v, vec3 p, vec3 normal, vec2 uv, vec4 tangent, vec3 environment,
                          vec3 bounced, vec3 shaded, float curvature, float visibility, float ao) {
