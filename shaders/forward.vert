@@ -35,9 +35,8 @@ layout(set = 5, binding = 3, std430) readonly buffer VertexBounce {
 
 void main() {
     vec4 world = object.model * vec4(in_position, 1.0);
-    mat3 normal_matrix = mat3(object.normal_matrix[0].xyz, object.normal_matrix[1].xyz, object.normal_matrix[2].xyz);
     out_world_position = world.xyz;
-    out_normal = normal_matrix * in_normal;
+    out_normal = object_normal(in_normal);
     out_uv = in_uv;
     Material m = materials[object.material_index];
     for (int i = 0; i < MAP_COUNT; i++) {
@@ -51,9 +50,7 @@ void main() {
     out_curvature = scale > 0.0 ? in_curvature / scale : 0.0;
     if (OBJECT_OCCLUSION && OBJECTS_OCCLUSION_FROM == OBJECTS_OCCLUSION_FROM_VERTICES) {
         // At the mesh's own normal, the side a closed mesh shows.
-        float len2 = dot(out_normal, out_normal);
-        vec3 n = len2 > MIN_NORMAL_LENGTH2 ? out_normal * inversesqrt(len2) : vec3(0.0);
-        out_objects_take = 1.0 - object_occlusion(world.xyz, n, own_occluders());
+        out_objects_take = 1.0 - object_occlusion(world.xyz, unit_or_zero(out_normal), own_occluders());
     }
     if (BOUNCE && BOUNCE_AT_VERTICES) {
         BounceAtVertex gathered = vertex_bounce[object.bounce_first + gl_VertexIndex];

@@ -27,11 +27,8 @@ void main() {
     vec3 position = vec3(vertex_floats[at], vertex_floats[at + 1u], vertex_floats[at + 2u]);
     vec3 normal = vec3(vertex_floats[at + 3u], vertex_floats[at + 4u], vertex_floats[at + 5u]);
     vec3 world = (object.model * vec4(position, 1.0)).xyz;
-    mat3 normal_matrix = mat3(object.normal_matrix[0].xyz, object.normal_matrix[1].xyz, object.normal_matrix[2].xyz);
-    normal = normal_matrix * normal;
     // At the mesh's own normal, the side a closed mesh shows.
-    float len2 = dot(normal, normal);
-    vec3 n = len2 > MIN_NORMAL_LENGTH2 ? normal * inversesqrt(len2) : vec3(0.0);
+    vec3 n = unit_or_zero(object_normal(normal));
     bounce_out[object.bounce_first + vertex] = bounce_at_vertex(ground_bounce_irradiance(world, n),
                                                                 ground_bounce_gradient(world));
 }

@@ -39,8 +39,7 @@ const uint MODEL_NONE = 3u;
 
 // A direction as a colour: [-1, 1] → [0, 1] per component.
 vec3 direction_color(vec3 d) {
-    float len2 = dot(d, d);
-    return (len2 > MIN_NORMAL_LENGTH2 ? d * inversesqrt(len2) : vec3(0.0)) * 0.5 + 0.5;
+    return unit_or_zero(d) * 0.5 + 0.5;
 }
 
 // The first shadowed light's cube map projected onto p, grey: at the map's texel nearest

@@ -46,6 +46,12 @@ layout(push_constant) uniform ObjectPush {
     uint bounce_first;  // its first vertex in the bounce at the vertices (vertex_bounce.rs)
 } object;
 
+// A mesh normal of the object in the world, by the inverse-transpose of its model matrix
+// (not at unit length).
+vec3 object_normal(vec3 mesh_normal) {
+    return mat3(object.normal_matrix[0].xyz, object.normal_matrix[1].xyz, object.normal_matrix[2].xyz) * mesh_normal;
+}
+
 // The run of frame.occluders that is the object: (first, count).
 uvec2 own_occluders() {
     return uvec2(object.own_occluders & 0xffffu, object.own_occluders >> 16);

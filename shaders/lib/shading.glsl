@@ -31,6 +31,12 @@ struct ShadingModels {
 const float MIN_LIGHT_DISTANCE2 = 1e-8;
 // Below this squared length an interpolated normal has no direction.
 const float MIN_NORMAL_LENGTH2 = 1e-12;
+
+// d at unit length, or 0 where it has no direction (MIN_NORMAL_LENGTH2).
+vec3 unit_or_zero(vec3 d) {
+    float len2 = dot(d, d);
+    return len2 > MIN_NORMAL_LENGTH2 ? d * inversesqrt(len2) : vec3(0.0);
+}
 // Smallest n·v of a shading normal after it is turned towards the viewer.
 const float MIN_SHADING_N_DOT_V = 1e-3;
 
