@@ -57,12 +57,13 @@ pub fn gpu_bounce_firsts(scene: &Scene, generic: bool, gpu: &GpuScene) -> Vec<Op
     bounce_firsts(scene, generic, |m| (gpu.meshes[m].extent, gpu.meshes[m].vertex_count))
 }
 
-/// The objects the buffer was laid out for, with a compute set each (its mesh's vertices,
-/// the buffer) for those that gather.
+/// The objects the buffer was laid out for.
 struct Layout {
     /// The upload of the meshes, and each object's mesh and first vertex.
     key: (u64, Vec<(usize, Option<u32>)>),
-    sets: Vec<Option<vk::DescriptorSet>>,
+    /// For each object that gathers, its first vertex and its compute set (its mesh's
+    /// vertices, the buffer).
+    gathering: Vec<Option<(u32, vk::DescriptorSet)>>,
     _pool: Option<DescriptorPool>,
 }
 
@@ -117,7 +118,7 @@ impl VertexBounce {
             specialization: Specialization::default(),
             objects: Layout {
                 key: (u64::MAX, Vec::new()),
-                sets: Vec::new(),
+                gathering: Vec::new(),
                 _pool: None,
             },
             key: Vec::new(),
@@ -172,7 +173,7 @@ impl VertexBounce {
         }
         let layout_key = (gpu.id, scene.objects.iter().map(|o| o.mesh).zip(firsts.iter().copied()).collect());
         if layout_key != self.objects.key {
-            self.lay_out(scene, gpu, layout_key, ground_set)?;
+            self.lay_out(gpu, layout_key, ground_set)?;
         }
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
         let mut key = light_key.to_vec();
@@ -206,36 +207,30 @@ impl VertexBounce {
     /// old ones.
     fn lay_out(
         &mut self,
-        scene: &Scene,
         gpu: &GpuScene,
         key: (u64, Vec<(usize, Option<u32>)>),
         ground_set: vk::DescriptorSet,
     ) -> Result<()> {
         self.device.wait_idle()?;
-        let gathering: Vec<(usize, u32)> = (key.1.iter())
-            .filter_map(|&(mesh, first)| first.map(|first| (mesh, first + gpu.meshes[mesh].vertex_count)))
-            .collect();
-        let vertices = gathering.iter().map(|&(_, end)| end).max().unwrap_or(0);
-        self.buffer = Self::new_buffer(&self.device, vertices)?;
+        let ends = key.1.iter().filter_map(|&(mesh, first)| Some(first? + gpu.meshes[mesh].vertex_count));
+        self.buffer = Self::new_buffer(&self.device, ends.max().unwrap_or(0))?;
         self.point_ground_set_at_buffer(ground_set);
-        let pool = DescriptorPool::for_layout(&self.device, &self.set_layout, gathering.len() as u32)?;
-        let sets = (scene.objects.iter().zip(&key.1))
-            .map(|(object, (_, first))| {
-                first
-                    .map(|_| {
-                        let set = pool.allocate(&self.set_layout)?;
-                        DescriptorWriter::default()
-                            .buffer(0, vk::DescriptorType::STORAGE_BUFFER, gpu.meshes[object.mesh].vertices.handle)
-                            .buffer(1, vk::DescriptorType::STORAGE_BUFFER, self.buffer.handle)
-                            .write(&self.device, set);
-                        Ok(set)
-                    })
-                    .transpose()
+        let count = key.1.iter().filter(|(_, first)| first.is_some()).count();
+        let pool = DescriptorPool::for_layout(&self.device, &self.set_layout, count as u32)?;
+        let gathering = (key.1.iter())
+            .map(|&(mesh, first)| {
+                let Some(first) = first else { return Ok(None) };
+                let set = pool.allocate(&self.set_layout)?;
+                DescriptorWriter::default()
+                    .buffer(0, vk::DescriptorType::STORAGE_BUFFER, gpu.meshes[mesh].vertices.handle)
+                    .buffer(1, vk::DescriptorType::STORAGE_BUFFER, self.buffer.handle)
+                    .write(&self.device, set);
+                Ok(Some((first, set)))
             })
             .collect::<Result<_>>()?;
         self.objects = Layout {
             key,
-            sets,
+            gathering,
             _pool: Some(pool),
         };
         self.key.clear();
@@ -272,9 +267,8 @@ impl VertexBounce {
             d.cmd_bind_descriptor_sets(cmd, compute, layout, 2, &[environment_set], &[]);
             d.cmd_bind_descriptor_sets(cmd, compute, layout, 5, &[ground_set], &[]);
         }
-        let firsts = self.objects.key.1.iter().map(|&(_, first)| first);
-        for ((object, first), set) in scene.objects.iter().zip(firsts).zip(&self.objects.sets) {
-            let (Some(first), Some(set)) = (first, set) else { continue };
+        for (object, gathering) in scene.objects.iter().zip(&self.objects.gathering) {
+            let Some((first, set)) = *gathering else { continue };
             let occlusion = ObjectOcclusion {
                 own: (0, 0),
                 from: ObjectsOcclusionFrom::Pixels,
@@ -282,7 +276,7 @@ impl VertexBounce {
             let push = ObjectPush::new(object, occlusion, 0, first);
             let groups = gpu.meshes[object.mesh].vertex_count.div_ceil(WORKGROUP);
             unsafe {
-                d.cmd_bind_descriptor_sets(cmd, compute, layout, 1, &[*set], &[]);
+                d.cmd_bind_descriptor_sets(cmd, compute, layout, 1, &[set], &[]);
                 d.cmd_push_constants(cmd, layout, vk::ShaderStageFlags::COMPUTE, 0, bytemuck::bytes_of(&push));
                 d.cmd_dispatch(cmd, groups, 1, 1);
             }
