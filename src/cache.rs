@@ -1,7 +1,7 @@
 //! What argil computes the same way at every start (the builtin maps, the pre-integrated
 //! subsurface table, the environment's BRDF tables, the studio's cube, prefiltered maps,
-//! irradiance cube and luminance grid, the ground's maps, the driver's compiled
-//! pipelines), kept on disk so that a warm start reads it instead.
+//! irradiance cube and luminance grid, the ground's maps, the bounce at the vertices, the
+//! driver's compiled pipelines), kept on disk so that a warm start reads it instead.
 //!
 //! The folder is `ARGIL_CACHE_DIR` (set and empty: no disk cache), else
 //! `$XDG_CACHE_HOME/argil`, else `$HOME/.cache/argil`. An entry is a file `NAME-KEY.bin`,

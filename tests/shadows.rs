@@ -645,12 +645,14 @@ fn the_bounce_is_the_f64_gather_of_the_grounds_light() {
     }
 }
 
-/// A start reads the ground's maps from the disk cache where a start before computed them
-/// from the same inputs, and draws the same bits: the default scene's warm start gives the
-/// cold one's frame, and each stored map changed on disk changes it. Another camera reads
-/// the same entries; a moved light makes new ones.
+/// A start reads the ground's maps and the bounce at the vertices from the disk cache where a
+/// start before computed them from the same inputs, and draws the same bits: the default
+/// scene's warm start gives the cold one's frame, and each stored entry changed on disk
+/// changes it (the light map, which only the bounce at the vertices reads, once the bounce
+/// is computed from it again). Another camera reads the same entries; a moved light makes
+/// new ones.
 #[test]
-fn the_grounds_maps_come_from_the_disk_cache_on_a_warm_start() {
+fn the_grounds_maps_and_bounce_come_from_the_disk_cache_on_a_warm_start() {
     let dir = test_dir("ground-cache");
     let cache = dir.join("cache");
     let render = |scene: Option<&str>, name: &str| -> Vec<u8> {
@@ -667,7 +669,7 @@ fn the_grounds_maps_come_from_the_disk_cache_on_a_warm_start() {
         let mut entries: Vec<(String, u64)> = std::fs::read_dir(&cache)
             .expect("the cache folder")
             .map(|e| e.expect("entry").file_name().into_string().expect("utf-8"))
-            .filter(|file| file.starts_with("ground-"))
+            .filter(|file| file.starts_with("ground-") || file.starts_with("vertex-bounce-"))
             .map(|file| {
                 let (name, key) = file.trim_end_matches(".bin").rsplit_once('-').expect("NAME-KEY");
                 (name.to_owned(), u64::from_str_radix(key, 16).expect("hex key"))
@@ -679,15 +681,22 @@ fn the_grounds_maps_come_from_the_disk_cache_on_a_warm_start() {
     let cold = render(None, "cold.exr");
     let stored = entries();
     let names: Vec<&str> = stored.iter().map(|(name, _)| name.as_str()).collect();
-    assert_eq!(names, ["ground-light", "ground-occlusion", "ground-shadow"]);
+    let all = ["ground-light", "ground-occlusion", "ground-shadow", "vertex-bounce"];
+    assert_eq!(names, all);
     assert!(render(None, "warm.exr") == cold, "the warm start drew other bits");
     let disk = DiskCache::at(Some(&cache));
+    let (bounce_key, bounce) = (stored[3].1, disk.load("vertex-bounce", stored[3].1).expect("a whole entry"));
     for (name, key) in &stored {
         let map = disk.load(name, *key).expect("a whole entry");
         disk.store(name, *key, &vec![0; map.len()]);
+        if name == "ground-light" {
+            std::fs::remove_file(cache.join(format!("vertex-bounce-{bounce_key:016x}.bin"))).expect("removed");
+        }
         assert!(render(None, "changed.exr") != cold, "{name} was not read from the disk cache");
         disk.store(name, *key, &map);
+        disk.store("vertex-bounce", bounce_key, &bounce);
     }
+    assert!(render(None, "restored.exr") == cold, "the entries put back drew other bits");
     // The maps do not depend on the view: another camera reads the same entries.
     let scene = |name: &str, from: &str, to: &str| {
         let text = DEFAULT_SCENE_TOML.replace(from, to);
@@ -702,5 +711,5 @@ fn the_grounds_maps_come_from_the_disk_cache_on_a_warm_start() {
     let moved = scene("moved.toml", "position = [-4.0, 4.0, 2.5]", "position = [-3.5, 4.0, 2.5]");
     assert!(render(Some(&moved), "moved.exr") != cold);
     let added: Vec<String> = entries().into_iter().filter(|e| !stored.contains(e)).map(|(name, _)| name).collect();
-    assert_eq!(added, ["ground-light", "ground-occlusion", "ground-shadow"]);
+    assert_eq!(added, all);
 }

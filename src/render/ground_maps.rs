@@ -134,6 +134,10 @@ struct GroundMap {
     /// The disk cache's key of the last computation, until [`GroundMaps::store_computed`]
     /// stores it.
     unsaved: Cell<Option<u64>>,
+    /// The disk cache's key of what the map holds, or is about to once a frame computes it,
+    /// when it was computed or read first with one: what the entries of what is computed
+    /// from the map are keyed by.
+    content: Cell<Option<u64>>,
     /// Times the map was made: computed by a frame, or read from the disk cache.
     renders: Cell<u64>,
 }
@@ -187,6 +191,7 @@ impl GroundMap {
             pending: Cell::new(false),
             disk_key: Cell::new(None),
             unsaved: Cell::new(None),
+            content: Cell::new(None),
             renders: Cell::new(0),
         })
     }
@@ -215,6 +220,7 @@ impl GroundMap {
         if let Some(key) = key.filter(|key| *key != self.key) {
             self.key = key;
             self.pending.set(true);
+            self.content.set(None);
         }
     }
 
@@ -231,12 +237,11 @@ impl GroundMap {
         // The inputs' key is found only for a first computation, which a cache may hold.
         let first = self.pending.get() && self.renders.get() == 0 && disk.dir().is_some();
         let Some(key) = first.then(inputs).flatten().map(|inputs| {
-            let specialization: Vec<u8> = self.specialization.0.iter().flat_map(|c| c.to_le_bytes()).collect();
             let device = &device.info;
             cache::key(&[
                 &inputs.to_le_bytes(),
                 self.shader,
-                &specialization,
+                bytemuck::cast_slice(&self.specialization.0),
                 &self.size.to_le_bytes(),
                 &self.image.layers.to_le_bytes(),
                 device.name.as_bytes(),
@@ -248,6 +253,8 @@ impl GroundMap {
             return Ok(());
         };
         let size = transfer::image_size(&self.image, TEXEL_BYTES);
+        // What the map holds once it is read or computed.
+        self.content.set(Some(key));
         let Some(bits) = disk.load(&self.entry(), key).filter(|b| b.len() == size) else {
             self.disk_key.set(Some(key));
             return Ok(());
@@ -318,6 +325,20 @@ pub struct MapInputs<'a> {
     pub shadows: &'a dyn Fn() -> u64,
     /// `EnvironmentPass::disk_key`.
     pub environment: Option<u64>,
+}
+
+impl MapInputs<'_> {
+    /// The key of what is computed from the frame's data and `upstream`'s key.
+    fn with_frame(&self, upstream: u64) -> u64 {
+        // The view and the sample set are the frame's alone: no map reads them.
+        let frame = FrameData {
+            view_proj: [[0.0; 4]; 4],
+            camera_position: [0.0; 4],
+            counts: [self.frame.counts[0], self.frame.counts[1], 0, self.frame.counts[3]],
+            ..*self.frame
+        };
+        cache::key(&[bytemuck::bytes_of(&frame), &upstream.to_le_bytes()])
+    }
 }
 
 pub struct GroundMaps {
@@ -476,19 +497,11 @@ impl GroundMaps {
             key
         });
         self.shadow.prepare(shadow_key);
-        // The view and the sample set are the frame's alone: no map reads them.
-        let frame = FrameData {
-            view_proj: [[0.0; 4]; 4],
-            camera_position: [0.0; 4],
-            counts: [inputs.frame.counts[0], inputs.frame.counts[1], 0, inputs.frame.counts[3]],
-            ..*inputs.frame
-        };
-        let with_frame = |upstream: u64| cache::key(&[bytemuck::bytes_of(&frame), &upstream.to_le_bytes()]);
         let (device, disk) = (&self.device, &self.disk);
-        let from_shadows = || Some(with_frame((inputs.shadows)()));
+        let from_shadows = || Some(inputs.with_frame((inputs.shadows)()));
         self.light.read_first_from_disk(device, one_shot, disk, from_shadows)?;
         self.shadow.read_first_from_disk(device, one_shot, disk, from_shadows)?;
-        let from_environment = || inputs.environment.map(with_frame);
+        let from_environment = || inputs.environment.map(|key| inputs.with_frame(key));
         self.occlusion.read_first_from_disk(device, one_shot, disk, from_environment)?;
         // The pipelines of the maps left to compute, on both cores: a warm start makes none.
         let layout = &self.layout;
@@ -528,6 +541,13 @@ impl GroundMaps {
     /// generation): the bounce at the vertices follows it.
     pub fn light_key(&self) -> &[u32] {
         &self.light.key
+    }
+
+    /// The disk cache's key of what the light map holds, when it was computed or read first
+    /// with one: the frame's data and the shadows' key are in it, and the bounce at the
+    /// vertices keys its entries by it.
+    pub fn light_content(&self) -> Option<u64> {
+        self.light.content.get()
     }
 
     /// Times the light map was made (computed, or read from the disk cache).
@@ -611,38 +631,13 @@ fn shadow_specialization(taps: u32) -> Specialization {
 mod tests {
     use super::*;
 
-    /// The (set, binding) pairs a SPIR-V module decorates: the resources its entry point
-    /// reads and writes (the compiler drops those it does not use).
-    fn bindings(spirv: &[u8]) -> Vec<(u32, u32)> {
-        const OP_DECORATE: u32 = 71;
-        const BINDING: u32 = 33;
-        const DESCRIPTOR_SET: u32 = 34;
-        let words: Vec<u32> = spirv.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap())).collect();
-        let (mut sets, mut bindings) = (HashMap::new(), HashMap::new());
-        let mut at = 5;
-        while at < words.len() {
-            let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
-            if opcode == OP_DECORATE && count == 4 {
-                let (target, decoration, value) = (words[at + 1], words[at + 2], words[at + 3]);
-                match decoration {
-                    DESCRIPTOR_SET => sets.insert(target, value),
-                    BINDING => bindings.insert(target, value),
-                    _ => None,
-                };
-            }
-            at += count.max(1);
-        }
-        let mut pairs: Vec<(u32, u32)> = sets.iter().map(|(target, &set)| (set, bindings[target])).collect();
-        pairs.sort_unstable();
-        pairs
-    }
-
     /// A map's disk cache key holds what its shader reads: set 0's frame data (binding 0),
     /// the shadows' set 3 (`ShadowPass::disk_key`) or the environment's data, radiance and
     /// irradiance (`EnvironmentPass::disk_key`), beside the map it writes (set 1). A shader
     /// that reads more needs its key to hold it too.
     #[test]
     fn the_disk_keys_hold_every_resource_the_shaders_read() {
+        use shaders::tests::bindings;
         let from_shadows = [(0, 0), (1, 0), (3, 0), (3, 1)];
         assert_eq!(bindings(shaders::GROUND_LIGHT_COMP), from_shadows);
         assert_eq!(bindings(shaders::GROUND_SHADOW_COMP), from_shadows);

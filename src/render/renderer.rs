@@ -23,7 +23,7 @@ use super::shadow::ShadowPass;
 use super::split::Split;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
-use super::vertex_bounce::VertexBounce;
+use super::vertex_bounce::{BounceInputs, VertexBounce};
 use crate::priority::low_priority_pool;
 use crate::scene::occluders::Occluder;
 use crate::scene::{Environment, MapSlot, Scene};
@@ -383,9 +383,15 @@ impl Renderer {
             &inputs,
         )?;
         let (bounces, generic) = (!self.floor, self.generic);
-        let (light_key, ground_set) = (self.ground_maps.light_key(), self.ground_maps.set());
-        let frame = self.forward.frame_data();
-        self.vertex_bounce.prepare(scene, gpu, bounces, generic, light_key, frame, environment, ground_set)?;
+        let bounce_inputs = BounceInputs {
+            light_key: self.ground_maps.light_key(),
+            light_content: self.ground_maps.light_content(),
+            frame: self.forward.frame_data(),
+            environment_generation: environment,
+            environment_content: self.environment.disk_key(),
+        };
+        let ground_set = self.ground_maps.set();
+        (self.vertex_bounce).prepare(scene, gpu, bounces, generic, &bounce_inputs, ground_set, &self.one_shot)?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
     }
@@ -693,6 +699,7 @@ impl Renderer {
         self.one_shot
             .run(|cmd| self.record(cmd, 0, scene, gpu, &offscreen.target, output.as_ref()))??;
         self.ground_maps.store_computed(&self.one_shot)?;
+        self.vertex_bounce.store_computed(&self.one_shot)?;
         self.gpu_times(0)
     }
 

@@ -31,3 +31,34 @@ pub const GROUND_LIGHT_COMP: &[u8] = spirv!("ground_light.comp");
 pub const GROUND_OCCLUSION_COMP: &[u8] = spirv!("ground_occlusion.comp");
 pub const GROUND_SHADOW_COMP: &[u8] = spirv!("ground_shadow.comp");
 pub const VERTEX_BOUNCE_COMP: &[u8] = spirv!("vertex_bounce.comp");
+
+#[cfg(test)]
+pub mod tests {
+    use std::collections::HashMap;
+
+    /// The (set, binding) pairs a SPIR-V module decorates: the resources its entry point
+    /// reads and writes (the compiler drops those it does not use).
+    pub fn bindings(spirv: &[u8]) -> Vec<(u32, u32)> {
+        const OP_DECORATE: u32 = 71;
+        const BINDING: u32 = 33;
+        const DESCRIPTOR_SET: u32 = 34;
+        let words: Vec<u32> = spirv.chunks_exact(4).map(|w| u32::from_le_bytes(w.try_into().unwrap())).collect();
+        let (mut sets, mut bindings) = (HashMap::new(), HashMap::new());
+        let mut at = 5;
+        while at < words.len() {
+            let (count, opcode) = ((words[at] >> 16) as usize, words[at] & 0xffff);
+            if opcode == OP_DECORATE && count == 4 {
+                let (target, decoration, value) = (words[at + 1], words[at + 2], words[at + 3]);
+                match decoration {
+                    DESCRIPTOR_SET => sets.insert(target, value),
+                    BINDING => bindings.insert(target, value),
+                    _ => None,
+                };
+            }
+            at += count.max(1);
+        }
+        let mut pairs: Vec<(u32, u32)> = sets.iter().map(|(target, &set)| (set, bindings[target])).collect();
+        pairs.sort_unstable();
+        pairs
+    }
+}

@@ -5,7 +5,8 @@
 //! again only when what it is made of changes: the ground's light map, the ground's albedo,
 //! the environment, or where the objects stand. Steady frames record nothing, where the
 //! gather in the vertex shader ran every frame (and grew lavapipe's memory frame by frame;
-//! docs/performance.md).
+//! docs/performance.md). A start reads its first computation from the disk cache, keyed by
+//! the light map's own key, the environment's, the objects and their meshes.
 
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -20,16 +21,38 @@ use super::environment::environment_kind;
 use super::forward::{ForwardConstants, FROM_UNIFORM};
 use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom};
 use super::shaders;
-use crate::scene::{MeshExtent, Scene};
+use crate::cache::{self, DiskCache};
+use crate::scene::{MeshExtent, Object, Scene};
 use crate::vk::{
-    buffer_barrier, Buffer, BufferUse, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
-    DescriptorWriter, Device, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    buffer_barrier, transfer, Buffer, BufferUse, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    DescriptorWriter, Device, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
 /// Bytes of one vertex's gather and gradient: bounce.glsl's `BounceAtVertex`, three vec4s.
 const BYTES_PER_VERTEX: u64 = 48;
 /// vertex_bounce.comp's `local_size_x`.
 const WORKGROUP: u32 = 64;
+/// The buffer's entries' name in the disk cache.
+const DISK_ENTRY: &str = "vertex-bounce";
+
+/// Where the frames before have read the buffer: its old values go once they are done.
+const AFTER_READS: BufferUse = BufferUse {
+    access: vk::AccessFlags2::NONE,
+    ..BufferUse::VERTEX_READ
+};
+
+/// What the buffer is made of besides the scene's objects and meshes.
+pub struct BounceInputs<'a> {
+    /// `GroundMaps::light_key`: what the ground's light map was last computed from.
+    pub light_key: &'a [u32],
+    /// `GroundMaps::light_content`: the disk cache's key of what the light map holds.
+    pub light_content: Option<u64>,
+    /// Set 0's data as the frame writes it: the ground and its albedo.
+    pub frame: &'a FrameData,
+    /// `EnvironmentPass::generation` and `EnvironmentPass::disk_key`.
+    pub environment_generation: u64,
+    pub environment_content: Option<u64>,
+}
 
 /// Where each of `scene`'s objects' vertices start in the buffer, for the objects that
 /// gather the bounce at their vertices, one after the other: each but the ground whose mesh
@@ -69,6 +92,7 @@ struct Layout {
 
 pub struct VertexBounce {
     device: Arc<Device>,
+    disk: DiskCache,
     set_layout: DescriptorSetLayout,
     /// The forward pass's sets but for set 1, this pass's own.
     layout: PipelineLayout,
@@ -84,7 +108,13 @@ pub struct VertexBounce {
     key: Vec<u32>,
     /// Whether the next recorded frame computes it.
     pending: Cell<bool>,
-    /// Times it was computed.
+    /// The disk cache's key of that computation, when it is the first and the cache does
+    /// not hold it.
+    disk_key: Cell<Option<u64>>,
+    /// The disk cache's key of the last computation, until [`VertexBounce::store_computed`]
+    /// stores it.
+    unsaved: Cell<Option<u64>>,
+    /// Times it was made: computed by a frame, or read from the disk cache.
     computes: Cell<u64>,
 }
 
@@ -112,6 +142,7 @@ impl VertexBounce {
             // Read by no frame until a scene gathers at its vertices.
             buffer: Self::new_buffer(device, 1)?,
             device: device.clone(),
+            disk: DiskCache::from_env(),
             set_layout,
             layout,
             pipelines: HashMap::new(),
@@ -123,6 +154,8 @@ impl VertexBounce {
             },
             key: Vec::new(),
             pending: Cell::new(false),
+            disk_key: Cell::new(None),
+            unsaved: Cell::new(None),
             computes: Cell::new(0),
         };
         pass.point_ground_set_at_buffer(ground_set);
@@ -131,7 +164,11 @@ impl VertexBounce {
 
     fn new_buffer(device: &Arc<Device>, vertices: u32) -> Result<Buffer> {
         let size = u64::from(vertices.max(1)) * BYTES_PER_VERTEX;
-        Buffer::new(device, size, vk::BufferUsageFlags::STORAGE_BUFFER, MemoryLocation::GpuOnly, "vertex bounce")
+        // The disk cache's copies go in and out by transfers.
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
+        Buffer::new(device, size, usage, MemoryLocation::GpuOnly, "vertex bounce")
     }
 
     fn point_ground_set_at_buffer(&self, ground_set: vk::DescriptorSet) {
@@ -140,19 +177,20 @@ impl VertexBounce {
             .write(&self.device, ground_set);
     }
 
-    /// Times the buffer was computed: once per change of what it is made of, not per frame.
+    /// Times the buffer was made (computed, or read from the disk cache): once per change of
+    /// what it is made of, not per frame.
     pub fn computes(&self) -> u64 {
         self.computes.get()
     }
 
     /// Has the next recorded frame compute the buffer when a frame of `scene` (`bounces`:
     /// drawn with the materials' shaders, `generic` or specialised pipelines) reads it and
-    /// what it is made of changed: the
-    /// ground's light map (`light_key`, `GroundMaps::light_key`), the frame's ground and
-    /// its albedo (`frame`), the environment (its `environment_generation`), the meshes'
-    /// upload and where each gathering object stands. A new layout of the objects makes a
-    /// new buffer, pointed at by the forward pass's `ground_set`, once the frames in flight
-    /// are done.
+    /// what it is made of changed: the ground's light map, the frame's ground and its albedo,
+    /// the environment (`inputs`), the meshes' upload and where each gathering object
+    /// stands. A new layout of the objects makes a new buffer, pointed at by the forward
+    /// pass's `ground_set`, once the frames in flight are done. The first computation is
+    /// read from the disk cache instead, through `one_shot`, when it holds one of the same
+    /// inputs.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
@@ -160,10 +198,9 @@ impl VertexBounce {
         gpu: &GpuScene,
         bounces: bool,
         generic: bool,
-        light_key: &[u32],
-        frame: &FrameData,
-        environment_generation: u64,
+        inputs: &BounceInputs,
         ground_set: vk::DescriptorSet,
+        one_shot: &OneShot,
     ) -> Result<()> {
         let firsts = gpu_bounce_firsts(scene, generic, gpu);
         if !bounces || firsts.iter().all(Option::is_none) {
@@ -176,10 +213,11 @@ impl VertexBounce {
             self.lay_out(gpu, layout_key, ground_set)?;
         }
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
-        let mut key = light_key.to_vec();
-        key.extend(bits(&frame.ground));
-        key.extend(bits(&frame.ground_albedo));
-        key.extend([environment_generation as u32, (environment_generation >> 32) as u32, gpu.id as u32]);
+        let mut key = inputs.light_key.to_vec();
+        key.extend(bits(&inputs.frame.ground));
+        key.extend(bits(&inputs.frame.ground_albedo));
+        let generation = inputs.environment_generation;
+        key.extend([generation as u32, (generation >> 32) as u32, gpu.id as u32]);
         for (object, _) in scene.objects.iter().zip(&firsts).filter(|(_, first)| first.is_some()) {
             key.extend(bits(&object.model_matrix().to_cols_array()));
         }
@@ -195,10 +233,60 @@ impl VertexBounce {
             ..ForwardConstants::zeroed()
         }
         .specialization();
+        self.read_first_from_disk(scene, inputs, one_shot)?;
         if self.pending.get() && !self.pipelines.contains_key(&self.specialization) {
             let (device, layout, module) = (&self.device, &self.layout, &self.module);
             let pipeline = Pipeline::compute(device, layout, module, &self.specialization, "vertex bounce")?;
             self.pipelines.insert(self.specialization.clone(), pipeline);
+        }
+        Ok(())
+    }
+
+    /// Reads the buffer from the disk cache in place of its first computation, if
+    /// [`Self::prepare`] asked for that and the cache holds it under the key of `inputs`
+    /// and the gathering objects of `scene` (none without the light map's and the
+    /// environment's keys); else has that computation stored under it.
+    fn read_first_from_disk(&mut self, scene: &Scene, inputs: &BounceInputs, one_shot: &OneShot) -> Result<()> {
+        self.disk_key.set(None);
+        let first = self.pending.get() && self.computes.get() == 0 && self.disk.dir().is_some();
+        let (true, Some(light), Some(environment)) = (first, inputs.light_content, inputs.environment_content) else {
+            return Ok(());
+        };
+        let device = &self.device.info;
+        let mut parts: Vec<&[u8]> = vec![
+            shaders::VERTEX_BOUNCE_COMP,
+            bytemuck::cast_slice(&self.specialization.0),
+            device.name.as_bytes(),
+            device.driver.as_bytes(),
+            include_str!("vertex_bounce.rs").as_bytes(),
+        ];
+        let upstream = [light.to_le_bytes(), environment.to_le_bytes()];
+        parts.extend(upstream.iter().map(|k| k.as_slice()));
+        let pushes: Vec<ObjectPush> = (scene.objects.iter().zip(&self.objects.gathering))
+            .filter_map(|(object, gathering)| gathering.map(|(first, _)| push(object, first)))
+            .collect();
+        parts.push(bytemuck::cast_slice(&pushes));
+        for (object, _) in scene.objects.iter().zip(&self.objects.gathering).filter(|(_, g)| g.is_some()) {
+            parts.push(bytemuck::cast_slice(&scene.meshes[object.mesh].vertices));
+        }
+        let key = cache::key(&parts);
+        let bits = self.disk.load(DISK_ENTRY, key).filter(|b| b.len() as u64 == self.buffer.size);
+        let Some(bits) = bits else {
+            self.disk_key.set(Some(key));
+            return Ok(());
+        };
+        transfer::upload_buffer(&self.device, one_shot, &self.buffer, &bits, AFTER_READS, BufferUse::VERTEX_READ)?;
+        self.pending.set(false);
+        self.computes.set(self.computes.get() + 1);
+        Ok(())
+    }
+
+    /// Stores the buffer in the disk cache if its first computation was not there, once the
+    /// frame that computed it is done (the caller has waited for it).
+    pub fn store_computed(&self, one_shot: &OneShot) -> Result<()> {
+        if let Some(key) = self.unsaved.take() {
+            let bits = transfer::read_buffer(&self.device, one_shot, &self.buffer, BufferUse::VERTEX_READ)?;
+            self.disk.store(DISK_ENTRY, key, &bits);
         }
         Ok(())
     }
@@ -253,13 +341,9 @@ impl VertexBounce {
             return;
         }
         self.computes.set(self.computes.get() + 1);
+        self.unsaved.set(self.disk_key.take());
         let (device, d, layout) = (&self.device, &self.device.handle, self.layout.handle);
-        // The frames before have read the old values.
-        let after_reads = BufferUse {
-            access: vk::AccessFlags2::NONE,
-            ..BufferUse::VERTEX_READ
-        };
-        buffer_barrier(device, cmd, self.buffer.handle, after_reads, BufferUse::COMPUTE_WRITE);
+        buffer_barrier(device, cmd, self.buffer.handle, AFTER_READS, BufferUse::COMPUTE_WRITE);
         let compute = vk::PipelineBindPoint::COMPUTE;
         unsafe {
             d.cmd_bind_pipeline(cmd, compute, self.pipelines[&self.specialization].handle);
@@ -269,11 +353,7 @@ impl VertexBounce {
         }
         for (object, gathering) in scene.objects.iter().zip(&self.objects.gathering) {
             let Some((first, set)) = *gathering else { continue };
-            let occlusion = ObjectOcclusion {
-                own: (0, 0),
-                from: ObjectsOcclusionFrom::Pixels,
-            };
-            let push = ObjectPush::new(object, occlusion, 0, first);
+            let push = push(object, first);
             let groups = gpu.meshes[object.mesh].vertex_count.div_ceil(WORKGROUP);
             unsafe {
                 d.cmd_bind_descriptor_sets(cmd, compute, layout, 1, &[set], &[]);
@@ -283,6 +363,16 @@ impl VertexBounce {
         }
         buffer_barrier(device, cmd, self.buffer.handle, BufferUse::COMPUTE_WRITE, BufferUse::VERTEX_READ);
     }
+}
+
+/// The push constants of `object`'s gather, its vertices' first at `first`: the draw's,
+/// without the occlusion and shadows the pass does not read.
+fn push(object: &Object, first: u32) -> ObjectPush {
+    let occlusion = ObjectOcclusion {
+        own: (0, 0),
+        from: ObjectsOcclusionFrom::Pixels,
+    };
+    ObjectPush::new(object, occlusion, 0, first)
 }
 
 #[cfg(test)]
@@ -302,6 +392,16 @@ mod tests {
         let bounce = include_str!("../../shaders/lib/bounce.glsl");
         assert!(bounce.contains("struct BounceAtVertex {\n    vec4 channels[3];\n};"));
         assert_eq!(BYTES_PER_VERTEX, 3 * 16);
+    }
+
+    /// The disk cache's key holds what the shader reads: set 0's frame data and the light
+    /// map (the light map's key holds both), the environment's data and irradiance (its
+    /// key), and the meshes' vertices and the push constants (the key's parts), beside the
+    /// buffer it writes. A shader that reads more needs the key to hold it too.
+    #[test]
+    fn the_disk_key_holds_every_resource_the_shader_reads() {
+        let read = [(0, 0), (1, 0), (1, 1), (2, 0), (2, 4), (5, 0)];
+        assert_eq!(shaders::tests::bindings(shaders::VERTEX_BOUNCE_COMP), read);
     }
 
     /// The default scene's ball and ring gather at their vertices, one after the other; the

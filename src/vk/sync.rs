@@ -227,6 +227,21 @@ impl BufferUse {
         stage: vk::PipelineStageFlags2::VERTEX_SHADER,
         access: vk::AccessFlags2::SHADER_STORAGE_READ,
     };
+    /// Written by a copy.
+    pub const TRANSFER_DST: Self = Self {
+        stage: vk::PipelineStageFlags2::COPY,
+        access: vk::AccessFlags2::TRANSFER_WRITE,
+    };
+    /// Read by a copy.
+    pub const TRANSFER_SRC: Self = Self {
+        stage: vk::PipelineStageFlags2::COPY,
+        access: vk::AccessFlags2::TRANSFER_READ,
+    };
+    /// Read by the host.
+    pub const HOST_READ: Self = Self {
+        stage: vk::PipelineStageFlags2::HOST,
+        access: vk::AccessFlags2::HOST_READ,
+    };
 }
 
 /// Records a barrier between two uses of the whole of `buffer`.

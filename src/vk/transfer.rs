@@ -1,5 +1,6 @@
-//! Whole images to and from the host, each copy a one-shot submission that is waited for:
-//! what the disk cache stores of images computed on the device and uploads in their place.
+//! Whole images and buffers to and from the host, each copy a one-shot submission that is
+//! waited for: what the disk cache stores of images and buffers computed on the device and
+//! uploads in their place.
 
 use std::sync::Arc;
 
@@ -11,7 +12,7 @@ use super::buffer::Buffer;
 use super::commands::OneShot;
 use super::device::Device;
 use super::image::{copy_region, Image};
-use super::sync::{transition_levels, ImageUse};
+use super::sync::{buffer_barrier, transition_levels, BufferUse, ImageUse};
 
 /// Bytes of mip `level` of `image`, every layer, at `texel_bytes` a texel.
 pub fn level_size(image: &Image, level: u32, texel_bytes: u64) -> u64 {
@@ -114,13 +115,53 @@ pub fn read_level(
             )
         };
         transition_levels(device, cmd, image.handle, range, ImageUse::TRANSFER_SRC, at);
-        let to_host = [vk::MemoryBarrier2::default()
-            .src_stage_mask(vk::PipelineStageFlags2::COPY)
-            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::HOST)
-            .dst_access_mask(vk::AccessFlags2::HOST_READ)];
-        let dependency = vk::DependencyInfo::default().memory_barriers(&to_host);
-        unsafe { device.handle.cmd_pipeline_barrier2(cmd, &dependency) };
+        buffer_barrier(device, cmd, buffer.handle, BufferUse::TRANSFER_DST, BufferUse::HOST_READ);
     })?;
     Ok(buffer.read()?.to_vec())
+}
+
+/// Fills the start of `buffer` with `bytes`. The buffer is in use `from` before and `to`
+/// after.
+pub fn upload_buffer(
+    device: &Arc<Device>,
+    one_shot: &OneShot,
+    buffer: &Buffer,
+    bytes: &[u8],
+    from: BufferUse,
+    to: BufferUse,
+) -> Result<()> {
+    ensure!(bytes.len() as u64 <= buffer.size, "{} bytes for a buffer of {}", bytes.len(), buffer.size);
+    let mut staging = Buffer::new(
+        device,
+        bytes.len() as u64,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+        "buffer upload",
+    )?;
+    staging.write(bytes)?;
+    one_shot.run(|cmd| {
+        buffer_barrier(device, cmd, buffer.handle, from, BufferUse::TRANSFER_DST);
+        let region = vk::BufferCopy::default().size(bytes.len() as u64);
+        unsafe { device.handle.cmd_copy_buffer(cmd, staging.handle, buffer.handle, &[region]) };
+        buffer_barrier(device, cmd, buffer.handle, BufferUse::TRANSFER_DST, to);
+    })
+}
+
+/// The whole of `buffer`, in use `at` and left there.
+pub fn read_buffer(device: &Arc<Device>, one_shot: &OneShot, buffer: &Buffer, at: BufferUse) -> Result<Vec<u8>> {
+    let readback = Buffer::new(
+        device,
+        buffer.size,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+        "buffer readback",
+    )?;
+    one_shot.run(|cmd| {
+        buffer_barrier(device, cmd, buffer.handle, at, BufferUse::TRANSFER_SRC);
+        let region = vk::BufferCopy::default().size(buffer.size);
+        unsafe { device.handle.cmd_copy_buffer(cmd, buffer.handle, readback.handle, &[region]) };
+        buffer_barrier(device, cmd, buffer.handle, BufferUse::TRANSFER_SRC, at);
+        buffer_barrier(device, cmd, readback.handle, BufferUse::TRANSFER_DST, BufferUse::HOST_READ);
+    })?;
+    Ok(readback.read()?.to_vec())
 }
