@@ -62,6 +62,7 @@ use watch::{inputs_watch, FileWatch};
 pub use legend::curvature_legend_color;
 pub use panels::PANEL_WIDTH;
 pub use reference_view::reference_and_compare;
+pub use soak::warmed_up as soak_warmed_up;
 pub use split_view::parse_configuration as parse_split_configuration;
 /// Redraws the resize storm lasts; `--frames` beyond it render at the storm's last size.
 pub const RESIZE_STORM_TICKS: u64 = storm::DURATION;
