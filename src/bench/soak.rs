@@ -11,9 +11,9 @@
 //! a child `argil view` runs the scripted session of [`ViewerSoak`] (an orbiting camera,
 //! a material edit that switches pipelines, the panel drawn every frame, swapchain
 //! presents) and logs its memory, which must be flat once the first tenth and the first
-//! two edits (the first's new pipeline grows the driver's memory once) are past; the validation
-//! layer's report of objects still alive when the device is destroyed is part of what it
-//! must not print.
+//! two edits (the first's new pipeline grows the driver's memory once) are past; the
+//! validation layer's report of objects still alive when the device is destroyed is part
+//! of what it must not print.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -80,11 +80,10 @@ fn mib(bytes: u64) -> f64 {
     bytes as f64 / f64::from(1 << 20)
 }
 
-/// Prints a phase's samples and returns what is not flat about it.
-/// Prints `phase`'s samples and what they show: host memory grown by more than
-/// [`MAX_RSS_GROWTH`], or any change of the GPU's allocated bytes, from the first sample at
-/// step `warmed_up` or later (the first sample is taken after the warm-up tenth) to the
-/// last.
+/// Prints `phase`'s samples and returns what is not flat about them: host memory grown by
+/// more than [`MAX_RSS_GROWTH`], or any change of the GPU's allocated bytes, from the first
+/// sample at step `warmed_up` or later (the first sample is taken after the warm-up tenth)
+/// to the last.
 fn judge(phase: &str, samples: &[Sample], warmed_up: u64) -> Vec<String> {
     for s in samples {
         println!(

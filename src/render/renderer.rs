@@ -390,8 +390,8 @@ impl Renderer {
             environment_generation: environment,
             environment_content: self.environment.disk_key(),
         };
-        let ground_set = self.ground_maps.set();
-        (self.vertex_bounce).prepare(scene, gpu, bounces, generic, &bounce_inputs, ground_set, &self.one_shot)?;
+        let (ground_set, one_shot) = (self.ground_maps.set(), &self.one_shot);
+        self.vertex_bounce.prepare(scene, gpu, bounces, generic, &bounce_inputs, ground_set, one_shot)?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
     }
