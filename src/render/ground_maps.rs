@@ -329,7 +329,7 @@ pub struct MapInputs<'a> {
 
 impl MapInputs<'_> {
     /// The key of what is computed from the frame's data and `upstream`'s key.
-    fn with_frame(&self, upstream: u64) -> u64 {
+    pub fn with_frame(&self, upstream: u64) -> u64 {
         // The view and the sample set are the frame's alone: no map reads them.
         let frame = FrameData {
             view_proj: [[0.0; 4]; 4],

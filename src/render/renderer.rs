@@ -386,9 +386,8 @@ impl Renderer {
         let bounce_inputs = BounceInputs {
             light_key: self.ground_maps.light_key(),
             light_content: self.ground_maps.light_content(),
-            frame: self.forward.frame_data(),
+            maps: &inputs,
             environment_generation: environment,
-            environment_content: self.environment.disk_key(),
         };
         let (ground_set, one_shot) = (self.ground_maps.set(), &self.one_shot);
         self.vertex_bounce.prepare(scene, gpu, bounces, generic, &bounce_inputs, ground_set, one_shot)?;

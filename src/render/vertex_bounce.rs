@@ -20,6 +20,7 @@ use gpu_allocator::MemoryLocation;
 use super::environment::environment_kind;
 use super::forward::{ForwardConstants, FROM_UNIFORM};
 use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom};
+use super::ground_maps::MapInputs;
 use super::shaders;
 use crate::cache::{self, DiskCache};
 use crate::scene::{MeshExtent, Object, Scene};
@@ -47,11 +48,11 @@ pub struct BounceInputs<'a> {
     pub light_key: &'a [u32],
     /// `GroundMaps::light_content`: the disk cache's key of what the light map holds.
     pub light_content: Option<u64>,
-    /// Set 0's data as the frame writes it: the ground and its albedo.
-    pub frame: &'a FrameData,
-    /// `EnvironmentPass::generation` and `EnvironmentPass::disk_key`.
+    /// The frame's data (the ground and its albedo, the bounce's switch) and the
+    /// environment's disk cache key, as the ground's maps read them.
+    pub maps: &'a MapInputs<'a>,
+    /// `EnvironmentPass::generation`.
     pub environment_generation: u64,
-    pub environment_content: Option<u64>,
 }
 
 /// Where each of `scene`'s objects' vertices start in the buffer, for the objects that
@@ -214,8 +215,9 @@ impl VertexBounce {
         }
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
         let mut key = inputs.light_key.to_vec();
-        key.extend(bits(&inputs.frame.ground));
-        key.extend(bits(&inputs.frame.ground_albedo));
+        let frame: &FrameData = inputs.maps.frame;
+        key.extend(bits(&frame.ground));
+        key.extend(bits(&frame.ground_albedo));
         let generation = inputs.environment_generation;
         key.extend([generation as u32, (generation >> 32) as u32, gpu.id as u32]);
         for (object, _) in scene.objects.iter().zip(&firsts).filter(|(_, first)| first.is_some()) {
@@ -244,12 +246,13 @@ impl VertexBounce {
 
     /// Reads the buffer from the disk cache in place of its first computation, if
     /// [`Self::prepare`] asked for that and the cache holds it under the key of `inputs`
-    /// and the gathering objects of `scene` (none without the light map's and the
-    /// environment's keys); else has that computation stored under it.
+    /// (the frame's data, the light map's and the environment's keys; none without the
+    /// last two) and the gathering objects of `scene`; else has that computation stored
+    /// under it.
     fn read_first_from_disk(&mut self, scene: &Scene, inputs: &BounceInputs, one_shot: &OneShot) -> Result<()> {
         self.disk_key.set(None);
         let first = self.pending.get() && self.computes.get() == 0 && self.disk.dir().is_some();
-        let (true, Some(light), Some(environment)) = (first, inputs.light_content, inputs.environment_content) else {
+        let (true, Some(light), Some(environment)) = (first, inputs.light_content, inputs.maps.environment) else {
             return Ok(());
         };
         let device = &self.device.info;
@@ -260,8 +263,9 @@ impl VertexBounce {
             device.driver.as_bytes(),
             include_str!("vertex_bounce.rs").as_bytes(),
         ];
-        let upstream = [light.to_le_bytes(), environment.to_le_bytes()];
-        parts.extend(upstream.iter().map(|k| k.as_slice()));
+        let upstream = inputs.maps.with_frame(cache::key(&[&light.to_le_bytes(), &environment.to_le_bytes()]));
+        let upstream = upstream.to_le_bytes();
+        parts.push(&upstream);
         let pushes: Vec<ObjectPush> = (scene.objects.iter().zip(&self.objects.gathering))
             .filter_map(|(object, gathering)| gathering.map(|(first, _)| push(object, first)))
             .collect();
@@ -394,10 +398,10 @@ mod tests {
         assert_eq!(BYTES_PER_VERTEX, 3 * 16);
     }
 
-    /// The disk cache's key holds what the shader reads: set 0's frame data and the light
-    /// map (the light map's key holds both), the environment's data and irradiance (its
-    /// key), and the meshes' vertices and the push constants (the key's parts), beside the
-    /// buffer it writes. A shader that reads more needs the key to hold it too.
+    /// The disk cache's key holds what the shader reads: set 0's frame data, the light map
+    /// (its key), the environment's data and irradiance (its key), and the meshes' vertices
+    /// and the push constants, beside the buffer it writes. A shader that reads more needs
+    /// the key to hold it too.
     #[test]
     fn the_disk_key_holds_every_resource_the_shader_reads() {
         let read = [(0, 0), (1, 0), (1, 1), (2, 0), (2, 4), (5, 0)];
