@@ -6,7 +6,8 @@
 //! the environment, or where the objects stand. Steady frames record nothing, where the
 //! gather in the vertex shader ran every frame (and grew lavapipe's memory frame by frame;
 //! docs/performance.md). A start reads its first computation from the disk cache, keyed by
-//! the light map's own key, the environment's, the objects and their meshes.
+//! the frame's data, the light map's own key, the environment's, the objects and their
+//! meshes.
 
 use std::cell::Cell;
 use std::collections::HashMap;
