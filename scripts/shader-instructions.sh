@@ -11,11 +11,10 @@
 # Prints one line per scene: its shader instructions and the whole process's. With
 # --by-shader, each run-time compiled shader that lavapipe's rasterizer or compute code
 # calls follows, by its address: its instructions with the functions it calls (texture
-# lookups) and its calls. A fragment shader is called once per 4×4 block of pixels for each
-# triangle that covers any of them, so calls × 16 against an object's pixels says how often
-# its pixels are shaded; a pipeline's address changes with the build, so tell the objects
-# apart by a variant of the scene. The shader
-# count covers every pass of the frame (shadow maps, forward, skybox, tone map) and the
+# lookups) and its calls. A fragment shader is called once per 4×4 block of pixels for
+# each triangle that covers any of them, so calls × 16 against an object's pixels says how
+# often its pixels are shaded; a pipeline's address changes with the build, so tell the
+# objects apart by a variant of the scene. The shader count covers every pass of the frame (shadow maps, forward, skybox, tone map) and the
 # environment precompute where the disk cache does not hold it. With --frames N, N frames
 # are drawn (accumulated, as `argil render --accumulate N`): what is computed once per
 # scene (shadow maps, the ground's maps) counts once, so the difference of the counts at
@@ -33,7 +32,7 @@ while [ $# -gt 0 ]; do
     --frames) frames="$2"; shift 2 ;;
     --argil) argil="$2"; shift 2 ;;
     --by-shader) by_shader=1; shift ;;
-    -h|--help) sed -n '2,24p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
     *) break ;;
   esac
 done
