@@ -11,6 +11,7 @@
 //! that cannot be written costs only the time, so a failure to write an entry is reported
 //! on stderr (a line an entry) and otherwise ignored.
 
+use std::cell::Cell;
 use std::path::{Path, PathBuf};
 
 use xxhash_rust::xxh3::Xxh3;
@@ -122,6 +123,35 @@ impl DiskCache {
     }
 }
 
+/// The disk cache's key of a result that a frame computes on the device (the ground's
+/// maps, the bounce at the vertices) and the cache did not hold: set when the cache misses
+/// it, carried by the frame that records the computation, and taken to store the result
+/// once that frame is done.
+#[derive(Default)]
+pub struct Unsaved {
+    /// The computation the next recorded frame runs.
+    missed: Cell<Option<u64>>,
+    /// The one a recorded frame ran.
+    recorded: Cell<Option<u64>>,
+}
+
+impl Unsaved {
+    /// What the next recorded computation is stored under: `key`, or nothing.
+    pub fn miss(&self, key: Option<u64>) {
+        self.missed.set(key);
+    }
+
+    /// A frame records the computation.
+    pub fn record(&self) {
+        self.recorded.set(self.missed.take());
+    }
+
+    /// The key to store the recorded result under, once.
+    pub fn take(&self) -> Option<u64> {
+        self.recorded.take()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -136,6 +166,20 @@ mod tests {
 
     fn temp_dir(name: &str) -> TempDir {
         TempDir(std::env::temp_dir().join(format!("argil-cache-{name}-{}", std::process::id())))
+    }
+
+    /// A missed key is stored only once a frame recorded its computation, and only once.
+    #[test]
+    fn an_unsaved_key_is_taken_once_after_its_computation_is_recorded() {
+        let unsaved = Unsaved::default();
+        unsaved.miss(Some(7));
+        assert_eq!(unsaved.take(), None, "not recorded yet");
+        unsaved.record();
+        assert_eq!((unsaved.take(), unsaved.take()), (Some(7), None));
+        unsaved.miss(Some(8));
+        unsaved.miss(None);
+        unsaved.record();
+        assert_eq!(unsaved.take(), None, "a hit after the miss stores nothing");
     }
 
     #[test]

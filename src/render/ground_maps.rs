@@ -41,7 +41,7 @@ use super::environment::environment_kind;
 use super::forward::{ForwardConstants, FROM_UNIFORM};
 use super::gpu_scene::{FrameData, MAX_POINT_LIGHTS};
 use super::shaders;
-use crate::cache::{self, DiskCache};
+use crate::cache::{self, DiskCache, Unsaved};
 use crate::scene::occluders::Occluder;
 use crate::scene::{Environment, MapSlot, Object, Scene};
 use crate::vk::{
@@ -129,11 +129,9 @@ struct GroundMap {
     key: Vec<u32>,
     /// Whether the next recorded frame computes the map.
     pending: Cell<bool>,
-    /// The disk cache's key of that computation, when it is the map's first.
-    disk_key: Cell<Option<u64>>,
-    /// The disk cache's key of the last computation, until [`GroundMaps::store_computed`]
-    /// stores it.
-    unsaved: Cell<Option<u64>>,
+    /// The disk cache's key of that computation, when it is the map's first and the cache
+    /// misses it, until [`GroundMaps::store_computed`] stores it.
+    unsaved: Unsaved,
     /// The disk cache's key of what the map holds, or is about to once a frame computes it,
     /// when it was computed or read first with one: what the entries of what is computed
     /// from the map are keyed by.
@@ -189,8 +187,7 @@ impl GroundMap {
             specialization: Specialization::default(),
             key: Vec::new(),
             pending: Cell::new(false),
-            disk_key: Cell::new(None),
-            unsaved: Cell::new(None),
+            unsaved: Unsaved::default(),
             content: Cell::new(None),
             renders: Cell::new(0),
         })
@@ -249,19 +246,19 @@ impl GroundMap {
                 include_str!("ground_maps.rs").as_bytes(),
             ])
         }) else {
-            self.disk_key.set(None);
+            self.unsaved.miss(None);
             return Ok(());
         };
         let size = transfer::image_size(&self.image, TEXEL_BYTES);
         // What the map holds once it is read or computed.
         self.content.set(Some(key));
         let Some(bits) = disk.load(&self.entry(), key).filter(|b| b.len() == size) else {
-            self.disk_key.set(Some(key));
+            self.unsaved.miss(Some(key));
             return Ok(());
         };
         transfer::upload_image(device, one_shot, &self.image, &[&bits], AFTER_READS, MAP_READ)?;
         self.pending.set(false);
-        self.disk_key.set(None);
+        self.unsaved.miss(None);
         self.renders.set(self.renders.get() + 1);
         Ok(())
     }
@@ -277,7 +274,7 @@ impl GroundMap {
         if !self.pending.replace(false) {
             return;
         }
-        self.unsaved.set(self.disk_key.take());
+        self.unsaved.record();
         self.renders.set(self.renders.get() + 1);
         let image = &self.image;
         let layers = image.all_levels();

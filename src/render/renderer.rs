@@ -292,8 +292,9 @@ impl Renderer {
         self.ground_maps.light_renders()
     }
 
-    /// How many times the bounce at the vertices has been computed: once per change of the
-    /// ground's light map, the environment or where the objects stand, not per frame.
+    /// How many times the bounce at the vertices has been made (computed, or read from the
+    /// disk cache): once per change of the ground's light map, the environment or where the
+    /// objects stand, not per frame.
     pub fn vertex_bounce_computes(&self) -> u64 {
         self.vertex_bounce.computes()
     }

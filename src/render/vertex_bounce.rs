@@ -23,7 +23,7 @@ use super::forward::{ForwardConstants, FROM_UNIFORM};
 use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom};
 use super::ground_maps::MapInputs;
 use super::shaders;
-use crate::cache::{self, DiskCache};
+use crate::cache::{self, DiskCache, Unsaved};
 use crate::scene::{MeshExtent, Object, Scene};
 use crate::vk::{
     buffer_barrier, transfer, Buffer, BufferUse, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
@@ -110,12 +110,9 @@ pub struct VertexBounce {
     key: Vec<u32>,
     /// Whether the next recorded frame computes it.
     pending: Cell<bool>,
-    /// The disk cache's key of that computation, when it is the first and the cache does
-    /// not hold it.
-    disk_key: Cell<Option<u64>>,
-    /// The disk cache's key of the last computation, until [`VertexBounce::store_computed`]
-    /// stores it.
-    unsaved: Cell<Option<u64>>,
+    /// The disk cache's key of that computation, when it is the first and the cache misses
+    /// it, until [`VertexBounce::store_computed`] stores it.
+    unsaved: Unsaved,
     /// Times it was made: computed by a frame, or read from the disk cache.
     computes: Cell<u64>,
 }
@@ -156,8 +153,7 @@ impl VertexBounce {
             },
             key: Vec::new(),
             pending: Cell::new(false),
-            disk_key: Cell::new(None),
-            unsaved: Cell::new(None),
+            unsaved: Unsaved::default(),
             computes: Cell::new(0),
         };
         pass.point_ground_set_at_buffer(ground_set);
@@ -251,7 +247,7 @@ impl VertexBounce {
     /// last two) and the gathering objects of `scene`; else has that computation stored
     /// under it.
     fn read_first_from_disk(&mut self, scene: &Scene, inputs: &BounceInputs, one_shot: &OneShot) -> Result<()> {
-        self.disk_key.set(None);
+        self.unsaved.miss(None);
         let first = self.pending.get() && self.computes.get() == 0 && self.disk.dir().is_some();
         let (true, Some(light), Some(environment)) = (first, inputs.light_content, inputs.maps.environment) else {
             return Ok(());
@@ -277,7 +273,7 @@ impl VertexBounce {
         let key = cache::key(&parts);
         let bits = self.disk.load(DISK_ENTRY, key).filter(|b| b.len() as u64 == self.buffer.size);
         let Some(bits) = bits else {
-            self.disk_key.set(Some(key));
+            self.unsaved.miss(Some(key));
             return Ok(());
         };
         transfer::upload_buffer(&self.device, one_shot, &self.buffer, &bits, AFTER_READS, BufferUse::VERTEX_READ)?;
@@ -346,7 +342,7 @@ impl VertexBounce {
             return;
         }
         self.computes.set(self.computes.get() + 1);
-        self.unsaved.set(self.disk_key.take());
+        self.unsaved.record();
         let (device, d, layout) = (&self.device, &self.device.handle, self.layout.handle);
         buffer_barrier(device, cmd, self.buffer.handle, AFTER_READS, BufferUse::COMPUTE_WRITE);
         let compute = vk::PipelineBindPoint::COMPUTE;

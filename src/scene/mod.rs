@@ -52,12 +52,6 @@ pub use material::{
     Subsurface,
 };
 pub use mesh::{Mesh, MeshExtent, Vertex, BUILTIN_PREFIX};
-
-/// The longest edge, as a share of its mesh's bounding radius, of an object that gathers
-/// the ground's bounce at its vertices ([`Scene::bounce_at_vertices`]): the builtin sphere
-/// (0.07 at its 32 cells a cube edge) and torus (0.06) do, a sphere of 16 cells (0.14) or
-/// fewer and the cube (1.6) do not.
-pub const BOUNCE_VERTEX_EDGE_SHARE: f32 = 0.125;
 pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
 pub use pending::PendingMaps;
 pub use preset::Preset;
@@ -69,6 +63,12 @@ pub use texture::{
 
 /// The scene used when none is given; it needs no files on disk.
 pub const DEFAULT_SCENE_TOML: &str = include_str!("default.toml");
+
+/// The longest edge, as a share of its mesh's bounding radius, of an object that gathers
+/// the ground's bounce at its vertices ([`Scene::bounce_at_vertices`]): the builtin sphere
+/// (0.07 at its 32 cells a cube edge) and torus (0.06) do, a sphere of 16 cells (0.14) or
+/// fewer and the cube (1.6) do not.
+pub const BOUNCE_VERTEX_EDGE_SHARE: f32 = 0.125;
 
 /// When a scene's builtin maps are made.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
