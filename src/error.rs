@@ -22,6 +22,17 @@ impl InputError {
     }
 }
 
+/// The user stopped the command (Ctrl-C). The command line exits with code 130, as a shell
+/// reports a process that SIGINT ended, after writing what the command had when it can.
+#[derive(Debug, thiserror::Error)]
+#[error("interrupted {0}")]
+pub struct Interrupted(pub String);
+
+/// Whether `error` or any error in its chain is [`Interrupted`].
+pub fn is_interrupted(error: &anyhow::Error) -> bool {
+    error.chain().any(|e| e.is::<Interrupted>())
+}
+
 /// Whether `error` or any error in its chain is an [`InputError`] or a scene that cannot
 /// be used ([`SceneError`]: its file, a mesh, a texture or a value in it).
 pub fn is_input_error(error: &anyhow::Error) -> bool {

@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -12,8 +13,8 @@ use clap::{Parser, Subcommand};
 use argil::atomic::Existing;
 use argil::bench::startup::Recorder;
 use argil::brdf::subsurface::PreintegratedTable;
-use argil::error::{advice, is_input_error, InputError};
-use argil::reference::{Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
+use argil::error::{advice, is_input_error, is_interrupted, InputError, Interrupted};
+use argil::reference::{Ending, Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
 use argil::render::warm_up::{warm_up, WARM_UP_EXTENT};
 use argil::render::{count_non_finite, write_frame, DebugView, Renderer, PASS_NAMES};
@@ -28,7 +29,8 @@ const AFTER_HELP: &str = "\
 Exit codes: 0 success; 2 the input is wrong (a scene, mesh, texture, environment map or EXR, \
 an argument, --device, ARGIL_FAULT, an output that exists without --overwrite or whose folder \
 is missing or unwritable), and nothing was written; 1 argil or the machine failed (no Vulkan \
-driver, the device lost, out of memory, an I/O error while writing). Outputs are written to a \
+driver, the device lost, out of memory, an I/O error while writing); 130 interrupted by Ctrl-C \
+(reference writes the samples taken first). Outputs are written to a \
 temporary file and renamed, so a failed run with --overwrite leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
@@ -167,6 +169,10 @@ enum Command {
         /// Most samples per pixel with --noise.
         #[arg(long, default_value_t = 65536, requires = "noise", value_parser = clap::value_parser!(u32).range(1..))]
         max_spp: u32,
+        /// Stop before the pass of samples that would end after this many seconds, with
+        /// every pixel sampled alike; whichever of this and --spp or --noise comes first.
+        #[arg(long, value_parser = parse_seconds, value_name = "S")]
+        max_seconds: Option<f64>,
         /// Light transport: direct (the real-time renderer's: each light, no visibility),
         /// shadows (direct light with visibility) or full (path tracing).
         #[arg(long, default_value_t = Transport::Full)]
@@ -479,15 +485,37 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     Ok(())
 }
 
-/// A progress bar with an ETA on stderr; indicatif draws nothing when stderr is not a
-/// terminal.
-struct ProgressBar(indicatif::ProgressBar);
+/// A progress bar with an ETA on stderr (indicatif draws nothing when stderr is not a
+/// terminal), and whether Ctrl-C was pressed.
+struct ProgressBar {
+    bar: indicatif::ProgressBar,
+    interrupted: Arc<AtomicBool>,
+}
 
 impl argil::reference::Progress for ProgressBar {
     fn update(&self, done: u64, total: u64) {
-        self.0.set_length(total);
-        self.0.set_position(done);
+        self.bar.set_length(total);
+        self.bar.set_position(done);
     }
+
+    fn interrupted(&self) -> bool {
+        self.interrupted.load(Ordering::Relaxed)
+    }
+}
+
+/// Ctrl-C's flag: the first press asks the reference to end with its samples, a second
+/// ends the process at once, with nothing written.
+fn interrupt_flag() -> Result<Arc<AtomicBool>> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let set = Arc::clone(&flag);
+    ctrlc::set_handler(move || {
+        if set.swap(true, Ordering::Relaxed) {
+            std::process::exit(130);
+        }
+        eprintln!("argil: interrupted: finishing the rows begun, then writing (Ctrl-C again quits at once)");
+    })
+    .context("cannot handle Ctrl-C")?;
+    Ok(flag)
 }
 
 fn reference(
@@ -515,23 +543,39 @@ fn reference(
         indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent}% ETA {eta}")
             .context("progress bar template")?,
     );
-    let image = pool.install(|| argil::reference::render(&scene, &settings, &ProgressBar(bar.clone())))?;
+    let progress = ProgressBar {
+        bar: bar.clone(),
+        interrupted: interrupt_flag()?,
+    };
+    let image = pool.install(|| argil::reference::render(&scene, &settings, &progress))?;
     bar.finish_and_clear();
     let attributes = image.exr_attributes(&settings);
     write_linear(&out, outputs, image.width, image.height, &image.rgba, exposure, &attributes)?;
     println!("{}", out.display());
+    let samples = match image.most_samples {
+        most if most > image.samples => format!("{}–{most} spp", image.samples),
+        _ => format!("{} spp", image.samples),
+    };
+    let ending = match image.ending {
+        Ending::Stopped => "",
+        Ending::TimeLimit => ", stopped at --max-seconds",
+        Ending::Interrupted => ", interrupted",
+    };
     eprintln!(
-        "argil: reference {}x{}, {} transport, {} filter, {} spp, noise {:.2}%, {:.1} s, {:.2} Mrays/s on {} threads",
+        "argil: reference {}x{}, {} transport, {} filter, {samples}, noise {:.2}%, {:.1} s{ending}, {:.2} Mrays/s \
+         on {} threads",
         image.width,
         image.height,
         settings.transport,
         settings.filter,
-        image.samples,
         image.noise * 100.0,
         image.elapsed.as_secs_f64(),
         image.rays_per_second() / 1e6,
         pool.current_num_threads()
     );
+    if image.ending == Ending::Interrupted {
+        return Err(Interrupted(format!("after {samples}: {} holds them", out.display())).into());
+    }
     Ok(())
 }
 
@@ -670,6 +714,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
             spp,
             noise,
             max_spp,
+            max_seconds,
             transport,
             filter,
             sampling,
@@ -696,6 +741,7 @@ fn run(cli: Cli, process_start: Instant) -> Result<()> {
                 stop,
                 seed,
                 max_depth,
+                max_time: max_seconds.map(Duration::from_secs_f64),
             };
             reference(scene, out, outputs, settings, threads, exposure)
         }
@@ -760,6 +806,8 @@ fn main() -> ExitCode {
             // 2 for bad input, as clap exits for bad arguments.
             if is_input_error(&e) {
                 ExitCode::from(2)
+            } else if is_interrupted(&e) {
+                ExitCode::from(130)
             } else {
                 ExitCode::FAILURE
             }

@@ -25,6 +25,7 @@ fn settings(width: u32, height: u32, transport: Transport, samples: u32) -> Sett
         stop: Stop::Samples(samples),
         seed: 1,
         max_depth: Settings::DEFAULT_MAX_DEPTH,
+        max_time: None,
     }
 }
 

@@ -36,6 +36,7 @@ fn direct_at_pixel_centres(width: u32, height: u32) -> Settings {
         stop: Stop::Samples(1),
         seed: 1,
         max_depth: Settings::DEFAULT_MAX_DEPTH,
+        max_time: None,
     }
 }
 

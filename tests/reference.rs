@@ -6,7 +6,13 @@
 
 mod common;
 
-use argil::reference::{render, Filter, Reference, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use argil::reference::{
+    render, Ending, Filter, Progress, Reference, Sampling, Settings, Stop, SubsurfaceTransport, Transport,
+};
 use argil::scene::{Mesh, Scene};
 use common::{argil, percentiles, scene, LAMBERT_SPHERE, test_dir};
 use glam::DVec3;
@@ -22,6 +28,7 @@ fn settings(width: u32, height: u32, transport: Transport, filter: Filter, sampl
         stop: Stop::Samples(samples),
         seed: 1,
         max_depth: Settings::DEFAULT_MAX_DEPTH,
+        max_time: None,
     }
 }
 
@@ -329,6 +336,114 @@ fn a_noise_target_is_met() {
     assert!(image.samples < 4096, "{} samples", image.samples);
 }
 
+
+/// Interrupted once half the rows of the second pass are done.
+struct InterruptInSecondPass {
+    height: u64,
+    interrupted: AtomicBool,
+}
+
+impl Progress for InterruptInSecondPass {
+    fn update(&self, done: u64, _: u64) {
+        if done >= 16 * self.height + 16 * self.height / 2 {
+            self.interrupted.store(true, Ordering::Relaxed);
+        }
+    }
+
+    fn interrupted(&self) -> bool {
+        self.interrupted.load(Ordering::Relaxed)
+    }
+}
+
+/// An interruption keeps every sample taken: the rows the interrupted pass began have its
+/// samples, the others the passes before, each row bit for bit as the reference of its
+/// count, and the image says how many.
+#[test]
+fn an_interrupted_reference_keeps_every_row_it_finished() {
+    let scene = scene(LAMBERT_SPHERE);
+    let (width, height) = (24, 12);
+    // Passes of 16, 16 and 32 samples; interrupted in the second.
+    let progress = InterruptInSecondPass {
+        height: height as u64,
+        interrupted: AtomicBool::new(false),
+    };
+    let image = render(&scene, &settings(width, height, Transport::Direct, Filter::Box, 64), &progress)
+        .expect("reference");
+    assert_eq!(image.ending, Ending::Interrupted);
+    assert_eq!((image.samples, image.most_samples), (16, 32));
+    let of = |samples| {
+        render(&scene, &settings(width, height, Transport::Direct, Filter::Box, samples), &()).expect("reference")
+    };
+    let (sixteen, thirty_two) = (of(16), of(32));
+    let row = |image: &Reference, y: usize| image.rgba[y * 4 * width as usize..(y + 1) * 4 * width as usize].to_vec();
+    // Each row is one of the two; rows of background alone are both.
+    let rows: Vec<(bool, bool)> = (0..height as usize)
+        .map(|y| (row(&image, y) == row(&sixteen, y), row(&image, y) == row(&thirty_two, y)))
+        .collect();
+    assert!(rows.iter().all(|&(a, b)| a || b), "rows as 16 and as 32 samples: {rows:?}");
+    assert!(rows.contains(&(true, false)) && rows.contains(&(false, true)), "{rows:?}");
+    assert!(image.noise.is_finite() && image.noise > 0.0, "noise {}", image.noise);
+}
+
+/// A time limit ends sampling with every pixel sampled alike, well before a sample count
+/// that would take hours.
+#[test]
+fn a_time_limit_ends_the_reference_with_whole_passes() {
+    let scene = scene(LAMBERT_SPHERE);
+    let s = Settings {
+        max_time: Some(Duration::from_millis(500)),
+        ..settings(32, 18, Transport::Direct, Filter::Box, 1 << 30)
+    };
+    let image = render(&scene, &s, &()).expect("reference");
+    assert_eq!(image.ending, Ending::TimeLimit);
+    assert_eq!(image.samples, image.most_samples);
+    assert!(image.samples >= 2 && image.samples < 1 << 30, "{} samples", image.samples);
+    // Not a timing check: a limit that did not stop sampling would run for years.
+    assert!(image.elapsed < Duration::from_secs(60), "{:?}", image.elapsed);
+}
+
+/// Ctrl-C (SIGINT) in `argil reference` writes the samples taken and exits with code 130;
+/// sent before the first pass ends, it writes nothing (and the next try waits longer).
+#[test]
+fn ctrl_c_writes_the_samples_taken_and_exits_130() {
+    let dir = test_dir("interrupt");
+    let scene_file = dir.join("sphere.toml");
+    std::fs::write(&scene_file, LAMBERT_SPHERE).expect("write the scene");
+    let out = dir.join("ref.exr");
+    for wait in [2, 8, 32] {
+        let child = Command::new(env!("CARGO_BIN_EXE_argil"))
+            .args(["reference", scene_file.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")])
+            .args(["--width", "64", "--height", "32", "--transport", "direct", "--spp", "1000000000"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("run argil");
+        std::thread::sleep(Duration::from_secs(wait));
+        let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().expect("run kill");
+        assert!(kill.success(), "kill -INT");
+        let o = child.wait_with_output().expect("wait for argil");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(130), "{stderr}");
+        if !out.exists() {
+            assert!(stderr.contains("before every row had a sample"), "{stderr}");
+            continue;
+        }
+        assert!(stderr.contains(", interrupted,") && stderr.contains("holds them"), "{stderr}");
+        let image = exr::prelude::read_first_rgba_layer_from_file(
+            &out,
+            |_, _| (),
+            |_: &mut (), _, (_, _, _, _): (f32, f32, f32, f32)| (),
+        )
+        .expect("read the EXR");
+        let spp = match image.layer_data.attributes.other.get(&exr::prelude::Text::from("argil.spp")) {
+            Some(exr::prelude::AttributeValue::Text(t)) => t.to_string(),
+            other => panic!("argil.spp: {other:?}"),
+        };
+        assert!(spp.parse::<u32>().expect("a count") >= 16, "{spp} spp");
+        return;
+    }
+    panic!("no pass of 64×32 pixels ended within 32 s");
+}
 
 #[test]
 fn the_command_writes_an_exr_with_its_settings() {

@@ -567,6 +567,7 @@ fn reference_of_the_view_gives_a_finite_flip() {
         stop: argil::reference::Stop::Samples(16),
         seed: 1,
         max_depth: argil::reference::Settings::DEFAULT_MAX_DEPTH,
+        max_time: None,
     };
     let compared = argil::viewer::reference_and_compare(&scene, &frame.hdr, &settings, 1.0, &()).expect("compare");
     let flip = compared.comparison.metrics.flip.mean;

@@ -35,6 +35,7 @@ pub fn settings(width: u32, height: u32, transport: Transport, stop: Stop) -> Se
         stop,
         seed: 1,
         max_depth: Settings::DEFAULT_MAX_DEPTH,
+        max_time: None,
     }
 }
 

@@ -29,6 +29,7 @@ use anyhow::{bail, Context, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 
+use crate::error::Interrupted;
 use crate::render::environment::equirect;
 use crate::rng::Rng;
 use crate::scene::Scene;
@@ -136,10 +137,24 @@ pub struct Settings {
     pub seed: u64,
     /// Longest path, in surfaces, for `Full`.
     pub max_depth: u32,
+    /// Stop at the pass that would end after this long, whatever `stop` says: passes are
+    /// sized by the time the ones before took, so every pixel keeps the same samples.
+    pub max_time: Option<Duration>,
 }
 
 impl Settings {
     pub const DEFAULT_MAX_DEPTH: u32 = 64;
+}
+
+/// Why sampling ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ending {
+    /// The settings' [`Stop`] was met.
+    Stopped,
+    /// The next pass would have ended after [`Settings::max_time`].
+    TimeLimit,
+    /// [`Progress::interrupted`]: the rows begun were finished, the rest left.
+    Interrupted,
 }
 
 /// A finished reference image.
@@ -149,7 +164,11 @@ pub struct Reference {
     /// Linear radiance, RGBA32F rows from the top; alpha is the fraction of the pixel's
     /// samples that hit an object.
     pub rgba: Vec<f32>,
+    /// Samples per pixel: every pixel has this many, and an interrupted pass's rows up to
+    /// `most_samples`.
     pub samples: u32,
+    pub most_samples: u32,
+    pub ending: Ending,
     /// The estimated relative RMS error of the image over covered pixels:
     /// √(Σ ((A − B)/2)²) / √(Σ ((A + B)/2)²) for the half images A and B, each channel of
     /// each covered pixel counted. ((A − B)/2)² is an unbiased estimate of the variance of
@@ -189,6 +208,12 @@ pub trait Progress: Sync {
     fn cancelled(&self) -> bool {
         false
     }
+
+    /// Whether to end with the samples taken: the rows of the pass already begun are
+    /// finished, the others keep the passes before (Ctrl-C in `argil reference`).
+    fn interrupted(&self) -> bool {
+        false
+    }
 }
 
 impl Progress for () {
@@ -226,22 +251,38 @@ pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Re
     let camera = CameraRays::new(&scene.camera, settings.width, settings.height);
     let (width, height) = (settings.width as usize, settings.height as usize);
     let mut sums = vec![PixelSums::default(); width * height];
+    // Samples per pixel of each row: the same in all, but where an interruption left a
+    // pass's rows unbegun.
+    let mut row_samples = vec![0u32; height];
     let ray_count = AtomicU64::new(0);
     let max_samples = match settings.stop {
         Stop::Samples(n) => n.max(1),
         Stop::Noise { max_samples, .. } => max_samples.max(1),
     };
+    // Under a time limit the first pass is the fewest samples a noise estimate needs, so
+    // that the passes after it can be sized to the limit early.
+    let first_pass = if settings.max_time.is_some() { 2 } else { PASS_SAMPLES };
     let mut expected = match settings.stop {
         Stop::Samples(_) => max_samples,
-        Stop::Noise { .. } => PASS_SAMPLES.min(max_samples),
+        Stop::Noise { .. } => first_pass.min(max_samples),
     };
-    let (mut done, mut pass, mut noise) = (0u32, 0u64, f64::INFINITY);
+    let (mut done, mut pass, mut noise, mut ending) = (0u32, 0u64, f64::INFINITY, Ending::Stopped);
+    let tracing = Instant::now();
     while done < expected {
         let first = done;
-        let count = (expected - done).min(PASS_SAMPLES.max(done));
+        let mut count = (expected - done).min(first_pass.max(done));
+        if let Some(limit) = settings.max_time.filter(|_| done > 0) {
+            let per_sample = tracing.elapsed().as_secs_f64() / f64::from(done);
+            let fits = (limit.saturating_sub(start.elapsed()).as_secs_f64() / per_sample).floor();
+            if fits < 1.0 {
+                ending = Ending::TimeLimit;
+                break;
+            }
+            count = count.min(fits as u32);
+        }
         let rows_done = AtomicU64::new(0);
-        sums.par_chunks_mut(width).enumerate().for_each(|(y, row)| {
-            if progress.cancelled() {
+        sums.par_chunks_mut(width).zip(row_samples.par_iter_mut()).enumerate().for_each(|(y, (row, samples))| {
+            if progress.cancelled() || progress.interrupted() {
                 return;
             }
             let mut traced = 0;
@@ -266,6 +307,7 @@ pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Re
                     pixel.hits[half] += u32::from(sample.hit);
                 }
             }
+            *samples += count;
             ray_count.fetch_add(traced, Ordering::Relaxed);
             let rows = rows_done.fetch_add(1, Ordering::Relaxed) + 1;
             progress.update(
@@ -276,9 +318,13 @@ pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Re
         if progress.cancelled() {
             bail!("the reference was cancelled");
         }
+        if progress.interrupted() {
+            ending = Ending::Interrupted;
+            break;
+        }
         done += count;
         pass += 1;
-        noise = estimate_noise(&sums, done);
+        noise = estimate_noise(&sums, &row_samples);
         if let Stop::Noise { target, .. } = settings.stop {
             expected = if noise > target && done < max_samples {
                 // Noise falls as 1/√N: aim at the target, at most doubling per pass.
@@ -289,40 +335,56 @@ pub fn render(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Re
             };
         }
     }
+    let (fewest, most) = (row_samples.iter().min(), row_samples.iter().max());
+    let (samples, most_samples) = (fewest.copied().unwrap_or(0), most.copied().unwrap_or(0));
+    if samples == 0 {
+        bail!(Interrupted("before every row had a sample: no image".to_owned()));
+    }
+    if ending == Ending::Interrupted {
+        noise = estimate_noise(&sums, &row_samples);
+    }
     let total = u64::from(done) * height as u64;
     progress.update(total, total);
-    let n = f64::from(done);
     let rgba = sums
-        .iter()
-        .flat_map(|p| {
-            let radiance = (p.radiance[0] + p.radiance[1]) / n;
-            let coverage = f64::from(p.hits[0] + p.hits[1]) / n;
-            [radiance.x as f32, radiance.y as f32, radiance.z as f32, coverage as f32]
+        .chunks(width)
+        .zip(&row_samples)
+        .flat_map(|(row, &n)| {
+            let n = f64::from(n);
+            row.iter().flat_map(move |p| {
+                let radiance = (p.radiance[0] + p.radiance[1]) / n;
+                let coverage = f64::from(p.hits[0] + p.hits[1]) / n;
+                [radiance.x as f32, radiance.y as f32, radiance.z as f32, coverage as f32]
+            })
         })
         .collect();
     Ok(Reference {
         width: settings.width,
         height: settings.height,
         rgba,
-        samples: done,
+        samples,
+        most_samples,
+        ending,
         noise,
         rays: ray_count.into_inner(),
         elapsed: start.elapsed(),
     })
 }
 
-/// [`Reference::noise`] of the half images after `samples` samples per pixel.
-fn estimate_noise(sums: &[PixelSums], samples: u32) -> f64 {
-    let counts = [even_samples(samples), samples - even_samples(samples)];
-    if counts[1] == 0 {
-        return f64::INFINITY;
-    }
+/// [`Reference::noise`] of the half images, each row's pixels after its `row_samples`.
+fn estimate_noise(sums: &[PixelSums], row_samples: &[u32]) -> f64 {
+    let width = sums.len() / row_samples.len().max(1);
     let (mut variance, mut signal) = (0.0, 0.0);
-    for p in sums.iter().filter(|p| p.hits[0] + p.hits[1] > 0) {
-        let a = p.radiance[0] / f64::from(counts[0]);
-        let b = p.radiance[1] / f64::from(counts[1]);
-        variance += ((a - b) * 0.5).length_squared();
-        signal += ((a + b) * 0.5).length_squared();
+    for (row, &samples) in sums.chunks(width.max(1)).zip(row_samples) {
+        let counts = [even_samples(samples), samples - even_samples(samples)];
+        if counts[1] == 0 {
+            return f64::INFINITY;
+        }
+        for p in row.iter().filter(|p| p.hits[0] + p.hits[1] > 0) {
+            let a = p.radiance[0] / f64::from(counts[0]);
+            let b = p.radiance[1] / f64::from(counts[1]);
+            variance += ((a - b) * 0.5).length_squared();
+            signal += ((a + b) * 0.5).length_squared();
+        }
     }
     if signal > 0.0 {
         (variance / signal).sqrt()

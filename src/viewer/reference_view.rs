@@ -66,6 +66,7 @@ pub fn settings(view: (u32, u32), transport: Transport, spp: u32) -> Settings {
         stop: Stop::Samples(spp),
         seed: 1,
         max_depth: Settings::DEFAULT_MAX_DEPTH,
+        max_time: None,
     }
 }
 
