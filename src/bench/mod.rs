@@ -25,7 +25,6 @@ pub mod soak;
 pub mod startup;
 pub mod stats;
 
-use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
@@ -43,7 +42,7 @@ use crate::scene::Scene;
 use crate::vk::Device;
 use plan::{BenchScene, Configuration};
 use references::CachedReference;
-use report::{Provenance, Row};
+use report::{Provenance, Results, Row};
 use stats::Summary;
 
 pub struct Options {
@@ -166,18 +165,17 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         .into());
     }
     // The folder, and with --only the rows already in it, before any row runs: a run of
-    // an hour must not end unable to write or merge what it measured.
+    // an hour must not end unable to write or merge what it measured. A whole run replaces
+    // the rows there once it ends, so it keeps them only while it runs, if it can read them.
     std::fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
     let earlier = if options.only.is_empty() {
-        Vec::new()
+        report::read(&out).unwrap_or_default()
     } else {
         report::read(&out)?
     };
-    let mut renderer = Renderer::new(device.clone(), 1)?;
-    let mut rows = Vec::new();
     // Each planned row's place in the results: the plan's order of scenes, configurations
     // and sizes, whichever order the rows were measured or merged in.
-    let planned_rows: HashMap<(String, String, u32, u32), usize> = plan
+    let order = plan
         .iter()
         .flat_map(|s| {
             s.configurations.iter().flat_map(move |c| {
@@ -188,6 +186,8 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         })
         .zip(0..)
         .collect();
+    let mut results = Results::new(&out, earlier, order, !options.only.is_empty(), options.quick);
+    let mut renderer = Renderer::new(device.clone(), 1)?;
     for scene in plan {
         let scene = scene.selected(&options.only);
         if scene.configurations.is_empty() {
@@ -206,7 +206,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
             &spec,
             [&full, &shadows],
             &provenance,
-            &mut rows,
+            &mut results,
         )?;
     }
     drop(renderer);
@@ -231,18 +231,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         write_bytes(&out.join("startup.json"), Existing::Replace, json.as_bytes())?;
         write_bytes(&out.join("startup.md"), Existing::Replace, markdown.as_bytes())?;
     }
-    // With --only, the rows already there are written again beside the new ones (with
-    // `--only startup`, in this build's format), but for those of configurations a full
-    // run no longer makes. A quick run plans fewer rows, so it keeps every row.
-    let place = |r: &report::Row| planned_rows.get(&(r.scene.clone(), r.configuration.clone(), r.width, r.height));
-    if !options.only.is_empty() {
-        rows = report::merged(earlier, rows, |r| options.quick || place(r).is_some());
-    }
-    // A quick run's earlier rows, which it did not plan, stay after its own.
-    rows.sort_by_cached_key(|r| place(r).copied().unwrap_or(usize::MAX));
-    if !rows.is_empty() {
-        report::write(&out, &rows)?;
-    }
+    results.finish()?;
     Ok(out)
 }
 
@@ -265,7 +254,7 @@ fn bench_scene(
     spec: &ErrorSpec,
     refs: [&CachedReference; 2],
     provenance: &Provenance,
-    rows: &mut Vec<Row>,
+    results: &mut Results,
 ) -> Result<()> {
     let mut prepared = Vec::new();
     for (index, configuration) in scene.configurations.iter().enumerate() {
@@ -299,12 +288,12 @@ fn bench_scene(
             extents.push(*extent);
         }
     }
-    let mut measured = Vec::new();
     for extent in extents {
         let at_size: Vec<&Prepared> =
             prepared.iter().filter(|p| p.configuration.resolutions.contains(&extent)).collect();
         let timings = time_in_turns(renderer, &at_size, extent, options)?;
-        for (p, timing) in at_size.into_iter().zip(timings) {
+        let mut measured: Vec<(&Prepared, Timing)> = at_size.into_iter().zip(timings).collect();
+        for (p, timing) in &measured {
             eprintln!(
                 "{} {} {}x{}: GPU {:.2} ms, work {:.2} ms",
                 scene.name,
@@ -314,35 +303,32 @@ fn bench_scene(
                 timing.gpu_total.median,
                 timing.work.median
             );
-            measured.push((p, extent, timing));
         }
+        measured.sort_by_key(|(p, _)| p.index);
+        // The scene's own meshes' floor; a run of tessellation rows alone has only theirs.
+        let floor = if measured.iter().any(|m| m.0.configuration.own_meshes) {
+            Floor::pooled(measured.iter().filter(|m| m.0.configuration.own_meshes).map(|m| &m.1.floor))
+        } else {
+            Floor::pooled(measured.iter().map(|m| &m.1.floor))
+        };
+        let rows = measured.iter().map(|(prepared, timing)| {
+            let row = Row::new(
+                scene.name,
+                prepared.configuration,
+                extent,
+                timing,
+                &floor,
+                (&prepared.full, refs[0]),
+                (&prepared.shadows, refs[1]),
+                provenance,
+            );
+            eprintln!("{}", row.line());
+            row
+        });
+        results.add(rows.collect())?;
     }
     renderer.floor = false;
     renderer.generic = false;
-    measured.sort_by_key(|(p, extent, _)| {
-        (p.index, p.configuration.resolutions.iter().position(|r| r == extent))
-    });
-    for (prepared, extent, timing) in &measured {
-        let at_size = || measured.iter().filter(|m| m.1 == *extent);
-        // The scene's own meshes' floor; a run of tessellation rows alone has only theirs.
-        let floor = if at_size().any(|m| m.0.configuration.own_meshes) {
-            Floor::pooled(at_size().filter(|m| m.0.configuration.own_meshes).map(|m| &m.2.floor))
-        } else {
-            Floor::pooled(at_size().map(|m| &m.2.floor))
-        };
-        let row = Row::new(
-            scene.name,
-            prepared.configuration,
-            *extent,
-            timing,
-            &floor,
-            (&prepared.full, refs[0]),
-            (&prepared.shadows, refs[1]),
-            provenance,
-        );
-        eprintln!("{}", row.line());
-        rows.push(row);
-    }
     Ok(())
 }
 

@@ -1,8 +1,9 @@
 //! The bench's rows and the files written from them: `results.csv`, `results.json`,
 //! `results.md`, each written atomically.
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use ash::vk;
@@ -186,6 +187,67 @@ pub fn merged(old: Vec<Row>, new: Vec<Row>, planned: impl Fn(&Row) -> bool) -> V
         }
     }
     old
+}
+
+/// A row's scene, configuration and size.
+pub type RowKey = (String, String, u32, u32);
+
+/// A run's results folder, written again after each group of rows, so that a run that
+/// stops (Ctrl-C, a lost device) leaves what it measured beside the rows it did not reach.
+pub struct Results {
+    dir: PathBuf,
+    /// The rows in the folder when the run began.
+    earlier: Vec<Row>,
+    rows: Vec<Row>,
+    /// Each planned row's place: the plan's order of scenes, configurations and sizes,
+    /// whichever order the rows were measured or merged in.
+    order: HashMap<RowKey, usize>,
+    /// `--only`: the run measures some rows and keeps the others.
+    only: bool,
+    /// `--quick`: it plans fewer rows, so it keeps every earlier row it merges with.
+    quick: bool,
+}
+
+impl Results {
+    pub fn new(dir: &Path, earlier: Vec<Row>, order: HashMap<RowKey, usize>, only: bool, quick: bool) -> Self {
+        Self {
+            dir: dir.to_path_buf(),
+            earlier,
+            rows: Vec::new(),
+            order,
+            only,
+            quick,
+        }
+    }
+
+    /// Adds `rows` and writes the folder: the earlier rows with these in their places.
+    pub fn add(&mut self, rows: Vec<Row>) -> Result<()> {
+        self.rows.extend(rows);
+        write(&self.dir, &self.merged(true))
+    }
+
+    /// Writes the folder once the run is over: with `--only`, the earlier rows beside the
+    /// new ones, but for those of configurations a whole run no longer makes; after a whole
+    /// run, its rows alone.
+    pub fn finish(self) -> Result<()> {
+        let rows = self.merged(self.only);
+        if rows.is_empty() {
+            return Ok(());
+        }
+        write(&self.dir, &rows)
+    }
+
+    fn merged(&self, keep_earlier: bool) -> Vec<Row> {
+        let place = |r: &Row| self.order.get(&(r.scene.clone(), r.configuration.clone(), r.width, r.height));
+        let mut rows = if keep_earlier {
+            merged(self.earlier.clone(), self.rows.clone(), |r| self.quick || place(r).is_some())
+        } else {
+            self.rows.clone()
+        };
+        // A quick run's earlier rows, which it did not plan, stay after its own.
+        rows.sort_by_cached_key(|r| place(r).copied().unwrap_or(usize::MAX));
+        rows
+    }
 }
 
 /// Writes `results.csv`, `results.json`, `results.md` and a `plot-SCENE.png` per scene
@@ -457,6 +519,39 @@ mod tests {
             .map(|&(s, c, w, t)| (s.to_owned(), c.to_owned(), w, t))
             .collect();
         assert_eq!(merged, expected);
+    }
+
+    /// While a run goes on, the folder holds the earlier rows with the new ones in their
+    /// places; a whole run's end leaves its rows alone, an `--only` run's the merge.
+    #[test]
+    fn results_are_written_after_each_group_and_replaced_by_a_whole_run() {
+        let dir = std::env::temp_dir().join(format!("argil-bench-results-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let keys = [("a", "x"), ("a", "y"), ("b", "x")];
+        let order: HashMap<RowKey, usize> =
+            keys.iter().enumerate().map(|(i, &(s, c))| ((s.to_owned(), c.to_owned(), 64, 32), i)).collect();
+        let earlier = || vec![row("b", "x", 64, 3.0), row("a", "x", 64, 1.0), row("a", "gone", 64, 9.0)];
+        let on_disk = || -> Vec<(String, String, f64)> {
+            read(&dir).unwrap().into_iter().map(|r| (r.scene, r.configuration, r.gpu_ms_median)).collect()
+        };
+        let named = |rows: &[(&str, &str, f64)]| -> Vec<(String, String, f64)> {
+            rows.iter().map(|&(s, c, t)| (s.to_owned(), c.to_owned(), t)).collect()
+        };
+        for only in [false, true] {
+            let mut results = Results::new(&dir, earlier(), order.clone(), only, false);
+            results.add(vec![row("a", "y", 64, 20.0)]).unwrap();
+            assert_eq!(on_disk(), named(&[("a", "x", 1.0), ("a", "y", 20.0), ("b", "x", 3.0)]));
+            results.add(vec![row("b", "x", 64, 30.0)]).unwrap();
+            assert_eq!(on_disk(), named(&[("a", "x", 1.0), ("a", "y", 20.0), ("b", "x", 30.0)]));
+            results.finish().unwrap();
+            let after = if only {
+                named(&[("a", "x", 1.0), ("a", "y", 20.0), ("b", "x", 30.0)])
+            } else {
+                named(&[("a", "y", 20.0), ("b", "x", 30.0)])
+            };
+            assert_eq!(on_disk(), after, "--only: {only}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
