@@ -22,11 +22,14 @@ impl InputError {
     }
 }
 
-/// The user stopped the command (Ctrl-C). The command line exits with code 130, as a shell
-/// reports a process that SIGINT ended, after writing what the command had when it can.
+/// The user stopped the command (Ctrl-C). The command line exits with
+/// [`INTERRUPTED_EXIT_CODE`] after writing what the command had when it can.
 #[derive(Debug, thiserror::Error)]
 #[error("interrupted {0}")]
 pub struct Interrupted(pub String);
+
+/// 128 + SIGINT, as a shell reports a process that Ctrl-C ended.
+pub const INTERRUPTED_EXIT_CODE: u8 = 130;
 
 /// Whether `error` or any error in its chain is [`Interrupted`].
 pub fn is_interrupted(error: &anyhow::Error) -> bool {

@@ -13,7 +13,7 @@
 //! - [`error`]: error types the command line maps to exit codes; [`atomic`]: output files
 //!   written whole or not at all.
 //! - [`fault`]: `ARGIL_FAULT`, failures injected for tests; [`scratch`]: folders removed
-//!   when done.
+//!   when done; [`interrupt`]: Ctrl-C for the commands with work to keep.
 //! - [`fuzz`]: the loaders' fuzz targets and mutations (`argil-fuzz`, `tests/fuzz.rs`).
 
 pub mod atomic;
@@ -24,6 +24,7 @@ pub mod compare;
 pub mod error;
 pub mod fault;
 pub mod fuzz;
+pub mod interrupt;
 pub mod priority;
 pub mod reference;
 pub mod render;

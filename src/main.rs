@@ -13,7 +13,7 @@ use clap::{Parser, Subcommand};
 use argil::atomic::Existing;
 use argil::bench::startup::Recorder;
 use argil::brdf::subsurface::PreintegratedTable;
-use argil::error::{advice, is_input_error, is_interrupted, InputError, Interrupted};
+use argil::error::{advice, is_input_error, is_interrupted, InputError, Interrupted, INTERRUPTED_EXIT_CODE};
 use argil::reference::{Ending, Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
 use argil::render::warm_up::{warm_up, WARM_UP_EXTENT};
@@ -30,7 +30,7 @@ Exit codes: 0 success; 2 the input is wrong (a scene, mesh, texture, environment
 an argument, --device, ARGIL_FAULT, an output that exists without --overwrite or whose folder \
 is missing or unwritable), and nothing was written; 1 argil or the machine failed (no Vulkan \
 driver, the device lost, out of memory, an I/O error while writing); 130 interrupted by Ctrl-C \
-(reference writes the samples taken first). Outputs are written to a \
+(reference writes the samples taken, view the scene's changes not saved). Outputs are written to a \
 temporary file and renamed, so a failed run with --overwrite leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
@@ -503,18 +503,14 @@ impl argil::reference::Progress for ProgressBar {
     }
 }
 
-/// Ctrl-C's flag: the first press asks the reference to end with its samples, a second
-/// ends the process at once, with nothing written.
+/// Ctrl-C's flag: set by the first press, which asks the reference to end with its samples.
 fn interrupt_flag() -> Result<Arc<AtomicBool>> {
     let flag = Arc::new(AtomicBool::new(false));
     let set = Arc::clone(&flag);
-    ctrlc::set_handler(move || {
-        if set.swap(true, Ordering::Relaxed) {
-            std::process::exit(130);
-        }
+    argil::interrupt::on_ctrl_c(move || {
+        set.store(true, Ordering::Relaxed);
         eprintln!("argil: interrupted: finishing the rows begun, then writing (Ctrl-C again quits at once)");
-    })
-    .context("cannot handle Ctrl-C")?;
+    })?;
     Ok(flag)
 }
 
@@ -807,7 +803,7 @@ fn main() -> ExitCode {
             if is_input_error(&e) {
                 ExitCode::from(2)
             } else if is_interrupted(&e) {
-                ExitCode::from(130)
+                ExitCode::from(INTERRUPTED_EXIT_CODE)
             } else {
                 ExitCode::FAILURE
             }

@@ -849,6 +849,29 @@ impl WatchedView {
     }
 }
 
+/// Ctrl-C in the terminal closes the viewer as its last frame would (its summary printed,
+/// the device destroyed without a validation message), with exit code 130.
+#[test]
+fn ctrl_c_closes_the_viewer_with_code_130() {
+    let dir = test_dir("ctrl-c");
+    let scene = dir.join("scene.toml");
+    std::fs::write(&scene, RELOADED_SCENE).expect("write scene");
+    let mut view = WatchedView::start(&scene, 300.0);
+    // Printed once the window opens, after the handler is in place.
+    view.wait_for("rendering on");
+    let kill = Command::new("kill")
+        .args(["-INT", &view.child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(kill.success(), "kill -INT");
+    view.log.extend(view.lines.by_ref().map(|l| l + "\n"));
+    let status = view.child.wait().expect("wait for argil");
+    assert_eq!(status.code(), Some(130), "{}", view.log);
+    assert!(view.log.contains("interrupted by Ctrl-C") && view.log.contains(" frames, "), "{}", view.log);
+    assert!(!view.log.contains("vulkan validation"), "{}", view.log);
+    assert!(!dir.join("scene.recovered.toml").exists(), "nothing to recover");
+}
+
 /// The scene file is reloaded when it changes on disk: a broken edit is reported and the
 /// last good scene stays on screen; the next good edit is shown, with the camera kept.
 #[test]

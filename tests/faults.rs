@@ -97,3 +97,32 @@ fn view_fails_cleanly() {
         assert_machine_failure(&run(command), fault);
     }
 }
+
+/// A device lost while the scene has a change not saved (the soak's edit of the material
+/// from frame 100 to 199) leaves the change in a file beside the scene's, named in the
+/// error; lost before the edit, it leaves none. The scene file keeps its text.
+#[test]
+fn view_keeps_the_changes_not_saved_when_the_device_is_lost() {
+    let dir = test_dir("recover");
+    let scene = dir.join("clay.toml");
+    let text = "[[objects]]\nmesh = \"builtin:sphere\"\nmaterial = \"clay\"\n\n[materials.clay]\nroughness = 0.5\n";
+    std::fs::write(&scene, text).expect("write the scene");
+    let recovered = dir.join("clay.recovered.toml");
+    for (fault, edited) in [("device-lost:60", false), ("device-lost:170", true)] {
+        let xvfb = Xvfb::start();
+        let mut command = xvfb.view();
+        command
+            .arg(&scene)
+            .args(["--frames", "400", "--width", "640", "--height", "200", "--soak-log"])
+            .arg(dir.join(format!("soak-{fault}.json")))
+            .env("ARGIL_FAULT", fault);
+        let o = run(command);
+        assert_machine_failure(&o, fault);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(err.contains("changes not saved are in"), edited, "ARGIL_FAULT={fault}: {err}");
+        assert_eq!(recovered.exists(), edited, "ARGIL_FAULT={fault}: {}", recovered.display());
+    }
+    let written = std::fs::read_to_string(&recovered).expect("read the recovered scene");
+    assert!(written.contains("diffuse = "), "the soak's edit: {written}");
+    assert_eq!(std::fs::read_to_string(&scene).expect("read the scene"), text);
+}

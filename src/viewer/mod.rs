@@ -41,6 +41,7 @@ use winit::keyboard::{KeyCode, ModifiersState, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use crate::atomic::Existing;
+use crate::error::Interrupted;
 use crate::render::environment::equirect::{self, Equirect};
 use crate::render::gpu_scene::FrameData;
 use crate::render::DebugView;
@@ -183,15 +184,30 @@ fn file_label(document: &Document) -> String {
 
 /// Opens a window on the scene, read from `document`, and runs until it is closed.
 pub fn run(viewable: Viewable, document: Document, options: ViewOptions) -> Result<()> {
-    let event_loop = EventLoop::new().context("cannot open a window: no display?")?;
+    let event_loop = EventLoop::<Interrupt>::with_user_event()
+        .build()
+        .context("cannot open a window: no display?")?;
     event_loop.set_control_flow(ControlFlow::Poll);
+    let proxy = event_loop.create_proxy();
+    crate::interrupt::on_ctrl_c(move || {
+        // Only a loop that has ended refuses it, and then there is nothing left to end.
+        let _ = proxy.send_event(Interrupt);
+    })?;
     let mut app = App::new(viewable, document, options, Instant::now());
     event_loop.run_app(&mut app).context("the window's event loop failed")?;
     match app.error {
-        Some(e) => Err(e),
         None => Ok(()),
+        // Whatever stopped the viewer, the scene's edits are kept.
+        Some(e) if app.history.modified(&app.scene) => Err(match save::recover(&app.scene, &app.document) {
+            Ok(path) => e.context(format!("the scene's changes not saved are in {}", path.display())),
+            Err(lost) => e.context(format!("the scene's changes not saved could not be written ({lost:#})")),
+        }),
+        Some(e) => Err(e),
     }
 }
+
+/// Ctrl-C in the terminal: the viewer closes as after its last frame.
+struct Interrupt;
 
 /// Keys and mouse since the last frame.
 #[derive(Default)]
@@ -844,13 +860,18 @@ fn next_screenshot_path() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from("argil-screenshot.png"))
 }
 
-impl ApplicationHandler for App {
+impl ApplicationHandler<Interrupt> for App {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.state.is_none() {
             if let Err(e) = self.start(event_loop) {
                 self.fail(event_loop, e);
             }
         }
+    }
+
+    fn user_event(&mut self, event_loop: &ActiveEventLoop, _: Interrupt) {
+        self.error.get_or_insert(Interrupted("by Ctrl-C".to_owned()).into());
+        self.close(event_loop);
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {

@@ -110,6 +110,35 @@ pub fn save(scene: &Scene, document: &Document, to: &Path, overwrite: bool) -> R
     })
 }
 
+/// Writes `scene`, shown from `document`, into a file of its own when the viewer must stop
+/// with changes not saved: `NAME.recovered.toml` beside the document's file (the default
+/// scene's `argil-scene.toml` in the working folder), or `NAME.recovered-2.toml` and so on
+/// where that exists, so that no file is written over; in the temporary folder where the
+/// document's folder refuses it. Returns where, absolute.
+pub fn recover(scene: &Scene, document: &Document) -> Result<PathBuf> {
+    let own = document.path.clone().unwrap_or_else(|| PathBuf::from(super::DEFAULT_SAVE_PATH));
+    let stem = own.file_stem().map_or_else(|| "argil-scene".into(), |s| s.to_string_lossy());
+    let beside = own.parent().map_or_else(PathBuf::new, Path::to_path_buf);
+    let mut failure = None;
+    for folder in [beside, std::env::temp_dir()] {
+        let Some(to) = (1..=1000)
+            .map(|k| match k {
+                1 => folder.join(format!("{stem}.recovered.toml")),
+                k => folder.join(format!("{stem}.recovered-{k}.toml")),
+            })
+            .find(|p| p.symlink_metadata().is_err())
+        else {
+            continue;
+        };
+        let text = scene.edit_document(&document.text, &to)?;
+        match crate::atomic::write_bytes(&to, Existing::Refuse, text.as_bytes()) {
+            Ok(()) => return Ok(std::path::absolute(&to).unwrap_or(to)),
+            Err(e) => failure = Some(e),
+        }
+    }
+    Err(failure.unwrap_or_else(|| anyhow::anyhow!("every name for a recovered {stem} is taken")))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -166,6 +195,27 @@ mod tests {
         let (reloaded, _) = load(&path);
         assert_eq!(reloaded.materials, scene.materials);
         assert_eq!(reloaded.camera, scene.camera);
+    }
+
+    /// The changes not saved go to a file of their own beside the scene's, the next name
+    /// free each time, never over a file; the scene file keeps its text.
+    #[test]
+    fn recovered_changes_go_beside_the_scene_without_overwriting_a_file() {
+        let folder = Folder::new();
+        let path = folder.write("clay.toml", DEFAULT_SCENE_TOML);
+        let (mut scene, document) = load(&path);
+        material(&mut scene, "plasticine").roughness = 0.33;
+        let first = recover(&scene, &document).unwrap();
+        assert_eq!(first, std::path::absolute(folder.0.join("clay.recovered.toml")).unwrap());
+        let (recovered, _) = load(&first);
+        assert_eq!(recovered.materials, scene.materials);
+        material(&mut scene, "plasticine").roughness = 0.44;
+        let second = recover(&scene, &document).unwrap();
+        assert_eq!(second, std::path::absolute(folder.0.join("clay.recovered-2.toml")).unwrap());
+        let roughness = |path: &Path| material(&mut load(path).0, "plasticine").roughness;
+        assert_eq!(roughness(&first), 0.33, "the first is kept");
+        assert_eq!(roughness(&second), 0.44);
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), DEFAULT_SCENE_TOML);
     }
 
     #[test]
