@@ -12,6 +12,7 @@
 //!   recreates it and goes on.
 //! - `write:N`: every file written through [`crate::atomic`] fails after its first N
 //!   bytes, as on a full disk.
+//! - `panic:N`: the N-th queue submission panics, as a bug in argil would.
 //!
 //! Devices read it once, when they are created, and count in themselves; nothing here is
 //! global or mutable.
@@ -30,6 +31,7 @@ pub struct Faults {
     pub present: Option<u64>,
     /// Bytes a file write gets through before it fails.
     pub write: Option<u64>,
+    pub panic: Option<u64>,
 }
 
 impl Faults {
@@ -47,7 +49,7 @@ impl Faults {
         for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let bad = |why: &str| {
                 InputError(format!(
-                    "{VARIABLE}={spec}: {item:?} {why}; expected alloc:N, submit:N, device-lost:N, present:N or write:N"
+                    "{VARIABLE}={spec}: {item:?} {why}; expected alloc:N, submit:N, device-lost:N, present:N, write:N or panic:N"
                 ))
             };
             let (kind, count) = item.split_once(':').ok_or_else(|| bad("has no count"))?;
@@ -60,6 +62,7 @@ impl Faults {
                 "device-lost" => &mut faults.device_lost,
                 "present" => &mut faults.present,
                 "write" => &mut faults.write,
+                "panic" => &mut faults.panic,
                 _ => return Err(bad("is not a fault")),
             };
             if kind != "write" && count == 0 {
@@ -79,13 +82,14 @@ mod tests {
     fn parses_every_kind_and_refuses_the_rest() {
         assert_eq!(Faults::parse("").unwrap(), Faults::default());
         assert_eq!(
-            Faults::parse("alloc:3, submit:1,device-lost:7,present:2,write:0").unwrap(),
+            Faults::parse("alloc:3, submit:1,device-lost:7,present:2,write:0,panic:9").unwrap(),
             Faults {
                 alloc: Some(3),
                 submit: Some(1),
                 device_lost: Some(7),
                 present: Some(2),
                 write: Some(0),
+                panic: Some(9),
             }
         );
         for bad in ["alloc", "alloc:x", "alloc:0", "oom:3", "submit:-1"] {

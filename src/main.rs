@@ -35,7 +35,8 @@ temporary file and renamed, so a failed run with --overwrite leaves the previous
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
 the N-th GPU allocation (alloc), queue submission (submit, device-lost), present (present: \
-the swapchain out of date) or the output after N bytes (write) fail, to test the above.";
+the swapchain out of date) or the output after N bytes (write) fail, or the N-th submission \
+panic (panic), to test the above.";
 
 #[derive(Parser)]
 #[command(

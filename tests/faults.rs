@@ -100,7 +100,8 @@ fn view_fails_cleanly() {
 
 /// A device lost while the scene has a change not saved (the soak's edit of the material
 /// from frame 100 to 199) leaves the change in a file beside the scene's, named in the
-/// error; lost before the edit, it leaves none. The scene file keeps its text.
+/// error; lost before the edit, it leaves none; a panic (`ARGIL_FAULT=panic:N`) leaves it
+/// too. The scene file keeps its text.
 #[test]
 fn view_keeps_the_changes_not_saved_when_the_device_is_lost() {
     let dir = test_dir("recover");
@@ -125,4 +126,20 @@ fn view_keeps_the_changes_not_saved_when_the_device_is_lost() {
     let written = std::fs::read_to_string(&recovered).expect("read the recovered scene");
     assert!(written.contains("diffuse = "), "the soak's edit: {written}");
     assert_eq!(std::fs::read_to_string(&scene).expect("read the scene"), text);
+
+    // A bug's panic keeps them too, in the next free name.
+    let xvfb = Xvfb::start();
+    let mut command = xvfb.view();
+    command
+        .arg(&scene)
+        .args(["--frames", "400", "--width", "640", "--height", "200", "--soak-log"])
+        .arg(dir.join("soak-panic.json"))
+        .env("ARGIL_FAULT", "panic:170");
+    let o = run(command);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(101), "a panic's exit code: {err}");
+    assert!(err.contains("panicked") && err.contains("changes not saved are in"), "{err}");
+    let again = std::fs::read_to_string(dir.join("clay.recovered-2.toml")).expect("read the second recovered scene");
+    assert!(again.contains("diffuse = "), "the soak's edit: {again}");
+    assert_eq!(std::fs::read_to_string(&recovered).expect("read the first"), written, "the first is kept");
 }

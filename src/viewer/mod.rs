@@ -194,15 +194,26 @@ pub fn run(viewable: Viewable, document: Document, options: ViewOptions) -> Resu
         let _ = proxy.send_event(Interrupt);
     })?;
     let mut app = App::new(viewable, document, options, Instant::now());
-    event_loop.run_app(&mut app).context("the window's event loop failed")?;
-    match app.error {
-        None => Ok(()),
-        // Whatever stopped the viewer, the scene's edits are kept.
-        Some(e) if app.history.modified(&app.scene) => Err(match save::recover(&app.scene, &app.document) {
-            Ok(path) => e.context(format!("the scene's changes not saved are in {}", path.display())),
-            Err(lost) => e.context(format!("the scene's changes not saved could not be written ({lost:#})")),
-        }),
-        Some(e) => Err(e),
+    // Whatever stops the viewer, a bug's panic included, the scene's edits are kept.
+    let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| event_loop.run_app(&mut app)));
+    let stopped = !matches!((&ran, &app.error), (Ok(Ok(())), None));
+    let kept = (stopped && app.history.modified(&app.scene)).then(|| match save::recover(&app.scene, &app.document) {
+        Ok(path) => format!("the scene's changes not saved are in {}", path.display()),
+        Err(lost) => format!("the scene's changes not saved could not be written ({lost:#})"),
+    });
+    let error = match ran {
+        Err(panic) => {
+            if let Some(kept) = &kept {
+                eprintln!("argil: {kept}");
+            }
+            std::panic::resume_unwind(panic)
+        }
+        Ok(ran) => ran.context("the window's event loop failed").err().or(app.error.take()),
+    };
+    match (error, kept) {
+        (None, _) => Ok(()),
+        (Some(e), Some(kept)) => Err(e.context(kept)),
+        (Some(e), None) => Err(e),
     }
 }
 

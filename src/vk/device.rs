@@ -362,6 +362,7 @@ impl Device {
     /// Submits to the device's one queue.
     pub fn submit(&self, submits: &[vk::SubmitInfo2<'_>], fence: vk::Fence) -> Result<()> {
         let n = self.submissions.fetch_add(1, Ordering::SeqCst) + 1;
+        assert!(self.faults.panic != Some(n), "{}=panic:{n}", crate::fault::VARIABLE);
         if self.faults.device_lost == Some(n) {
             self.lost.store(true, Ordering::SeqCst);
         }
