@@ -150,6 +150,7 @@ fn material_glsl(rust: &str) -> Result<String, String> {
             "[u32; 4]" => ("uvec4", "uvec4(0u)", ""),
             "[f32; MAP_COUNT]" => ("float", "0.0", "[MAP_COUNT]"),
             "[[f32; 4]; MAP_COUNT]" => ("vec4", "vec4(0.0)", "[MAP_COUNT]"),
+            "[[f32; 2]; MAP_COUNT]" => ("vec2", "vec2(0.0)", "[MAP_COUNT]"),
             other => return Err(format!("field `{name}`: no GLSL type for `{other}`")),
         };
         let note = if comment.is_empty() { String::new() } else { format!(" // {}", comment.join(" ")) };

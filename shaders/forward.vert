@@ -40,7 +40,7 @@ void main() {
     out_uv = in_uv;
     Material m = materials[object.material_index];
     for (int i = 0; i < MAP_COUNT; i++) {
-        out_map_uv[i] = map_uv(m.map_uv[i], in_uv);
+        out_map_uv[i] = map_uv(m.map_uv[i], m.map_uv_turn[i], in_uv);
     }
     out_tangent = vec4(mat3(object.model) * in_tangent.xyz, in_tangent.w);
     // Curvature is 1/length, so it shrinks as the object grows: divide by the model's

@@ -801,9 +801,9 @@ fn transformed(index: usize, offset: [f32; 2], scale: [f32; 2]) -> Value {
 /// kind of texture (the `gltf` crate parses the extension on some, argil on the normal and
 /// occlusion textures) the model draws bit for bit as its geometry in OBJ files with the
 /// maps' transforms written in the scene; a texCoord of 0 in the transform overrides the
-/// reference's 1. A rotation is named in one warning per model and dropped.
+/// reference's 1. A rotation is `uv_rotation_degrees`, with the offset it moves.
 #[test]
-fn texture_transforms_are_uv_scale_and_offset() {
+fn texture_transforms_are_uv_scale_offset_and_rotation() {
     let dir = test_dir("texture-transform");
     let primitives = [octahedron(), tetrahedron()];
     let (nodes, worlds) = nodes();
@@ -876,19 +876,31 @@ uv_offset = [0.0, 0.25]
         "the frame differs from the OBJ files'"
     );
 
+    // A rotation turns the scaled UVs the same way in argil's UVs, and moves the offset:
+    // glTF's o is (o_u + s_v sin θ, 1 - s_v cos θ - o_v) there.
     let rotate = |texture: &mut Value, angle: f32| texture["extensions"]["KHR_texture_transform"]["rotation"] = json!(angle);
     rotate(&mut model.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"], 0.5);
     rotate(&mut model.json["materials"][1]["normalTexture"], -1.0);
     model.write(&dir, "model", Storage::Binary);
     let rotated = load(&dir, "model.toml", &model_text);
-    let shown = dir.join("model.glb").display().to_string();
-    assert_eq!(
-        rotated.warnings,
-        [format!(
-            "{shown}: KHR_texture_transform rotations are not supported: those textures are drawn unrotated"
-        )]
-    );
+    assert_eq!(rotated.warnings, Vec::<String>::new());
+    let turned = |angle: f64, [ou, ov]: [f64; 2], sv: f64| {
+        let offset = [ou + sv * angle.sin(), 1.0 - sv * angle.cos() - ov];
+        format!("uv_offset = {offset:?}\nuv_rotation_degrees = {:?}", angle.to_degrees())
+    };
+    let obj_rotated = obj_text
+        .replace("uv_offset = [0.25, -1.5]", &turned(0.5, [0.25, -0.5], 3.0))
+        .replace("uv_offset = [0.25, -1.75]", &turned(-1.0, [0.25, 0.75], 2.0));
+    let obj = load(&dir, "obj-rotated.toml", &obj_rotated);
     assert_same_materials(&rotated, &obj);
+    assert!(
+        common::render(&rotated, 96, 64).display == common::render(&obj, 96, 64).display,
+        "the rotated frame differs from the OBJ files'"
+    );
+    assert!(
+        common::render(&rotated, 96, 64).display != expected.display,
+        "the rotation changes nothing"
+    );
 }
 
 /// Maps on TEXCOORD_1 (by the texture reference's texCoord, or by its KHR_texture_transform's)
@@ -1348,10 +1360,11 @@ fn broken_samples_are_clear_errors() {
 
 /// Khronos' KHR_texture_transform test: each of the three offset squares shows the quarter
 /// of its texture the offset moves it to (green "U", blue "V", cyan "UV"; without the
-/// offset all three would show the yellow top-left quarter). The rotated squares are drawn
-/// unrotated, named in the one warning.
+/// offset all three would show the yellow top-left quarter), and the arrows of the rotated
+/// squares point at their green markers: their heads, dark, cover the way to it, where the
+/// way to the markers of an arrow unrotated (yellow) or turned the other way (red) is light.
 #[test]
-fn the_texture_transform_sample_shows_its_offsets() {
+fn the_texture_transform_sample_shows_its_offsets_and_rotations() {
     let file = sample("textureTransform/TextureTransformTest.gltf");
     let text = format!(
         "[camera]\nposition = [0.0, 0.0, 4.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_degrees = 40.0\n\
@@ -1361,14 +1374,8 @@ fn the_texture_transform_sample_shows_its_offsets() {
     );
     let dir = test_dir("texture-transform-sample");
     let scene = load(&dir, "scene.toml", &text);
-    assert_eq!(
-        scene.warnings,
-        [format!(
-            "{}: KHR_texture_transform rotations are not supported: those textures are drawn unrotated",
-            file.display()
-        )]
-    );
-    let (width, height) = (192, 128);
+    assert_eq!(scene.warnings, Vec::<String>::new());
+    let (width, height) = (384, 256);
     let frame = common::render(&scene, width, height);
     // The squares' nodes are at x = -1.1, 0, 1.1 and y = 0.55; their textures' background
     // fills each square's corners, away from the check mark.
@@ -1389,6 +1396,30 @@ fn the_texture_transform_sample_shows_its_offsets() {
             "offset {name}: the square's colour {channels:?} is not its quarter's"
         );
     }
+    // How many of the pixels within 0.12 of the point 75% of the way from a square's centre
+    // to a marker (the markers' nodes, relative to their square's) are dark.
+    let dark_toward = |centre: [f32; 2], marker: [f32; 2]| {
+        let [x, y] = [0, 1].map(|i| centre[i] + 0.75 * marker[i]);
+        let offsets = (-15..=15).flat_map(|dx| (-15..=15).map(move |dy| (dx as f32 * 0.01, dy as f32 * 0.01)));
+        offsets
+            .filter(|(ox, oy)| ox * ox + oy * oy <= 0.12 * 0.12)
+            .filter(|(ox, oy)| pixel(x + ox, y + oy).iter().sum::<i32>() < 150)
+            .count()
+    };
+    let rotation = [-1.1, -0.55];
+    let marks = [
+        ("correct", [-0.079_048_22, -0.516_267_5]),
+        ("not supported", [0.277_817_46, -0.277_817_46]),
+        ("error", [0.516_267_5, 0.079_048_22]),
+    ];
+    let levels: Vec<(&str, usize)> = marks.iter().map(|&(name, at)| (name, dark_toward(rotation, at))).collect();
+    assert!(
+        levels[0].1 >= 10 && levels[1..].iter().all(|&(_, dark)| dark <= 2),
+        "the rotated arrow's dark pixels on the way to each marker: {levels:?}"
+    );
+    // Offset, turned and scaled: its one marker is the correct one.
+    let all = dark_toward([1.1, -0.55], [-0.07, -0.25]);
+    assert!(all >= 10, "the transformed arrow's dark pixels on the way to its marker: {all}");
 }
 
 /// Khronos' 2CylinderEngine: 34 primitives under 82 nodes of transforms, some meshes drawn

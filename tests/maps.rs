@@ -229,7 +229,11 @@ fn the_reference_applies_the_property_maps_as_the_renderer_does() {
     let dir = test_dir("reference");
     let maps = |keys: &[&str]| {
         keys.iter()
-            .map(|key| format!("[materials.m.{key}]\ntexture = \"builtin:noise\"\nuv_scale = [0.1, 0.1]\n"))
+            .map(|key| {
+                // Turned and offset, so that the shader's map_uv and MapRef::uv are held together.
+                let transform = "uv_scale = [0.1, 0.1]\nuv_rotation_degrees = 30.0\nuv_offset = [0.3, -0.2]\n";
+                format!("[materials.m.{key}]\ntexture = \"builtin:noise\"\n{transform}")
+            })
             .collect::<String>()
     };
     let cases = [

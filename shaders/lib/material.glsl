@@ -21,9 +21,12 @@ vec3 specular_f0(Material m) {
     return mix(vec3(m.f0), m.base_color.rgb, m.metallic);
 }
 
-// A map's uv from the mesh's: uv · scale + offset (`transform` is one of map_uv).
-vec2 map_uv(vec4 transform, vec2 uv) {
-    return uv * transform.xy + transform.zw;
+// A map's uv from the mesh's: scaled, turned counter-clockwise by `turn` = (cos, sin) and
+// offset (`transform` = (scale, offset) is one of map_uv, `turn` of map_uv_turn). Twin:
+// MapRef::uv in src/scene/material.rs.
+vec2 map_uv(vec4 transform, vec2 turn, vec2 uv) {
+    vec2 scaled = uv * transform.xy;
+    return vec2(turn.x * scaled.x - turn.y * scaled.y, turn.y * scaled.x + turn.x * scaled.y) + transform.zw;
 }
 
 #endif

@@ -74,6 +74,7 @@ const SCENE_TOKENS: &[&str] = &[
     "intensity = ",
     "fov_y_degrees = ",
     "uv_scale = ",
+    "uv_rotation_degrees = ",
     "strength = ",
     "samples = ",
     "scatter_radius = ",

@@ -25,35 +25,9 @@ struct WorldVertex {
     curvature: f64,
 }
 
-/// A map of a material with the texture it samples.
-struct Map {
-    texture: usize,
-    strength: f64,
-    uv_scale: DVec2,
-    uv_offset: DVec2,
-    green_down: bool,
-}
-
-impl Map {
-    fn new(map: &MapRef) -> Self {
-        Self {
-            texture: map.texture,
-            strength: f64::from(map.strength),
-            uv_scale: map.uv_scale.as_dvec2(),
-            uv_offset: map.uv_offset.as_dvec2(),
-            green_down: map.green_down,
-        }
-    }
-
-    /// `map_uv` of material.glsl.
-    fn uv(&self, uv: DVec2) -> DVec2 {
-        uv * self.uv_scale + self.uv_offset
-    }
-}
-
 /// `map_factor` of material_maps.glsl: mix(1, the texel's channel, strength).
-fn map_factor(map: &Map, texel: [f64; 4], channel: usize) -> f64 {
-    1.0 + (texel[channel] - 1.0) * map.strength
+fn map_factor(map: &MapRef, texel: [f64; 4], channel: usize) -> f64 {
+    1.0 + (texel[channel] - 1.0) * f64::from(map.strength)
 }
 
 pub struct WorldMaterial {
@@ -65,7 +39,7 @@ pub struct WorldMaterial {
     /// The emitted radiance, before the emission map.
     emission: DVec3,
     /// By slot.
-    maps: [Option<Map>; MAP_COUNT],
+    maps: [Option<MapRef>; MAP_COUNT],
     detail_blend: DetailBlend,
 }
 
@@ -77,7 +51,7 @@ impl WorldMaterial {
             seed_horizon: material.horizon == crate::scene::Horizon::Seed,
             energy_compensation: material.energy_compensation,
             emission: material.emission.as_dvec3(),
-            maps: material.maps.0.map(|map| map.as_ref().map(Map::new)),
+            maps: material.maps.0,
             detail_blend: material.detail_blend,
         }
     }
@@ -308,9 +282,9 @@ impl World {
 
     /// `mapped_normal` of material_maps.glsl, with level-0 bilinear texels.
     fn mapped_normal(&self, m: &WorldMaterial, normal: DVec3, tangent: DVec4, uv: DVec2) -> DVec3 {
-        let decode = |map: &Map| {
+        let decode = |map: &MapRef| {
             let t = self.textures[map.texture].sample(map.uv(uv));
-            decode_normal([t[0], t[1], t[2]], map.green_down, map.strength)
+            decode_normal([t[0], t[1], t[2]], map.green_down, f64::from(map.strength))
         };
         let base = m.maps[MapSlot::Normal.index()].as_ref().map(decode);
         let detail = m.maps[MapSlot::Detail.index()].as_ref().map(decode);

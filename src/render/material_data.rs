@@ -57,8 +57,10 @@ gpu_struct! {
         pub energy_compensation: f32,
         /// 1: the occlusion map micro-shadows the point lights (lights.glsl)
         pub micro_shadowing: f32,
-        /// per map slot (src/scene/map_slots.rs): xy scale, zw offset, uv · scale + offset
+        /// per map slot (src/scene/map_slots.rs): xy scale, zw offset (map_uv)
         pub map_uv: [[f32; 4]; MAP_COUNT],
+        /// per map slot: (cos, sin) of the scaled uv's counter-clockwise turn (map_uv)
+        pub map_uv_turn: [[f32; 2]; MAP_COUNT],
         /// per map slot: its strength, 0 without the map
         pub map_strength: [f32; MAP_COUNT],
         /// up to std430's 16-byte alignment of the next member, which GLSL pads to itself
@@ -68,13 +70,16 @@ gpu_struct! {
     }
 }
 
-/// The floats after `map_strength` up to the next 16 bytes.
-const MAP_STRENGTH_PAD: usize = MAP_COUNT.next_multiple_of(4) - MAP_COUNT;
+/// The floats after `map_strength` up to the next 16 bytes: `map_uv_turn` and `map_strength`
+/// take 12 bytes a slot from the 16-byte boundary after `map_uv`.
+const MAP_STRENGTH_PAD: usize = ((12 * MAP_COUNT).next_multiple_of(16) - 12 * MAP_COUNT) / 4;
 
-/// A map's `uv · scale + offset` as (scale, offset), and its strength; identity without a map.
-fn map_terms(map: Option<&MapRef>) -> ([f32; 4], f32) {
-    map.map_or(([1.0, 1.0, 0.0, 0.0], 0.0), |m| {
-        ([m.uv_scale.x, m.uv_scale.y, m.uv_offset.x, m.uv_offset.y], m.strength)
+/// A map's uv transform as (scale, offset) and its turn's (cos, sin) (`MapRef::uv`), and its
+/// strength; identity without a map.
+fn map_terms(map: Option<&MapRef>) -> ([f32; 4], [f32; 2], f32) {
+    map.map_or(([1.0, 1.0, 0.0, 0.0], [1.0, 0.0], 0.0), |m| {
+        let turn = m.uv_turn().as_vec2();
+        ([m.uv_scale.x, m.uv_scale.y, m.uv_offset.x, m.uv_offset.y], turn.to_array(), m.strength)
     })
 }
 
@@ -85,7 +90,8 @@ impl From<&Material> for MaterialData {
         let terms = maps.0.map(|map| map_terms(map.as_ref()));
         let mut data = Self {
             map_uv: terms.map(|t| t.0),
-            map_strength: terms.map(|t| t.1),
+            map_uv_turn: terms.map(|t| t.1),
+            map_strength: terms.map(|t| t.2),
             green_down: [
                 u32::from(maps[MapSlot::Normal].is_some_and(|m| m.green_down)),
                 u32::from(maps[MapSlot::Detail].is_some_and(|m| m.green_down)),

@@ -255,6 +255,8 @@ pub struct MapDef {
     pub strength: f64,
     pub uv_scale: [f64; 2],
     pub uv_offset: [f64; 2],
+    /// Degrees the scaled uv turns counter-clockwise (v up) before the offset.
+    pub uv_rotation_degrees: f64,
     /// Which way the green channel of a normal map points.
     pub green: Green,
 }
@@ -267,6 +269,7 @@ impl MapDef {
             strength: 1.0,
             uv_scale: [1.0; 2],
             uv_offset: [0.0; 2],
+            uv_rotation_degrees: 0.0,
             green: Green::Up,
         }
     }
@@ -291,6 +294,7 @@ pub(super) struct MapKeys {
     strength: Option<f64>,
     uv_scale: Option<[f64; 2]>,
     uv_offset: Option<[f64; 2]>,
+    uv_rotation_degrees: Option<f64>,
     green: Option<Green>,
 }
 
@@ -319,6 +323,7 @@ impl MapDef {
         set(&mut map.strength, keys.strength);
         set(&mut map.uv_scale, keys.uv_scale);
         set(&mut map.uv_offset, keys.uv_offset);
+        set(&mut map.uv_rotation_degrees, keys.uv_rotation_degrees);
         set(&mut map.green, keys.green);
         Ok(Some(map))
     }

@@ -2,7 +2,7 @@
 //! primitive of the model's scene becomes a part, a [`Mesh`] in world space with the node
 //! transforms baked in. What argil does not draw (other primitive modes, skins,
 //! animations, morph targets, extensions other than KHR_materials_emissive_strength and
-//! KHR_texture_transform, texture rotations) is named in one warning each.
+//! KHR_texture_transform) is named in one warning each.
 //!
 //! The `gltf` crate parses and validates the JSON (the indices between its objects
 //! included); this module reads the buffers itself, within [`MAX_GLTF_BYTES`], and checks
@@ -297,13 +297,18 @@ impl UvTransform {
         }))
     }
 
-    /// `map` sampled through this transform, without its rotation. argil's UVs run up the
-    /// image, v = 1 - v_glTF, so glTF's `v' = s v + o` is `v' = s v + (1 - s - o)` there.
+    /// `map` sampled through this transform. argil's UVs run up the image, v = 1 - v_glTF.
+    /// glTF's `uv' = o + R(θ) (s ⊙ uv)` turns the scaled UVs by θ counter-clockwise as
+    /// seen with v up (the direction of the arrows of Khronos' TextureTransformTest model),
+    /// so in argil's UVs it is the same turn of the same scale, offset by
+    /// `(o_u + s_v sin θ, 1 - s_v cos θ - o_v)`.
     fn apply(&self, map: MapDef) -> MapDef {
         let ([su, sv], [ou, ov]) = (self.scale.map(f64::from), self.offset.map(f64::from));
+        let (sin, cos) = f64::from(self.rotation).sin_cos();
         MapDef {
             uv_scale: [su, sv],
-            uv_offset: [ou, 1.0 - sv - ov],
+            uv_offset: [ou + sv * sin, 1.0 - sv * cos - ov],
+            uv_rotation_degrees: f64::from(self.rotation).to_degrees(),
             ..map
         }
     }
@@ -375,11 +380,6 @@ fn materials(
         let Some(transform) = transform else {
             return image(index, tex_coord).map(MapDef::new);
         };
-        if transform.rotation != 0.0 {
-            note(&format!(
-                "{KHR_TEXTURE_TRANSFORM} rotations are not supported: those textures are drawn unrotated"
-            ));
-        }
         let tex_coord = transform.tex_coord.unwrap_or(tex_coord);
         image(index, tex_coord).map(|texture| transform.apply(MapDef::new(texture)))
     };

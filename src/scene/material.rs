@@ -1,4 +1,4 @@
-use glam::Vec2;
+use glam::{DVec2, Vec2};
 use serde::{Deserialize, Serialize};
 
 pub use super::map_slots::{MapSlot, MaterialMaps};
@@ -27,12 +27,31 @@ pub struct MapRef {
     pub texture: usize,
     /// In [0, 8].
     pub strength: f32,
-    /// The map is sampled at `uv · uv_scale + uv_offset`.
+    /// The map is sampled at [`MapRef::uv`]: the mesh's uv times `uv_scale`, turned
+    /// `uv_rotation_degrees` counter-clockwise (v up the texture), plus `uv_offset`.
     pub uv_scale: Vec2,
     pub uv_offset: Vec2,
+    pub uv_rotation_degrees: f32,
     /// The map's green channel points down the texture (DirectX convention)
     /// and must be negated; only ever set on normal and detail maps.
     pub green_down: bool,
+}
+
+impl MapRef {
+    /// (cos, sin) of the uv's turn.
+    pub fn uv_turn(&self) -> DVec2 {
+        let (sin, cos) = f64::from(self.uv_rotation_degrees).to_radians().sin_cos();
+        DVec2::new(cos, sin)
+    }
+
+    /// The map's uv at the mesh's `uv`; twin of `map_uv` in shaders/lib/material.glsl, whose
+    /// turn is this one's in f32.
+    pub fn uv(&self, uv: DVec2) -> DVec2 {
+        let scaled = uv * self.uv_scale.as_dvec2();
+        let turn = self.uv_turn();
+        DVec2::new(turn.x * scaled.x - turn.y * scaled.y, turn.y * scaled.x + turn.x * scaled.y)
+            + self.uv_offset.as_dvec2()
+    }
 }
 
 /// How the detail normal map is combined with the normal map. `as u32` is

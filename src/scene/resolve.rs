@@ -627,6 +627,12 @@ fn check_map(
         |_| true,
         "every component must be a finite number",
     )?;
+    let uv_rotation_degrees = check.scalar(
+        &key("uv_rotation_degrees"),
+        def.uv_rotation_degrees,
+        f32::is_finite,
+        "must be a finite number",
+    )?;
     let green_down = def.green == Green::Down;
     if green_down && role != TextureRole::Normal {
         return Err(check.invalid(
@@ -640,6 +646,7 @@ fn check_map(
         strength,
         uv_scale,
         uv_offset,
+        uv_rotation_degrees,
         green_down,
     })
 }
@@ -791,6 +798,7 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
             strength: widen(m.strength),
             uv_scale: widen2(m.uv_scale),
             uv_offset: widen2(m.uv_offset),
+            uv_rotation_degrees: widen(m.uv_rotation_degrees),
             green: if m.green_down { Green::Down } else { Green::Up },
         })
     };

@@ -735,6 +735,7 @@ texture = "textures/skin.png"
 strength = 0.5
 uv_scale = [2, -3.5]
 uv_offset = [0.25, 1e3]
+uv_rotation_degrees = -400
 [materials.a.normal_map]
 texture = "builtin:clay-lumps"
 green = "down"
@@ -776,6 +777,7 @@ texture = "builtin:clay-lumps"
             strength: 0.5,
             uv_scale: glam::Vec2::new(2.0, -3.5),
             uv_offset: glam::Vec2::new(0.25, 1000.0),
+            uv_rotation_degrees: -400.0,
             green_down: false
         })
     );
@@ -784,6 +786,7 @@ texture = "builtin:clay-lumps"
         strength: 1.0,
         uv_scale: glam::Vec2::ONE,
         uv_offset: glam::Vec2::ZERO,
+        uv_rotation_degrees: 0.0,
         green_down: false,
     };
     assert_eq!(
@@ -852,6 +855,8 @@ fn map_errors_name_the_field() {
         ("uv_scale = [1e-50, 1.0]", "materials.m.normal_map.uv_scale = [1e-50, 1.0]: every component must be a finite, non-zero number in [-10000, 10000]"),
         ("uv_offset = [nan, 0.0]", "materials.m.normal_map.uv_offset = [NaN, 0.0]: every component must be a finite number"),
         ("uv_offset = [0.0, 1e39]", "materials.m.normal_map.uv_offset = [0.0, 1e39]: every component must be a finite number"),
+        ("uv_rotation_degrees = inf", "materials.m.normal_map.uv_rotation_degrees = inf: must be a finite number"),
+        ("uv_rotation_degrees = 1e39", "materials.m.normal_map.uv_rotation_degrees = 1e39: must be a finite number"),
     ];
     for (keys, expected) in cases {
         assert_eq!(normal(keys), format!("scene.toml: {expected}"));

@@ -576,9 +576,9 @@ fn map_fields(ui: &mut Ui, slot: &SlotInfo, map: &mut MapRef) {
         &mut map.strength,
         MAP_STRENGTH.slider_range(),
     );
-    ui.label(format!("{words} scale")).on_hover_text(format!(
-        "{name}.uv_scale: the map is sampled at uv · uv_scale + uv_offset"
-    ));
+    const SAMPLED_AT: &str = "the map is sampled at uv · uv_scale, turned uv_rotation_degrees, + uv_offset";
+    ui.label(format!("{words} scale"))
+        .on_hover_text(format!("{name}.uv_scale: {SAMPLED_AT}"));
     ui.horizontal(|ui| {
         ui.add(
             egui::DragValue::new(&mut map.uv_scale.x)
@@ -592,13 +592,17 @@ fn map_fields(ui: &mut Ui, slot: &SlotInfo, map: &mut MapRef) {
         );
     });
     ui.end_row();
-    ui.label(format!("{words} offset")).on_hover_text(format!(
-        "{name}.uv_offset: the map is sampled at uv · uv_scale + uv_offset"
-    ));
+    ui.label(format!("{words} offset"))
+        .on_hover_text(format!("{name}.uv_offset: {SAMPLED_AT}"));
     ui.horizontal(|ui| {
         ui.add(egui::DragValue::new(&mut map.uv_offset.x).speed(0.01));
         ui.add(egui::DragValue::new(&mut map.uv_offset.y).speed(0.01));
     });
+    ui.end_row();
+    ui.label(format!("{words} rotation")).on_hover_text(format!(
+        "{name}.uv_rotation_degrees: counter-clockwise, v up the texture; {SAMPLED_AT}"
+    ));
+    ui.add(egui::DragValue::new(&mut map.uv_rotation_degrees).speed(1.0).suffix("°"));
     ui.end_row();
     if slot.role == TextureRole::Normal {
         ui.label(format!("{words} green")).on_hover_text(format!(

@@ -197,6 +197,23 @@ mod tests {
         assert_eq!(reloaded.camera, scene.camera);
     }
 
+    /// A map's turn is one key of its table, written where the map's other keys are.
+    #[test]
+    fn a_maps_rotation_is_written_as_its_own_key() {
+        let folder = Folder::new();
+        let path = folder.write("scene.toml", DEFAULT_SCENE_TOML);
+        let (mut scene, document) = load(&path);
+        let ring = material(&mut scene, "terracotta");
+        ring.maps[MapSlot::Normal].as_mut().unwrap().uv_rotation_degrees = 15.0;
+        save(&scene, &document, &path, false).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (added, removed) = changed_lines(DEFAULT_SCENE_TOML, &text);
+        assert_eq!((added, removed), (vec!["uv_rotation_degrees = 15.0".to_owned()], vec![]), "{text}");
+        let (mut saved, _) = load(&path);
+        let turned = material(&mut saved, "terracotta").maps[MapSlot::Normal].unwrap().uv_rotation_degrees;
+        assert_eq!(turned, 15.0);
+    }
+
     /// The changes not saved go to a file of their own beside the scene's, the next name
     /// free each time, never over a file; the scene file keeps its text.
     #[test]
