@@ -29,8 +29,9 @@ const AFTER_HELP: &str = "\
 Exit codes: 0 success; 2 the input is wrong (a scene, mesh, texture, environment map or EXR, \
 an argument, --device, ARGIL_FAULT, an output that exists without --overwrite or whose folder \
 is missing or unwritable), and nothing was written; 1 argil or the machine failed (no Vulkan \
-driver, the device lost, out of memory, an I/O error while writing); 130 interrupted by Ctrl-C \
-(reference writes the samples taken, view the scene's changes not saved). Outputs are written to a \
+driver, the device lost, out of memory, an I/O error while writing); 130 interrupted by Ctrl-C, \
+SIGTERM or SIGHUP (reference writes the samples taken, view the scene's changes not saved). \
+Outputs are written to a \
 temporary file and renamed, so a failed run with --overwrite leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \

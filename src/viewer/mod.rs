@@ -217,7 +217,7 @@ pub fn run(viewable: Viewable, document: Document, options: ViewOptions) -> Resu
     }
 }
 
-/// Ctrl-C in the terminal: the viewer closes as after its last frame.
+/// Ctrl-C in the terminal (or SIGTERM, SIGHUP): the viewer closes as after its last frame.
 struct Interrupt;
 
 /// Keys and mouse since the last frame.
@@ -881,7 +881,7 @@ impl ApplicationHandler<Interrupt> for App {
     }
 
     fn user_event(&mut self, event_loop: &ActiveEventLoop, _: Interrupt) {
-        self.error.get_or_insert(Interrupted("by Ctrl-C".to_owned()).into());
+        self.error.get_or_insert(Interrupted("(Ctrl-C, SIGTERM or SIGHUP)".to_owned()).into());
         self.close(event_loop);
     }
 
