@@ -22,7 +22,7 @@ impl InputError {
     }
 }
 
-/// The user stopped the command (Ctrl-C). The command line exits with
+/// The user stopped the command (Ctrl-C, SIGTERM or SIGHUP). The command line exits with
 /// [`INTERRUPTED_EXIT_CODE`] after writing what the command had when it can.
 #[derive(Debug, thiserror::Error)]
 #[error("interrupted {0}")]

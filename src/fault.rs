@@ -49,7 +49,8 @@ impl Faults {
         for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let bad = |why: &str| {
                 InputError(format!(
-                    "{VARIABLE}={spec}: {item:?} {why}; expected alloc:N, submit:N, device-lost:N, present:N, write:N or panic:N"
+                    "{VARIABLE}={spec}: {item:?} {why}; \
+                     expected alloc:N, submit:N, device-lost:N, present:N, write:N or panic:N"
                 ))
             };
             let (kind, count) = item.split_once(':').ok_or_else(|| bad("has no count"))?;
