@@ -263,13 +263,12 @@ impl VertexBounce {
         let upstream = inputs.maps.with_frame(cache::key(&[&light.to_le_bytes(), &environment.to_le_bytes()]));
         let upstream = upstream.to_le_bytes();
         parts.push(&upstream);
-        let pushes: Vec<ObjectPush> = (scene.objects.iter().zip(&self.objects.gathering))
-            .filter_map(|(object, gathering)| gathering.map(|(first, _)| push(object, first)))
+        let gathering: Vec<(&Object, u32)> = (scene.objects.iter().zip(&self.objects.gathering))
+            .filter_map(|(object, gathering)| gathering.map(|(first, _)| (object, first)))
             .collect();
+        let pushes: Vec<ObjectPush> = gathering.iter().map(|&(object, first)| push(object, first)).collect();
         parts.push(bytemuck::cast_slice(&pushes));
-        for (object, _) in scene.objects.iter().zip(&self.objects.gathering).filter(|(_, g)| g.is_some()) {
-            parts.push(bytemuck::cast_slice(&scene.meshes[object.mesh].vertices));
-        }
+        parts.extend(gathering.iter().map(|(object, _)| bytemuck::cast_slice(&scene.meshes[object.mesh].vertices)));
         let key = cache::key(&parts);
         let bits = self.disk.load(DISK_ENTRY, key).filter(|b| b.len() as u64 == self.buffer.size);
         let Some(bits) = bits else {

@@ -63,6 +63,16 @@ impl Buffer {
         Ok(buffer)
     }
 
+    /// A mapped buffer of `size` bytes that copies read from: what the host uploads.
+    pub fn staging(device: &Arc<Device>, size: vk::DeviceSize, name: &str) -> Result<Self> {
+        Self::new(device, size, vk::BufferUsageFlags::TRANSFER_SRC, MemoryLocation::CpuToGpu, name)
+    }
+
+    /// A mapped buffer of `size` bytes that copies write to: what the host reads back.
+    pub fn readback(device: &Arc<Device>, size: vk::DeviceSize, name: &str) -> Result<Self> {
+        Self::new(device, size, vk::BufferUsageFlags::TRANSFER_DST, MemoryLocation::GpuToCpu, name)
+    }
+
     /// A device-local buffer filled with `data` through a staging copy.
     pub fn with_data<T: bytemuck::Pod>(
         device: &Arc<Device>,
@@ -73,13 +83,7 @@ impl Buffer {
     ) -> Result<Self> {
         let bytes: &[u8] = bytemuck::cast_slice(data);
         let size = bytes.len() as vk::DeviceSize;
-        let mut staging = Buffer::new(
-            device,
-            size,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
-            "staging",
-        )?;
+        let mut staging = Buffer::staging(device, size, "staging")?;
         staging.write(bytes)?;
         let buffer = Buffer::new(
             device,

@@ -5,7 +5,6 @@ use std::sync::Arc;
 
 use anyhow::Result;
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
 use super::buffer::Buffer;
 use super::device::Device;
@@ -40,13 +39,7 @@ impl Readback {
     pub fn new(device: &Arc<Device>, image: impl Into<ImageRegion>, bytes_per_pixel: u32) -> Result<Self> {
         let image = image.into();
         let size = u64::from(image.extent.width) * u64::from(image.extent.height) * u64::from(bytes_per_pixel);
-        let buffer = Buffer::new(
-            device,
-            size,
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-            "readback",
-        )?;
+        let buffer = Buffer::readback(device, size, "readback")?;
         Ok(Self {
             buffer,
             extent: image.extent,

@@ -6,7 +6,6 @@ use std::sync::Arc;
 
 use anyhow::{ensure, Result};
 use ash::vk;
-use gpu_allocator::MemoryLocation;
 
 use super::buffer::Buffer;
 use super::commands::OneShot;
@@ -53,13 +52,7 @@ pub fn upload_image(
     to: ImageUse,
 ) -> Result<()> {
     ensure!(levels.len() == image.mip_levels as usize, "{} levels for an image of {}", levels.len(), image.mip_levels);
-    let mut staging = Buffer::new(
-        device,
-        levels.iter().map(|l| l.len() as u64).sum(),
-        vk::BufferUsageFlags::TRANSFER_SRC,
-        MemoryLocation::CpuToGpu,
-        "image upload",
-    )?;
+    let mut staging = Buffer::staging(device, levels.iter().map(|l| l.len() as u64).sum(), "image upload")?;
     let mut regions = Vec::new();
     let mut offset = 0;
     for (level, bytes) in (0..).zip(levels) {
@@ -94,13 +87,7 @@ pub fn read_level(
     texel_bytes: u64,
     at: ImageUse,
 ) -> Result<Vec<u8>> {
-    let buffer = Buffer::new(
-        device,
-        level_size(image, level, texel_bytes),
-        vk::BufferUsageFlags::TRANSFER_DST,
-        MemoryLocation::GpuToCpu,
-        "image readback",
-    )?;
+    let buffer = Buffer::readback(device, level_size(image, level, texel_bytes), "image readback")?;
     let range = image.level_range(level);
     one_shot.run(|cmd| {
         transition_levels(device, cmd, image.handle, range, at, ImageUse::TRANSFER_SRC);
@@ -131,13 +118,7 @@ pub fn upload_buffer(
     to: BufferUse,
 ) -> Result<()> {
     ensure!(bytes.len() as u64 <= buffer.size, "{} bytes for a buffer of {}", bytes.len(), buffer.size);
-    let mut staging = Buffer::new(
-        device,
-        bytes.len() as u64,
-        vk::BufferUsageFlags::TRANSFER_SRC,
-        MemoryLocation::CpuToGpu,
-        "buffer upload",
-    )?;
+    let mut staging = Buffer::staging(device, bytes.len() as u64, "buffer upload")?;
     staging.write(bytes)?;
     one_shot.run(|cmd| {
         buffer_barrier(device, cmd, buffer.handle, from, BufferUse::TRANSFER_DST);
@@ -149,13 +130,7 @@ pub fn upload_buffer(
 
 /// The whole of `buffer`, in use `at` and left there.
 pub fn read_buffer(device: &Arc<Device>, one_shot: &OneShot, buffer: &Buffer, at: BufferUse) -> Result<Vec<u8>> {
-    let readback = Buffer::new(
-        device,
-        buffer.size,
-        vk::BufferUsageFlags::TRANSFER_DST,
-        MemoryLocation::GpuToCpu,
-        "buffer readback",
-    )?;
+    let readback = Buffer::readback(device, buffer.size, "buffer readback")?;
     one_shot.run(|cmd| {
         buffer_barrier(device, cmd, buffer.handle, at, BufferUse::TRANSFER_SRC);
         let region = vk::BufferCopy::default().size(buffer.size);
