@@ -139,6 +139,7 @@ fn view_keeps_the_changes_not_saved_when_the_device_is_lost() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(101), "a panic's exit code: {err}");
     assert!(err.contains("panicked") && err.contains("changes not saved are in"), "{err}");
+    assert!(!err.contains("vulkan validation"), "validation messages: {err}");
     let again = std::fs::read_to_string(dir.join("clay.recovered-2.toml")).expect("read the second recovered scene");
     assert!(again.contains("diffuse = "), "the soak's edit: {again}");
     assert_eq!(std::fs::read_to_string(&recovered).expect("read the first"), written, "the first is kept");
