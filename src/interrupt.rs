@@ -1,7 +1,8 @@
 //! Ctrl-C (SIGINT, and SIGTERM and SIGHUP alike: a terminal closed, a job stopped) for the
 //! commands that have work to keep: the first signal asks them to end with it (`argil
-//! reference` writes the samples it took, the viewer the scene's changes not saved), a
-//! second ends the process at once with code 130.
+//! reference` writes the samples it took, `argil render --accumulate` the mean of the
+//! frames it drew, the viewer the scene's changes not saved), a second ends the process at
+//! once with code 130.
 
 use anyhow::{Context, Result};
 

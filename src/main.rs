@@ -17,7 +17,7 @@ use argil::error::{advice, is_input_error, is_interrupted, InputError, Interrupt
 use argil::reference::{Ending, Filter, Sampling, Settings, Stop, SubsurfaceTransport, Transport};
 use argil::render::output::{write_linear, OutputKind};
 use argil::render::warm_up::{warm_up, WARM_UP_EXTENT};
-use argil::render::{count_non_finite, write_frame, DebugView, Renderer, PASS_NAMES};
+use argil::render::{count_non_finite, write_frame, DebugView, Frames, Renderer, PASS_NAMES};
 use argil::scene::{PendingMaps, Scene};
 use argil::vk::{device, Device, DeviceChoice, DeviceOptions};
 
@@ -30,7 +30,8 @@ Exit codes: 0 success; 2 the input is wrong (a scene, mesh, texture, environment
 an argument, --device, ARGIL_FAULT, an output that exists without --overwrite or whose folder \
 is missing or unwritable), and nothing was written; 1 argil or the machine failed (no Vulkan \
 driver, the device lost, out of memory, an I/O error while writing); 130 interrupted by Ctrl-C, \
-SIGTERM or SIGHUP (reference writes the samples taken, view the scene's changes not saved). \
+SIGTERM or SIGHUP (reference writes the samples taken, render --accumulate the mean of the frames \
+drawn, view the scene's changes not saved). \
 Outputs are written to a \
 temporary file and renamed, so a failed run with --overwrite leaves the previous file as it was.
 
@@ -95,7 +96,9 @@ enum Command {
         msaa: Option<u32>,
         /// Render this many frames and write their running mean, each frame with the next
         /// sample set of the `sampled` reflection (as the viewer refines a still view); other
-        /// reflection modes give the single frame's image.
+        /// reflection modes give the single frame's image. Ctrl-C ends it after the frame being
+        /// drawn and writes the mean of those drawn (exit code 130); the EXR's `argil.frames`
+        /// gives the count.
         #[arg(long, value_name = "FRAMES", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65536))]
         accumulate: u32,
         /// Render this debug view instead of the shaded image (the names of `argil view
@@ -361,6 +364,10 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
         ..
     } = options;
     check_exposure(exposure)?;
+    // Ctrl-C ends an accumulation after the frame it is drawing, and the mean of the frames
+    // drawn is written.
+    let then = "finishing the frame being drawn, then writing the mean of the frames drawn";
+    let interrupted = (options.accumulate > 1).then(|| interrupt_flag(then)).transpose()?;
     let mut startup = Recorder::new(process_start);
     // Stand-ins take the builtin maps' places until the maps, made beside the warm-up frame
     // below, replace them (src/scene/pending.rs).
@@ -437,7 +444,11 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     }
     startup.record_beside("builtin maps, made during the warm-up frame at a low priority", warmed.making);
     let frame = startup.step("first frame and readback", || {
-        renderer.render_accumulated(&scene, &gpu, extent, display, options.accumulate)
+        let frames = Frames {
+            count: options.accumulate,
+            until: interrupted.as_deref(),
+        };
+        renderer.render_accumulated(&scene, &gpu, extent, display, frames)
     })?;
     startup.first_frame();
     let bad = count_non_finite(&frame.hdr);
@@ -484,6 +495,10 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
             bail!("the validation layer reported {} error(s)", report.error_count());
         }
     }
+    if frame.frames < options.accumulate {
+        let (drawn, of, out) = (frame.frames, options.accumulate, options.out.display());
+        return Err(Interrupted(format!("after {drawn} of {of} frames: {out} holds their mean")).into());
+    }
     Ok(())
 }
 
@@ -505,13 +520,14 @@ impl argil::reference::Progress for ProgressBar {
     }
 }
 
-/// Ctrl-C's flag: set by the first press, which asks the reference to end with its samples.
-fn interrupt_flag() -> Result<Arc<AtomicBool>> {
+/// Ctrl-C's flag: set by the first press, which asks the command to end with the work it
+/// has done, `then` as it says.
+fn interrupt_flag(then: &'static str) -> Result<Arc<AtomicBool>> {
     let flag = Arc::new(AtomicBool::new(false));
     let set = Arc::clone(&flag);
     argil::interrupt::on_ctrl_c(move || {
         set.store(true, Ordering::Relaxed);
-        eprintln!("argil: interrupted: finishing the rows begun, then writing (Ctrl-C again quits at once)");
+        eprintln!("argil: interrupted: {then} (Ctrl-C again quits at once)");
     })?;
     Ok(flag)
 }
@@ -543,7 +559,7 @@ fn reference(
     );
     let progress = ProgressBar {
         bar: bar.clone(),
-        interrupted: interrupt_flag()?,
+        interrupted: interrupt_flag("finishing the rows begun, then writing")?,
     };
     let image = pool.install(|| argil::reference::render(&scene, &settings, &progress))?;
     bar.finish_and_clear();

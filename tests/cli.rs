@@ -872,6 +872,59 @@ fn ctrl_c_closes_the_viewer_with_code_130() {
     assert!(!dir.join("scene.recovered.toml").exists(), "nothing to recover");
 }
 
+/// Ctrl-C in `argil render --accumulate N` ends it after the frame being drawn: the EXR
+/// holds the mean of the K frames drawn (its `argil.frames`), exactly what `--accumulate K`
+/// writes, and the exit code is 130. Sent during the start, it leaves one frame.
+#[test]
+fn ctrl_c_in_an_accumulating_render_writes_the_frames_drawn() {
+    let dir = test_dir("render-ctrl-c");
+    let scene = dir.join("sphere.toml");
+    std::fs::write(&scene, sampled_sphere_toml(16)).expect("write scene");
+    let (out, again) = (dir.join("interrupted.exr"), dir.join("again.exr"));
+    let child = Command::new(env!("CARGO_BIN_EXE_argil"))
+        .args(["render", path_str(&scene), "--out", path_str(&out), "--width", "48", "--height", "32"])
+        .args(["--accumulate", "65536"])
+        .env("ARGIL_VALIDATION", "1")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run argil");
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(kill.success(), "kill -INT");
+    let o = child.wait_with_output().expect("wait for argil");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(err.contains("of 65536 frames") && err.contains("holds their mean"), "{err}");
+    assert!(!err.contains("vulkan validation"), "{err}");
+    let read = |path: &Path| {
+        exr::prelude::read_first_rgba_layer_from_file(
+            path,
+            |resolution, _| vec![[0f32; 4]; resolution.area()],
+            |pixels: &mut Vec<[f32; 4]>, position, (r, g, b, a): (f32, f32, f32, f32)| {
+                pixels[position.y() * 48 + position.x()] = [r, g, b, a];
+            },
+        )
+        .expect("read the EXR")
+        .layer_data
+    };
+    let interrupted = read(&out);
+    let frames = match interrupted.attributes.other.get(&exr::prelude::Text::from("argil.frames")) {
+        Some(exr::prelude::AttributeValue::Text(t)) => t.to_string(),
+        other => panic!("argil.frames: {other:?}"),
+    };
+    let count: u32 = frames.parse().expect("a count");
+    assert!((1..65536).contains(&count), "{count} frames");
+    assert_clean_success(&render_at(&scene, &again, (48, 32), &["--accumulate", &frames]));
+    let pixels = |layer: &exr::prelude::Layer<exr::prelude::SpecificChannels<Vec<[f32; 4]>, _>>| {
+        layer.channel_data.pixels.clone()
+    };
+    assert!(pixels(&interrupted) == pixels(&read(&again)), "not the mean of {count} frames");
+}
+
 /// The scene file is reloaded when it changes on disk: a broken edit is reported and the
 /// last good scene stays on screen; the next good edit is shown, with the camera kept.
 #[test]

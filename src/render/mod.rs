@@ -26,6 +26,6 @@ pub mod warm_up;
 pub use debug_view::DebugView;
 pub use gpu_scene::GpuScene;
 pub use output::{count_non_finite, write_frame};
-pub use renderer::{DisplayOutput, OffscreenFrame, OffscreenTarget, Renderer, PASS_NAMES};
+pub use renderer::{DisplayOutput, Frames, OffscreenFrame, OffscreenTarget, Renderer, PASS_NAMES};
 pub use split::Split;
 pub use target::RenderTarget;

@@ -37,11 +37,15 @@ impl OutputKind {
     }
 }
 
-/// Writes the frame in the format the extension names: `.png` or `.exr`.
+/// Writes the frame in the format the extension names: `.png` or `.exr`, whose header
+/// gives the frames its mean holds (`argil.frames`).
 pub fn write_frame(frame: &OffscreenFrame, path: &Path, existing: Existing) -> Result<()> {
     match OutputKind::of(path)? {
         OutputKind::Png => write_png(path, existing, frame.width, frame.height, &frame.display),
-        OutputKind::Exr => write_exr(path, existing, frame.width, frame.height, &frame.hdr, &[]),
+        OutputKind::Exr => {
+            let attributes = [("argil.frames", frame.frames.to_string())];
+            write_exr(path, existing, frame.width, frame.height, &frame.hdr, &attributes)
+        }
     }
 }
 

@@ -3,6 +3,7 @@
 
 use std::cell::Cell;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -77,6 +78,23 @@ pub struct OffscreenFrame {
     pub display: Vec<u8>,
     /// Milliseconds per pass of [`PASS_NAMES`], when the device has timestamps.
     pub gpu_ms: Option<Vec<f64>>,
+    /// The frames [`Renderer::render_accumulated`] drew for this mean: [`Frames::count`], or
+    /// fewer where [`Frames::until`] ended it (1 as [`Renderer::read_offscreen`] reads it).
+    pub frames: u32,
+}
+
+/// How many frames [`Renderer::render_accumulated`] averages, and a flag (Ctrl-C's) that,
+/// once set, ends it after the frame it is drawing, keeping the mean of those drawn.
+#[derive(Clone, Copy)]
+pub struct Frames<'a> {
+    pub count: u32,
+    pub until: Option<&'a AtomicBool>,
+}
+
+impl From<u32> for Frames<'_> {
+    fn from(count: u32) -> Self {
+        Frames { count, until: None }
+    }
 }
 
 pub struct Renderer {
@@ -618,13 +636,13 @@ impl Renderer {
     /// [`Self::render_offscreen`]'s image), and reads the mean back with the last frame's
     /// GPU times. With `exposure`, also the display image at that exposure; without, the
     /// linear frame alone, and the display transform does not run.
-    pub fn render_accumulated(
+    pub fn render_accumulated<'a>(
         &mut self,
         scene: &Scene,
         gpu: &GpuScene,
         extent: vk::Extent2D,
         exposure: Option<f32>,
-        frames: u32,
+        frames: impl Into<Frames<'a>>,
     ) -> Result<OffscreenFrame> {
         let offscreen = self.offscreen_target(extent, exposure.is_some())?;
         self.render_accumulated_into(scene, gpu, &offscreen, exposure.unwrap_or(1.0), frames)
@@ -648,30 +666,36 @@ impl Renderer {
 
     /// [`Self::render_accumulated`] into `offscreen`, its display image (if it has one) at
     /// `exposure`.
-    pub fn render_accumulated_into(
+    pub fn render_accumulated_into<'a>(
         &mut self,
         scene: &Scene,
         gpu: &GpuScene,
         offscreen: &OffscreenTarget,
         exposure: f32,
-        frames: u32,
+        frames: impl Into<Frames<'a>>,
     ) -> Result<OffscreenFrame> {
-        let accumulation = if frames > 1 {
+        let Frames { count, until } = frames.into();
+        let accumulation = if count > 1 {
             Accumulation::Unlimited
         } else {
             Accumulation::Off
         };
         let accumulation = std::mem::replace(&mut self.accumulation, accumulation);
         self.accumulate.reset();
-        let mut gpu_ms = Ok(None);
-        for _ in 0..frames {
+        let (mut gpu_ms, mut drawn) = (Ok(None), 0);
+        while drawn < count {
             gpu_ms = self.draw_offscreen(scene, gpu, offscreen, exposure);
             if gpu_ms.is_err() {
                 break;
             }
+            drawn += 1;
+            if until.is_some_and(|flag| flag.load(Ordering::Relaxed)) {
+                break;
+            }
         }
         self.accumulation = accumulation;
-        self.read_offscreen(offscreen, gpu_ms?)
+        let frame = self.read_offscreen(offscreen, gpu_ms?)?;
+        Ok(OffscreenFrame { frames: drawn, ..frame })
     }
 
     /// Renders one frame of `scene` into `offscreen`, waits for it, and returns its GPU
@@ -724,6 +748,7 @@ impl Renderer {
             hdr: bytemuck::pod_collect_to_vec(offscreen.hdr_readback.bytes()?),
             display,
             gpu_ms,
+            frames: 1,
         })
     }
 }

@@ -347,6 +347,7 @@ mod tests {
             hdr: [0.2, 0.2, 0.2, 1.0].repeat(n),
             display: [128, 128, 128, 255].repeat(n),
             gpu_ms: None,
+            frames: 1,
         }
     }
 
