@@ -9,10 +9,12 @@
 //! CRC-32 of the payload: SIMD-fast, where FNV-1a took 10 ms of a warm start) and the
 //! payload. A missing, truncated or corrupt entry is computed again and rewritten; a cache
 //! that cannot be written costs only the time, so a failure to write an entry is reported
-//! on stderr (a line an entry) and otherwise ignored.
+//! on stderr (the first of a process, as the others almost always share its cause) and
+//! otherwise ignored.
 
 use std::cell::Cell;
 use std::path::{Path, PathBuf};
+use std::sync::Once;
 
 use xxhash_rust::xxh3::Xxh3;
 
@@ -20,6 +22,10 @@ use crate::atomic::{write_bytes, Existing};
 
 const MAGIC: &[u8; 8] = b"argilc02";
 const HEADER: usize = 32;
+
+/// The one report of an entry that could not be written: a folder that refuses one
+/// refuses every entry of the start, a dozen lines of one cause.
+static WRITE_FAILURE_REPORTED: Once = Once::new();
 
 /// FNV-1a, 64 bits: a stable hash of bytes (`std`'s hashers may change between releases),
 /// which names the bench's references and the fuzzer's findings.
@@ -101,7 +107,11 @@ impl DiskCache {
             .map_err(anyhow::Error::from)
             .and_then(|()| write_bytes(&path, Existing::Replace, &bytes));
         if let Err(e) = written {
-            eprintln!("argil: warning: cannot write the cache entry {}: {e:#}", path.display());
+            WRITE_FAILURE_REPORTED.call_once(|| {
+                let path = path.display();
+                let later = "later ones that fail are not reported";
+                eprintln!("argil: warning: cannot write the cache entry {path}: {e:#}; {later}");
+            });
         }
     }
 

@@ -202,6 +202,24 @@ fn an_output_that_appears_during_the_run_is_not_replaced() {
     assert_eq!((frame.image.width, frame.image.height), (48, 32));
 }
 
+/// A disk cache that refuses every entry costs a start only the time: the frame is
+/// written, and one warning names the first entry that failed and why, not one an entry.
+#[test]
+fn a_cache_that_cannot_be_written_is_reported_once() {
+    let dir = test_dir("unwritable-cache");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "not a folder").expect("write");
+    let cache = file.join("cache");
+    let out = dir.join("frame.png");
+    let args = ["render", "--out", path_str(&out), "--width", "48", "--height", "32"];
+    let o = argil_with(&args, &[("ARGIL_CACHE_DIR", path_str(&cache))]);
+    assert_clean_success(&o);
+    let err = stderr(&o);
+    let warnings: Vec<&str> = err.lines().filter(|l| l.contains("cannot write the cache entry")).collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    assert!(warnings[0].contains(path_str(&cache)), "{err}");
+}
+
 #[test]
 fn devices_lists_at_least_one() {
     let o = argil(&["devices"]);
