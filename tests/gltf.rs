@@ -1362,9 +1362,10 @@ fn broken_samples_are_clear_errors() {
 /// of its texture the offset moves it to (green "U", blue "V", cyan "UV"; without the
 /// offset all three would show the yellow top-left quarter), and the arrows of the rotated
 /// squares point at their green markers: their heads, dark, cover the way to it, where the
-/// way to the markers of an arrow unrotated (yellow) or turned the other way (red) is light.
+/// way to the markers of an arrow unrotated (yellow) or turned the other way (red) is light;
+/// the scaled square's arrow is shrunk towards its texture's corner.
 #[test]
-fn the_texture_transform_sample_shows_its_offsets_and_rotations() {
+fn the_texture_transform_sample_shows_its_offsets_rotations_and_scale() {
     let file = sample("textureTransform/TextureTransformTest.gltf");
     let text = format!(
         "[camera]\nposition = [0.0, 0.0, 4.0]\ntarget = [0.0, 0.0, 0.0]\nfov_y_degrees = 40.0\n\
@@ -1420,6 +1421,15 @@ fn the_texture_transform_sample_shows_its_offsets_and_rotations() {
     // Offset, turned and scaled: its one marker is the correct one.
     let all = dark_toward([1.1, -0.55], [-0.07, -0.25]);
     assert!(all >= 10, "the transformed arrow's dark pixels on the way to its marker: {all}");
+    // Scaled by 1.5 about the texture's corner, the arrow's head (about (0.6, 0.6) of the
+    // texture) moves from (0.1, -0.1) of the square's centre to (-0.1, 0.1), and its tip to
+    // the correct marker.
+    let scaled = |at: [f32; 2]| dark_toward([0.0, -0.55], [at[0] / 0.75, at[1] / 0.75]);
+    let (head, unscaled) = (scaled([-0.1, 0.1]), scaled([0.1, -0.1]));
+    assert!(
+        head >= 10 && unscaled <= 2,
+        "the scaled arrow's dark pixels at its head {head}, where the head would be unscaled {unscaled}"
+    );
 }
 
 /// Khronos' 2CylinderEngine: 34 primitives under 82 nodes of transforms, some meshes drawn
