@@ -40,8 +40,8 @@ pub struct Configuration {
 }
 
 /// A scene with its configurations; its references are of `text`: argil's defaults with
-/// every builtin sphere tessellated at [`REFERENCE_SUBDIVISIONS`], so that one reference
-/// serves every tessellation row.
+/// every builtin sphere tessellated at [`REFERENCE_SUBDIVISIONS`] and every builtin torus at
+/// [`REFERENCE_TORUS_SUBDIVISIONS`], so that one reference serves every tessellation row.
 pub struct BenchScene {
     pub name: &'static str,
     pub text: String,
@@ -113,9 +113,15 @@ const SAMPLED: [u32; 6] = [1, 4, 16, 64, 256, 1024];
 /// Cells along a cube edge of the builtin spheres of the `sphere-N` configurations
 /// (argil's default, 32, is the scenes' own rows).
 const SPHERE_SUBDIVISIONS: [u32; 4] = [8, 16, 64, 128];
+/// Cells around the ring of the builtin tori of the `torus-N` configurations (argil's
+/// default, 128, is the scene's own rows).
+const TORUS_SUBDIVISIONS: [u32; 3] = [32, 64, 256];
 /// The references' builtin spheres: cells π/512 across at most (1.5 M triangles), whose
 /// interpolated normals are within ≈ (π/512)²/8 ≈ 5e-6 rad of the exact sphere's.
 pub const REFERENCE_SUBDIVISIONS: u32 = 256;
+/// The references' builtin tori: cells 2π/1024 around the ring and about as much around the
+/// tube (0.8 M triangles), as close to the exact torus's normals as the spheres'.
+pub const REFERENCE_TORUS_SUBDIVISIONS: u32 = 1024;
 
 /// Every scene and configuration of a full run, or the `--quick` subset; `sky` is the
 /// equirectangular map of the `sphere-sky` scene, which is left out without one.
@@ -229,9 +235,10 @@ pub fn configuration_names() -> Vec<String> {
         .chain(&ANTIALIASING_CONFIGURATIONS)
         .chain(&OCCLUSION_CONFIGURATIONS);
     names.extend(others.map(|n| (*n).to_owned()));
-    // The ball's tessellation: on a software rasteriser each triangle shades whole blocks
-    // of pixels, so finer meshes cost shading, not only vertices.
+    // The ball's and the ring's tessellations: on a software rasteriser each triangle
+    // shades whole blocks of pixels, so finer meshes cost shading, not only vertices.
     names.extend(SPHERE_SUBDIVISIONS.iter().map(|n| format!("sphere-{n}")));
+    names.extend(TORUS_SUBDIVISIONS.iter().map(|n| format!("torus-{n}")));
     names
 }
 
@@ -393,7 +400,7 @@ fn bench_scene(
                 text: configured(file, c)?.to_toml()?,
                 floor: is_floor(c),
                 generic: is_generic(c),
-                own_meshes: !is_tessellation(c),
+                own_meshes: tessellated(c).is_none(),
                 resolutions: sizes(c),
             })
         })
@@ -409,7 +416,8 @@ fn bench_scene(
         floor.resolutions = floor_sizes;
     }
     let mut reference = file.clone();
-    set_sphere_subdivisions(&mut reference, REFERENCE_SUBDIVISIONS);
+    set_subdivisions(&mut reference, SPHERE, REFERENCE_SUBDIVISIONS);
+    set_subdivisions(&mut reference, TORUS, REFERENCE_TORUS_SUBDIVISIONS);
     Ok(BenchScene {
         name,
         text: reference.to_toml()?,
@@ -422,9 +430,16 @@ pub fn is_floor(name: &str) -> bool {
     name == FLOOR
 }
 
-/// Whether configuration `name` retessellates the builtin spheres (`sphere-N`).
-fn is_tessellation(name: &str) -> bool {
-    name.starts_with("sphere-")
+/// The builtin meshes whose `subdivisions` the `sphere-N` and `torus-N` configurations set.
+const SPHERE: &str = "builtin:sphere";
+const TORUS: &str = "builtin:torus";
+
+/// The builtin mesh that configuration `name` retessellates (`sphere-N`, `torus-N`), and
+/// the prefix of its rows.
+fn tessellated(name: &str) -> Option<(&'static str, &'static str)> {
+    [(SPHERE, "sphere-"), (TORUS, "torus-")]
+        .into_iter()
+        .find(|(_, prefix)| name.starts_with(prefix))
 }
 
 /// Whether configuration `name` is drawn with the generic pipelines.
@@ -437,8 +452,8 @@ pub fn is_generic(name: &str) -> bool {
 /// on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
 /// without subsurface scattering, material maps or environment, `maps-off` every map at
 /// strength 0, `smith-separable` the separable G, `energy-compensation` every specular lobe
-/// energy-compensated, `sphere-N` builtin spheres of N cells
-/// along each cube edge, the shadow and anti-aliasing
+/// energy-compensated, `sphere-N` builtin spheres of N cells along each cube edge,
+/// `torus-N` builtin tori of N cells around the ring, the shadow and anti-aliasing
 /// configurations as their constants say; `generic-NAME` is NAME drawn with the generic
 /// pipelines, `seed-NAME` an anti-aliasing configuration NAME with `seed` reflection.
 pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
@@ -521,8 +536,8 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
                     .and_then(|n| n.parse().ok())
                     .with_context(|| format!("unknown bench configuration {name:?}"))
             };
-            if is_tessellation(name) {
-                set_sphere_subdivisions(&mut file, number("sphere-")?);
+            if let Some((mesh, prefix)) = tessellated(name) {
+                set_subdivisions(&mut file, mesh, number(prefix)?);
             } else {
                 set_reflection(
                     &mut file.environment,
@@ -639,9 +654,9 @@ fn objects_configured(file: &mut SceneFile, name: &str) {
     file.occlusion.get_or_insert_with(Default::default).objects = Some(true);
 }
 
-fn set_sphere_subdivisions(file: &mut SceneFile, n: u32) {
+fn set_subdivisions(file: &mut SceneFile, mesh: &str, n: u32) {
     for object in &mut file.objects {
-        if object.mesh == "builtin:sphere" {
+        if object.mesh == mesh {
             object.subdivisions = Some(n);
         }
     }
@@ -693,6 +708,29 @@ mod tests {
         }
         let own = lambert.configurations.iter().find(|c| c.name == DEFAULTS).unwrap();
         assert_eq!(spheres(&own.text), [None]);
+    }
+
+    /// The default scene's torus rows vary its ring alone, and its references draw the
+    /// fine sphere and the fine torus.
+    #[test]
+    fn torus_rows_vary_the_ring_and_references_use_the_fine_one() {
+        let default = scenes(false, None).unwrap().remove(0);
+        let subdivisions = |text: &str| {
+            let file: SceneFile = toml::from_str(text).unwrap();
+            file.objects
+                .iter()
+                .filter(|o| o.mesh == SPHERE || o.mesh == TORUS)
+                .map(|o| (o.mesh.clone(), o.subdivisions))
+                .collect::<Vec<_>>()
+        };
+        let both = |sphere, torus| vec![(SPHERE.to_owned(), sphere), (TORUS.to_owned(), torus)];
+        let fine = both(Some(REFERENCE_SUBDIVISIONS), Some(REFERENCE_TORUS_SUBDIVISIONS));
+        assert_eq!(subdivisions(&default.text), fine);
+        for n in TORUS_SUBDIVISIONS {
+            let row = default.configurations.iter().find(|c| c.name == format!("torus-{n}")).unwrap();
+            assert_eq!(subdivisions(&row.text), both(None, Some(n)));
+            assert!(!row.own_meshes);
+        }
     }
 
     #[test]

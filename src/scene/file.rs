@@ -237,8 +237,9 @@ pub struct ObjectDef {
     /// A key of `[materials]`; absent means the built-in neutral material.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
-    /// `builtin:sphere` only: cells along each edge of its cube; absent means
-    /// `SPHERE_SUBDIVISIONS`.
+    /// `builtin:sphere`: cells along each edge of its cube, absent meaning
+    /// `SPHERE_SUBDIVISIONS`; `builtin:torus`: cells around its ring, absent meaning
+    /// `TORUS_SUBDIVISIONS`; no other mesh has the key.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub subdivisions: Option<u32>,
 }

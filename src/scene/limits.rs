@@ -26,6 +26,9 @@ pub const MAX_MESH_TRIANGLES: u64 = 10_000_000;
 /// `subdivisions` of a `builtin:sphere` object, cells along each edge of its cube: 512 makes
 /// 6 × 2 × 512² = 3.1 M triangles (82 MB of vertices), far finer than any frame resolves.
 pub const SPHERE_SUBDIVISIONS_RANGE: std::ops::RangeInclusive<u32> = 1..=512;
+/// `subdivisions` of a `builtin:torus` object, cells around its ring (3/8 as many around its
+/// tube): 2048 makes 2 × 2048 × 768 = 3.1 M triangles, as the sphere's largest does.
+pub const TORUS_SUBDIVISIONS_RANGE: std::ops::RangeInclusive<u32> = 3..=2048;
 /// OBJ files, read whole before parsing: 10⁷ triangles and their vertices in text.
 pub const MAX_OBJ_BYTES: u64 = 1 << 30;
 /// glTF models (.gltf, .glb) and each of their buffer files, read whole: 10⁷ indexed

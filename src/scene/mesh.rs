@@ -1,8 +1,10 @@
 use std::f32::consts::TAU;
+use std::ops::RangeInclusive;
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 
+use super::limits::{SPHERE_SUBDIVISIONS_RANGE, TORUS_SUBDIVISIONS_RANGE};
 use super::{curvature, tangents, SceneError};
 
 /// One vertex as the vertex shader reads it (52 bytes, no padding).
@@ -39,8 +41,8 @@ pub struct Mesh {
     pub name: String,
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,
-    /// `builtin:sphere`'s cells along each cube edge (its `subdivisions` key); `None` for
-    /// every other mesh.
+    /// The `subdivisions` key of a `builtin:sphere` (cells along each cube edge) or a
+    /// `builtin:torus` (cells around its ring); `None` for every other mesh.
     pub subdivisions: Option<u32>,
 }
 
@@ -61,14 +63,21 @@ pub struct MeshExtent {
 /// Prefix of the mesh names that [`Mesh::builtin`] understands.
 pub const BUILTIN_PREFIX: &str = "builtin:";
 
-/// Tessellation of `builtin:sphere` (cells along each cube edge: 4 × 32 = 128 around the
-/// equator) and `builtin:torus`: fine enough that silhouettes stay smooth at 1080p when the
-/// object fills the view.
+/// Default tessellation of `builtin:sphere` (cells along each cube edge: 4 × 32 = 128 around
+/// the equator) and `builtin:torus` (cells around its ring, and [`torus_sides`] around its
+/// tube: 48): fine enough that silhouettes stay smooth at 1080p when the object fills the
+/// view. Their `subdivisions` key sets them per object.
 pub const SPHERE_SUBDIVISIONS: u32 = 32;
+pub const TORUS_SUBDIVISIONS: u32 = 128;
 /// `builtin:torus`'s ring and tube radii.
 pub const TORUS_RADII: (f32, f32) = (1.0, 0.35);
-const TORUS_SEGMENTS: u32 = 128;
-const TORUS_SIDES: u32 = 48;
+
+/// Cells around `builtin:torus`'s tube for `segments` around its ring: 3/8 as many (at least
+/// 3), which keeps its cells about square, 2π/n long on the centre line and 2π · 0.35 / (3n/8)
+/// = 0.93 × 2π/n across.
+fn torus_sides(segments: u32) -> u32 {
+    ((3 * segments + 4) / 8).max(3)
+}
 
 /// Upper bound on either tessellation count of a torus, and on a sphere's cells along a
 /// cube edge (6 × 2 × 4096² triangles), keeping vertex counts and u32 indices far from
@@ -80,10 +89,34 @@ impl Mesh {
     /// `builtin:plane` or `builtin:cube`), or `None` for any other name.
     pub fn builtin(name: &str) -> Option<Mesh> {
         match name.strip_prefix(BUILTIN_PREFIX)? {
-            "sphere" => Some(Mesh::sphere(SPHERE_SUBDIVISIONS)),
-            "torus" => Some(Mesh::torus(TORUS_RADII.0, TORUS_RADII.1, TORUS_SEGMENTS, TORUS_SIDES)),
             "plane" => Some(Mesh::plane()),
             "cube" => Some(Mesh::cube()),
+            _ => Mesh::subdivided(name, Mesh::subdivisions_key(name)?.0),
+        }
+    }
+
+    /// The `subdivisions` key of the builtin mesh called `name`, if it has one
+    /// (`builtin:sphere`, `builtin:torus`): its default and its range.
+    pub fn subdivisions_key(name: &str) -> Option<(u32, RangeInclusive<u32>)> {
+        match name.strip_prefix(BUILTIN_PREFIX)? {
+            "sphere" => Some((SPHERE_SUBDIVISIONS, SPHERE_SUBDIVISIONS_RANGE)),
+            "torus" => Some((TORUS_SUBDIVISIONS, TORUS_SUBDIVISIONS_RANGE)),
+            _ => None,
+        }
+    }
+
+    /// The builtin mesh called `name` at `subdivisions`, if it has the key.
+    pub fn subdivided(name: &str, subdivisions: u32) -> Option<Mesh> {
+        match name.strip_prefix(BUILTIN_PREFIX)? {
+            "sphere" => Some(Mesh::sphere(subdivisions)),
+            "torus" => {
+                let (major, minor) = TORUS_RADII;
+                let torus = Mesh::torus(major, minor, subdivisions, torus_sides(subdivisions));
+                Some(Mesh {
+                    subdivisions: Some(subdivisions),
+                    ..torus
+                })
+            }
             _ => None,
         }
     }

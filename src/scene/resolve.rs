@@ -18,9 +18,8 @@ use super::light::{
     Reflection, ReflectionMode, DEFAULT_SHADOW_RESOLUTION, DEFAULT_SHADOW_TAPS, SHADOW_RESOLUTION_RANGE,
     SHADOW_TAPS_RANGE,
 };
-use super::limits::{check_environment_map, MAX_LIGHTS, MAX_OBJECTS, SPHERE_SUBDIVISIONS_RANGE};
+use super::limits::{check_environment_map, MAX_LIGHTS, MAX_OBJECTS};
 use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
-use super::mesh::SPHERE_SUBDIVISIONS;
 use super::{
     builtin_texture, decode_texture, gltf, load_texture, procedural, BuiltinMaps, Camera, Environment, MapRef,
     Material, MaterialMaps, Mesh, Object, Occlusion, PointLight, Scene, SceneError, SceneFile, TextureData,
@@ -228,7 +227,7 @@ pub(super) fn resolve(
             ));
         }
         // The default count is the builtin itself, so both spellings share one mesh.
-        let subdivisions = subdivisions(&check, i, object)?.filter(|&n| n != SPHERE_SUBDIVISIONS);
+        let subdivisions = subdivisions(&check, i, object)?;
         // Meshes load last, so cheap mistakes are reported without waiting
         // for a large OBJ.
         let key = (object.mesh.as_str(), subdivisions);
@@ -236,8 +235,8 @@ pub(super) fn resolve(
             Some(parts) => Vec::clone(parts),
             None => {
                 let field = format!("objects[{i}].mesh");
-                let loaded = match subdivisions {
-                    Some(n) => Loaded::one(Mesh::sphere(n)),
+                let loaded = match subdivisions.and_then(|n| Mesh::subdivided(&object.mesh, n)) {
+                    Some(mesh) => Loaded::one(mesh),
                     None => load_mesh(&check, &field, &object.mesh, base_dir, &mut warnings)?,
                 };
                 requests.embedded.extend(loaded.images);
@@ -333,21 +332,22 @@ fn shadows_def(scene: &Scene) -> Option<ShadowsDef> {
     (def != ShadowsDef::default()).then_some(def)
 }
 
-/// Object `i`'s `subdivisions`: `None` without the key, else the count, checked to be in
-/// range and on a `builtin:sphere`.
+/// Object `i`'s `subdivisions`: `None` without the key or at the mesh's default, else the
+/// count, checked to be in the range of a `builtin:sphere` or a `builtin:torus`.
 fn subdivisions(check: &Checker, i: usize, object: &ObjectDef) -> Result<Option<u32>, SceneError> {
     let Some(n) = object.subdivisions else {
         return Ok(None);
     };
     let field = format!("objects[{i}].subdivisions");
-    if object.mesh != "builtin:sphere" {
+    let Some((default, range)) = Mesh::subdivisions_key(&object.mesh) else {
         let reason = format!(
-            "only a builtin:sphere has subdivisions; this object's mesh is {:?}",
+            "only a builtin:sphere or a builtin:torus has subdivisions; this object's mesh is {:?}",
             object.mesh
         );
         return Err(check.invalid(&field, n, reason));
-    }
-    check.integer_in(&field, n, SPHERE_SUBDIVISIONS_RANGE).map(Some)
+    };
+    let n = check.integer_in(&field, n, range)?;
+    Ok((n != default).then_some(n))
 }
 
 fn shadow_resolution(check: &Checker, def: Option<&ShadowsDef>) -> Result<u32, SceneError> {
@@ -832,9 +832,11 @@ pub(super) fn to_file(scene: &Scene, file: Option<&Path>) -> SceneFile {
                 position: widen3(object.position),
                 scale: widen(object.scale),
                 material: (!object.material_from_model).then(|| scene.materials[object.material].name.clone()),
-                subdivisions: scene.meshes[object.mesh]
-                    .subdivisions
-                    .filter(|&n| n != SPHERE_SUBDIVISIONS),
+                subdivisions: {
+                    let mesh = &scene.meshes[object.mesh];
+                    let default = Mesh::subdivisions_key(&mesh.name).map(|(n, _)| n);
+                    mesh.subdivisions.filter(|&n| Some(n) != default)
+                },
             })
             .collect(),
         // A model's own materials come from the model when the file loads again.

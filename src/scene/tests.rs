@@ -345,28 +345,35 @@ fn out_of_range_values_name_the_field() {
         ("[[objects]]\nmesh = \"builtin:cone\"", "objects[1].mesh = \"builtin:cone\": unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube"),
         ("[[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 0", "objects[1].subdivisions = 0: must be an integer in [1, 512]"),
         ("[[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 513", "objects[1].subdivisions = 513: must be an integer in [1, 512]"),
-        ("[[objects]]\nmesh = \"builtin:torus\"\nsubdivisions = 8", "objects[1].subdivisions = 8: only a builtin:sphere has subdivisions; this object's mesh is \"builtin:torus\""),
+        ("[[objects]]\nmesh = \"builtin:torus\"\nsubdivisions = 2", "objects[1].subdivisions = 2: must be an integer in [3, 2048]"),
+        ("[[objects]]\nmesh = \"builtin:cube\"\nsubdivisions = 8", "objects[1].subdivisions = 8: only a builtin:sphere or a builtin:torus has subdivisions; this object's mesh is \"builtin:cube\""),
     ];
     for (extra, expected) in cases {
         assert_eq!(error(&format!("{CUBE}{extra}\n")), format!("scene.toml: {expected}"));
     }
 }
 
-/// Spheres of different `subdivisions` are different meshes, each object keeps its own,
-/// and the count is saved only where it is not the default.
+/// Spheres and tori of different `subdivisions` are different meshes, each object keeps
+/// its own, and the count is saved only where it is not the mesh's default.
 #[test]
-fn sphere_subdivisions_are_per_object_and_saved() {
+fn subdivisions_are_per_object_and_saved() {
     let text = "[[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 4\n\
                 [[objects]]\nmesh = \"builtin:sphere\"\n\
                 [[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 4\n\
-                [[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 32\n";
+                [[objects]]\nmesh = \"builtin:sphere\"\nsubdivisions = 32\n\
+                [[objects]]\nmesh = \"builtin:torus\"\nsubdivisions = 64\n\
+                [[objects]]\nmesh = \"builtin:torus\"\nsubdivisions = 128\n";
     let scene = parse(text).unwrap();
     let meshes: Vec<usize> = scene.objects.iter().map(|o| o.mesh).collect();
-    assert_eq!(meshes, [0, 1, 0, 1]);
+    assert_eq!(meshes, [0, 1, 0, 1, 2, 3]);
     assert_eq!(scene.meshes[0].indices.len(), 6 * 6 * 4 * 4);
     assert_eq!(scene.meshes[1], Mesh::builtin("builtin:sphere").unwrap());
+    // 64 cells around the ring, 24 around the tube, two triangles each.
+    assert_eq!(scene.meshes[2].indices.len(), 3 * 2 * 64 * 24);
+    assert_eq!(scene.meshes[3], Mesh::builtin("builtin:torus").unwrap());
+    assert_eq!(scene.meshes[3].indices.len(), 3 * 2 * 128 * 48);
     let saved: Vec<Option<u32>> = scene.to_file().objects.iter().map(|o| o.subdivisions).collect();
-    assert_eq!(saved, [Some(4), None, Some(4), None]);
+    assert_eq!(saved, [Some(4), None, Some(4), None, Some(64), None]);
 }
 
 #[test]
