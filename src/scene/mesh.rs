@@ -76,7 +76,8 @@ pub const TORUS_RADII: (f32, f32) = (1.0, 0.35);
 /// 3), which keeps its cells about square, 2π/n long on the centre line and 2π · 0.35 / (3n/8)
 /// = 0.93 × 2π/n across.
 fn torus_sides(segments: u32) -> u32 {
-    ((3 * segments + 4) / 8).max(3)
+    let sides = (3 * u64::from(segments) + 4) / 8;
+    u32::try_from(sides).unwrap_or(u32::MAX).max(3)
 }
 
 /// Upper bound on either tessellation count of a torus, and on a sphere's cells along a
@@ -819,6 +820,9 @@ mod tests {
         assert_frames(&torus);
         let huge = Mesh::torus(1.0, 0.3, u32::MAX, 2);
         assert_eq!(huge.vertices.len(), 4097 * 3);
+        // The builtin's tube keeps 3/8 of its ring's cells, and at least 3.
+        assert_eq!([1, 3, 9, 64, 128].map(torus_sides), [3, 3, 3, 24, 48]);
+        assert_eq!(torus_sides(u32::MAX), (3 * u64::from(u32::MAX) / 8 + 1) as u32);
     }
 
     #[test]
