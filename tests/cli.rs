@@ -203,7 +203,7 @@ fn an_output_that_appears_during_the_run_is_not_replaced() {
 }
 
 /// A disk cache that refuses every entry costs a start only the time: the frame is
-/// written, and one warning names the first entry that failed and why, not one an entry.
+/// written, and one warning names the first entry that failed, not one an entry.
 #[test]
 fn a_cache_that_cannot_be_written_is_reported_once() {
     let dir = test_dir("unwritable-cache");
