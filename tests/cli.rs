@@ -913,7 +913,9 @@ fn ctrl_c_in_an_accumulating_render_writes_the_frames_drawn() {
         .status()
         .expect("run kill");
     assert!(kill.success(), "kill -INT");
-    let o = child.wait_with_output().expect("wait for argil");
+    // Unheard, the signal would leave the frames to draw: the run would end with code 0,
+    // or be stopped at HANG, and fail either way.
+    let o = common::wait(child, "argil render --accumulate 65536 after SIGINT");
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(130), "{err}");
     assert!(err.contains("of 65536 frames") && err.contains("holds their mean"), "{err}");

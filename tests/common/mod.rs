@@ -193,6 +193,12 @@ pub fn run(mut command: Command) -> Output {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("run argil");
+    wait(child, &format!("{command:?}"))
+}
+
+/// The output of `child` (`what` names it), once it ends; fails if it runs for more than
+/// [`HANG`].
+pub fn wait(child: std::process::Child, what: &str) -> Output {
     let pid = child.id();
     let (done, output) = std::sync::mpsc::channel();
     std::thread::spawn(move || done.send(child.wait_with_output()));
@@ -201,7 +207,7 @@ pub fn run(mut command: Command) -> Output {
         Err(_) => {
             // Only the process this test started, by its id.
             let _ = Command::new("kill").args(["-9", &pid.to_string()]).status();
-            panic!("{command:?} still running after {HANG:?}: it hangs");
+            panic!("{what} still running after {HANG:?}: it hangs");
         }
     }
 }
