@@ -31,9 +31,8 @@ an argument, --device, ARGIL_FAULT, an output that exists without --overwrite or
 is missing or unwritable), and nothing was written; 1 argil or the machine failed (no Vulkan \
 driver, the device lost, out of memory, an I/O error while writing); 130 interrupted by Ctrl-C, \
 SIGTERM or SIGHUP (reference writes the samples taken, render --accumulate the mean of the frames \
-drawn, view the scene's changes not saved). \
-Outputs are written to a \
-temporary file and renamed, so a failed run with --overwrite leaves the previous file as it was.
+drawn, view the scene's changes not saved). Outputs are written to a temporary file and renamed, \
+so a failed run with --overwrite leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
 the N-th GPU allocation (alloc), queue submission (submit, device-lost), present (present: \
