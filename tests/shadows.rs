@@ -335,6 +335,41 @@ fn shadow_maps_render_only_when_the_scene_changes() {
     });
 }
 
+/// A draft (the viewer's frames while in use on a slow device) whose light moved does not
+/// compute the ground's shadow map: the ground finds its shadows at its pixels, the frame
+/// bit for bit the one without the map. The next frame that is not a draft computes the
+/// map, and a draft with the light still reads it, computing nothing.
+#[test]
+fn a_draft_with_a_moved_light_shadows_the_ground_at_its_pixels() {
+    let mut s = scene(&plane_scene("radius = 0.2", SPHERE));
+    gpu().exclusive(|renderer| {
+        let gpu_scene = renderer.upload(&s).expect("upload");
+        let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
+        let frame = |renderer: &mut argil::render::Renderer, s: &argil::scene::Scene, draft: bool| {
+            renderer.draft = draft;
+            let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0);
+            renderer.draft = false;
+            renderer.read_offscreen(&offscreen, ms.expect("draw")).expect("read").hdr
+        };
+        let still = frame(renderer, &s, false);
+        let computed = renderer.ground_shadow_renders();
+        assert_eq!(frame(renderer, &s, true), still, "a draft with the light still reads the map");
+        s.lights[0].position.x += 0.25;
+        let moved = frame(renderer, &s, true);
+        assert_eq!(renderer.ground_shadow_renders(), computed, "a draft leaves the map out of date");
+        let without_map = argil::scene::Scene {
+            shadow_ground_map: false,
+            ..s.clone()
+        };
+        assert_eq!(moved, frame(renderer, &without_map, false), "the ground's shadows at its pixels");
+        let full = frame(renderer, &s, false);
+        assert_eq!(renderer.ground_shadow_renders(), computed + 1);
+        assert_ne!(full, moved, "the map smooths the penumbra");
+        assert_eq!(frame(renderer, &s, true), full);
+        assert_eq!(renderer.ground_shadow_renders(), computed + 1);
+    });
+}
+
 /// Pixels of the ground wholly on one side of the sphere's exact shadow (centre and
 /// corners): (index, inside the umbra).
 fn ground_sides() -> Vec<(usize, bool)> {

@@ -244,6 +244,22 @@ struct Prepared<'a> {
     gpu: GpuScene,
     full: Metrics,
     shadows: Metrics,
+    /// Whether [`Prepared::move_light`] left the light a step out.
+    light_moved: bool,
+}
+
+/// How far [`Prepared::move_light`] moves the light, in metres: a drag's step.
+const LIGHT_STEP: f32 = 0.01;
+
+impl Prepared<'_> {
+    /// Moves the first light along x, one step out and the next back, so that each frame
+    /// sees it moved and the row's frames stay about the scene as written.
+    fn move_light(&mut self) {
+        if let Some(light) = self.scene.lights.first_mut() {
+            self.light_moved = !self.light_moved;
+            light.position.x += if self.light_moved { LIGHT_STEP } else { -LIGHT_STEP };
+        }
+    }
 }
 
 /// Times and measures every configuration of `scene`.
@@ -270,6 +286,7 @@ fn bench_scene(
         let gpu = renderer.upload(&parsed)?;
         renderer.floor = configuration.floor;
         renderer.generic = configuration.generic;
+        renderer.draft = configuration.draft;
         let error_frame = frame(renderer, &parsed, &gpu, spec.extent)?;
         let [full, shadows] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
         prepared.push(Prepared {
@@ -279,6 +296,7 @@ fn bench_scene(
             gpu,
             full: full?,
             shadows: shadows?,
+            light_moved: false,
         });
     }
     // Each row's times, then its ratios to the floor frames of the rows at its size.
@@ -289,10 +307,10 @@ fn bench_scene(
         }
     }
     for extent in extents {
-        let at_size: Vec<&Prepared> =
-            prepared.iter().filter(|p| p.configuration.resolutions.contains(&extent)).collect();
-        let timings = time_in_turns(renderer, &at_size, extent, options)?;
-        let mut measured: Vec<(&Prepared, Timing)> = at_size.into_iter().zip(timings).collect();
+        let mut at_size: Vec<&mut Prepared> =
+            prepared.iter_mut().filter(|p| p.configuration.resolutions.contains(&extent)).collect();
+        let timings = time_in_turns(renderer, &mut at_size, extent, options)?;
+        let mut measured: Vec<(&mut Prepared, Timing)> = at_size.into_iter().zip(timings).collect();
         for (p, timing) in &measured {
             eprintln!(
                 "{} {} {}x{}: GPU {:.2} ms, work {:.2} ms",
@@ -329,6 +347,7 @@ fn bench_scene(
     }
     renderer.floor = false;
     renderer.generic = false;
+    renderer.draft = false;
     Ok(())
 }
 
@@ -463,14 +482,18 @@ const TURNS: u32 = 5;
 /// time of the process meanwhile.
 fn time_in_turns(
     renderer: &mut Renderer,
-    rows: &[&Prepared],
+    rows: &mut [&mut Prepared],
     extent: vk::Extent2D,
     options: &Options,
 ) -> Result<Vec<Timing>> {
     let offscreen = OffscreenTarget::new(&renderer.device, extent)?;
-    let draw = |renderer: &mut Renderer, row: &Prepared, as_floor: bool| -> Result<FrameTimes> {
+    let draw = |renderer: &mut Renderer, row: &mut Prepared, as_floor: bool| -> Result<FrameTimes> {
+        if row.configuration.moving_light && !as_floor {
+            row.move_light();
+        }
         renderer.floor = as_floor;
         renderer.generic = row.configuration.generic;
+        renderer.draft = row.configuration.draft && !as_floor;
         let (wall, work) = (Instant::now(), cpu_time::ProcessTime::now());
         let gpu = renderer
             .draw_offscreen(&row.scene, &row.gpu, &offscreen, 1.0)?
@@ -491,7 +514,7 @@ fn time_in_turns(
             order.reverse();
         }
         for i in order {
-            let (row, record) = (rows[i], &mut recorded[i]);
+            let (row, record) = (&mut *rows[i], &mut recorded[i]);
             if record.frames() >= options.frames {
                 continue;
             }

@@ -6,6 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use ash::vk;
 
+use crate::viewer::responsive::REDUCED_SCALE;
 use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, MapDef, ObjectDef, SceneFile};
 use crate::scene::{
     DiffuseModel, Distribution, Geometry, Horizon, MapSlot, ReflectionMode, SpecularModel, Subsurface,
@@ -22,6 +23,13 @@ pub const FLOOR: &str = "floor";
 pub const DEFAULTS: &str = "split-sum";
 /// argil's defaults through the generic pipeline: what specialising to the frame saves.
 pub const GENERIC: &str = "generic";
+/// argil's defaults with the first light moved before every timed frame, as a drag in the
+/// viewer moves it: what the shadow maps, the ground's maps and the bounce at the vertices
+/// cost when they follow the light.
+pub const LIGHT_MOVING: &str = "light-moving";
+/// [`LIGHT_MOVING`] drawn as the viewer draws while a slow device's light is dragged: at
+/// 1/`REDUCED_SCALE` of the headline's size, a draft (`Renderer::draft`).
+pub const LIGHT_MOVING_DRAFT: &str = "light-moving-draft";
 
 /// One way of rendering a scene.
 pub struct Configuration {
@@ -35,6 +43,10 @@ pub struct Configuration {
     /// Draws the scene's own meshes, so its floor frames are the scene's floor
     /// (`Floor::pooled`); a tessellation row's are of other meshes.
     pub own_meshes: bool,
+    /// Moves the first light before each of its timed frames ([`LIGHT_MOVING`]).
+    pub moving_light: bool,
+    /// Drawn as drafts ([`LIGHT_MOVING_DRAFT`]).
+    pub draft: bool,
     /// Frame sizes it is timed at; the first is the headline.
     pub resolutions: Vec<vk::Extent2D>,
 }
@@ -106,6 +118,11 @@ const SMALL: vk::Extent2D = vk::Extent2D {
 const LARGE: vk::Extent2D = vk::Extent2D {
     width: 1920,
     height: 1080,
+};
+/// The headline frame as the viewer draws it while in use on a slow device.
+const VIEWER_REDUCED: vk::Extent2D = vk::Extent2D {
+    width: HEADLINE.width / REDUCED_SCALE,
+    height: HEADLINE.height / REDUCED_SCALE,
 };
 pub const QUICK: vk::Extent2D = vk::Extent2D { width: 160, height: 90 };
 /// Environment lookups per pixel of the `sampled` configurations.
@@ -226,6 +243,8 @@ pub fn configuration_names() -> Vec<String> {
         "generic-no-objects",
         "no-ground-map",
         "per-pixel",
+        LIGHT_MOVING,
+        LIGHT_MOVING_DRAFT,
     ];
     let mut names: Vec<String> = base.map(str::to_owned).into();
     names.extend(SAMPLED.iter().map(|n| format!("sampled-{n}")));
@@ -382,6 +401,9 @@ fn resolutions(name: &str, scaling: bool) -> Vec<vk::Extent2D> {
         "sampled-256" | "sampled-1024" => vec![SMALL],
         // Cost against pixels: argil's defaults at a smaller and a larger size.
         DEFAULTS if scaling => vec![HEADLINE, SMALL, LARGE],
+        // And at the size the viewer draws while a slow device's light is dragged.
+        LIGHT_MOVING => vec![HEADLINE, VIEWER_REDUCED],
+        LIGHT_MOVING_DRAFT => vec![VIEWER_REDUCED],
         _ => vec![HEADLINE],
     }
 }
@@ -401,6 +423,8 @@ fn bench_scene(
                 floor: is_floor(c),
                 generic: is_generic(c),
                 own_meshes: tessellated(c).is_none(),
+                moving_light: moves_the_light(c),
+                draft: c == LIGHT_MOVING_DRAFT,
                 resolutions: sizes(c),
             })
         })
@@ -442,14 +466,20 @@ fn tessellated(name: &str) -> Option<(&'static str, &'static str)> {
         .find(|(_, prefix)| name.starts_with(prefix))
 }
 
+/// Whether configuration `name` moves the light between frames (see
+/// [`Configuration::moving_light`]).
+pub fn moves_the_light(name: &str) -> bool {
+    [LIGHT_MOVING, LIGHT_MOVING_DRAFT].contains(&name)
+}
+
 /// Whether configuration `name` is drawn with the generic pipelines.
 pub fn is_generic(name: &str) -> bool {
     name == GENERIC || name.starts_with("generic-")
 }
 
-/// `file` edited for configuration `name`: `split-sum` and `floor` are argil's defaults,
-/// `seed` the report's reflection alone, `report` its reflection, horizon and subsurface
-/// on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
+/// `file` edited for configuration `name`: `split-sum`, `floor` and `light-moving(-draft)`
+/// are argil's defaults, `seed` the report's reflection alone, `report` its reflection, horizon
+/// and subsurface on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
 /// without subsurface scattering, material maps or environment, `maps-off` every map at
 /// strength 0, `smith-separable` the separable G, `energy-compensation` every specular lobe
 /// energy-compensated, `sphere-N` builtin spheres of N cells along each cube edge,
@@ -465,7 +495,7 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     }
     let name = name.strip_prefix("generic-").unwrap_or(name);
     match name {
-        FLOOR | GENERIC | DEFAULTS => {}
+        FLOOR | GENERIC | DEFAULTS | LIGHT_MOVING | LIGHT_MOVING_DRAFT => {}
         "seed" => set_reflection(&mut file.environment, ReflectionMode::Seed, None),
         REPORT => {
             set_reflection(&mut file.environment, ReflectionMode::Seed, None);

@@ -468,32 +468,18 @@ impl GroundMaps {
         inputs: &MapInputs,
     ) -> Result<()> {
         self.specialize(scene, occlusion_ground, shadow_ground);
-        // A map's inputs bit for bit, the ground's square first, and the generation of the
-        // images it reads.
-        let key = |ground: &Object, inputs: &mut dyn Iterator<Item = f32>, generation: u64| -> Vec<u32> {
-            let square = ground.position.extend(ground.scale).to_array();
-            let bits = square.into_iter().chain(inputs).map(f32::to_bits);
-            bits.chain([generation as u32, (generation >> 32) as u32]).collect()
-        };
         let light_key = scene.bounce_ground().map(|ground| {
             let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
             let lights = lights.flat_map(|l| [l.position, l.intensity]).flat_map(|v| v.to_array());
-            key(ground, &mut lights.into_iter(), shadow_generation)
+            map_key(ground, lights, shadow_generation)
         });
         self.light.prepare(light_key);
         let occlusion_key = occlusion_ground.map(|index| {
             let spheres = occluders.iter().flat_map(|s| [s.centre.extend(s.radius), s.albedo.extend(0.0)]);
-            key(&scene.objects[index], &mut spheres.flat_map(|v| v.to_array()), environment_generation)
+            map_key(&scene.objects[index], spheres.flat_map(|v| v.to_array()), environment_generation)
         });
         self.occlusion.prepare(occlusion_key);
-        let shadow_key = shadow_ground.map(|index| {
-            let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
-            let lights = lights.flat_map(|l| l.position.extend(l.radius).to_array());
-            let mut key = key(&scene.objects[index], &mut lights.into_iter(), shadow_generation);
-            key.push(scene.shadow_taps);
-            key
-        });
-        self.shadow.prepare(shadow_key);
+        self.shadow.prepare(shadow_ground.map(|index| shadow_map_key(scene, index, shadow_generation)));
         let (device, disk) = (&self.device, &self.disk);
         let from_shadows = || Some(inputs.with_frame((inputs.shadows)()));
         self.light.read_first_from_disk(device, one_shot, disk, from_shadows)?;
@@ -504,6 +490,12 @@ impl GroundMaps {
         let layout = &self.layout;
         let mut maps = [&mut self.light, &mut self.occlusion, &mut self.shadow];
         maps.par_iter_mut().try_for_each(|map| map.make_pipeline(device, layout))
+    }
+
+    /// Whether the shadow map holds the ground's shadows as a frame of `scene` whose shadow
+    /// maps are at `shadow_generation` would compute them, the ground being object `ground`.
+    pub fn shadow_map_current(&self, scene: &Scene, ground: usize, shadow_generation: u64) -> bool {
+        self.shadow.key == shadow_map_key(scene, ground, shadow_generation)
     }
 
     /// Stores in the disk cache each map whose first computation it did not hold, once the
@@ -599,6 +591,24 @@ impl GroundMaps {
         let (d, layout) = (&self.device.handle, self.layout.handle);
         unsafe { d.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::COMPUTE, layout, first, sets, &[]) };
     }
+}
+
+/// A map's inputs bit for bit, the ground's square first, and the generation of the images
+/// it reads: what [`GroundMap::prepare`] compares.
+fn map_key(ground: &Object, inputs: impl IntoIterator<Item = f32>, generation: u64) -> Vec<u32> {
+    let square = ground.position.extend(ground.scale).to_array();
+    let bits = square.into_iter().chain(inputs).map(f32::to_bits);
+    bits.chain([generation as u32, (generation >> 32) as u32]).collect()
+}
+
+/// The shadow map's key: the lights' positions and radii, the shadow maps' generation and
+/// the taps, over object `ground`.
+fn shadow_map_key(scene: &Scene, ground: usize, shadow_generation: u64) -> Vec<u32> {
+    let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
+    let lights = lights.flat_map(|l| l.position.extend(l.radius).to_array());
+    let mut key = map_key(&scene.objects[ground], lights, shadow_generation);
+    key.push(scene.shadow_taps);
+    key
 }
 
 /// The occlusion map's pipeline: object_occlusion.glsl's code on, for the kind of

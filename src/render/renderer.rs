@@ -127,6 +127,11 @@ pub struct Renderer {
     /// and every map sampled, instead of specialised to the frame: what the bench compares
     /// the specialised pipelines against.
     pub generic: bool,
+    /// A frame drawn while the viewer is in use on a slow device, at a reduced size: where
+    /// the ground's shadow map is out of date (a light moved), the ground searches and
+    /// filters its soft shadows at its pixels, fewer at that size than the map's texels,
+    /// and the map is computed again by the next frame that is not a draft.
+    pub draft: bool,
     /// Whether lights cast shadows (each light's `shadows` still applies); the viewer's toggle.
     pub shadows: bool,
     /// Whether a scene's `[occlusion] enabled` applies; the viewer's toggle.
@@ -234,6 +239,7 @@ impl Renderer {
             debug_view: DebugView::Shaded,
             floor: false,
             generic: false,
+            draft: false,
             environment_time: Duration::ZERO,
             pipelines_beside_environment: false,
             shadows: true,
@@ -349,7 +355,11 @@ impl Renderer {
         // Without spheres to read, the pipelines hold no object occlusion.
         let objects = self.occlusion && !self.floor && scene.occlusion.objects && !occluders.is_empty();
         let ground = occlusion_ground(scene, objects, self.split.is_some());
-        let shadow_ground = shadow_ground(scene, self.shadows && !self.floor);
+        // The shadow pass first: the ground's shadow map follows its generation.
+        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
+        let shadow_ground = shadow_ground(scene, self.shadows && !self.floor).filter(|&ground| {
+            !self.draft || self.ground_maps.shadow_map_current(scene, ground, self.shadow.generation())
+        });
         let choices = FrameChoices {
             debug_view: self.debug_view,
             floor: self.floor,
@@ -362,8 +372,7 @@ impl Renderer {
             // The environment's, once it is known (prepare_environment_and_pipelines).
             sun: false,
         };
-        // The shadow pass finds which objects' draws need shadow code.
-        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
+        // The shadow pass found which objects' draws need shadow code.
         let shadowing = self.shadow.receivers().to_vec();
         self.prepare_environment_and_pipelines(scene, gpu, &occluders, &shadowing, choices)?;
         self.environment.prepare_skybox(sample_flag(samples))?;

@@ -238,11 +238,13 @@ impl FrameLoop {
     }
 
     /// Renders the shaded `scene` offscreen at `extent` and reads it back, once the frames
-    /// in flight are done (the viewer's reference compares it): no split, no debug view.
+    /// in flight are done (the viewer's reference compares it): no split, no debug view, not
+    /// a draft.
     pub fn render_still(&mut self, scene: &Scene, extent: vk::Extent2D, exposure: f32) -> Result<OffscreenFrame> {
         self.device.wait_idle()?;
         let split = self.renderer.split.take();
         let debug_view = std::mem::replace(&mut self.renderer.debug_view, DebugView::Shaded);
+        self.renderer.draft = false;
         let frame = self.renderer.render_offscreen(scene, &self.gpu, extent, exposure);
         (self.renderer.split, self.renderer.debug_view) = (split, debug_view);
         frame
@@ -386,6 +388,7 @@ impl FrameLoop {
 
         let slot = &mut self.slots[index];
         slot.done.reset()?;
+        self.renderer.draft = self.scale > 1;
         self.renderer.prepare(index, scene, &self.gpu, &slot.target, format)?;
         let d = &self.device.handle;
         let cmd = slot.cmd;

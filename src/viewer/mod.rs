@@ -15,7 +15,7 @@ mod panels;
 mod path_completion;
 mod rebuild;
 mod reference_view;
-mod responsive;
+pub mod responsive;
 pub mod save;
 mod shadow_panel;
 mod soak;

@@ -15,12 +15,13 @@ use crate::scene::{Environment, Material, Scene};
 /// The configuration the right half starts with.
 const FIRST: &str = "seed";
 
-/// The bench configurations that edit the scene file (not the floor's or the generic
-/// pipelines' renderer flags), in the bench's order.
+/// The bench configurations that edit the scene file (not the floor's, the generic
+/// pipelines' or the drafts' renderer flags, nor a light moved between frames), in the
+/// bench's order.
 pub fn configurations() -> Vec<String> {
     plan::configuration_names()
         .into_iter()
-        .filter(|n| !plan::is_floor(n) && !plan::is_generic(n))
+        .filter(|n| !plan::is_floor(n) && !plan::is_generic(n) && !plan::moves_the_light(n))
         .collect()
 }
 
