@@ -18,7 +18,9 @@ const FONT: &str = "sans-serif";
 
 /// Draws `rows` (one scene; the floor left out, as it is the unit of the x axis) into the
 /// PNG `path`, their ꟻLIP against the `shadows` reference: the error of the renderer's
-/// approximations alone. A row at another size than the first is labelled with its size.
+/// approximations alone. A row at another size than the first is labelled with its size and
+/// left out of the Pareto front: its ratio to the floor is of another size's floor, which
+/// shading outgrows as pixels grow.
 pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
     // Registering twice keeps the first; the font is one egui embeds already.
     register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
@@ -26,15 +28,16 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
     let Some(first) = rows.first() else {
         return Ok(());
     };
-    let points: Vec<(f64, f64, String, bool)> = rows
+    let points: Vec<(f64, f64, String, bool, bool)> = rows
         .iter()
         .map(|r| {
-            let name = if (r.width, r.height) == (first.width, first.height) {
+            let first_size = (r.width, r.height) == (first.width, first.height);
+            let name = if first_size {
                 r.configuration.clone()
             } else {
                 format!("{} at {}×{}", r.configuration, r.width, r.height)
             };
-            (r.forward_ratio_to_floor, r.error_shadows.flip_mean, name, r.report)
+            (r.forward_ratio_to_floor, r.error_shadows.flip_mean, name, r.report, first_size)
         })
         .filter(|(x, y, ..)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
         .collect();
@@ -68,15 +71,15 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
             .x_label_formatter(&|x| format!("{}", (x * 1e3).round() / 1e3))
             .y_label_formatter(&|y| format!("{}", (y * 1e4).round() / 1e4))
             .draw()?;
-        let front = pareto_front(&points);
+        let front = pareto_front(points.iter().filter(|p| p.4).map(|p| (p.0, p.1)));
         chart.draw_series(LineSeries::new(front.iter().copied(), BLUE.stroke_width(2)))?;
-        chart.draw_series(points.iter().map(|&(x, y, _, report)| {
+        chart.draw_series(points.iter().map(|&(x, y, _, report, _)| {
             let colour = if report { RED } else { BLACK };
             Circle::new((x, y), 5, colour.filled())
         }))?;
         let labels: Vec<(String, TextStyle)> = points
             .iter()
-            .map(|(_, _, name, report)| {
+            .map(|(_, _, name, report, _)| {
                 let (text, colour) = if *report {
                     (format!("{name} (the report's composition)"), RED)
                 } else {
@@ -94,7 +97,7 @@ pub fn plot(path: &Path, title: &str, rows: &[&Row]) -> Result<()> {
         // the cheapest.
         let mut order: Vec<usize> = (0..points.len()).collect();
         order.sort_by_key(|&i| {
-            let (x, y, name, report) = &points[i];
+            let (x, y, name, report, _) = &points[i];
             (!report, name != DEFAULTS, !front.contains(&(*x, *y)), marks[i].0)
         });
         let (x_pixels, y_pixels) = chart.plotting_area().get_pixel_range();
@@ -156,8 +159,8 @@ fn place_labels(
 }
 
 /// The points no other point beats in both time and error, by increasing time.
-fn pareto_front<L>(points: &[(f64, f64, L, bool)]) -> Vec<(f64, f64)> {
-    let mut sorted: Vec<(f64, f64)> = points.iter().map(|p| (p.0, p.1)).collect();
+fn pareto_front(points: impl IntoIterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
+    let mut sorted: Vec<(f64, f64)> = points.into_iter().collect();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let mut front: Vec<(f64, f64)> = Vec::new();
     for p in sorted {
@@ -201,12 +204,12 @@ mod tests {
     #[test]
     fn the_pareto_front_keeps_only_points_nothing_beats() {
         let points = [
-            (4.0, 0.1, "b", false),
-            (1.0, 0.5, "a", false),
-            (2.0, 0.6, "dominated by a", false),
-            (8.0, 0.01, "c", false),
-            (9.0, 0.02, "dominated by c", false),
+            (4.0, 0.1),   // on it
+            (1.0, 0.5),   // on it
+            (2.0, 0.6),   // beaten by (1.0, 0.5)
+            (8.0, 0.01),  // on it
+            (9.0, 0.02),  // beaten by (8.0, 0.01)
         ];
-        assert_eq!(pareto_front(&points), vec![(1.0, 0.5), (4.0, 0.1), (8.0, 0.01)]);
+        assert_eq!(pareto_front(points), vec![(1.0, 0.5), (4.0, 0.1), (8.0, 0.01)]);
     }
 }
