@@ -31,7 +31,7 @@ an argument, --device, ARGIL_FAULT, an output that exists without --overwrite or
 is missing or unwritable), and nothing was written; 1 argil or the machine failed (no Vulkan \
 driver, the device lost, out of memory, an I/O error while writing); 130 interrupted by Ctrl-C, \
 SIGTERM or SIGHUP (reference writes the samples taken, render --accumulate the mean of the frames \
-drawn, view the scene's changes not saved). Outputs are written to a temporary file and renamed, \
+drawn if any, view the scene's changes not saved). Outputs are written to a temporary file and renamed, \
 so a failed run with --overwrite leaves the previous file as it was.
 
 Environment: ARGIL_VALIDATION=1 turns the validation layer on; ARGIL_FAULT=KIND:N[,...] makes \
@@ -96,8 +96,8 @@ enum Command {
         /// Render this many frames and write their running mean, each frame with the next
         /// sample set of the `sampled` reflection (as the viewer refines a still view); other
         /// reflection modes give the single frame's image. Ctrl-C ends it after the frame being
-        /// drawn and writes the mean of those drawn (exit code 130); the EXR's `argil.frames`
-        /// gives the count.
+        /// drawn and writes the mean of those drawn (exit code 130; during the start, before
+        /// the first frame, nothing); the EXR's `argil.frames` gives the count.
         #[arg(long, value_name = "FRAMES", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=65536))]
         accumulate: u32,
         /// Render this debug view instead of the shaded image (the names of `argil view
@@ -364,15 +364,24 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     } = options;
     check_exposure(exposure)?;
     // Ctrl-C ends an accumulation after the frame it is drawing, and the mean of the frames
-    // drawn is written.
-    let then = "finishing the frame being drawn, then writing the mean of the frames drawn";
+    // drawn is written; during the start, after the step under way, with nothing written.
+    let then = "ending after the step or frame under way, then writing the mean of the frames drawn, if any";
     let interrupted = (options.accumulate > 1).then(|| interrupt_flag(then)).transpose()?;
+    let start_interrupted = || -> Result<()> {
+        match &interrupted {
+            Some(flag) if flag.load(Ordering::Relaxed) => {
+                Err(Interrupted("before the first frame: nothing written".into()).into())
+            }
+            _ => Ok(()),
+        }
+    };
     let mut startup = Recorder::new(process_start);
     // Stand-ins take the builtin maps' places until the maps, made beside the warm-up frame
     // below, replace them (src/scene/pending.rs).
     let scene_path = options.scene.as_deref();
     let load = || load_with_stand_ins(scene_path);
     let (mut scene, mut maps) = startup.step("scene (stand-ins for its builtin maps)", load)?;
+    start_interrupted()?;
     if let Some(msaa) = options.msaa {
         scene.antialiasing.msaa = msaa;
     }
@@ -396,6 +405,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     let mut renderer = startup.step("renderer", || Renderer::new(device.clone(), 1))?;
     renderer.debug_view = options.debug_view;
     let mut gpu = startup.step("meshes upload", || renderer.upload(&scene))?;
+    start_interrupted()?;
     let samples = renderer.msaa_samples(&scene);
     if samples != scene.antialiasing.msaa {
         eprintln!(
@@ -411,6 +421,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     let sampled = renderer.sampled_textures(&scene);
     maps.retain(|texture| sampled[texture]);
     let warmed = warm_up(&mut renderer, &mut scene, &mut gpu, maps, display.is_some())?;
+    start_interrupted()?;
     let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()
     } else {

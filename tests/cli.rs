@@ -945,6 +945,39 @@ fn ctrl_c_in_an_accumulating_render_writes_the_frames_drawn() {
     assert!(pixels(&interrupted) == pixels(&read(&again)), "not the mean of {count} frames");
 }
 
+/// Ctrl-C during an accumulating render's start (here the loading of a ring of 2048 cells,
+/// which takes seconds) ends it after the step under way: no frame is drawn, nothing is
+/// written, exit code 130.
+#[test]
+fn ctrl_c_during_an_accumulating_renders_start_writes_nothing() {
+    let dir = test_dir("render-ctrl-c-start");
+    let scene = dir.join("ring.toml");
+    let ring = "[[objects]]\nmesh = \"builtin:torus\"\nsubdivisions = 2048\nmaterial = \"clay\"\n\n\
+                [materials.clay]\npreset = \"plasticine\"\n";
+    std::fs::write(&scene, ring).expect("write scene");
+    let out = dir.join("never.exr");
+    let child = Command::new(env!("CARGO_BIN_EXE_argil"))
+        .args(["render", path_str(&scene), "--out", path_str(&out), "--width", "48", "--height", "32"])
+        .args(["--accumulate", "4", "--timings", path_str(&dir.join("timings.json"))])
+        .env("ARGIL_VALIDATION", "1")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run argil");
+    std::thread::sleep(std::time::Duration::from_secs(1));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("run kill");
+    assert!(kill.success(), "kill -INT");
+    let o = common::wait(child, "argil render --accumulate 4 after SIGINT during its start");
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(err.contains("before the first frame: nothing written"), "{err}");
+    assert!(!err.contains("vulkan validation"), "{err}");
+    assert!(!out.exists() && !dir.join("timings.json").exists(), "nothing written");
+}
+
 /// The scene file is reloaded when it changes on disk: a broken edit is reported and the
 /// last good scene stays on screen; the next good edit is shown, with the camera kept.
 #[test]
