@@ -12,6 +12,7 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
+use rayon::slice::ParallelSliceMut;
 
 use super::Vertex;
 
@@ -49,7 +50,7 @@ pub(super) fn fill_curvature(vertices: &mut [Vertex], indices: &[u32]) {
             }
         }
     }
-    edges.sort_unstable();
+    edges.par_sort_unstable();
     edges.dedup();
 
     let position = |i: u32| DVec3::from(vertices[i as usize].position.map(f64::from));

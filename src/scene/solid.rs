@@ -5,6 +5,7 @@
 use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
+use rayon::slice::ParallelSliceMut;
 
 use super::mesh::position_key;
 use super::Mesh;
@@ -17,30 +18,33 @@ impl Mesh {
     /// are skipped; anything else (open borders, T-junctions, edges of three or more
     /// triangles, inward winding) answers false, which only costs the culling.
     pub fn bounds_solid(&self) -> bool {
-        let corner = |i: u32| position_key(self.vertices[i as usize].position);
-        // For each edge by its corners in ascending order: (traversals a → b, b → a).
-        let mut edges: HashMap<([u32; 3], [u32; 3]), (u32, u32)> = HashMap::with_capacity(self.indices.len());
+        // Each vertex's corner: the first vertex at its position.
+        let mut corners: HashMap<[u32; 3], u32> = HashMap::with_capacity(self.vertices.len());
+        let corner: Vec<u32> = (0..self.vertices.len() as u32)
+            .map(|i| *corners.entry(position_key(self.vertices[i as usize].position)).or_insert(i))
+            .collect();
+        // Each traversal of an edge: its corners in ascending order, and whether it runs
+        // from the lower to the higher. Sorted rather than hashed: millions of triangles
+        // (a scanned model) take a fraction of a second.
+        let mut traversals: Vec<(u64, bool)> = Vec::with_capacity(self.indices.len());
         let mut six_volume = 0.0;
         for triangle in self.indices.chunks_exact(3) {
             let triangle = [triangle[0], triangle[1], triangle[2]];
-            let corners = triangle.map(corner);
+            let corners = triangle.map(|i| corner[i as usize]);
             if corners[0] == corners[1] || corners[1] == corners[2] || corners[2] == corners[0] {
                 continue;
             }
             for k in 0..3 {
                 let (a, b) = (corners[k], corners[(k + 1) % 3]);
-                let (key, forward) = if a < b { ((a, b), true) } else { ((b, a), false) };
-                let counts = edges.entry(key).or_default();
-                if forward {
-                    counts.0 += 1;
-                } else {
-                    counts.1 += 1;
-                }
+                let (low, high) = (a.min(b), a.max(b));
+                traversals.push(((u64::from(low) << 32) | u64::from(high), a < b));
             }
             let [p, q, r] = triangle.map(|i| DVec3::from(Vec3::from(self.vertices[i as usize].position)));
             six_volume += p.dot(q.cross(r));
         }
-        !edges.is_empty() && edges.values().all(|&counts| counts == (1, 1)) && six_volume > 0.0
+        traversals.par_sort_unstable();
+        let once_each_way = |edge: &[(u64, bool)]| matches!(edge, [(_, false), (_, true)]);
+        !traversals.is_empty() && traversals.chunk_by(|x, y| x.0 == y.0).all(once_each_way) && six_volume > 0.0
     }
 }
 
