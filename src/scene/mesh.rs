@@ -62,6 +62,8 @@ pub struct MeshExtent {
 
 /// Prefix of the mesh names that [`Mesh::builtin`] understands.
 pub const BUILTIN_PREFIX: &str = "builtin:";
+/// Every builtin mesh's name, as [`Mesh::builtin`] knows them.
+pub const BUILTIN_MESHES: [&str; 4] = ["builtin:sphere", "builtin:torus", "builtin:plane", "builtin:cube"];
 
 /// Default tessellation of `builtin:sphere` (cells along each cube edge: 4 × 32 = 128 around
 /// the equator) and `builtin:torus` (cells around its ring, and [`torus_sides`] around its
@@ -86,8 +88,8 @@ fn torus_sides(segments: u32) -> u32 {
 const MAX_GRID_STEPS: u32 = 4096;
 
 impl Mesh {
-    /// The builtin mesh called `name` (`builtin:sphere`, `builtin:torus`,
-    /// `builtin:plane` or `builtin:cube`), or `None` for any other name.
+    /// The builtin mesh called `name` (one of [`BUILTIN_MESHES`]), or `None` for any other
+    /// name.
     pub fn builtin(name: &str) -> Option<Mesh> {
         match name.strip_prefix(BUILTIN_PREFIX)? {
             "plane" => Some(Mesh::plane()),
@@ -104,6 +106,11 @@ impl Mesh {
             "torus" => Some((TORUS_SUBDIVISIONS, TORUS_SUBDIVISIONS_RANGE)),
             _ => None,
         }
+    }
+
+    /// The builtin meshes that have a `subdivisions` key.
+    pub fn subdivided_meshes() -> Vec<&'static str> {
+        BUILTIN_MESHES.into_iter().filter(|n| Mesh::subdivisions_key(n).is_some()).collect()
     }
 
     /// The builtin mesh called `name` at `subdivisions`, if it has the key.
@@ -896,7 +903,7 @@ mod tests {
     /// from their UVs, so builtins and OBJ files share one convention.
     #[test]
     fn builtin_tangents_match_generated_ones() {
-        for name in ["builtin:plane", "builtin:cube", "builtin:sphere", "builtin:torus"] {
+        for name in BUILTIN_MESHES {
             let mesh = Mesh::builtin(name).unwrap();
             let positions: Vec<_> = mesh.vertices.iter().map(|v| v.position).collect();
             let normals: Vec<_> = mesh.vertices.iter().map(|v| v.normal).collect();

@@ -51,7 +51,7 @@ pub use material::{
     DetailBlend, DiffuseModel, Distribution, Geometry, Horizon, MapRef, MapSlot, Material, MaterialMaps, SpecularModel,
     Subsurface,
 };
-pub use mesh::{Mesh, MeshExtent, Vertex, BUILTIN_PREFIX};
+pub use mesh::{Mesh, MeshExtent, Vertex, BUILTIN_MESHES, BUILTIN_PREFIX};
 pub use occlusion::{Occlusion, OCCLUSION_SAMPLES_RANGE};
 pub use pending::PendingMaps;
 pub use preset::Preset;

@@ -23,7 +23,7 @@ use super::material_keys::{limit, MAP_STRENGTH, MAX_UV_SCALE};
 use super::{
     builtin_texture, decode_texture, gltf, load_texture, procedural, BuiltinMaps, Camera, Environment, MapRef,
     Material, MaterialMaps, Mesh, Object, Occlusion, PointLight, Scene, SceneError, SceneFile, TextureData,
-    TextureRole, BUILTIN_PREFIX, BUILTIN_TEXTURES, OCCLUSION_SAMPLES_RANGE,
+    TextureRole, BUILTIN_MESHES, BUILTIN_PREFIX, BUILTIN_TEXTURES, OCCLUSION_SAMPLES_RANGE,
 };
 
 /// Name of the built-in neutral material, used by objects without a
@@ -33,6 +33,18 @@ const DEFAULT_MATERIAL: &str = "default";
 /// The camera must be at least this far from its target for a view
 /// direction to exist.
 const MIN_CAMERA_DISTANCE: f32 = 1e-4;
+
+/// `names` as one of them: "a", "a or b", "a, b or c".
+fn alternatives(names: &[impl AsRef<str>]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => one.as_ref().to_owned(),
+        [first @ .., last] => {
+            let first: Vec<&str> = first.iter().map(AsRef::as_ref).collect();
+            format!("{} or {}", first.join(", "), last.as_ref())
+        }
+    }
+}
 
 /// Validates values and narrows them to f32, with errors that name the
 /// scene and the offending field. Ranges are checked on the narrowed value,
@@ -340,8 +352,10 @@ fn subdivisions(check: &Checker, i: usize, object: &ObjectDef) -> Result<Option<
     };
     let field = format!("objects[{i}].subdivisions");
     let Some((default, range)) = Mesh::subdivisions_key(&object.mesh) else {
+        let meshes: Vec<String> = Mesh::subdivided_meshes().iter().map(|n| format!("a {n}")).collect();
         let reason = format!(
-            "only a builtin:sphere or a builtin:torus has subdivisions; this object's mesh is {:?}",
+            "only {} has subdivisions; this object's mesh is {:?}",
+            alternatives(&meshes),
             object.mesh
         );
         return Err(check.invalid(&field, n, reason));
@@ -591,7 +605,7 @@ fn check_map(
     textures: &mut TextureRequests,
 ) -> Result<MapRef, SceneError> {
     let key = |key: &str| format!("{field}.{key}");
-    let builtins = "builtin:clay-lumps, builtin:fingerprints or builtin:noise";
+    let builtins = alternatives(&BUILTIN_TEXTURES);
     if def.texture.is_empty() {
         return Err(check.invalid(
             &key("texture"),
@@ -740,11 +754,8 @@ fn load_mesh(
 ) -> Result<Loaded, SceneError> {
     if name.starts_with(BUILTIN_PREFIX) {
         let mesh = Mesh::builtin(name).ok_or_else(|| {
-            check.invalid(
-                field,
-                name,
-                "unknown builtin mesh; expected builtin:sphere, builtin:torus, builtin:plane or builtin:cube",
-            )
+            let expected = alternatives(&BUILTIN_MESHES);
+            check.invalid(field, name, format!("unknown builtin mesh; expected {expected}"))
         })?;
         return Ok(Loaded::one(mesh));
     }
