@@ -235,6 +235,27 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&path).unwrap(), DEFAULT_SCENE_TOML);
     }
 
+    /// Where the scene's folder refuses the recovered file (here the folder is gone, as a
+    /// removed drive's would be), it goes to the temporary folder.
+    #[test]
+    fn recovered_changes_go_to_the_temporary_folder_where_the_scenes_folder_refuses_them() {
+        let folder = Folder::new();
+        let stem = format!("argil-gone-{}", std::process::id());
+        let path = folder.write(&format!("{stem}.toml"), DEFAULT_SCENE_TOML);
+        let (mut scene, document) = load(&path);
+        material(&mut scene, "plasticine").roughness = 0.33;
+        std::fs::remove_dir_all(&folder.0).unwrap();
+        let recovered = recover(&scene, &document).unwrap();
+        let roughness = material(&mut load(&recovered).0, "plasticine").roughness;
+        std::fs::remove_file(&recovered).unwrap();
+        let temp = std::path::absolute(std::env::temp_dir()).unwrap();
+        assert_eq!(recovered.parent(), Some(temp.as_path()));
+        let name = recovered.file_name().unwrap().to_string_lossy().into_owned();
+        assert!(name.starts_with(&format!("{stem}.recovered")), "{name}");
+        assert_eq!(roughness, 0.33);
+        assert!(!folder.0.exists(), "nothing made where the scene was");
+    }
+
     #[test]
     fn values_back_at_the_preset_are_left_to_the_preset() {
         let folder = Folder::new();
