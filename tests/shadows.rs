@@ -335,13 +335,14 @@ fn shadow_maps_render_only_when_the_scene_changes() {
     });
 }
 
-/// A draft (the viewer's frames while in use on a slow device) whose light moved does not
-/// compute the ground's shadow map: the ground finds its shadows at its pixels, the frame
-/// bit for bit the one without the map. The next frame that is not a draft computes the
-/// map, and a draft with the light still reads it, computing nothing.
+/// A draft (the viewer's frames while in use on a slow device) does not compute the
+/// ground's maps that a moved light or object put out of date: the ground finds its
+/// shadows, and the objects' occlusion, at its pixels, the frame bit for bit the one
+/// without the maps. The next frame that is not a draft computes them, and a draft with
+/// nothing moved reads them, computing nothing.
 #[test]
-fn a_draft_with_a_moved_light_shadows_the_ground_at_its_pixels() {
-    let mut s = scene(&plane_scene("radius = 0.2", SPHERE));
+fn a_draft_finds_what_its_out_of_date_ground_maps_would_hold_at_the_grounds_pixels() {
+    let mut s = scene(&format!("{}\n[occlusion]\nobjects = true\n", plane_scene("radius = 0.2", SPHERE)));
     gpu().exclusive(|renderer| {
         let gpu_scene = renderer.upload(&s).expect("upload");
         let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
@@ -351,22 +352,33 @@ fn a_draft_with_a_moved_light_shadows_the_ground_at_its_pixels() {
             renderer.draft = false;
             renderer.read_offscreen(&offscreen, ms.expect("draw")).expect("read").hdr
         };
+        let renders = |renderer: &argil::render::Renderer| {
+            [renderer.ground_shadow_renders(), renderer.ground_occlusion_renders()]
+        };
+        let without_maps = |s: &argil::scene::Scene, occlusion_map: bool| {
+            let mut without = s.clone();
+            without.shadow_ground_map = false;
+            without.occlusion.ground_map = occlusion_map;
+            without
+        };
         let still = frame(renderer, &s, false);
-        let computed = renderer.ground_shadow_renders();
-        assert_eq!(frame(renderer, &s, true), still, "a draft with the light still reads the map");
+        let [shadow_maps, occlusion_maps] = renders(renderer);
+        assert_eq!(frame(renderer, &s, true), still, "a draft with nothing moved reads the maps");
         s.lights[0].position.x += 0.25;
         let moved = frame(renderer, &s, true);
-        assert_eq!(renderer.ground_shadow_renders(), computed, "a draft leaves the map out of date");
-        let without_map = argil::scene::Scene {
-            shadow_ground_map: false,
-            ..s.clone()
-        };
-        assert_eq!(moved, frame(renderer, &without_map, false), "the ground's shadows at its pixels");
+        assert_eq!(renders(renderer), [shadow_maps, occlusion_maps], "a draft leaves the maps out of date");
+        assert_eq!(moved, frame(renderer, &without_maps(&s, true), false), "the shadows at the pixels");
         let full = frame(renderer, &s, false);
-        assert_eq!(renderer.ground_shadow_renders(), computed + 1);
+        assert_eq!(renders(renderer), [shadow_maps + 1, occlusion_maps]);
         assert_ne!(full, moved, "the map smooths the penumbra");
         assert_eq!(frame(renderer, &s, true), full);
-        assert_eq!(renderer.ground_shadow_renders(), computed + 1);
+        // The sphere moved puts both maps out of date.
+        s.objects[1].position.x += 0.25;
+        let moved = frame(renderer, &s, true);
+        assert_eq!(renders(renderer), [shadow_maps + 1, occlusion_maps]);
+        assert_eq!(moved, frame(renderer, &without_maps(&s, false), false), "both at the pixels");
+        frame(renderer, &s, false);
+        assert_eq!(renders(renderer), [shadow_maps + 2, occlusion_maps + 1]);
     });
 }
 

@@ -40,7 +40,7 @@ use crate::render::msaa::supported_samples;
 use crate::render::{GpuScene, OffscreenTarget, Renderer, PASS_NAMES};
 use crate::scene::Scene;
 use crate::vk::Device;
-use plan::{BenchScene, Configuration};
+use plan::{BenchScene, Configuration, Moving};
 use references::CachedReference;
 use report::{Provenance, Results, Row};
 use stats::Summary;
@@ -244,20 +244,29 @@ struct Prepared<'a> {
     gpu: GpuScene,
     full: Metrics,
     shadows: Metrics,
-    /// Whether [`Prepared::move_light`] left the light a step out.
-    light_moved: bool,
+    /// Whether [`Prepared::nudge`] left what it moves a step out.
+    nudged: bool,
 }
 
-/// How far [`Prepared::move_light`] moves the light, in metres: a drag's step.
-const LIGHT_STEP: f32 = 0.01;
+/// How far [`Prepared::nudge`] moves a light or an object, in metres: a drag's step.
+const DRAG_STEP: f32 = 0.01;
 
 impl Prepared<'_> {
-    /// Moves the first light along x, one step out and the next back, so that each frame
-    /// sees it moved and the row's frames stay about the scene as written.
-    fn move_light(&mut self) {
-        if let Some(light) = self.scene.lights.first_mut() {
-            self.light_moved = !self.light_moved;
-            light.position.x += if self.light_moved { LIGHT_STEP } else { -LIGHT_STEP };
+    /// Moves what the configuration moves along x, one step out and the next back, so that
+    /// each frame sees it moved and the row's frames stay about the scene as written.
+    fn nudge(&mut self, what: Moving) {
+        let scene = &mut self.scene;
+        let ground = scene.ground_index();
+        let position = match what {
+            Moving::Light => scene.lights.first_mut().map(|l| &mut l.position),
+            Moving::Object => {
+                let mut objects = scene.objects.iter_mut().enumerate();
+                objects.find(|(i, _)| Some(*i) != ground).map(|(_, o)| &mut o.position)
+            }
+        };
+        if let Some(position) = position {
+            self.nudged = !self.nudged;
+            position.x += if self.nudged { DRAG_STEP } else { -DRAG_STEP };
         }
     }
 }
@@ -296,7 +305,7 @@ fn bench_scene(
             gpu,
             full: full?,
             shadows: shadows?,
-            light_moved: false,
+            nudged: false,
         });
     }
     // Each row's times, then its ratios to the floor frames of the rows at its size.
@@ -488,8 +497,8 @@ fn time_in_turns(
 ) -> Result<Vec<Timing>> {
     let offscreen = OffscreenTarget::new(&renderer.device, extent)?;
     let draw = |renderer: &mut Renderer, row: &mut Prepared, as_floor: bool| -> Result<FrameTimes> {
-        if row.configuration.moving_light && !as_floor {
-            row.move_light();
+        if let Some(what) = row.configuration.moving.filter(|_| !as_floor) {
+            row.nudge(what);
         }
         renderer.floor = as_floor;
         renderer.generic = row.configuration.generic;

@@ -23,13 +23,26 @@ pub const FLOOR: &str = "floor";
 pub const DEFAULTS: &str = "split-sum";
 /// argil's defaults through the generic pipeline: what specialising to the frame saves.
 pub const GENERIC: &str = "generic";
-/// argil's defaults with the first light moved before every timed frame, as a drag in the
-/// viewer moves it: what the shadow maps, the ground's maps and the bounce at the vertices
-/// cost when they follow the light.
-pub const LIGHT_MOVING: &str = "light-moving";
-/// [`LIGHT_MOVING`] drawn as the viewer draws while a slow device's light is dragged: at
-/// 1/`REDUCED_SCALE` of the headline's size, a draft (`Renderer::draft`).
-pub const LIGHT_MOVING_DRAFT: &str = "light-moving-draft";
+/// What a configuration moves before every timed frame, as a drag in the viewer moves it:
+/// what the shadow maps, the ground's maps and the bounce at the vertices cost when they
+/// follow it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Moving {
+    /// The first light.
+    Light,
+    /// The first object that is not the ground.
+    Object,
+}
+
+/// The configurations that move something (argil's defaults otherwise), and whether each
+/// is drawn as the viewer draws while a slow device is in use: at 1/`REDUCED_SCALE` of the
+/// headline's size, a draft (`Renderer::draft`).
+const MOVING: [(&str, Moving, bool); 4] = [
+    ("light-moving", Moving::Light, false),
+    ("light-moving-draft", Moving::Light, true),
+    ("object-moving", Moving::Object, false),
+    ("object-moving-draft", Moving::Object, true),
+];
 
 /// One way of rendering a scene.
 pub struct Configuration {
@@ -43,9 +56,9 @@ pub struct Configuration {
     /// Draws the scene's own meshes, so its floor frames are the scene's floor
     /// (`Floor::pooled`); a tessellation row's are of other meshes.
     pub own_meshes: bool,
-    /// Moves the first light before each of its timed frames ([`LIGHT_MOVING`]).
-    pub moving_light: bool,
-    /// Drawn as drafts ([`LIGHT_MOVING_DRAFT`]).
+    /// What it moves before each of its timed frames.
+    pub moving: Option<Moving>,
+    /// Drawn as drafts.
     pub draft: bool,
     /// Frame sizes it is timed at; the first is the headline.
     pub resolutions: Vec<vk::Extent2D>,
@@ -243,10 +256,9 @@ pub fn configuration_names() -> Vec<String> {
         "generic-no-objects",
         "no-ground-map",
         "per-pixel",
-        LIGHT_MOVING,
-        LIGHT_MOVING_DRAFT,
     ];
     let mut names: Vec<String> = base.map(str::to_owned).into();
+    names.extend(MOVING.iter().map(|(name, ..)| (*name).to_owned()));
     names.extend(SAMPLED.iter().map(|n| format!("sampled-{n}")));
     let others = SHADOW_CONFIGURATIONS
         .iter()
@@ -401,10 +413,13 @@ fn resolutions(name: &str, scaling: bool) -> Vec<vk::Extent2D> {
         "sampled-256" | "sampled-1024" => vec![SMALL],
         // Cost against pixels: argil's defaults at a smaller and a larger size.
         DEFAULTS if scaling => vec![HEADLINE, SMALL, LARGE],
-        // And at the size the viewer draws while a slow device's light is dragged.
-        LIGHT_MOVING => vec![HEADLINE, VIEWER_REDUCED],
-        LIGHT_MOVING_DRAFT => vec![VIEWER_REDUCED],
-        _ => vec![HEADLINE],
+        // What moves, also at the size the viewer draws while a slow device is in use, and
+        // its drafts at that size alone.
+        _ => match moving(name) {
+            Some((_, false)) => vec![HEADLINE, VIEWER_REDUCED],
+            Some((_, true)) => vec![VIEWER_REDUCED],
+            None => vec![HEADLINE],
+        },
     }
 }
 
@@ -423,8 +438,8 @@ fn bench_scene(
                 floor: is_floor(c),
                 generic: is_generic(c),
                 own_meshes: tessellated(c).is_none(),
-                moving_light: moves_the_light(c),
-                draft: c == LIGHT_MOVING_DRAFT,
+                moving: moving(c).map(|(what, _)| what),
+                draft: moving(c).is_some_and(|(_, draft)| draft),
                 resolutions: sizes(c),
             })
         })
@@ -466,10 +481,10 @@ fn tessellated(name: &str) -> Option<(&'static str, &'static str)> {
         .find(|(_, prefix)| name.starts_with(prefix))
 }
 
-/// Whether configuration `name` moves the light between frames (see
-/// [`Configuration::moving_light`]).
-pub fn moves_the_light(name: &str) -> bool {
-    [LIGHT_MOVING, LIGHT_MOVING_DRAFT].contains(&name)
+/// What configuration `name` moves between frames, and whether it draws drafts (see
+/// [`MOVING`]).
+pub fn moving(name: &str) -> Option<(Moving, bool)> {
+    MOVING.iter().find(|(n, ..)| *n == name).map(|&(_, what, draft)| (what, draft))
 }
 
 /// Whether configuration `name` is drawn with the generic pipelines.
@@ -477,8 +492,8 @@ pub fn is_generic(name: &str) -> bool {
     name == GENERIC || name.starts_with("generic-")
 }
 
-/// `file` edited for configuration `name`: `split-sum`, `floor` and `light-moving(-draft)`
-/// are argil's defaults, `seed` the report's reflection alone, `report` its reflection, horizon
+/// `file` edited for configuration `name`: `split-sum`, `floor` and those that move
+/// something ([`MOVING`]) are argil's defaults, `seed` the report's reflection alone, `report` its reflection, horizon
 /// and subsurface on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
 /// without subsurface scattering, material maps or environment, `maps-off` every map at
 /// strength 0, `smith-separable` the separable G, `energy-compensation` every specular lobe
@@ -495,7 +510,8 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     }
     let name = name.strip_prefix("generic-").unwrap_or(name);
     match name {
-        FLOOR | GENERIC | DEFAULTS | LIGHT_MOVING | LIGHT_MOVING_DRAFT => {}
+        FLOOR | GENERIC | DEFAULTS => {}
+        _ if moving(name).is_some() => {}
         "seed" => set_reflection(&mut file.environment, ReflectionMode::Seed, None),
         REPORT => {
             set_reflection(&mut file.environment, ReflectionMode::Seed, None);

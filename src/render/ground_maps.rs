@@ -474,10 +474,7 @@ impl GroundMaps {
             map_key(ground, lights, shadow_generation)
         });
         self.light.prepare(light_key);
-        let occlusion_key = occlusion_ground.map(|index| {
-            let spheres = occluders.iter().flat_map(|s| [s.centre.extend(s.radius), s.albedo.extend(0.0)]);
-            map_key(&scene.objects[index], spheres.flat_map(|v| v.to_array()), environment_generation)
-        });
+        let occlusion_key = occlusion_ground.map(|index| occlusion_map_key(scene, index, occluders, environment_generation));
         self.occlusion.prepare(occlusion_key);
         self.shadow.prepare(shadow_ground.map(|index| shadow_map_key(scene, index, shadow_generation)));
         let (device, disk) = (&self.device, &self.disk);
@@ -496,6 +493,18 @@ impl GroundMaps {
     /// maps are at `shadow_generation` would compute them, the ground being object `ground`.
     pub fn shadow_map_current(&self, scene: &Scene, ground: usize, shadow_generation: u64) -> bool {
         self.shadow.key == shadow_map_key(scene, ground, shadow_generation)
+    }
+
+    /// Whether the occlusion map holds what `occluders` make of the environment (at
+    /// `environment_generation`) on object `ground` of `scene`, as a frame would compute it.
+    pub fn occlusion_map_current(
+        &self,
+        scene: &Scene,
+        ground: usize,
+        occluders: &[Occluder],
+        environment_generation: u64,
+    ) -> bool {
+        self.occlusion.key == occlusion_map_key(scene, ground, occluders, environment_generation)
     }
 
     /// Stores in the disk cache each map whose first computation it did not hold, once the
@@ -609,6 +618,13 @@ fn shadow_map_key(scene: &Scene, ground: usize, shadow_generation: u64) -> Vec<u
     let mut key = map_key(&scene.objects[ground], lights, shadow_generation);
     key.push(scene.shadow_taps);
     key
+}
+
+/// The occlusion map's key: the occluders' spheres and albedos and the environment's
+/// generation, over object `ground`.
+fn occlusion_map_key(scene: &Scene, ground: usize, occluders: &[Occluder], environment_generation: u64) -> Vec<u32> {
+    let spheres = occluders.iter().flat_map(|s| [s.centre.extend(s.radius), s.albedo.extend(0.0)]);
+    map_key(&scene.objects[ground], spheres.flat_map(|v| v.to_array()), environment_generation)
 }
 
 /// The occlusion map's pipeline: object_occlusion.glsl's code on, for the kind of

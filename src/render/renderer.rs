@@ -128,9 +128,10 @@ pub struct Renderer {
     /// the specialised pipelines against.
     pub generic: bool,
     /// A frame drawn while the viewer is in use on a slow device, at a reduced size: where
-    /// the ground's shadow map is out of date (a light moved), the ground searches and
-    /// filters its soft shadows at its pixels, fewer at that size than the map's texels,
-    /// and the map is computed again by the next frame that is not a draft.
+    /// the ground's shadow or occlusion map is out of date (a light or an object moved),
+    /// the ground finds its soft shadows or the objects' occlusion at its pixels, fewer at
+    /// that size than the maps' texels, and the map is computed again by the next frame
+    /// that is not a draft.
     pub draft: bool,
     /// Whether lights cast shadows (each light's `shadows` still applies); the viewer's toggle.
     pub shadows: bool,
@@ -354,7 +355,13 @@ impl Renderer {
         let occluders = scene.occluders();
         // Without spheres to read, the pipelines hold no object occlusion.
         let objects = self.occlusion && !self.floor && scene.occlusion.objects && !occluders.is_empty();
-        let ground = occlusion_ground(scene, objects, self.split.is_some());
+        // A draft reads the ground's maps it finds out of date at the ground's pixels instead.
+        // The environment's generation is the last frame's: where this frame's environment
+        // changes, the map is computed, as in a frame that is not a draft.
+        let last_environment = self.environment.generation();
+        let ground = occlusion_ground(scene, objects, self.split.is_some()).filter(|&ground| {
+            !self.draft || self.ground_maps.occlusion_map_current(scene, ground, &occluders, last_environment)
+        });
         // The shadow pass first: the ground's shadow map follows its generation.
         self.shadow.prepare(slot, scene, gpu, self.shadows)?;
         let shadow_ground = shadow_ground(scene, self.shadows && !self.floor).filter(|&ground| {

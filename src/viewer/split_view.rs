@@ -16,12 +16,12 @@ use crate::scene::{Environment, Material, Scene};
 const FIRST: &str = "seed";
 
 /// The bench configurations that edit the scene file (not the floor's, the generic
-/// pipelines' or the drafts' renderer flags, nor a light moved between frames), in the
+/// pipelines' or the drafts' renderer flags, nor what moves between frames), in the
 /// bench's order.
 pub fn configurations() -> Vec<String> {
     plan::configuration_names()
         .into_iter()
-        .filter(|n| !plan::is_floor(n) && !plan::is_generic(n) && !plan::moves_the_light(n))
+        .filter(|n| !plan::is_floor(n) && !plan::is_generic(n) && plan::moving(n).is_none())
         .collect()
 }
 
