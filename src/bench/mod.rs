@@ -31,6 +31,7 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use anyhow::{bail, Context, Result};
 use ash::vk;
+use glam::Vec3;
 
 use crate::atomic::{write_bytes, Existing};
 use crate::compare::metrics::{compare, Metrics, Rgba32};
@@ -244,29 +245,36 @@ struct Prepared<'a> {
     gpu: GpuScene,
     full: Metrics,
     shadows: Metrics,
-    /// Whether [`Prepared::nudge`] left what it moves a step out.
+    /// What the configuration moves and where the scene as written has it.
+    home: Option<(Moving, Vec3)>,
+    /// Whether [`Prepared::nudge`] left it a step away.
     nudged: bool,
 }
 
 /// How far [`Prepared::nudge`] moves a light or an object, in metres: a drag's step.
-const DRAG_STEP: f32 = 0.01;
+const DRAG_STEP: Vec3 = Vec3::new(0.01, 0.0, 0.0);
 
 impl Prepared<'_> {
-    /// Moves what the configuration moves along x, one step out and the next back, so that
-    /// each frame sees it moved and the row's frames stay about the scene as written.
-    fn nudge(&mut self, what: Moving) {
-        let scene = &mut self.scene;
-        let ground = scene.ground_index();
-        let position = match what {
-            Moving::Light => scene.lights.first_mut().map(|l| &mut l.position),
-            Moving::Object => {
-                let mut objects = scene.objects.iter_mut().enumerate();
-                objects.find(|(i, _)| Some(*i) != ground).map(|(_, o)| &mut o.position)
-            }
-        };
-        if let Some(position) = position {
-            self.nudged = !self.nudged;
-            position.x += if self.nudged { DRAG_STEP } else { -DRAG_STEP };
+    /// Moves what the configuration moves a step away from where the scene has it, and at
+    /// the next call back, so that each frame sees it moved and the row's frames stay about
+    /// the scene as written.
+    fn nudge(&mut self) {
+        let Some((what, home)) = self.home else { return };
+        self.nudged = !self.nudged;
+        if let Some(position) = position_of(&mut self.scene, what) {
+            *position = if self.nudged { home + DRAG_STEP } else { home };
+        }
+    }
+}
+
+/// Where `what` of `scene` is.
+fn position_of(scene: &mut Scene, what: Moving) -> Option<&mut Vec3> {
+    let ground = scene.ground_index();
+    match what {
+        Moving::Light => scene.lights.first_mut().map(|l| &mut l.position),
+        Moving::Object => {
+            let mut objects = scene.objects.iter_mut().enumerate();
+            objects.find(|(i, _)| Some(*i) != ground).map(|(_, o)| &mut o.position)
         }
     }
 }
@@ -283,7 +291,7 @@ fn bench_scene(
 ) -> Result<()> {
     let mut prepared = Vec::new();
     for (index, configuration) in scene.configurations.iter().enumerate() {
-        let parsed = Scene::from_toml(&configuration.text, &configuration.name, Path::new(""))?;
+        let mut parsed = Scene::from_toml(&configuration.text, &configuration.name, Path::new(""))?;
         let samples = supported_samples(&renderer.device, parsed.antialiasing.msaa);
         if samples != parsed.antialiasing.msaa {
             eprintln!(
@@ -296,6 +304,16 @@ fn bench_scene(
         renderer.floor = configuration.floor;
         renderer.generic = configuration.generic;
         renderer.draft = configuration.draft;
+        let home = configuration.moving.and_then(|what| Some((what, *position_of(&mut parsed, what)?)));
+        if let Some((what, home)) = home {
+            // The error frame as the timed frames are drawn: after a move, which puts the
+            // maps that follow it out of date.
+            let mut moved = parsed.clone();
+            if let Some(position) = position_of(&mut moved, what) {
+                *position = home + DRAG_STEP;
+                frame(renderer, &moved, &gpu, spec.extent)?;
+            }
+        }
         let error_frame = frame(renderer, &parsed, &gpu, spec.extent)?;
         let [full, shadows] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
         prepared.push(Prepared {
@@ -305,6 +323,7 @@ fn bench_scene(
             gpu,
             full: full?,
             shadows: shadows?,
+            home,
             nudged: false,
         });
     }
@@ -497,8 +516,8 @@ fn time_in_turns(
 ) -> Result<Vec<Timing>> {
     let offscreen = OffscreenTarget::new(&renderer.device, extent)?;
     let draw = |renderer: &mut Renderer, row: &mut Prepared, as_floor: bool| -> Result<FrameTimes> {
-        if let Some(what) = row.configuration.moving.filter(|_| !as_floor) {
-            row.nudge(what);
+        if !as_floor {
+            row.nudge();
         }
         renderer.floor = as_floor;
         renderer.generic = row.configuration.generic;
