@@ -6,12 +6,12 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use ash::vk;
 
-use crate::viewer::responsive::REDUCED_SCALE;
 use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, MapDef, ObjectDef, SceneFile};
 use crate::scene::{
     DiffuseModel, Distribution, Geometry, Horizon, MapSlot, ReflectionMode, SpecularModel, Subsurface,
     DEFAULT_SCENE_TOML,
 };
+use crate::viewer::responsive::REDUCED_SCALE;
 
 /// The configuration whose name marks the report's composition in the table and plot.
 pub const REPORT: &str = "report";
@@ -493,14 +493,15 @@ pub fn is_generic(name: &str) -> bool {
 }
 
 /// `file` edited for configuration `name`: `split-sum`, `floor` and those that move
-/// something ([`MOVING`]) are argil's defaults, `seed` the report's reflection alone, `report` its reflection, horizon
-/// and subsurface on every material, `sampled-N` N importance-sampled lookups, `no-FEATURE` the scene
-/// without subsurface scattering, material maps or environment, `maps-off` every map at
-/// strength 0, `smith-separable` the separable G, `energy-compensation` every specular lobe
-/// energy-compensated, `sphere-N` builtin spheres of N cells along each cube edge,
-/// `torus-N` builtin tori of N cells around the ring, the shadow and anti-aliasing
-/// configurations as their constants say; `generic-NAME` is NAME drawn with the generic
-/// pipelines, `seed-NAME` an anti-aliasing configuration NAME with `seed` reflection.
+/// something ([`MOVING`]) are argil's defaults, `seed` the report's reflection alone,
+/// `report` its reflection, horizon and subsurface on every material, `sampled-N` N
+/// importance-sampled lookups, `no-FEATURE` the scene without subsurface scattering,
+/// material maps or environment, `maps-off` every map at strength 0, `smith-separable` the
+/// separable G, `energy-compensation` every specular lobe energy-compensated, `sphere-N`
+/// builtin spheres of N cells along each cube edge, `torus-N` builtin tori of N cells
+/// around the ring, the shadow and anti-aliasing configurations as their constants say;
+/// `generic-NAME` is NAME drawn with the generic pipelines, `seed-NAME` an anti-aliasing
+/// configuration NAME with `seed` reflection.
 pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     let mut file = file.clone();
     if let Some(antialiasing) = name.strip_prefix("seed-").filter(|n| ANTIALIASING_CONFIGURATIONS.contains(n)) {
