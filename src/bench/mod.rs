@@ -245,24 +245,39 @@ struct Prepared<'a> {
     gpu: GpuScene,
     full: Metrics,
     shadows: Metrics,
-    /// What the configuration moves and where the scene as written has it.
-    home: Option<(Moving, Vec3)>,
-    /// Whether [`Prepared::nudge`] left it a step away.
-    nudged: bool,
+    /// What the configuration moves, as its frames move it.
+    drag: Option<Drag>,
 }
 
-/// How far [`Prepared::nudge`] moves a light or an object, in metres: a drag's step.
+/// What a moving configuration moves (see [`Moving`]), where the scene as written has it,
+/// and whether [`Drag::step`] left it a step away.
+struct Drag {
+    what: Moving,
+    home: Vec3,
+    away: bool,
+}
+
+/// How far [`Drag::step`] moves a light or an object, in metres: a drag's step.
 const DRAG_STEP: Vec3 = Vec3::new(0.01, 0.0, 0.0);
 
-impl Prepared<'_> {
-    /// Moves what the configuration moves a step away from where the scene has it, and at
-    /// the next call back, so that each frame sees it moved and the row's frames stay about
+impl Drag {
+    /// `what` of `scene`, where it stands; `None` where the scene has none.
+    fn of(scene: &mut Scene, what: Moving) -> Option<Self> {
+        let home = *position_of(scene, what)?;
+        Some(Self {
+            what,
+            home,
+            away: false,
+        })
+    }
+
+    /// Moves it a step away from where the scene has it, and at the next call back to the
+    /// very bits it had, so that each frame sees it moved and the row's frames stay about
     /// the scene as written.
-    fn nudge(&mut self) {
-        let Some((what, home)) = self.home else { return };
-        self.nudged = !self.nudged;
-        if let Some(position) = position_of(&mut self.scene, what) {
-            *position = if self.nudged { home + DRAG_STEP } else { home };
+    fn step(&mut self, scene: &mut Scene) {
+        self.away = !self.away;
+        if let Some(position) = position_of(scene, self.what) {
+            *position = if self.away { self.home + DRAG_STEP } else { self.home };
         }
     }
 }
@@ -304,15 +319,13 @@ fn bench_scene(
         renderer.floor = configuration.floor;
         renderer.generic = configuration.generic;
         renderer.draft = configuration.draft;
-        let home = configuration.moving.and_then(|what| Some((what, *position_of(&mut parsed, what)?)));
-        if let Some((what, home)) = home {
+        let mut drag = configuration.moving.and_then(|what| Drag::of(&mut parsed, what));
+        if let Some(drag) = &mut drag {
             // The error frame as the timed frames are drawn: after a move, which puts the
             // maps that follow it out of date.
-            let mut moved = parsed.clone();
-            if let Some(position) = position_of(&mut moved, what) {
-                *position = home + DRAG_STEP;
-                frame(renderer, &moved, &gpu, spec.extent)?;
-            }
+            drag.step(&mut parsed);
+            frame(renderer, &parsed, &gpu, spec.extent)?;
+            drag.step(&mut parsed);
         }
         let error_frame = frame(renderer, &parsed, &gpu, spec.extent)?;
         let [full, shadows] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
@@ -323,8 +336,7 @@ fn bench_scene(
             gpu,
             full: full?,
             shadows: shadows?,
-            home,
-            nudged: false,
+            drag,
         });
     }
     // Each row's times, then its ratios to the floor frames of the rows at its size.
@@ -516,8 +528,8 @@ fn time_in_turns(
 ) -> Result<Vec<Timing>> {
     let offscreen = OffscreenTarget::new(&renderer.device, extent)?;
     let draw = |renderer: &mut Renderer, row: &mut Prepared, as_floor: bool| -> Result<FrameTimes> {
-        if !as_floor {
-            row.nudge();
+        if let Some(drag) = row.drag.as_mut().filter(|_| !as_floor) {
+            drag.step(&mut row.scene);
         }
         renderer.floor = as_floor;
         renderer.generic = row.configuration.generic;

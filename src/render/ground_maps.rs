@@ -474,8 +474,8 @@ impl GroundMaps {
             map_key(ground, lights, shadow_generation)
         });
         self.light.prepare(light_key);
-        let occlusion_key = occlusion_ground.map(|index| occlusion_map_key(scene, index, occluders, environment_generation));
-        self.occlusion.prepare(occlusion_key);
+        let occlusion_key = |index| occlusion_map_key(scene, index, occluders, environment_generation);
+        self.occlusion.prepare(occlusion_ground.map(occlusion_key));
         self.shadow.prepare(shadow_ground.map(|index| shadow_map_key(scene, index, shadow_generation)));
         let (device, disk) = (&self.device, &self.disk);
         let from_shadows = || Some(inputs.with_frame((inputs.shadows)()));
