@@ -250,34 +250,46 @@ struct Prepared<'a> {
 }
 
 /// What a moving configuration moves (see [`Moving`]), where the scene as written has it,
-/// and whether [`Drag::step`] left it a step away.
+/// which way it goes, and how many steps it has gone.
 struct Drag {
     what: Moving,
     home: Vec3,
-    away: bool,
+    step: Vec3,
+    steps: u32,
 }
 
-/// How far [`Drag::step`] moves a light or an object, in metres: a drag's step.
-const DRAG_STEP: Vec3 = Vec3::new(0.01, 0.0, 0.0);
+/// How far [`Drag::step`] moves a light or an object, in metres.
+const DRAG_STEP: f32 = 1e-4;
 
 impl Drag {
-    /// `what` of `scene`, where it stands; `None` where the scene has none.
-    fn of(scene: &mut Scene, what: Moving) -> Option<Self> {
+    /// `what` of `scene`, where it stands, dragged along +x, or along −x for a row of
+    /// drafts; `None` where the scene has none. Each way holds positions only its rows
+    /// visit, so a draft never finds a map that another row computed where it stands.
+    fn of(scene: &mut Scene, what: Moving, draft: bool) -> Option<Self> {
         let home = *position_of(scene, what)?;
+        let step = if draft { -DRAG_STEP } else { DRAG_STEP } * Vec3::X;
         Some(Self {
             what,
             home,
-            away: false,
+            step,
+            steps: 0,
         })
     }
 
-    /// Moves it a step away from where the scene has it, and at the next call back to the
-    /// very bits it had, so that each frame sees it moved and the row's frames stay about
-    /// the scene as written.
+    /// Moves it one step further from where the scene has it, as a drag moves it a little
+    /// every frame and never back where the maps that follow it were computed: a centimetre
+    /// after a hundred frames, which leaves the frames about the scene as written.
     fn step(&mut self, scene: &mut Scene) {
-        self.away = !self.away;
+        self.steps += 1;
         if let Some(position) = position_of(scene, self.what) {
-            *position = if self.away { self.home + DRAG_STEP } else { self.home };
+            *position = self.home + self.steps as f32 * self.step;
+        }
+    }
+
+    /// Puts it back where the scene has it.
+    fn home(&self, scene: &mut Scene) {
+        if let Some(position) = position_of(scene, self.what) {
+            *position = self.home;
         }
     }
 }
@@ -319,13 +331,15 @@ fn bench_scene(
         renderer.floor = configuration.floor;
         renderer.generic = configuration.generic;
         renderer.draft = configuration.draft;
-        let mut drag = configuration.moving.and_then(|what| Drag::of(&mut parsed, what));
+        let mut drag = configuration.moving.and_then(|what| Drag::of(&mut parsed, what, configuration.draft));
         if let Some(drag) = &mut drag {
-            // The error frame as the timed frames are drawn: after a move, which puts the
-            // maps that follow it out of date.
+            // The error frame, at the scene as written, as the timed frames are drawn: with
+            // the maps that follow what moves computed where it was a frame before.
             drag.step(&mut parsed);
+            renderer.draft = false;
             frame(renderer, &parsed, &gpu, spec.extent)?;
-            drag.step(&mut parsed);
+            renderer.draft = configuration.draft;
+            drag.home(&mut parsed);
         }
         let error_frame = frame(renderer, &parsed, &gpu, spec.extent)?;
         let [full, shadows] = refs.map(|r| compare(&error_frame, &r.image).map(|c| c.metrics));
