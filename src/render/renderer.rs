@@ -131,7 +131,8 @@ pub struct Renderer {
     /// the ground's shadow or occlusion map is out of date (a light or an object moved),
     /// the ground finds its soft shadows or the objects' occlusion at its pixels, fewer at
     /// that size than the maps' texels, and the map is computed again by the next frame
-    /// that is not a draft.
+    /// that is not a draft; out-of-date shadow maps are rendered at a quarter of the
+    /// resolution (`ShadowPass::prepare`).
     pub draft: bool,
     /// Whether lights cast shadows (each light's `shadows` still applies); the viewer's toggle.
     pub shadows: bool,
@@ -363,7 +364,7 @@ impl Renderer {
             !self.draft || self.ground_maps.occlusion_map_current(scene, ground, &occluders, last_environment)
         });
         // The shadow pass first: the ground's shadow map follows its generation.
-        self.shadow.prepare(slot, scene, gpu, self.shadows)?;
+        self.shadow.prepare(slot, scene, gpu, self.shadows, self.draft)?;
         let shadow_ground = shadow_ground(scene, self.shadows && !self.floor).filter(|&ground| {
             !self.draft || self.ground_maps.shadow_map_current(scene, ground, self.shadow.generation())
         });

@@ -6,7 +6,8 @@
 //! (ground_maps.rs), the shadow map over the part of the ground that objects can shadow
 //! (`Scene::ground_shadow_rect`), which `ShadowData` holds. What the shadows can reach,
 //! that rectangle and the lights that may shadow each object (`Scene::shadowing_lights`), is
-//! found once per change of the lights or the objects.
+//! found once per change of the lights or the objects. A draft (`Renderer::draft`) that
+//! finds the maps out of date renders a second set at a quarter of the resolution.
 
 use std::cell::Cell;
 use std::sync::Arc;
@@ -80,17 +81,49 @@ fn depth_range(light: Vec3, bounds: &[(Vec3, f32)]) -> (f32, f32) {
     (far * NEAR_OVER_FAR, far)
 }
 
-/// The maps of the lights that cast shadows, with the views their faces render through.
+/// A draft's maps, where the full ones are out of date (a light or an object being
+/// dragged): this fraction of the scene's resolution on a side, a sixteenth of the texels
+/// to clear and rasterise.
+pub const DRAFT_RESOLUTION_DIVISOR: u32 = 4;
+
+/// The maps of the lights that cast shadows, with the views their faces render through,
+/// and what they were last rendered from.
 struct ShadowMaps {
     image: Image,
-    faces: Vec<ImageView>,
+    layer_views: Vec<ImageView>,
     resolution: u32,
+    /// The lights, objects, meshes and resolution (`shadow_key`); empty before the first.
+    key: Vec<u64>,
+    faces: Vec<Face>,
 }
 
-/// What one frame in flight owns: its `ShadowData` and the set pointing at it.
+impl ShadowMaps {
+    fn new(device: &Arc<Device>, resolution: u32, layers: u32, name: &str) -> Result<Self> {
+        let image = Image::depth_array(
+            device,
+            resolution,
+            layers,
+            DEPTH_FORMAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            name,
+        )?;
+        let layer_views = (0..layers).map(|l| image.layer_view(l)).collect::<Result<_>>()?;
+        Ok(Self {
+            image,
+            layer_views,
+            resolution,
+            key: Vec::new(),
+            faces: Vec::new(),
+        })
+    }
+}
+
+/// What one frame in flight owns: its `ShadowData` and the set pointing at it, and the
+/// maps' view the set points at (null when none is known to be alive).
 struct FrameSlot {
     data: Buffer,
     set: vk::DescriptorSet,
+    maps_view: vk::ImageView,
 }
 
 /// One face to render: its layer and the light's near and far planes and position.
@@ -110,17 +143,20 @@ pub struct ShadowPass {
     _pool: DescriptorPool,
     slots: Vec<FrameSlot>,
     sampler: Sampler,
-    maps: Option<ShadowMaps>,
-    /// What the maps were last rendered from (lights, objects, meshes, settings).
+    /// The maps at the scene's resolution, and a draft's (`DRAFT_RESOLUTION_DIVISOR`).
+    full: Option<ShadowMaps>,
+    draft: Option<ShadowMaps>,
+    /// Whether the last [`Self::prepare`] chose the draft's maps.
+    drafting: bool,
+    /// The key of the maps the last [`Self::prepare`] chose.
     key: Vec<u64>,
     /// The lights that cast shadows and the data of the last [`Self::prepare`]: with the
     /// meshes' vertices, what [`Self::disk_key`] holds.
     shadowed: Vec<usize>,
     data: ShadowData,
-    faces: Vec<Face>,
-    /// Whether the next recorded frame renders the maps.
+    /// Whether the next recorded frame renders the chosen maps.
     pending: Cell<bool>,
-    /// Counts the changes of what the maps are rendered from.
+    /// Counts the changes of what the chosen maps hold.
     generation: u64,
     /// Frames that rendered them.
     renders: Cell<u64>,
@@ -157,6 +193,7 @@ impl ShadowPass {
                         "shadow data",
                     )?,
                     set: pool.allocate(&set_layout)?,
+                    maps_view: vk::ImageView::null(),
                 })
             })
             .collect::<Result<_>>()?;
@@ -168,11 +205,12 @@ impl ShadowPass {
             _pool: pool,
             slots,
             sampler: Sampler::nearest(device)?,
-            maps: None,
+            full: None,
+            draft: None,
+            drafting: false,
             key: Vec::new(),
             shadowed: Vec::new(),
             data: ShadowData::zeroed(),
-            faces: Vec::new(),
             pending: Cell::new(false),
             generation: 0,
             renders: Cell::new(0),
@@ -199,32 +237,50 @@ impl ShadowPass {
 
     /// Writes `slot`'s shadow data (the caller has waited for its previous frame) and, when
     /// the lights, objects or settings changed since the maps were rendered, has the next
-    /// recorded frame render them again. `enabled` off gives every light a factor of 1.
-    pub fn prepare(&mut self, slot: usize, scene: &Scene, gpu: &GpuScene, enabled: bool) -> Result<()> {
+    /// recorded frame render them again. `enabled` off gives every light a factor of 1. A
+    /// `draft` that finds the maps out of date renders maps of its own at a lower
+    /// resolution instead; where they are current, it reads them.
+    pub fn prepare(&mut self, slot: usize, scene: &Scene, gpu: &GpuScene, enabled: bool, draft: bool) -> Result<()> {
         let shadowed: Vec<usize> = (0..scene.lights.len().min(MAX_POINT_LIGHTS))
             .filter(|&i| enabled && scene.lights[i].shadows)
             .collect();
         // Without a shadowed light, one 1-texel cube keeps the set valid.
-        let resolution = if shadowed.is_empty() {
+        let full_resolution = if shadowed.is_empty() {
             1
         } else {
             scene.shadow_resolution
         };
         let layers = 6 * shadowed.len().max(1) as u32;
-        let key = shadow_key(scene, &shadowed, resolution, |_| gpu.id);
-        if self
-            .maps
-            .as_ref()
-            .is_none_or(|m| m.resolution != resolution || m.image.layers != layers)
-        {
-            self.recreate_maps(resolution, layers)?;
+        let full_key = shadow_key(scene, &shadowed, full_resolution, |_| gpu.id);
+        let drafting = draft
+            && full_resolution >= DRAFT_RESOLUTION_DIVISOR
+            && self.full.as_ref().is_none_or(|m| m.key != full_key);
+        let (resolution, key) = if drafting {
+            let resolution = full_resolution / DRAFT_RESOLUTION_DIVISOR;
+            (resolution, shadow_key(scene, &shadowed, resolution, |_| gpu.id))
+        } else {
+            (full_resolution, full_key.clone())
+        };
+        let view = self.maps(drafting, resolution, layers)?.image.view;
+        let frame_slot = &mut self.slots[slot];
+        if frame_slot.maps_view != view {
+            DescriptorWriter::default()
+                .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, frame_slot.data.handle)
+                .image(
+                    1,
+                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                    view,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    self.sampler.handle,
+                )
+                .write(&self.device, frame_slot.set);
+            frame_slot.maps_view = view;
         }
-        let mut data = ShadowData::zeroed();
-        data.settings[0] = resolution;
-        data.lights.iter_mut().for_each(|l| l.map[0] = -1.0);
-        if key != self.key {
+        let maps = self.maps(drafting, resolution, layers)?;
+        let out_of_date = key != maps.key;
+        if out_of_date {
             let bounds = scene.bounding_spheres();
-            self.faces = shadowed
+            maps.faces = shadowed
                 .iter()
                 .enumerate()
                 .flat_map(|(k, &i)| {
@@ -238,16 +294,27 @@ impl ShadowPass {
                     })
                 })
                 .collect();
-            self.key = key;
-            self.pending.set(true);
-            self.generation += 1;
+            maps.key = key.clone();
         }
+        let mut data = ShadowData::zeroed();
+        data.settings[0] = resolution;
+        data.lights.iter_mut().for_each(|l| l.map[0] = -1.0);
         for (k, &i) in shadowed.iter().enumerate() {
-            let face = &self.faces[6 * k];
+            let face = &maps.faces[6 * k];
             data.lights[i].map = [6.0 * k as f32, scene.lights[i].radius, face.near, face.far];
         }
+        if out_of_date {
+            self.pending.set(true);
+        }
+        // Either maps' key holds its resolution: a draft's and a full frame's differ.
+        if key != self.key {
+            self.key = key;
+            self.generation += 1;
+        }
+        self.drafting = drafting;
+        // What the shadows reach does not depend on the maps' resolution.
         let radii = shadowed.iter().map(|&i| u64::from(scene.lights[i].radius.to_bits()));
-        let reach_key: Vec<u64> = self.key.iter().copied().chain(radii).collect();
+        let reach_key: Vec<u64> = full_key.into_iter().chain(radii).collect();
         if reach_key != self.reach.1 {
             let reach = ShadowReach {
                 ground: scene.ground_shadow_rect(&shadowed),
@@ -281,39 +348,19 @@ impl ShadowPass {
         ])
     }
 
-    /// New maps (waiting for the frames that read the old ones) and every set pointed at them.
-    fn recreate_maps(&mut self, resolution: u32, layers: u32) -> Result<()> {
-        self.device.wait_idle()?;
-        self.maps = None;
-        let image = Image::depth_array(
-            &self.device,
-            resolution,
-            layers,
-            DEPTH_FORMAT,
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-            "shadow maps",
-        )?;
-        let faces = (0..layers).map(|l| image.layer_view(l)).collect::<Result<_>>()?;
-        for s in &self.slots {
-            DescriptorWriter::default()
-                .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, s.data.handle)
-                .image(
-                    1,
-                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    image.view,
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    self.sampler.handle,
-                )
-                .write(&self.device, s.set);
+    /// The full maps, or the draft's, made anew (once the frames that read the old ones are
+    /// done) where they have another resolution or number of layers.
+    fn maps(&mut self, draft: bool, resolution: u32, layers: u32) -> Result<&mut ShadowMaps> {
+        let maps = if draft { &mut self.draft } else { &mut self.full };
+        if maps.as_ref().is_none_or(|m| m.resolution != resolution || m.image.layers != layers) {
+            self.device.wait_idle()?;
+            *maps = None;
+            let name = if draft { "draft shadow maps" } else { "shadow maps" };
+            *maps = Some(ShadowMaps::new(&self.device, resolution, layers, name)?);
+            // A new view may reuse a destroyed one's handle: every set is written again.
+            self.slots.iter_mut().for_each(|s| s.maps_view = vk::ImageView::null());
         }
-        self.maps = Some(ShadowMaps {
-            image,
-            faces,
-            resolution,
-        });
-        self.key.clear();
-        self.faces.clear();
-        Ok(())
+        maps.as_mut().context("shadow maps missing")
     }
 
     /// Changes when what the maps are rendered from changes (the lights, the objects or
@@ -334,10 +381,8 @@ impl ShadowPass {
             return Ok(());
         }
         self.renders.set(self.renders.get() + 1);
-        let maps = self
-            .maps
-            .as_ref()
-            .context("shadow maps missing: prepare() was not called")?;
+        let maps = if self.drafting { &self.draft } else { &self.full };
+        let maps = maps.as_ref().context("shadow maps missing: prepare() was not called")?;
         let d = &self.device.handle;
         let range = maps.image.all_levels();
         // The old contents go, once the frames before this one have read them.
@@ -354,7 +399,7 @@ impl ShadowPass {
             ImageUse::DEPTH_ATTACHMENT,
         );
         let extent = maps.image.extent;
-        for (layer, view) in maps.faces.iter().enumerate() {
+        for (layer, view) in maps.layer_views.iter().enumerate() {
             let depth = vk::RenderingAttachmentInfo::default()
                 .image_view(view.handle)
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
@@ -364,7 +409,7 @@ impl ShadowPass {
                     depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
                 });
             begin_full_rendering(&self.device, cmd, extent, &[], Some(&depth));
-            if let Some(face) = self.faces.iter().find(|f| f.layer == layer as u32) {
+            if let Some(face) = maps.faces.iter().find(|f| f.layer == layer as u32) {
                 let projection = face_projection(layer % 6, face.near, face.far) * Mat4::from_translation(-face.light);
                 draw_depth(&self.device, cmd, &self.layout, &self.pipeline, scene, gpu, projection);
             }
