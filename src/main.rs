@@ -416,10 +416,10 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     let extent = vk::Extent2D { width, height };
     // An EXR is the linear frame: no display transform runs for it.
     let display = (OutputKind::of(&options.out)? == OutputKind::Png).then_some(exposure);
-    // A frame of a few pixels drawn with the stand-ins, while the builtin maps are made
-    // (src/render/warm_up.rs), those the frame samples.
+    // A frame of a few pixels drawn with the stand-ins, while the builtin maps the frame
+    // samples are made (src/render/warm_up.rs); the others keep their stand-ins.
     let sampled = renderer.sampled_textures(&scene);
-    maps.retain(|texture| sampled[texture]);
+    maps.split_off(|texture| !sampled[texture]);
     let warmed = warm_up(&mut renderer, &mut scene, &mut gpu, maps, display.is_some())?;
     start_interrupted()?;
     let table = if scene.needs_preintegrated_table() {

@@ -500,7 +500,9 @@ fn view_screenshot_matches_the_headless_render_beside_the_ui() {
         height.as_str(),
     ]);
     assert_clean_success(&o);
-    let (view_w, view_h, left) = view_area(&stderr(&o));
+    let err = stderr(&o);
+    assert!(!err.contains("which no frame had sampled"), "no frame samples the noise map: {err}");
+    let (view_w, view_h, left) = view_area(&err);
     // The panel is PANEL_WIDTH points wide, at one pixel a point under Xvfb.
     let panel = argil::viewer::PANEL_WIDTH as u32;
     assert!(
@@ -584,7 +586,11 @@ fn view_splits_the_view_between_two_configurations() {
         "report",
     ]);
     assert_clean_success(&o);
-    let (view_w, view_h, left) = view_area(&stderr(&o));
+    // The start left the noise map, which only the report's reflection samples, to the
+    // first frame that samples it: the split view's.
+    let err = stderr(&o);
+    assert!(err.contains("argil: made builtin:noise, which no frame had sampled"), "{err}");
+    let (view_w, view_h, left) = view_area(&err);
     let headless = |scene: &Path, name: &str| {
         let out = dir.join(name);
         assert_clean_success(&render_at(scene, &out, (view_w, view_h), &[]));

@@ -59,12 +59,26 @@ impl PendingMaps {
         (scene, maps)
     }
 
-    /// Leaves the stand-ins at the texture indices `keep` refuses in place for good, their
-    /// maps not made: a frame that never samples a map draws the same with its stand-in.
-    /// Before [`Self::begin`], whose threads [`Self::finish`] takes in the stand-ins' order.
-    pub fn retain(&mut self, keep: impl Fn(usize) -> bool) {
+    /// Takes the maps at the texture indices `later` picks out of these: their stand-ins
+    /// stay in the scene until the returned maps are finished, or for good. A frame that
+    /// never samples a map draws the same with its stand-in. Before [`Self::begin`], whose
+    /// threads [`Self::finish`] takes in the stand-ins' order.
+    pub fn split_off(&mut self, later: impl Fn(usize) -> bool) -> PendingMaps {
         debug_assert!(self.begun.is_none(), "the maps' threads are already running");
-        self.stand_ins.retain(|(index, _)| keep(*index));
+        let (taken, kept) = std::mem::take(&mut self.stand_ins)
+            .into_iter()
+            .partition(|(index, _)| later(*index));
+        self.stand_ins = kept;
+        PendingMaps {
+            stand_ins: taken,
+            begun: None,
+            makers: Vec::new(),
+        }
+    }
+
+    /// Whether no map is left to make.
+    pub fn is_empty(&self) -> bool {
+        self.stand_ins.is_empty()
     }
 
     /// Where the stand-ins are among the scene's textures: what [`Self::finish`] replaces.
@@ -135,13 +149,15 @@ mod tests {
         assert_eq!(scene, Scene::default_scene());
     }
 
-    /// A map left out stays a stand-in; the others are made and put in as before.
+    /// A map split off stays a stand-in while the others are made and put in as before,
+    /// until it is made in turn.
     #[test]
-    fn a_map_left_out_keeps_its_stand_in() {
+    fn a_map_split_off_keeps_its_stand_in_until_it_is_made() {
         let (mut scene, mut maps) = PendingMaps::load(None).unwrap();
         let noise = scene.textures.iter().position(|t| t.name == "builtin:noise").unwrap();
-        maps.retain(|index| index != noise);
-        assert!(!maps.stand_ins().contains(&noise) && !maps.stand_ins().is_empty());
+        let later = maps.split_off(|index| index == noise);
+        assert_eq!(later.stand_ins(), [noise]);
+        assert!(!maps.stand_ins().contains(&noise) && !maps.is_empty());
         maps.finish(&mut scene).unwrap();
         let whole = Scene::default_scene();
         for (i, (texture, made)) in scene.textures.iter().zip(&whole.textures).enumerate() {
@@ -149,6 +165,8 @@ mod tests {
             assert_eq!(kept, i == noise, "{}", texture.name);
             assert!(kept || texture == made, "{}", texture.name);
         }
+        later.finish(&mut scene).unwrap();
+        assert_eq!(scene, whole);
     }
 
     /// The maps go into the scene they came with, not another.

@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use ash::vk;
@@ -98,6 +99,9 @@ pub struct FrameLoop {
     frame: u64,
     recreations: u64,
     gpu: GpuScene,
+    /// The builtin maps the start left as stand-ins, as no frame sampled them, until one
+    /// does ([`FrameLoop::make_sampled_maps`]).
+    unsampled: Option<PendingMaps>,
     pub renderer: Renderer,
     gpu_ms: Option<Vec<f64>>,
     /// Screenshots written (or failed) since the last [`FrameLoop::take_screenshots`].
@@ -145,6 +149,7 @@ impl FrameLoop {
             frame: 0,
             recreations: 0,
             gpu,
+            unsampled: None,
             renderer,
             gpu_ms: None,
             screenshots: Vec::new(),
@@ -153,10 +158,37 @@ impl FrameLoop {
     }
 
     /// Draws a warm-up frame of `scene`, uploaded with stand-ins for its builtin `maps`,
-    /// while the maps are made, and puts them in the scene and its upload
-    /// (src/render/warm_up.rs).
-    pub fn warm_up(&mut self, scene: &mut Scene, maps: PendingMaps) -> Result<()> {
+    /// while the maps its frames sample are made, and puts them in the scene and its upload
+    /// (src/render/warm_up.rs); the others wait for a frame that samples them.
+    pub fn warm_up(&mut self, scene: &mut Scene, mut maps: PendingMaps) -> Result<()> {
+        let sampled = self.renderer.sampled_textures(scene);
+        self.unsampled = Some(maps.split_off(|texture| !sampled[texture]));
         warm_up(&mut self.renderer, scene, &mut self.gpu, maps, false).map(drop)
+    }
+
+    /// Makes the builtin maps left as stand-ins that the next frame of `scene` samples (as
+    /// the report's reflection samples the noise map), or all of them with `every`, and
+    /// puts them in the scene and its upload, once the frames in flight are done.
+    pub fn make_sampled_maps(&mut self, scene: &mut Scene, every: bool) -> Result<()> {
+        let Some(unsampled) = self.unsampled.as_mut() else {
+            return Ok(());
+        };
+        let sampled = self.renderer.sampled_textures(scene);
+        let now = unsampled.split_off(|texture| every || sampled[texture]);
+        if now.is_empty() {
+            return Ok(());
+        }
+        let (start, indices) = (Instant::now(), now.stand_ins());
+        now.finish(scene)?;
+        self.device.wait_idle()?;
+        self.renderer.replace_textures(&mut self.gpu, scene, &indices)?;
+        let names: Vec<&str> = indices.iter().map(|&i| scene.textures[i].name.as_str()).collect();
+        eprintln!(
+            "argil: made {}, which no frame had sampled, in {} ms",
+            names.join(", "),
+            start.elapsed().as_millis()
+        );
+        Ok(())
     }
 
     pub fn device(&self) -> &Arc<Device> {
@@ -256,6 +288,8 @@ impl FrameLoop {
         self.device.wait_idle()?;
         self.use_environment_map(scene, map);
         self.gpu = self.renderer.upload(scene)?;
+        // A scene loaded again comes with its maps made.
+        self.unsampled = None;
         Ok(())
     }
 

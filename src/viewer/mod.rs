@@ -779,6 +779,10 @@ impl App {
         let middle = (self.view.view_rect.center().x * output.pixels_per_point)
             .round()
             .max(0.0) as u32;
+        state.frames.renderer.debug_view = self.view.debug_view;
+        // The split view samples every map, and compares the scene with itself resolved
+        // again, its maps made (split_view::derive).
+        state.frames.make_sampled_maps(&mut self.scene, self.view.split.on)?;
         state.frames.renderer.split = self.view.split.split(&self.scene, middle.saturating_sub(left));
 
         let last_frame = self.time_up || self.options.frames.is_some_and(|n| state.frames.frame_count() + 1 >= n);
@@ -796,7 +800,6 @@ impl App {
             }),
             _ => None,
         };
-        state.frames.renderer.debug_view = self.view.debug_view;
         state.frames.renderer.shadows = self.view.shadows;
         self.view.msaa_samples = state.frames.renderer.msaa_samples(&self.scene);
         state.frames.renderer.occlusion = self.view.occlusion;
