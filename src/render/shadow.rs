@@ -261,22 +261,8 @@ impl ShadowPass {
         } else {
             (full_resolution, full_key.clone())
         };
-        let view = self.maps(drafting, resolution, layers)?.image.view;
-        let frame_slot = &mut self.slots[slot];
-        if frame_slot.maps_view != view {
-            DescriptorWriter::default()
-                .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, frame_slot.data.handle)
-                .image(
-                    1,
-                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                    view,
-                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    self.sampler.handle,
-                )
-                .write(&self.device, frame_slot.set);
-            frame_slot.maps_view = view;
-        }
         let maps = self.maps(drafting, resolution, layers)?;
+        let view = maps.image.view;
         let out_of_date = key != maps.key;
         if out_of_date {
             let bounds = scene.bounding_spheres();
@@ -305,6 +291,20 @@ impl ShadowPass {
         }
         if out_of_date {
             self.pending.set(true);
+        }
+        let frame_slot = &mut self.slots[slot];
+        if frame_slot.maps_view != view {
+            DescriptorWriter::default()
+                .buffer(0, vk::DescriptorType::UNIFORM_BUFFER, frame_slot.data.handle)
+                .image(
+                    1,
+                    vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                    view,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    self.sampler.handle,
+                )
+                .write(&self.device, frame_slot.set);
+            frame_slot.maps_view = view;
         }
         // Either maps' key holds its resolution: a draft's and a full frame's differ.
         if key != self.key {

@@ -162,7 +162,7 @@ impl FrameLoop {
     /// (src/render/warm_up.rs); the others wait for a frame that samples them.
     pub fn warm_up(&mut self, scene: &mut Scene, mut maps: PendingMaps) -> Result<()> {
         let sampled = self.renderer.sampled_textures(scene);
-        self.unsampled = Some(maps.split_off(|texture| !sampled[texture]));
+        self.unsampled = Some(maps.split_off(|texture| !sampled[texture])).filter(|m| !m.is_empty());
         warm_up(&mut self.renderer, scene, &mut self.gpu, maps, false).map(drop)
     }
 
@@ -175,6 +175,9 @@ impl FrameLoop {
         };
         let sampled = self.renderer.sampled_textures(scene);
         let now = unsampled.split_off(|texture| every || sampled[texture]);
+        if unsampled.is_empty() {
+            self.unsampled = None;
+        }
         if now.is_empty() {
             return Ok(());
         }
