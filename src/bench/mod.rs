@@ -67,6 +67,9 @@ pub struct Options {
     pub startup_runs: u32,
 }
 
+/// Where the bench's references are committed and found (`--references` moves them).
+const REFERENCES: &str = "bench/references";
+
 /// The `--only` pattern of the startup measurement.
 pub const STARTUP: &str = "startup";
 
@@ -132,7 +135,7 @@ pub fn run(device: &Arc<Device>, options: &Options) -> Result<PathBuf> {
         if options.quick {
             temporary.join("argil-bench-references")
         } else {
-            PathBuf::from("bench/references")
+            PathBuf::from(REFERENCES)
         }
     });
     let provenance = Provenance {
@@ -650,5 +653,33 @@ mod tests {
         assert_eq!((floor.forward, floor.gpu, floor.work), (3.0, 6.0, 9.0));
         let alone = Floor::pooled([&slow].into_iter());
         assert_eq!(alone.forward, 10.5);
+    }
+
+    /// Each committed reference is the one a run names for its scene and transport, and
+    /// no other is there: a change to a bench scene, to what a reference's key holds or to
+    /// how it is written would otherwise have the next run render them all again (about
+    /// an hour on 2 cores), against which the rows' errors would move.
+    #[test]
+    fn every_committed_reference_is_the_one_a_run_names() {
+        let dir = Path::new(REFERENCES);
+        let sky = dir.join(sky::FILE_NAME);
+        assert!(sky.is_file(), "{}: the bench's sky is not committed", sky.display());
+        let spec = ErrorSpec::new(false);
+        let mut named = Vec::new();
+        for scene in plan::scenes(false, Some(&sky)).unwrap() {
+            for (transport, stop) in [(Transport::Full, spec.full), (Transport::Shadows, spec.shadows)] {
+                let settings = references::settings(spec.extent.width, spec.extent.height, transport, stop);
+                let path = references::path(dir, scene.name, &scene.text, &settings).unwrap();
+                assert!(path.is_file(), "{}: a run would render this reference again", path.display());
+                named.push(path);
+            }
+        }
+        let mut committed: Vec<PathBuf> = (std::fs::read_dir(dir).unwrap())
+            .map(|entry| entry.unwrap().path())
+            .filter(|path| *path != sky)
+            .collect();
+        committed.sort();
+        named.sort();
+        assert_eq!(committed, named, "references no run names");
     }
 }

@@ -43,12 +43,36 @@ pub fn settings(width: u32, height: u32, transport: Transport, stop: Stop) -> Se
 /// ([`key_text`]) and the settings (which hold the size); a change of either names another
 /// file.
 pub fn path(dir: &Path, name: &str, text: &str, settings: &Settings) -> Result<PathBuf> {
-    let key = format!("{}\n{settings:?}", key_text(text)?);
+    let key = format!("{}\n{}", key_text(text)?, settings_key(settings));
     Ok(dir.join(format!(
         "{name}-{}-{:016x}.exr",
         settings.transport,
         fnv1a(key.as_bytes())
     )))
+}
+
+/// `settings` as a reference's name hashes them, in the form of their derived `Debug` when
+/// the committed references were named, which they keep. Every field is named: one added
+/// to `Settings` must be added here (renaming the references) or left out as `_` if it
+/// leaves the image as it was.
+fn settings_key(settings: &Settings) -> String {
+    let Settings {
+        width,
+        height,
+        transport,
+        filter,
+        sampling,
+        subsurface,
+        stop,
+        seed,
+        max_depth,
+        max_time,
+    } = settings;
+    format!(
+        "Settings {{ width: {width}, height: {height}, transport: {transport:?}, filter: {filter:?}, sampling: \
+         {sampling:?}, subsurface: {subsurface:?}, stop: {stop:?}, seed: {seed}, max_depth: {max_depth}, max_time: \
+         {max_time:?} }}"
+    )
 }
 
 /// The scene file `text` with only what `argil reference` reads of it, so that a reference

@@ -31,7 +31,7 @@ const GROUND: [f64; 3] = [0.12, 0.1, 0.08];
 
 /// The file name carries the generator's version, so a change to the sky is a new
 /// file and a new reference (whose key is the scene text naming it).
-const FILE_NAME: &str = "sky-v1.exr";
+pub const FILE_NAME: &str = "sky-v1.exr";
 
 /// The sky's path in `dir`, written there (atomically) if it is not there yet.
 pub fn ensure(dir: &Path) -> Result<PathBuf> {
