@@ -1,7 +1,7 @@
 #version 460
 #include "scene_data.glsl"
 #include "object_occlusion.glsl"
-#include "bounce.glsl"
+#include "vertex_light.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
@@ -23,14 +23,16 @@ layout(location = 5) out vec2 out_map_uv[MAP_COUNT];
 // Scene::occlusion_at_vertices): interpolating zeros gives 0 exactly, where ones would
 // round to 1 − 2⁻²⁴ here and there.
 layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
-// The ground's bounce at the mesh's normal and its gradient in the normal (bounce.glsl),
-// where the draw gathers it at its vertices: shaders/vertex_bounce.comp gathered them for
-// the object's vertices, from object.bounce_first on, when what they are made of changed.
+// What the draw reads at its vertices (vertex_light.glsl), which shaders/vertex_light.comp
+// computed for the object's vertices, from object.vertex_light_first on, when what they
+// are made of changed: the ground's bounce at the mesh's normal and its gradient in the
+// normal, where the draw gathers it there (bounce.glsl), and the soft lights' shadows.
 layout(location = 6 + MAP_COUNT) out vec3 out_bounce;
 layout(location = 7 + MAP_COUNT) out mat3 out_bounce_gradient;
+layout(location = 10 + MAP_COUNT) out vec4 out_vertex_shadows[MAX_VERTEX_SHADOW_LAYERS];
 
-layout(set = 5, binding = 3, std430) readonly buffer VertexBounce {
-    BounceAtVertex vertex_bounce[];
+layout(set = 5, binding = 3, std430) readonly buffer VertexLight {
+    LightAtVertex vertex_light[];
 };
 
 void main() {
@@ -52,10 +54,14 @@ void main() {
         // At the mesh's own normal, the side a closed mesh shows.
         out_objects_take = 1.0 - object_occlusion(world.xyz, unit_or_zero(out_normal), own_occluders());
     }
+    uint light_at = object.vertex_light_first + gl_VertexIndex;
     if (BOUNCE && BOUNCE_AT_VERTICES) {
-        BounceAtVertex gathered = vertex_bounce[object.bounce_first + gl_VertexIndex];
+        BounceAtVertex gathered = vertex_light[light_at].bounce;
         out_bounce = gathered_irradiance(gathered);
         out_bounce_gradient = gathered_gradient(gathered);
+    }
+    for (uint k = 0u; k < VERTEX_SHADOW_LAYERS; ++k) {
+        out_vertex_shadows[k] = vertex_light[light_at].shadows[k];
     }
     gl_Position = frame.view_proj * world;
 }

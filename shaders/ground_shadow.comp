@@ -22,7 +22,8 @@ void main() {
             // channel is left lit, unread.
             uint i = 4u * layer + c;
             bool soft = shadow_data.lights[i].map.y > 0.0;
-            visibility[c] = point_light_shadow(i, p, vec3(0.0, 1.0, 0.0), vec2(texel), soft);
+            visibility[c] = point_light_shadow(i, p, vec3(0.0, 1.0, 0.0), frame.camera_position.xyz - p, vec2(texel),
+                                               soft);
         }
         imageStore(ground_shadow_out, ivec3(texel, layer), visibility);
     }

@@ -293,7 +293,7 @@ fn shadow_maps_render_only_when_the_scene_changes() {
                 renderer.shadow_map_renders(),
                 renderer.ground_light_renders(),
                 renderer.ground_shadow_renders(),
-                renderer.vertex_bounce_computes(),
+                renderer.vertex_light_computes(),
             ]
         };
         let [shadows, ground, ground_shadows, bounce] = renders(renderer);

@@ -11,7 +11,7 @@
 // is made of. Occlusion of the ground by other objects is not traced. On a finely
 // tessellated mesh the gather runs at the vertices, at the mesh's normal, with its change
 // with the normal to first order, which carries it to each pixel's mapped normal
-// (bounce_at_pixel): shaders/vertex_bounce.comp gathers them once for every frame that
+// (bounce_at_pixel): shaders/vertex_light.comp gathers them once for every frame that
 // reads them (forward.vert). On a coarse mesh it runs at the pixels. The f64 twin is in
 // src/brdf/bounce.rs; the gather measured in docs/scene-format.md.
 #ifndef ARGIL_BOUNCE_GLSL
@@ -30,7 +30,7 @@ const uint BOUNCE_TAPS = 8u;
 // below; the generic pipeline holds it and reads the flag.
 layout(constant_id = 15) const bool BOUNCE = false;
 
-// Whether the draw gathers at its vertices (vertex_bounce.comp, then bounce_at_pixel) or at its
+// Whether the draw gathers at its vertices (vertex_light.comp, then bounce_at_pixel) or at its
 // pixels: src/scene/mod.rs's Scene::bounce_at_vertices, by the mesh's tessellation.
 layout(constant_id = 23) const bool BOUNCE_AT_VERTICES = false;
 
@@ -110,7 +110,7 @@ mat3 ground_bounce_gradient(vec3 p) {
     return sum / float(BOUNCE_GRADIENT_TAPS);
 }
 
-// The gather at a vertex and its gradient as vertex_bounce.comp stores them and forward.vert
+// The gather at a vertex and its gradient as vertex_light.comp stores them and forward.vert
 // reads them: per channel c, (E_c, dE_c/dn).
 struct BounceAtVertex {
     vec4 channels[3];

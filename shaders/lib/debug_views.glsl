@@ -52,7 +52,7 @@ vec3 shadow_map_view(vec3 p, vec3 face_normal) {
         if (shadow_data.lights[i].map.x < 0.0) continue;
         ShadowReceiver r;
         vec3 w;
-        if (!shadow_receiver(i, p, face_normal, r, w)) return vec3(1.0);
+        if (!shadow_receiver(i, p, face_normal, frame.camera_position.xyz - p, r, w)) return vec3(1.0);
         uint face;
         ivec2 texel = shadow_nearest_texel(w, face);
         float blocker = shadow_texel_blocker(r, face, texel);

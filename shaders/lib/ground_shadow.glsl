@@ -12,9 +12,10 @@
 
 // Whether the draw reads its shadows from the map (src/render/forward.rs): the ground's.
 layout(constant_id = 19) const bool GROUND_SHADOWS = false;
-// Whether that draw has hard lights beside the map's soft ones (src/render/ground_maps.rs):
-// their shadow is one lookup at each pixel, whose edge the map would blur.
-layout(constant_id = 21) const bool GROUND_HARD_SHADOWS = false;
+// Whether a draw that reads the soft lights' shadows from this map or from its vertices
+// (vertex_light.glsl) has hard lights beside them (src/render/forward.rs): their shadow is
+// one lookup at each pixel, whose edge the map or the vertices would blur.
+layout(constant_id = 21) const bool HARD_SHADOWS_AT_PIXELS = false;
 
 // The ground point at the centre of texel `texel` of the map, `size` texels on a side.
 vec3 ground_shadow_point(uvec2 texel, uint size) {

@@ -6,6 +6,7 @@
 #include "shadows.glsl"
 #include "occlusion.glsl"
 #include "ground_shadow.glsl"
+#include "vertex_light.glsl"
 
 // Unit direction l from p towards point light i, and its irradiance on a surface facing
 // it, E⊥ = I / d² (the scene format's radiant intensity I).
@@ -21,18 +22,44 @@ vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
 // lavapipe would still run what the lookups share before finding that out.
 layout(constant_id = 20) const bool SHADOWS = true;
 
-// The fraction of point light i that reaches p: 1 without shadows; on the ground that reads
-// its shadows from its map (GROUND_SHADOWS), a soft light's from the map and a hard one's
-// (GROUND_HARD_SHADOWS) looked up at the pixel; else point_light_shadow with the receiver's
-// triangle's normal `face_normal`, for the lights that may shadow the draw's object.
+// The soft lights' shadows at the draw's vertices (vertex_light.glsl), interpolated.
+layout(location = 10 + MAP_COUNT) in vec4 in_vertex_shadows[MAX_VERTEX_SHADOW_LAYERS];
+
+// Soft light i's shadow interpolated from the vertices. The constant conditions leave the
+// pipeline reading only the layers its lights fill: each input read is interpolated.
+float interpolated_vertex_shadow(uint i) {
+    vec4 layer = in_vertex_shadows[0];
+    layer = VERTEX_SHADOW_LAYERS > 1u && i >= 4u ? in_vertex_shadows[1] : layer;
+    layer = VERTEX_SHADOW_LAYERS > 2u && i >= 8u ? in_vertex_shadows[2] : layer;
+    layer = VERTEX_SHADOW_LAYERS > 3u && i >= 12u ? in_vertex_shadows[3] : layer;
+    return layer[i % 4u];
+}
+
+// Soft light i's shadow at p, interpolated from the vertices; 1 where the light is behind
+// the triangle seen from the eye, where no map is read (shadow_receiver) and the subsurface
+// term alone lights p: the triangle's vertices on the lit side would darken it.
+float vertex_shadow_at_pixel(uint i, vec3 p, vec3 face_normal) {
+    vec3 q = p - frame.lights[i].position.xyz;
+    bool behind = dot(face_normal, q) * dot(face_normal, frame.camera_position.xyz - p) >= 0.0;
+    return behind ? 1.0 : interpolated_vertex_shadow(i);
+}
+
+// The fraction of point light i that reaches p: 1 without shadows; where the draw reads the
+// soft lights' shadows elsewhere, from the ground's map (GROUND_SHADOWS) or its vertices
+// (VERTEX_SHADOW_LAYERS), a soft light's from there and a hard one's (HARD_SHADOWS_AT_PIXELS)
+// looked up at the pixel; else point_light_shadow with the receiver's triangle's normal
+// `face_normal`, for the lights that may shadow the draw's object.
 float point_light_visibility(uint i, vec3 p, vec3 face_normal) {
     if (!SHADOWS) return 1.0;
     bool may_shadow = ((object.shadowing_lights >> i) & 1u) != 0u;
-    if (!GROUND_SHADOWS) return point_light_shadow(i, p, face_normal, gl_FragCoord.xy, may_shadow);
-    if (!GROUND_HARD_SHADOWS) return ground_map_shadow(i, p);
-    // Lavapipe runs both for every light: the hard lookup is one tap, the map's one read.
-    float at_pixel = hard_light_shadow(i, p, face_normal);
-    return shadow_data.lights[i].map.y > 0.0 ? ground_map_shadow(i, p) : at_pixel;
+    if (!GROUND_SHADOWS && VERTEX_SHADOW_LAYERS == 0u) {
+        return point_light_shadow(i, p, face_normal, frame.camera_position.xyz - p, gl_FragCoord.xy, may_shadow);
+    }
+    float soft = GROUND_SHADOWS ? ground_map_shadow(i, p) : vertex_shadow_at_pixel(i, p, face_normal);
+    if (!HARD_SHADOWS_AT_PIXELS) return soft;
+    // Lavapipe runs both for every light: the hard lookup is one tap, the other one read.
+    float at_pixel = may_shadow ? hard_light_shadow(i, p, face_normal) : 1.0;
+    return shadow_data.lights[i].map.y > 0.0 ? soft : at_pixel;
 }
 
 // Radiance from the point lights through brdf_cos with the given models and material, or

@@ -43,7 +43,7 @@ layout(push_constant) uniform ObjectPush {
     uint material_index;
     uint shadowing_lights;  // bit i: point light i may shadow it (Scene::shadowing_lights)
     uint own_occluders;  // the run of frame.occluders that is this object: first | count << 16
-    uint bounce_first;  // its first vertex in the bounce at the vertices (vertex_bounce.rs)
+    uint vertex_light_first;  // its first vertex in what the draws read there (vertex_light.rs)
 } object;
 
 // A mesh normal of the object in the world, by the inverse-transpose of its model matrix

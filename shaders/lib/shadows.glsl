@@ -167,11 +167,11 @@ float interleaved_gradient_noise(vec2 pixel) {
 
 // What light i's comparisons at p share, and w the unit direction from the light to p;
 // false where its map says nothing: without a map, outside the faces' depth range, or
-// with the light behind the triangle seen from the eye (then only the subsurface term
-// lights p, through its own object, which does not shadow it, as `argil reference` has
-// it: the map, which cannot tell that object from others, is not read). `face_normal` is
-// the receiver's triangle's, from derivatives taken before any branch.
-bool shadow_receiver(uint i, vec3 p, vec3 face_normal, out ShadowReceiver r, out vec3 w) {
+// with the light behind the triangle seen from the eye, towards `to_eye` (then only the
+// subsurface term lights p, through its own object, which does not shadow it, as `argil
+// reference` has it: the map, which cannot tell that object from others, is not read).
+// `face_normal` is the receiver's triangle's, from derivatives taken before any branch.
+bool shadow_receiver(uint i, vec3 p, vec3 face_normal, vec3 to_eye, out ShadowReceiver r, out vec3 w) {
     ShadowLight s = shadow_data.lights[i];
     if (s.map.x < 0.0) return false;
     vec3 q = p - frame.lights[i].position.xyz;
@@ -182,7 +182,7 @@ bool shadow_receiver(uint i, vec3 p, vec3 face_normal, out ShadowReceiver r, out
     w = q / d;
     float n2 = dot(face_normal, face_normal);
     vec3 n = n2 > 0.0 ? face_normal * inversesqrt(n2) : w;
-    if (n2 > 0.0 && dot(n, q) * dot(n, frame.camera_position.xyz - p) >= 0.0) return false;
+    if (n2 > 0.0 && dot(n, q) * dot(n, to_eye) >= 0.0) return false;
     r = ShadowReceiver(int(s.map.x), s.map.z, s.map.w, n, dot(q, n), d);
     return true;
 }
@@ -194,12 +194,13 @@ ivec2 shadow_nearest_texel(vec3 w, out uint face) {
     return clamp(texel + ivec2(greaterThan(f, vec2(0.5))), ivec2(0), ivec2(int(shadow_data.settings.x) - 1));
 }
 
-// The hard shadow of point light i at p, 1 without a map: point_light_shadow's one tap at
-// a light of radius 0, for the draws that read the soft lights' shadows elsewhere.
+// The hard shadow of point light i at the pixel's point p, 1 without a map:
+// point_light_shadow's one tap at a light of radius 0, for the draws that read the soft
+// lights' shadows elsewhere.
 float hard_light_shadow(uint i, vec3 p, vec3 face_normal) {
     ShadowReceiver r;
     vec3 w;
-    return shadow_receiver(i, p, face_normal, r, w) ? shadow_bilinear(r, w) : 1.0;
+    return shadow_receiver(i, p, face_normal, frame.camera_position.xyz - p, r, w) ? shadow_bilinear(r, w) : 1.0;
 }
 
 // The fraction of point light i that reaches p, 1 without a map or where the light
@@ -207,16 +208,17 @@ float hard_light_shadow(uint i, vec3 p, vec3 face_normal) {
 // the blockers' mean distance searched in the cone from p towards the light's sphere, then
 // the comparisons filtered over the penumbra they give; 1 where the search finds none. A
 // light of radius 0 has the hard shadow of one bilinear lookup, the filter's one tap at
-// w. `face_normal` is the receiver's triangle's, which is what the map stores:
-// cross(dFdx(p), dFdy(p)), taken in uniform control flow.
+// w. `face_normal` is the receiver's plane, its triangle's at a pixel, which is what the
+// map stores: cross(dFdx(p), dFdy(p)), taken in uniform control flow; `to_eye` the side
+// it is seen from; `pixel` turns the taps.
 // The hard shadow is the filter's tap rather than a branch of its own: lavapipe runs both
 // sides of a branch, so its lookup would run for every pixel beside PCSS's. The loops'
 // counts vary by pixel; kept as loops, each stops once no pixel of its batch has an
 // iteration left.
-float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec2 pixel, bool may_shadow) {
+float point_light_shadow(uint i, vec3 p, vec3 face_normal, vec3 to_eye, vec2 pixel, bool may_shadow) {
     ShadowReceiver r;
     vec3 w;
-    bool receives = shadow_receiver(i, p, face_normal, r, w) && may_shadow;
+    bool receives = shadow_receiver(i, p, face_normal, to_eye, r, w) && may_shadow;
     float d = r.distance;
     float radius = shadow_data.lights[i].map.y;
     bool soft = SOFT_SHADOWS && radius > 0.0;

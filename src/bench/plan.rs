@@ -601,14 +601,16 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
 /// renderer before them), `hard-shadows` makes every light a point (one lookup, no PCSS),
 /// `shadow-taps-N` gives a soft shadow N taps to search and N to filter (argil's 16),
 /// `no-ground-shadow-map` searches and filters the ground's shadows at its pixels rather
-/// than reading them from its map.
-const SHADOW_CONFIGURATIONS: [&str; 6] = [
+/// than reading them from its map, `shadows-per-vertex` finds the other objects' soft
+/// shadows at their vertices.
+const SHADOW_CONFIGURATIONS: [&str; 7] = [
     "no-shadows",
     "hard-shadows",
     "shadow-taps-4",
     "shadow-taps-8",
     "shadow-taps-32",
     "no-ground-shadow-map",
+    "shadows-per-vertex",
 ];
 
 fn shadow_configured(file: &mut SceneFile, name: &str) {
@@ -618,6 +620,10 @@ fn shadow_configured(file: &mut SceneFile, name: &str) {
     }
     if name == "no-ground-shadow-map" {
         file.shadows.get_or_insert_with(Default::default).ground_map = Some(false);
+        return;
+    }
+    if name == "shadows-per-vertex" {
+        file.shadows.get_or_insert_with(Default::default).per_vertex = Some(true);
         return;
     }
     for light in &mut file.lights {
@@ -830,6 +836,17 @@ mod tests {
             let scene = crate::scene::Scene::from_toml(&row.unwrap().text, "row", Path::new("")).unwrap();
             assert_eq!(scene.shadow_taps, n);
             assert!(scene.lights[0].radius > 0.0);
+        }
+    }
+
+    /// The default scene's `shadows-per-vertex` row, and it alone, takes the soft shadows at
+    /// the vertices.
+    #[test]
+    fn the_per_vertex_row_takes_soft_shadows_at_the_vertices() {
+        let default = scenes(false, None).unwrap().into_iter().find(|s| s.name == "default").unwrap();
+        for row in &default.configurations {
+            let scene = crate::scene::Scene::from_toml(&row.text, "row", Path::new("")).unwrap();
+            assert_eq!(scene.shadow_per_vertex, row.name == "shadows-per-vertex", "{}", row.name);
         }
     }
 

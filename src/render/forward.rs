@@ -29,7 +29,7 @@ use super::shaders;
 use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
-use super::vertex_bounce::gpu_bounce_firsts;
+use super::vertex_light::{gpu_vertex_light_firsts, vertex_shadow_layers, vertex_shadowing};
 use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::occluders::Occluder;
 use crate::scene::{
@@ -58,9 +58,11 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// (`[shadows] taps`, shadows.glsl); whether the draw reads its shadows from the
 /// ground's shadow map (ground_shadow.glsl); whether the frame has shadows at all
 /// (lights.glsl), which the generic pipeline always holds; whether the draw that reads
-/// the ground's map looks hard lights up at its pixels beside it; whether a light that may
-/// shadow the draw's object is soft (shadows.glsl), which the generic pipeline holds; and
-/// whether the draw gathers the bounce at its vertices (bounce.glsl), by its mesh.
+/// the soft lights' shadows from the ground's map or its vertices looks hard lights up at
+/// its pixels beside them; whether a light that may shadow the draw's object is soft
+/// (shadows.glsl), which the generic pipeline holds; whether the draw gathers the bounce at
+/// its vertices (bounce.glsl), by its mesh; and the vec4s of soft lights' shadows it reads
+/// at its vertices (vertex_light.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -85,14 +87,15 @@ pub struct ForwardConstants {
     pub shadow_taps: u32,
     pub ground_shadows: u32,
     pub shadows: u32,
-    pub ground_hard_shadows: u32,
+    pub hard_shadows_at_pixels: u32,
     pub soft_shadows: u32,
     pub bounce_at_vertices: u32,
+    pub vertex_shadow_layers: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 24] = [
+    pub const NAMES: [&'static str; 25] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -114,9 +117,10 @@ impl ForwardConstants {
         "SHADOW_TAPS",
         "GROUND_SHADOWS",
         "SHADOWS",
-        "GROUND_HARD_SHADOWS",
+        "HARD_SHADOWS_AT_PIXELS",
         "SOFT_SHADOWS",
         "BOUNCE_AT_VERTICES",
+        "VERTEX_SHADOW_LAYERS",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -179,9 +183,10 @@ impl ForwardConstants {
             shadow_taps: DEFAULT_SHADOW_TAPS,
             ground_shadows: 0,
             shadows: 1,
-            ground_hard_shadows: 0,
+            hard_shadows_at_pixels: 0,
             soft_shadows: 1,
             bounce_at_vertices: 0,
+            vertex_shadow_layers: 0,
         }
     }
 
@@ -506,7 +511,7 @@ impl ForwardPass {
         let at_vertices = |i: usize| {
             choices.objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
         };
-        let bounce_firsts = gpu_bounce_firsts(scene, !choices.specialize, gpu);
+        let vertex_light_firsts = gpu_vertex_light_firsts(scene, !choices.specialize, shadowing, gpu);
         self.object_draws = (0..scene.objects.len())
             .map(|i| ObjectDraw {
                 occlusion: ObjectOcclusion {
@@ -520,7 +525,7 @@ impl ForwardPass {
                     },
                 },
                 shadowing_lights: shadowing[i],
-                bounce_first: bounce_firsts[i],
+                vertex_light_first: vertex_light_firsts[i],
             })
             .collect();
         let parts = 1 + usize::from(split.is_some());
@@ -528,7 +533,7 @@ impl ForwardPass {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
             let from: Vec<ObjectsOcclusionFrom> = self.object_draws.iter().map(|o| o.occlusion.from).collect();
-            let at_vertices: Vec<bool> = bounce_firsts.iter().map(Option::is_some).collect();
+            let at_vertices: Vec<bool> = vertex_light_firsts.iter().map(Option::is_some).collect();
             let constants = draw_constants(scene, split, &from, shadowing, &at_vertices, choices);
             self.pipelines_for(choices.samples, &constants)?
         };
@@ -685,8 +690,8 @@ impl ForwardPass {
                 .object_draws
                 .get(index)
                 .context("object missing: prepare() was not called for this scene")?;
-            let bounce_first = draw.bounce_first.unwrap_or(0);
-            let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights, bounce_first);
+            let vertex_light_first = draw.vertex_light_first.unwrap_or(0);
+            let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights, vertex_light_first);
             push.material_index += first_material as u32;
             unsafe {
                 if pipeline != bound {
@@ -790,24 +795,26 @@ pub struct FrameChoices {
 struct ObjectDraw {
     occlusion: ObjectOcclusion,
     shadowing_lights: u32,
-    /// Its first vertex in the bounce at the vertices, where it gathers there.
-    bounce_first: Option<u32>,
+    /// Its first vertex in what the draws read at their vertices, where it reads there.
+    vertex_light_first: Option<u32>,
 }
 
 /// The constants of each draw: `scene`'s objects, then the same with `split`'s materials,
 /// object i reading the other objects' occlusion from `from[i]`, holding shadow code
-/// where a light may shadow it (`shadowing[i]`, `ShadowPass::receivers`), and gathering
-/// the bounce at its vertices where `bounce_at_vertices[i]`.
+/// where a light may shadow it (`shadowing[i]`, `ShadowPass::receivers`), and reading the
+/// bounce and the soft lights' shadows at its vertices where `at_vertices[i]`
+/// (vertex_light.rs).
 fn draw_constants(
     scene: &Scene,
     split: Option<&Split>,
     from: &[ObjectsOcclusionFrom],
     shadowing: &[u32],
-    bounce_at_vertices: &[bool],
+    at_vertices: &[bool],
     choices: &FrameChoices,
 ) -> Vec<ForwardConstants> {
     let bounces = scene.bounce && scene.ground().is_some();
     let hard_shadows = ground_maps::hard_shadows(scene);
+    let generic = !choices.specialize;
     // The ground lies at its own height, where the gather finds nothing to bounce.
     let ground = scene.ground_index();
     // What a specialised pipeline holds only when the frame uses it; the generic one
@@ -833,12 +840,17 @@ fn draw_constants(
             constants.object_occlusion = u32::from(choices.objects);
             constants.objects_occlusion_from = from as u32;
             constants.bounce = held(bounces && !is_ground);
-            constants.bounce_at_vertices = u32::from(bounce_at_vertices[i]);
+            constants.bounce_at_vertices = u32::from(at_vertices[i]);
             constants.sun = held(choices.sun);
             constants.shadow_taps = scene.shadow_taps;
             let ground_shadows = choices.ground_shadows == Some(i);
             constants.ground_shadows = u32::from(ground_shadows);
-            constants.ground_hard_shadows = u32::from(ground_shadows && hard_shadows);
+            let at_vertices = if at_vertices[i] { vertex_shadowing(scene, generic, shadowing[i]) } else { 0 };
+            constants.vertex_shadow_layers = vertex_shadow_layers(at_vertices);
+            // Beside the shadows it reads elsewhere, a hard light's it looks up at its pixels.
+            let hard = shadowing[i] & !vertex_shadowing(scene, false, shadowing[i]) != 0;
+            let hard_at_pixels = if ground_shadows { hard_shadows } else { at_vertices != 0 && hard };
+            constants.hard_shadows_at_pixels = u32::from(hard_at_pixels);
             constants.shadows = held(shadowing[i] != 0);
             constants.soft_shadows = held(soft_shadowing(shadowing[i]));
             constants
@@ -849,6 +861,7 @@ fn draw_constants(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::vertex_light::vertex_light_firsts;
 
     /// Every `layout(constant_id = N) const TYPE NAME` of the forward pass's shaders.
     fn shader_constants() -> Vec<(u32, String)> {
@@ -859,6 +872,7 @@ mod tests {
             include_str!("../../shaders/lib/occlusion_map.glsl"),
             include_str!("../../shaders/lib/object_occlusion.glsl"),
             include_str!("../../shaders/lib/bounce.glsl"),
+            include_str!("../../shaders/lib/vertex_light.glsl"),
             include_str!("../../shaders/lib/shadows.glsl"),
             include_str!("../../shaders/lib/ground_shadow.glsl"),
             include_str!("../../shaders/lib/lights.glsl"),
@@ -1056,7 +1070,8 @@ mod tests {
     /// shadows from the ground's map when the frame has one; a draw that no shadow can
     /// reach, and every draw of a frame without shadow maps, holds no shadow code, but for
     /// the generic pipeline; a draw holds the soft shadows' search and filter only where a
-    /// soft light may shadow its object, but for the generic pipeline.
+    /// soft light may shadow its object, but for the generic pipeline; a fine mesh reads a
+    /// soft light's shadow at its vertices and a hard light's at its pixels.
     #[test]
     fn draws_hold_the_bounce_and_the_shadows_they_use() {
         let scene = Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
@@ -1079,7 +1094,7 @@ mod tests {
             let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };
             let shadowing: Vec<u32> =
                 (0..scene.objects.len()).map(|i| scene.shadowing_lights(i, &lights, |m| extents[m])).collect();
-            let firsts = crate::render::vertex_bounce::bounce_firsts(scene, !specialize, |m| (extents[m], 1));
+            let firsts = vertex_light_firsts(scene, !specialize, &shadowing, |m| (extents[m], 1));
             let at_vertices: Vec<bool> = firsts.iter().map(Option::is_some).collect();
             draw_constants(scene, None, &from, &shadowing, &at_vertices, &choices)
         };
@@ -1095,14 +1110,29 @@ mod tests {
         let at_vertices: Vec<u32> = specialised.iter().map(|c| c.bounce_at_vertices).collect();
         assert_eq!(at_vertices, [1, 1, 0]);
         assert_eq!((specialised[ball].soft_shadows, specialised[ring].soft_shadows), (0, 1));
+        let layers = |constants: &[ForwardConstants]| -> Vec<u32> {
+            constants.iter().map(|c| c.vertex_shadow_layers).collect()
+        };
+        assert_eq!(layers(&specialised), [0, 0, 0], "unless [shadows] per_vertex asks for them");
+        let mut per_vertex = scene.clone();
+        per_vertex.shadow_per_vertex = true;
+        let at_vertices = constants(&per_vertex, true, true);
+        assert_eq!(layers(&at_vertices), [0, 1, 0], "the ring reads the soft light's shadow at its vertices");
+        assert!(at_vertices.iter().all(|c| c.hard_shadows_at_pixels == 0));
         let generic = |scene: &Scene, shadows: bool| constants(scene, false, shadows);
         assert!(generic(&scene, true).iter().all(|c| c.bounce == 1), "the generic pipeline holds the bounce");
         assert!(constants(&scene, true, false).iter().all(|c| c.shadows == 0 && c.ground_shadows == 0));
         assert!(generic(&scene, false).iter().all(|c| c.shadows == 1), "the generic pipeline holds the shadows");
-        let mut hard = scene.clone();
+        let mut hard = per_vertex.clone();
         hard.lights[0].radius = 0.0;
         assert!(constants(&hard, true, true).iter().all(|c| c.soft_shadows == 0));
         assert!(generic(&hard, true).iter().all(|c| c.soft_shadows == 1), "the generic pipeline holds them");
+        fn hard_at(constants: &[ForwardConstants]) -> Vec<(u32, u32)> {
+            constants.iter().map(|c| (c.vertex_shadow_layers, c.hard_shadows_at_pixels)).collect()
+        }
+        assert_eq!(hard_at(&constants(&hard, true, true)), [(0, 0), (0, 0), (0, 1)]);
+        // The generic ring reads every light at its vertices, and the hard one at its pixels.
+        assert_eq!(hard_at(&generic(&hard, true)), [(0, 0), (1, 1), (0, 1)]);
     }
 
     #[test]

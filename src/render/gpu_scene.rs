@@ -96,9 +96,9 @@ pub struct ObjectPush {
     /// The run of `FrameData::occluders` that stands for its own file object, which does
     /// not occlude it: first | count << 16.
     pub own_occluders: u32,
-    /// Its first vertex's gather in the ground's bounce at the vertices (vertex_bounce.rs),
-    /// where it gathers there.
-    pub bounce_first: u32,
+    /// Its first vertex's entry in what the draws read at their vertices (vertex_light.rs),
+    /// where it reads there.
+    pub vertex_light_first: u32,
 }
 
 /// Where a draw's occlusion by the other objects (`[occlusion] objects`) comes from:
@@ -129,8 +129,9 @@ const _: () = assert!(MAX_OCCLUDERS < 1 << 16);
 
 impl ObjectPush {
     /// The draw of `object`, which skips the occluders `occlusion.own`, may be shadowed by
-    /// the lights `shadowing_lights` and reads its vertices' bounce from `bounce_first` on.
-    pub fn new(object: &Object, occlusion: ObjectOcclusion, shadowing_lights: u32, bounce_first: u32) -> Self {
+    /// the lights `shadowing_lights` and reads its vertices' bounce and shadows from
+    /// `vertex_light_first` on.
+    pub fn new(object: &Object, occlusion: ObjectOcclusion, shadowing_lights: u32, vertex_light_first: u32) -> Self {
         let model: Mat4 = object.model_matrix();
         // Normals transform by the inverse transpose; with a degenerate matrix, which the
         // scene loader rejects, this would be non-finite.
@@ -145,14 +146,14 @@ impl ObjectPush {
             material_index: object.material as u32,
             shadowing_lights,
             own_occluders: occlusion.own.0 as u32 | (occlusion.own.1 as u32) << 16,
-            bounce_first,
+            vertex_light_first,
         }
     }
 }
 
 pub struct GpuMesh {
-    /// Read as vertices by the draws, and as a storage buffer by the bounce's gather at
-    /// them (vertex_bounce.rs).
+    /// Read as vertices by the draws, and as a storage buffer by the computation of what
+    /// they read at them (vertex_light.rs).
     pub vertices: Buffer,
     pub vertex_count: u32,
     pub indices: Buffer,
@@ -332,11 +333,11 @@ mod tests {
             "    uint material_index;\n",
             "    uint shadowing_lights;  // bit i: point light i may shadow it (Scene::shadowing_lights)\n",
             "    uint own_occluders;  // the run of frame.occluders that is this object: first | count << 16\n",
-            "    uint bounce_first;  // its first vertex in the bounce at the vertices (vertex_bounce.rs)\n",
+            "    uint vertex_light_first;  // its first vertex in what the draws read there (vertex_light.rs)\n",
         )));
         assert_eq!(std::mem::offset_of!(ObjectPush, shadowing_lights), 116);
         assert_eq!(std::mem::offset_of!(ObjectPush, own_occluders), 120);
-        assert_eq!(std::mem::offset_of!(ObjectPush, bounce_first), 124);
+        assert_eq!(std::mem::offset_of!(ObjectPush, vertex_light_first), 124);
         assert_eq!(std::mem::size_of::<ObjectPush>(), 128, "Vulkan's least maxPushConstantsSize");
     }
 

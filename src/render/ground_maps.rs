@@ -299,7 +299,7 @@ impl GroundMap {
 }
 
 /// How the maps are read: by the forward pass's fragments, and the light map by the
-/// bounce's gather at the vertices too (vertex_bounce.rs).
+/// bounce's gather at the vertices too (vertex_light.rs).
 const MAP_READ: ImageUse = ImageUse {
     stage: vk::PipelineStageFlags2::from_raw(
         vk::PipelineStageFlags2::COMPUTE_SHADER.as_raw() | vk::PipelineStageFlags2::FRAGMENT_SHADER.as_raw(),
@@ -357,10 +357,10 @@ pub struct GroundMaps {
 
 impl GroundMaps {
     /// The layout of set 5 of the forward pass, which [`Self::new`] takes over: the three
-    /// maps, and the bounce at the vertices that vertex_bounce.rs computes from the first.
+    /// maps, and what the draws read at their vertices, which vertex_light.rs computes.
     pub fn forward_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout> {
         DescriptorSetLayoutBuilder::default()
-            // The light map: the bounce's gather at the vertices reads it too (vertex_bounce.rs).
+            // The light map: the bounce's gather at the vertices reads it too (vertex_light.rs).
             .binding(
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 vk::ShaderStageFlags::COMPUTE | vk::ShaderStageFlags::FRAGMENT,

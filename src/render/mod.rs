@@ -20,7 +20,7 @@ pub mod subsurface;
 pub mod target;
 pub mod textures;
 pub mod tonemap;
-pub mod vertex_bounce;
+pub mod vertex_light;
 pub mod warm_up;
 
 pub use debug_view::DebugView;

@@ -24,7 +24,7 @@ use super::shadow::ShadowPass;
 use super::split::Split;
 use super::target::RenderTarget;
 use super::tonemap::{TonemapPass, DISPLAY_FORMAT};
-use super::vertex_bounce::{BounceInputs, VertexBounce};
+use super::vertex_light::{VertexLight, VertexLightInputs};
 use crate::priority::low_priority_pool;
 use crate::scene::occluders::Occluder;
 use crate::scene::{Environment, MapSlot, Scene};
@@ -103,7 +103,7 @@ pub struct Renderer {
     environment: EnvironmentPass,
     shadow: ShadowPass,
     ground_maps: GroundMaps,
-    vertex_bounce: VertexBounce,
+    vertex_light: VertexLight,
     occlusion_pass: OcclusionPass,
     forward: ForwardPass,
     msaa: MsaaPass,
@@ -216,7 +216,7 @@ impl Renderer {
             environment.set_layout(),
             shadow.set_layout(),
         )?;
-        let vertex_bounce = VertexBounce::new(
+        let vertex_light = VertexLight::new(
             &device,
             forward.frame_layout(),
             environment.set_layout(),
@@ -229,7 +229,7 @@ impl Renderer {
             forward,
             shadow,
             ground_maps,
-            vertex_bounce,
+            vertex_light,
             msaa: MsaaPass::new(&device, frames_in_flight)?,
             occlusion_pass,
             one_shot,
@@ -318,11 +318,11 @@ impl Renderer {
         self.ground_maps.light_renders()
     }
 
-    /// How many times the bounce at the vertices has been made (computed, or read from the
-    /// disk cache): once per change of the ground's light map, the environment or where the
-    /// objects stand, not per frame.
-    pub fn vertex_bounce_computes(&self) -> u64 {
-        self.vertex_bounce.computes()
+    /// How many times what the draws read at their vertices has been made (computed, or read
+    /// from the disk cache): once per change of the ground's light map, the environment, the
+    /// shadow maps or where the objects stand, not per frame.
+    pub fn vertex_light_computes(&self) -> u64 {
+        self.vertex_light.computes()
     }
 
     /// How many times the ground's occlusion map has been made: once per change of the
@@ -418,15 +418,17 @@ impl Renderer {
             &self.one_shot,
             &inputs,
         )?;
-        let (bounces, generic) = (!self.floor, self.generic);
-        let bounce_inputs = BounceInputs {
+        let (shaded, generic) = (!self.floor, self.generic);
+        let vertex_light_inputs = VertexLightInputs {
             light_key: self.ground_maps.light_key(),
             light_content: self.ground_maps.light_content(),
             maps: &inputs,
             environment_generation: environment,
+            shadow_generation: shadows,
+            shadowing: &shadowing,
         };
         let (ground_set, one_shot) = (self.ground_maps.set(), &self.one_shot);
-        self.vertex_bounce.prepare(scene, gpu, bounces, generic, &bounce_inputs, ground_set, one_shot)?;
+        self.vertex_light.prepare(scene, gpu, shaded, generic, &vertex_light_inputs, ground_set, one_shot)?;
         self.exposure.prepare(slot, target, self.measure_exposure)?;
         self.tonemap.prepare(slot, target, output_format)
     }
@@ -519,7 +521,8 @@ impl Renderer {
             let frame_set = self.forward.frame_set(slot);
             self.ground_maps.record_from_shadow_maps(cmd, frame_set, self.shadow.set(slot));
             let (environment_set, ground_set) = (self.environment.set(), self.ground_maps.set());
-            self.vertex_bounce.record(cmd, scene, gpu, frame_set, environment_set, ground_set);
+            let shadow_set = self.shadow.set(slot);
+            self.vertex_light.record(cmd, scene, gpu, frame_set, environment_set, shadow_set, ground_set);
             Ok(())
         })?;
         self.timed(cmd, slot, PASS_OCCLUSION, || {
@@ -740,7 +743,7 @@ impl Renderer {
         self.one_shot
             .run(|cmd| self.record(cmd, 0, scene, gpu, &offscreen.target, output.as_ref()))??;
         self.ground_maps.store_computed(&self.one_shot)?;
-        self.vertex_bounce.store_computed(&self.one_shot)?;
+        self.vertex_light.store_computed(&self.one_shot)?;
         self.gpu_times(0)
     }
 

@@ -106,6 +106,10 @@ pub struct ShadowsDef {
     /// Whether the ground's shadows are read from a map over it (absent: true).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ground_map: Option<bool>,
+    /// Whether finely tessellated objects take their soft shadows at their vertices
+    /// (absent: false).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub per_vertex: Option<bool>,
 }
 
 /// `[antialiasing]`: multisampling and specular anti-aliasing of the frame.

@@ -125,6 +125,10 @@ pub struct Scene {
     /// Whether the ground's shadows are read from a map over it, computed once per change,
     /// rather than searched and filtered at each of its pixels (`[shadows] ground_map`).
     pub shadow_ground_map: bool,
+    /// Whether the soft shadows of each finely tessellated object but the ground are found
+    /// once per change at its vertices and interpolated, rather than searched and filtered
+    /// at each of its pixels (`[shadows] per_vertex`, src/render/vertex_light.rs).
+    pub shadow_per_vertex: bool,
     pub antialiasing: Antialiasing,
     /// Ambient occlusion of the environment's light.
     pub occlusion: Occlusion,

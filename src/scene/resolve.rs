@@ -196,6 +196,7 @@ pub(super) fn resolve(
     let shadow_taps = shadow_taps(&check, file.shadows.as_ref())?;
     let bounce = file.shadows.as_ref().and_then(|d| d.bounce).unwrap_or(false);
     let shadow_ground_map = file.shadows.as_ref().and_then(|d| d.ground_map).unwrap_or(true);
+    let shadow_per_vertex = file.shadows.as_ref().and_then(|d| d.per_vertex).unwrap_or(false);
     let antialiasing = antialiasing(&check, file.antialiasing.as_ref())?;
     let occlusion = occlusion(&check, file.occlusion.as_ref())?;
     let environment = environment(&check, &file.environment, base_dir)?;
@@ -320,6 +321,7 @@ pub(super) fn resolve(
         shadow_taps,
         bounce,
         shadow_ground_map,
+        shadow_per_vertex,
         antialiasing,
         occlusion,
         environment,
@@ -340,6 +342,7 @@ fn shadows_def(scene: &Scene) -> Option<ShadowsDef> {
         taps: (scene.shadow_taps != DEFAULT_SHADOW_TAPS).then_some(scene.shadow_taps),
         bounce: scene.bounce.then_some(true),
         ground_map: (!scene.shadow_ground_map).then_some(false),
+        per_vertex: scene.shadow_per_vertex.then_some(true),
     };
     (def != ShadowsDef::default()).then_some(def)
 }

@@ -493,13 +493,14 @@ fn scene_file_round_trips_through_toml() {
     assert!(matches!(file.environment, EnvironmentDef::Studio { .. }));
 }
 
-/// A light's radius and shadows, the maps' resolution, a soft shadow's taps and the
-/// ground's shadow map are read, default to a point that casts shadows at 1024 with 16 taps
-/// and the ground's map, and are saved only when not the default.
+/// A light's radius and shadows, the maps' resolution, a soft shadow's taps, the ground's
+/// shadow map and the shadows at the vertices are read, default to a point that casts
+/// shadows at 1024 with 16 taps, the ground's map and the pixels, and are saved only when
+/// not the default.
 #[test]
 fn shadow_keys_are_read_defaulted_and_saved() {
     let text = format!(
-        "{CUBE}[shadows]\nresolution = 512\ntaps = 8\nground_map = false\n[[lights]]\nkind = \"point\"\nposition = [0.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = 0.25\nshadows = false\n[[lights]]\nkind = \"point\"\nposition = [1.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\n"
+        "{CUBE}[shadows]\nresolution = 512\ntaps = 8\nground_map = false\nper_vertex = true\n[[lights]]\nkind = \"point\"\nposition = [0.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\nradius = 0.25\nshadows = false\n[[lights]]\nkind = \"point\"\nposition = [1.0, 2.0, 0.0]\nintensity = [1.0, 1.0, 1.0]\n"
     );
     let scene = Scene::from_toml(&text, "scene.toml", Path::new("")).unwrap();
     assert_eq!((scene.shadow_resolution, scene.shadow_taps), (512, 8));
@@ -509,8 +510,9 @@ fn shadow_keys_are_read_defaulted_and_saved() {
     let reread = Scene::from_toml(&saved, "saved.toml", Path::new("")).unwrap();
     assert_eq!((reread.lights, reread.shadow_resolution, reread.shadow_taps), (scene.lights.clone(), 512, 8));
     assert!(!scene.shadow_ground_map && !reread.shadow_ground_map);
+    assert!(scene.shadow_per_vertex && reread.shadow_per_vertex);
     let defaults = Scene::from_toml(CUBE, "scene.toml", Path::new("")).unwrap();
-    assert!(defaults.shadow_ground_map);
+    assert!(defaults.shadow_ground_map && !defaults.shadow_per_vertex);
     assert_eq!(defaults.shadow_resolution, crate::scene::DEFAULT_SHADOW_RESOLUTION);
     assert_eq!(defaults.shadow_taps, crate::scene::DEFAULT_SHADOW_TAPS);
     let saved = defaults.to_file().to_toml().unwrap();

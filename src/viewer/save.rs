@@ -291,6 +291,7 @@ mod tests {
         scene.shadow_resolution = 512;
         scene.shadow_taps = 8;
         scene.shadow_ground_map = false;
+        scene.shadow_per_vertex = true;
         scene.antialiasing.msaa = 8;
         scene.antialiasing.specular = false;
         scene.environment = Environment::Studio {
@@ -317,7 +318,7 @@ mod tests {
         let (reloaded, _) = load(&path);
         assert_eq!(reloaded.lights, scene.lights);
         assert_eq!((reloaded.shadow_resolution, reloaded.shadow_taps), (512, 8));
-        assert!(!reloaded.shadow_ground_map);
+        assert!(!reloaded.shadow_ground_map && reloaded.shadow_per_vertex);
         assert_eq!((reloaded.antialiasing.msaa, reloaded.antialiasing.specular), (8, false));
     }
 

@@ -30,6 +30,12 @@ pub fn shadows_section(ui: &mut Ui, scene: &mut Scene, enabled: &mut bool) {
         );
         ui.checkbox(&mut scene.shadow_ground_map, "from a map");
         ui.end_row();
+        ui.label("per vertex").on_hover_text(
+            "[shadows] per_vertex: the soft shadows of finely tessellated objects computed once per change at \
+             their vertices and interpolated, rather than at every pixel",
+        );
+        ui.checkbox(&mut scene.shadow_per_vertex, "at the vertices");
+        ui.end_row();
         for (i, light) in scene.lights.iter_mut().enumerate() {
             ui.label(format!("light {i}"));
             ui.horizontal(|ui| {

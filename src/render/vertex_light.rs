@@ -1,13 +1,15 @@
-//! The ground's bounce at the vertices (shaders/lib/bounce.glsl): for each object of a fine
-//! mesh (`Scene::bounce_at_vertices`), the gather at each of its vertices and its gradient
-//! in the normal, computed by shaders/vertex_bounce.comp into one buffer that the forward
-//! pass's vertex shader reads (set 5, binding 3, beside the ground's maps), and computed
-//! again only when what it is made of changes: the ground's light map, the ground's albedo,
-//! the environment, or where the objects stand. Steady frames record nothing, where the
-//! gather in the vertex shader ran every frame (and grew lavapipe's memory frame by frame;
-//! docs/performance.md). A start reads its first computation from the disk cache, keyed by
-//! the frame's data, the light map's own key, the environment's, the objects and their
-//! meshes.
+//! What the draws of finely tessellated meshes read at their vertices
+//! (shaders/lib/vertex_light.glsl): for each object of a fine mesh
+//! (`Scene::bounce_at_vertices`) but the ground, the ground's bounce gathered at each of its
+//! vertices with its gradient in the normal (bounce.glsl), and each soft light's shadow,
+//! computed by shaders/vertex_light.comp into one buffer that the forward pass's vertex
+//! shader reads (set 5, binding 3, beside the ground's maps), and computed again only when
+//! what it is made of changes: the ground's light map, the ground's albedo, the
+//! environment, the shadow maps and the lights' radii, or where the objects stand. Steady
+//! frames record nothing, where the gather and the soft shadows' search and filter would
+//! run every frame (docs/performance.md). A start reads its first computation from the disk
+//! cache, keyed by the frame's data, the light map's own key, the environment's, the
+//! shadows', the objects and their meshes.
 
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -20,7 +22,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::environment::environment_kind;
 use super::forward::{ForwardConstants, FROM_UNIFORM};
-use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom};
+use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom, MAX_POINT_LIGHTS};
 use super::ground_maps::MapInputs;
 use super::shaders;
 use crate::cache::{self, DiskCache, Unsaved};
@@ -30,12 +32,19 @@ use crate::vk::{
     DescriptorWriter, Device, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
 
-/// Bytes of one vertex's gather and gradient: bounce.glsl's `BounceAtVertex`, three vec4s.
-const BYTES_PER_VERTEX: u64 = 48;
-/// vertex_bounce.comp's `local_size_x`.
+/// vertex_light.glsl's `MAX_VERTEX_SHADOW_LAYERS`: a vec4 holds four lights' shadows.
+const MAX_VERTEX_SHADOW_LAYERS: usize = MAX_POINT_LIGHTS / 4;
+/// Bytes of one vertex's entry, vertex_light.glsl's `LightAtVertex`: the bounce's gather and
+/// gradient, three vec4s, then the shadows' layers.
+const BYTES_PER_VERTEX: u64 = 16 * (3 + MAX_VERTEX_SHADOW_LAYERS as u64);
+/// vertex_light.comp's `local_size_x`.
 const WORKGROUP: u32 = 64;
+/// A soft shadow's taps at a vertex, per tap at a pixel (`[shadows] taps`): computed once,
+/// so more of them cost little, and the fixed disk's pattern that few taps would leave
+/// from vertex to vertex does not show.
+pub const VERTEX_SHADOW_TAPS_PER_TAP: u32 = 4;
 /// The buffer's entries' name in the disk cache.
-const DISK_ENTRY: &str = "vertex-bounce";
+const DISK_ENTRY: &str = "vertex-light";
 
 /// Where the frames before have read the buffer: its old values go once they are done.
 const AFTER_READS: BufferUse = BufferUse {
@@ -44,32 +53,61 @@ const AFTER_READS: BufferUse = BufferUse {
 };
 
 /// What the buffer is made of besides the scene's objects and meshes.
-pub struct BounceInputs<'a> {
+pub struct VertexLightInputs<'a> {
     /// `GroundMaps::light_key`: what the ground's light map was last computed from.
     pub light_key: &'a [u32],
     /// `GroundMaps::light_content`: the disk cache's key of what the light map holds.
     pub light_content: Option<u64>,
-    /// The frame's data (the ground and its albedo, the bounce's switch) and the
-    /// environment's disk cache key, as the ground's maps read them.
+    /// The frame's data (the ground and its albedo, the bounce's switch), the environment's
+    /// and the shadows' disk cache keys, as the ground's maps read them.
     pub maps: &'a MapInputs<'a>,
     /// `EnvironmentPass::generation`.
     pub environment_generation: u64,
+    /// `ShadowPass::generation`.
+    pub shadow_generation: u64,
+    /// `ShadowPass::receivers`: per object, the lights that may shadow it.
+    pub shadowing: &'a [u32],
 }
 
-/// Where each of `scene`'s objects' vertices start in the buffer, for the objects that
-/// gather the bounce at their vertices, one after the other: each but the ground whose mesh
-/// is fine enough (`Scene::bounce_at_vertices`), when the scene bounces light or the
-/// pipelines are `generic`, which read the bounce's flag at run time from the same
-/// pipelines (the buffer then holds zeros). `mesh(i)` is mesh i's extent and vertex count.
-pub fn bounce_firsts(scene: &Scene, generic: bool, mesh: impl Fn(usize) -> (MeshExtent, u32)) -> Vec<Option<u32>> {
+/// Of the lights `shadowing` (bit i for light i, `ShadowPass::receivers`) that may shadow
+/// an object of `scene`, those whose shadow its draw reads at its vertices if it reads
+/// anything there, when `[shadows] per_vertex` asks for it: the soft ones, or all of them
+/// in the `generic` pipelines, which read a light's radius at run time.
+pub fn vertex_shadowing(scene: &Scene, generic: bool, shadowing: u32) -> u32 {
+    if !scene.shadow_per_vertex {
+        return 0;
+    }
+    let soft = (scene.lights.iter().enumerate()).filter(|(_, light)| generic || light.radius > 0.0);
+    soft.fold(0, |bits, (i, _)| bits | 1 << i) & shadowing
+}
+
+/// vertex_light.glsl's `VERTEX_SHADOW_LAYERS` of a draw that reads the shadows of the
+/// lights `bits` at its vertices: the vec4s up to the last of them.
+pub fn vertex_shadow_layers(bits: u32) -> u32 {
+    (u32::BITS - bits.leading_zeros()).div_ceil(4)
+}
+
+/// Where each of `scene`'s objects' vertices start in the buffer, for the objects that read
+/// anything at their vertices, one after the other: each but the ground whose mesh is fine
+/// enough (`Scene::bounce_at_vertices`), when the scene bounces light, when a light of
+/// `shadowing[i]` casts a shadow read there ([`vertex_shadowing`]) or when the pipelines are
+/// `generic`, which read the bounce's flag at run time from the same pipelines (the buffer
+/// then holds zeros). `mesh(i)` is mesh i's extent and vertex count.
+pub fn vertex_light_firsts(
+    scene: &Scene,
+    generic: bool,
+    shadowing: &[u32],
+    mesh: impl Fn(usize) -> (MeshExtent, u32),
+) -> Vec<Option<u32>> {
     let bounces = generic || scene.bounce_ground().is_some();
     let ground = scene.ground_index();
     let mut next = 0;
     (scene.objects.iter().enumerate())
         .map(|(i, object)| {
             let (extent, vertices) = mesh(object.mesh);
-            let gathers = bounces && ground != Some(i) && Scene::bounce_at_vertices(extent);
-            gathers.then(|| {
+            let shadowed = vertex_shadowing(scene, generic, shadowing[i]) != 0;
+            let reads = (bounces || shadowed) && ground != Some(i) && Scene::bounce_at_vertices(extent);
+            reads.then(|| {
                 next += vertices;
                 next - vertices
             })
@@ -77,47 +115,49 @@ pub fn bounce_firsts(scene: &Scene, generic: bool, mesh: impl Fn(usize) -> (Mesh
         .collect()
 }
 
-/// [`bounce_firsts`] of the meshes of `gpu`.
-pub fn gpu_bounce_firsts(scene: &Scene, generic: bool, gpu: &GpuScene) -> Vec<Option<u32>> {
-    bounce_firsts(scene, generic, |m| (gpu.meshes[m].extent, gpu.meshes[m].vertex_count))
+/// [`vertex_light_firsts`] of the meshes of `gpu`.
+pub fn gpu_vertex_light_firsts(scene: &Scene, generic: bool, shadowing: &[u32], gpu: &GpuScene) -> Vec<Option<u32>> {
+    vertex_light_firsts(scene, generic, shadowing, |m| (gpu.meshes[m].extent, gpu.meshes[m].vertex_count))
 }
 
 /// The objects the buffer was laid out for.
 struct Layout {
     /// The upload of the meshes, and each object's mesh and first vertex.
     key: (u64, Vec<(usize, Option<u32>)>),
-    /// For each object that gathers, its first vertex and its compute set (its mesh's
-    /// vertices, the buffer).
-    gathering: Vec<Option<(u32, vk::DescriptorSet)>>,
+    /// For each object that reads the buffer, its first vertex and its compute set (its
+    /// mesh's vertices, the buffer).
+    reading: Vec<Option<(u32, vk::DescriptorSet)>>,
     _pool: Option<DescriptorPool>,
 }
 
-pub struct VertexBounce {
+pub struct VertexLight {
     device: Arc<Device>,
     disk: DiskCache,
     set_layout: DescriptorSetLayout,
     /// The forward pass's sets but for set 1, this pass's own.
     layout: PipelineLayout,
     module: ShaderModule,
-    /// A pipeline for each environment kind computed with: a frame in flight may still use
-    /// the one before.
+    /// A pipeline for each environment kind and count of taps computed with: a frame in
+    /// flight may still use the one before.
     pipelines: HashMap<Specialization, Pipeline>,
     specialization: Specialization,
-    /// Every gathering object's vertices' gather, in `bounce_firsts` order.
+    /// Every reading object's vertices' entries, in `vertex_light_firsts` order.
     buffer: Buffer,
     objects: Layout,
+    /// Per object, the lights whose shadows it reads at its vertices ([`vertex_shadowing`]).
+    shadowing: Vec<u32>,
     /// What the buffer was last computed from; empty before the first.
     key: Vec<u32>,
     /// Whether the next recorded frame computes it.
     pending: Cell<bool>,
     /// The disk cache's key of that computation, when it is the first and the cache misses
-    /// it, until [`VertexBounce::store_computed`] stores it.
+    /// it, until [`VertexLight::store_computed`] stores it.
     unsaved: Unsaved,
     /// Times it was made: computed by a frame, or read from the disk cache.
     computes: Cell<u64>,
 }
 
-impl VertexBounce {
+impl VertexLight {
     /// The pass, with the layouts of the forward pass's sets 0 (`frame_layout`), 2 to 4 and 5
     /// (`ground_layout`), whose set `ground_set` it points at its buffer.
     pub fn new(
@@ -132,13 +172,13 @@ impl VertexBounce {
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE)
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::COMPUTE)
-            .build(device, "vertex bounce compute set")?;
+            .build(device, "vertex light compute set")?;
         let sets = [frame_layout, &set_layout, environment_layout, shadow_layout, occlusion_layout, ground_layout];
         let push = std::mem::size_of::<ObjectPush>() as u32;
         let layout = PipelineLayout::new(device, &sets, push, vk::ShaderStageFlags::COMPUTE)?;
         let pass = Self {
-            module: ShaderModule::new(device, shaders::VERTEX_BOUNCE_COMP, "vertex bounce")?,
-            // Read by no frame until a scene gathers at its vertices.
+            module: ShaderModule::new(device, shaders::VERTEX_LIGHT_COMP, "vertex light")?,
+            // Read by no frame until a scene reads anything at its vertices.
             buffer: Self::new_buffer(device, 1)?,
             device: device.clone(),
             disk: DiskCache::from_env(),
@@ -148,9 +188,10 @@ impl VertexBounce {
             specialization: Specialization::default(),
             objects: Layout {
                 key: (u64::MAX, Vec::new()),
-                gathering: Vec::new(),
+                reading: Vec::new(),
                 _pool: None,
             },
+            shadowing: Vec::new(),
             key: Vec::new(),
             pending: Cell::new(false),
             unsaved: Unsaved::default(),
@@ -166,7 +207,7 @@ impl VertexBounce {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_SRC
             | vk::BufferUsageFlags::TRANSFER_DST;
-        Buffer::new(device, size, usage, MemoryLocation::GpuOnly, "vertex bounce")
+        Buffer::new(device, size, usage, MemoryLocation::GpuOnly, "vertex light")
     }
 
     fn point_ground_set_at_buffer(&self, ground_set: vk::DescriptorSet) {
@@ -181,10 +222,11 @@ impl VertexBounce {
         self.computes.get()
     }
 
-    /// Has the next recorded frame compute the buffer when a frame of `scene` (`bounces`:
+    /// Has the next recorded frame compute the buffer when a frame of `scene` (`shaded`:
     /// drawn with the materials' shaders, `generic` or specialised pipelines) reads it and
     /// what it is made of changed: the ground's light map, the frame's ground and its albedo,
-    /// the environment (`inputs`), the meshes' upload and where each gathering object
+    /// the environment, the shadow maps, the lights' radii and which lights may shadow each
+    /// object (`inputs`), the taps, the meshes' upload and where each reading object
     /// stands. A new layout of the objects makes a new buffer, pointed at by the forward
     /// pass's `ground_set`, once the frames in flight are done. The first computation is
     /// read from the disk cache instead, through `one_shot`, when it holds one of the same
@@ -194,14 +236,14 @@ impl VertexBounce {
         &mut self,
         scene: &Scene,
         gpu: &GpuScene,
-        bounces: bool,
+        shaded: bool,
         generic: bool,
-        inputs: &BounceInputs,
+        inputs: &VertexLightInputs,
         ground_set: vk::DescriptorSet,
         one_shot: &OneShot,
     ) -> Result<()> {
-        let firsts = gpu_bounce_firsts(scene, generic, gpu);
-        if !bounces || firsts.iter().all(Option::is_none) {
+        let firsts = gpu_vertex_light_firsts(scene, generic, inputs.shadowing, gpu);
+        if !shaded || firsts.iter().all(Option::is_none) {
             // No frame reads it; a computation asked for before is moot.
             self.pending.set(false);
             return Ok(());
@@ -216,7 +258,12 @@ impl VertexBounce {
         key.extend(bits(&frame.ground));
         key.extend(bits(&frame.ground_albedo));
         let generation = inputs.environment_generation;
-        key.extend([generation as u32, (generation >> 32) as u32, gpu.id as u32]);
+        let shadows = inputs.shadow_generation;
+        key.extend([generation as u32, (generation >> 32) as u32, shadows as u32, (shadows >> 32) as u32]);
+        key.extend([gpu.id as u32, scene.shadow_taps]);
+        key.extend(scene.lights.iter().map(|light| light.radius.to_bits()));
+        self.shadowing = (inputs.shadowing.iter()).map(|&bits| vertex_shadowing(scene, generic, bits)).collect();
+        key.extend(&self.shadowing);
         for (object, _) in scene.objects.iter().zip(&firsts).filter(|(_, first)| first.is_some()) {
             key.extend(bits(&object.model_matrix().to_cols_array()));
         }
@@ -229,13 +276,17 @@ impl VertexBounce {
             reflection_mode: FROM_UNIFORM,
             debug_view: FROM_UNIFORM,
             bounce: 1,
+            shadow_taps: VERTEX_SHADOW_TAPS_PER_TAP * scene.shadow_taps,
+            shadows: 1,
+            soft_shadows: 1,
+            vertex_shadow_layers: MAX_VERTEX_SHADOW_LAYERS as u32,
             ..ForwardConstants::zeroed()
         }
         .specialization();
         self.read_first_from_disk(scene, inputs, one_shot)?;
         if self.pending.get() && !self.pipelines.contains_key(&self.specialization) {
             let (device, layout, module) = (&self.device, &self.layout, &self.module);
-            let pipeline = Pipeline::compute(device, layout, module, &self.specialization, "vertex bounce")?;
+            let pipeline = Pipeline::compute(device, layout, module, &self.specialization, "vertex light")?;
             self.pipelines.insert(self.specialization.clone(), pipeline);
         }
         Ok(())
@@ -243,32 +294,40 @@ impl VertexBounce {
 
     /// Reads the buffer from the disk cache in place of its first computation, if
     /// [`Self::prepare`] asked for that and the cache holds it under the key of `inputs`
-    /// (the frame's data, the light map's and the environment's keys; none without the
-    /// last two) and the gathering objects of `scene`; else has that computation stored
-    /// under it.
-    fn read_first_from_disk(&mut self, scene: &Scene, inputs: &BounceInputs, one_shot: &OneShot) -> Result<()> {
+    /// (the frame's data, the shadows' key, and where the frame bounces light the light
+    /// map's and the environment's keys, none without them) and the reading objects of
+    /// `scene`; else has that computation stored under it.
+    fn read_first_from_disk(&mut self, scene: &Scene, inputs: &VertexLightInputs, one_shot: &OneShot) -> Result<()> {
         self.unsaved.miss(None);
-        let first = self.pending.get() && self.computes.get() == 0 && self.disk.dir().is_some();
-        let (true, Some(light), Some(environment)) = (first, inputs.light_content, inputs.maps.environment) else {
+        if !(self.pending.get() && self.computes.get() == 0 && self.disk.dir().is_some()) {
             return Ok(());
+        }
+        // Without a bounce the shader reads neither the light map nor the environment.
+        let bounces = inputs.maps.frame.ground_albedo[3] > 0.0;
+        let bounced = match (bounces, inputs.light_content, inputs.maps.environment) {
+            (false, ..) => [0, 0],
+            (true, Some(light), Some(environment)) => [light, environment],
+            (true, ..) => return Ok(()),
         };
         let device = &self.device.info;
         let mut parts: Vec<&[u8]> = vec![
-            shaders::VERTEX_BOUNCE_COMP,
+            shaders::VERTEX_LIGHT_COMP,
             bytemuck::cast_slice(&self.specialization.0),
             device.name.as_bytes(),
             device.driver.as_bytes(),
-            include_str!("vertex_bounce.rs").as_bytes(),
+            include_str!("vertex_light.rs").as_bytes(),
         ];
-        let upstream = inputs.maps.with_frame(cache::key(&[&light.to_le_bytes(), &environment.to_le_bytes()]));
+        let shadows = (inputs.maps.shadows)();
+        let upstream = [bounced[0], bounced[1], shadows].map(u64::to_le_bytes);
+        let upstream = inputs.maps.with_frame(cache::key(&upstream.each_ref().map(|b| &b[..])));
         let upstream = upstream.to_le_bytes();
         parts.push(&upstream);
-        let gathering: Vec<(&Object, u32)> = (scene.objects.iter().zip(&self.objects.gathering))
-            .filter_map(|(object, gathering)| gathering.map(|(first, _)| (object, first)))
+        let reading: Vec<(&Object, u32, u32)> = (scene.objects.iter().zip(&self.objects.reading).zip(&self.shadowing))
+            .filter_map(|((object, reading), &shadowing)| reading.map(|(first, _)| (object, first, shadowing)))
             .collect();
-        let pushes: Vec<ObjectPush> = gathering.iter().map(|&(object, first)| push(object, first)).collect();
+        let pushes: Vec<ObjectPush> = (reading.iter()).map(|&(object, first, bits)| push(object, first, bits)).collect();
         parts.push(bytemuck::cast_slice(&pushes));
-        parts.extend(gathering.iter().map(|(object, _)| bytemuck::cast_slice(&scene.meshes[object.mesh].vertices)));
+        parts.extend(reading.iter().map(|(object, ..)| bytemuck::cast_slice(&scene.meshes[object.mesh].vertices)));
         let key = cache::key(&parts);
         let bits = self.disk.load(DISK_ENTRY, key).filter(|b| b.len() as u64 == self.buffer.size);
         let Some(bits) = bits else {
@@ -305,7 +364,7 @@ impl VertexBounce {
         self.point_ground_set_at_buffer(ground_set);
         let count = key.1.iter().filter(|(_, first)| first.is_some()).count();
         let pool = DescriptorPool::for_layout(&self.device, &self.set_layout, count as u32)?;
-        let gathering = (key.1.iter())
+        let reading = (key.1.iter())
             .map(|&(mesh, first)| {
                 let Some(first) = first else { return Ok(None) };
                 let set = pool.allocate(&self.set_layout)?;
@@ -318,7 +377,7 @@ impl VertexBounce {
             .collect::<Result<_>>()?;
         self.objects = Layout {
             key,
-            gathering,
+            reading,
             _pool: Some(pool),
         };
         self.key.clear();
@@ -326,8 +385,10 @@ impl VertexBounce {
     }
 
     /// Computes the buffer if [`Self::prepare`] found it out of date, from the frame's set 0
-    /// (`frame_set`), the environment's (`environment_set`) and the ground's maps
-    /// (`ground_set`), whose light map is computed before; records nothing otherwise.
+    /// (`frame_set`), the environment's (`environment_set`), the shadows' (`shadow_set`),
+    /// whose maps are rendered before, and the ground's maps (`ground_set`), whose light map
+    /// is computed before; records nothing otherwise.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         cmd: vk::CommandBuffer,
@@ -335,6 +396,7 @@ impl VertexBounce {
         gpu: &GpuScene,
         frame_set: vk::DescriptorSet,
         environment_set: vk::DescriptorSet,
+        shadow_set: vk::DescriptorSet,
         ground_set: vk::DescriptorSet,
     ) {
         if !self.pending.replace(false) {
@@ -348,12 +410,13 @@ impl VertexBounce {
         unsafe {
             d.cmd_bind_pipeline(cmd, compute, self.pipelines[&self.specialization].handle);
             d.cmd_bind_descriptor_sets(cmd, compute, layout, 0, &[frame_set], &[]);
-            d.cmd_bind_descriptor_sets(cmd, compute, layout, 2, &[environment_set], &[]);
+            d.cmd_bind_descriptor_sets(cmd, compute, layout, 2, &[environment_set, shadow_set], &[]);
             d.cmd_bind_descriptor_sets(cmd, compute, layout, 5, &[ground_set], &[]);
         }
-        for (object, gathering) in scene.objects.iter().zip(&self.objects.gathering) {
-            let Some((first, set)) = *gathering else { continue };
-            let push = push(object, first);
+        let objects = scene.objects.iter().zip(&self.objects.reading).zip(&self.shadowing);
+        for ((object, reading), &shadowing) in objects {
+            let Some((first, set)) = *reading else { continue };
+            let push = push(object, first, shadowing);
             let groups = gpu.meshes[object.mesh].vertex_count.div_ceil(WORKGROUP);
             unsafe {
                 d.cmd_bind_descriptor_sets(cmd, compute, layout, 1, &[set], &[]);
@@ -365,14 +428,15 @@ impl VertexBounce {
     }
 }
 
-/// The push constants of `object`'s gather, its vertices' first at `first`: the draw's,
-/// without the occlusion and shadows the pass does not read.
-fn push(object: &Object, first: u32) -> ObjectPush {
+/// The push constants of `object`'s computation, its vertices' first at `first`, with the
+/// lights `shadowing` whose shadows it reads there: the draw's, without the occlusion the
+/// pass does not read.
+fn push(object: &Object, first: u32, shadowing: u32) -> ObjectPush {
     let occlusion = ObjectOcclusion {
         own: (0, 0),
         from: ObjectsOcclusionFrom::Pixels,
     };
-    ObjectPush::new(object, occlusion, 0, first)
+    ObjectPush::new(object, occlusion, shadowing, first)
 }
 
 #[cfg(test)]
@@ -385,36 +449,44 @@ mod tests {
     /// The buffer's layout and workgroup are the shaders'.
     #[test]
     fn the_layout_and_workgroup_are_the_shaders() {
-        let compute = include_str!("../../shaders/vertex_bounce.comp");
+        let compute = include_str!("../../shaders/vertex_light.comp");
         assert!(compute.contains(&format!("local_size_x = {WORKGROUP})")));
         let floats = std::mem::size_of::<crate::scene::Vertex>() / 4;
         assert!(compute.contains(&format!("const uint VERTEX_FLOATS = {floats}u;")));
         let bounce = include_str!("../../shaders/lib/bounce.glsl");
         assert!(bounce.contains("struct BounceAtVertex {\n    vec4 channels[3];\n};"));
-        assert_eq!(BYTES_PER_VERTEX, 3 * 16);
+        let light = include_str!("../../shaders/lib/vertex_light.glsl");
+        let entry = "struct LightAtVertex {\n    BounceAtVertex bounce;\n    vec4 shadows[MAX_VERTEX_SHADOW_LAYERS];\n};";
+        assert!(light.contains(entry));
+        assert!(light.contains("const uint MAX_VERTEX_SHADOW_LAYERS = MAX_POINT_LIGHTS / 4;"));
+        assert_eq!(BYTES_PER_VERTEX, (3 + 4) * 16);
     }
 
     /// The disk cache's key holds what the shader reads: set 0's frame data, the light map
-    /// (its key), the environment's data and irradiance (its key), and the meshes' vertices
-    /// and the push constants, beside the buffer it writes. A shader that reads more needs
-    /// the key to hold it too.
+    /// (its key), the environment's data and irradiance (its key), the shadows' data and
+    /// maps (their key), and the meshes' vertices and the push constants, beside the buffer
+    /// it writes. A shader that reads more needs the key to hold it too.
     #[test]
     fn the_disk_key_holds_every_resource_the_shader_reads() {
-        let read = [(0, 0), (1, 0), (1, 1), (2, 0), (2, 4), (5, 0)];
-        assert_eq!(shaders::tests::bindings(shaders::VERTEX_BOUNCE_COMP), read);
+        let read = [(0, 0), (1, 0), (1, 1), (2, 0), (2, 4), (3, 0), (3, 1), (5, 0)];
+        assert_eq!(shaders::tests::bindings(shaders::VERTEX_LIGHT_COMP), read);
     }
 
-    /// The default scene's ball and ring gather at their vertices, one after the other; the
-    /// ground does not, nor anything without a bounce but in the generic pipelines.
+    /// The default scene's ball and ring read at their vertices, one after the other; the
+    /// ground does not, nor anything without a bounce or a soft shadow but in the generic
+    /// pipelines.
     #[test]
-    fn the_fine_meshes_but_the_ground_gather_one_after_the_other() {
+    fn the_fine_meshes_but_the_ground_read_one_after_the_other() {
         let mut scene = Scene::from_toml(DEFAULT_SCENE_TOML, "default", Path::new("")).expect("the default scene");
+        scene.shadow_per_vertex = true;
         let vertices = |scene: &Scene, object: usize| scene.meshes[scene.objects[object].mesh].vertices.len() as u32;
-        let firsts = |scene: &Scene, generic: bool| {
-            bounce_firsts(scene, generic, |m| (scene.meshes[m].extent(), scene.meshes[m].vertices.len() as u32))
+        let unshadowed = vec![0; scene.objects.len()];
+        let firsts = |scene: &Scene, generic: bool, shadowing: &[u32]| {
+            let mesh = |m: usize| (scene.meshes[m].extent(), scene.meshes[m].vertices.len() as u32);
+            vertex_light_firsts(scene, generic, shadowing, mesh)
         };
         let ground = scene.ground_index().expect("the default scene has a ground");
-        let specialised = firsts(&scene, false);
+        let specialised = firsts(&scene, false, &unshadowed);
         let gathering: Vec<(usize, u32)> =
             (specialised.iter().enumerate()).filter_map(|(i, first)| first.map(|f| (i, f))).collect();
         let objects: Vec<usize> = gathering.iter().map(|&(i, _)| i).collect();
@@ -423,9 +495,32 @@ mod tests {
         for pair in gathering.windows(2) {
             assert_eq!(pair[1].1, pair[0].1 + vertices(&scene, pair[0].0));
         }
-        assert_eq!(firsts(&scene, true), specialised);
+        assert_eq!(firsts(&scene, true, &unshadowed), specialised);
         scene.bounce = false;
-        assert!(firsts(&scene, false).iter().all(Option::is_none));
-        assert_eq!(firsts(&scene, true), specialised, "the generic pipelines are the same with or without");
+        assert!(firsts(&scene, false, &unshadowed).iter().all(Option::is_none));
+        assert_eq!(firsts(&scene, true, &unshadowed), specialised, "the generic pipelines are the same with or without");
+        // The soft light's shadow alone is read there too, but on the ground, when asked for.
+        let shadowed = vec![1; scene.objects.len()];
+        assert_eq!(firsts(&scene, false, &shadowed), specialised);
+        scene.shadow_per_vertex = false;
+        assert!(firsts(&scene, false, &shadowed).iter().all(Option::is_none));
+        scene.shadow_per_vertex = true;
+        scene.lights[0].radius = 0.0;
+        assert!(firsts(&scene, false, &shadowed).iter().all(Option::is_none), "a hard light's shadow is not");
+    }
+
+    /// A draw reads the vec4s up to its last light's; the soft lights' alone, but in the
+    /// generic pipelines; none unless `[shadows] per_vertex` asks for them.
+    #[test]
+    fn shadow_layers_reach_the_last_light_read() {
+        let layers: Vec<u32> = [0, 1, 0b1111, 0b1_0000, 1 << 15].map(vertex_shadow_layers).to_vec();
+        assert_eq!(layers, [0, 1, 1, 2, 4]);
+        let mut scene = Scene::from_toml(DEFAULT_SCENE_TOML, "default", Path::new("")).expect("the default scene");
+        assert_eq!(vertex_shadowing(&scene, true, 1), 0);
+        scene.shadow_per_vertex = true;
+        assert_eq!(vertex_shadowing(&scene, false, 1), 1);
+        scene.lights[0].radius = 0.0;
+        assert_eq!((vertex_shadowing(&scene, false, 1), vertex_shadowing(&scene, true, 1)), (0, 1));
+        assert_eq!(vertex_shadowing(&scene, true, 0), 0);
     }
 }
