@@ -335,6 +335,48 @@ fn shadow_maps_render_only_when_the_scene_changes() {
     });
 }
 
+/// `[shadows] per_vertex`: a small sphere in a larger one's soft shadow takes it from its
+/// vertices, found once per change of the shadows (a light's radius too) and not per frame
+/// nor when the camera moves; its frame is the pixels' to within the interpolation of the
+/// penumbra (the light the frame holds the same to 1%), and not the same frame.
+#[test]
+fn soft_shadows_at_the_vertices_follow_the_shadows_not_the_frames() {
+    const SHADOWED: &str = r#"
+[[objects]]
+mesh = "builtin:sphere"
+position = [-0.6, 0.35, -0.4]
+scale = 0.35
+material = "ground"
+"#;
+    let at_pixels = plane_scene("radius = 0.3", &format!("{SPHERE}{SHADOWED}"));
+    let mut s = scene(&at_pixels.replace("resolution = 2048", "resolution = 2048\nper_vertex = true"));
+    assert!(s.shadow_per_vertex);
+    let pixels = hdr(&at_pixels);
+    gpu().exclusive(|renderer| {
+        let gpu_scene = renderer.upload(&s).expect("upload");
+        let extent = vk::Extent2D { width: SIZE.0, height: SIZE.1 };
+        let offscreen = OffscreenTarget::new(&renderer.device, extent).expect("target");
+        let frame = |renderer: &mut argil::render::Renderer, s: &argil::scene::Scene| {
+            let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
+            renderer.read_offscreen(&offscreen, ms).expect("read").hdr
+        };
+        let computes = renderer.vertex_light_computes();
+        let first = frame(renderer, &s);
+        assert_eq!(frame(renderer, &s), first);
+        assert_eq!(renderer.vertex_light_computes(), computes + 1);
+        assert_ne!(first, pixels, "the small sphere's shadow comes from its vertices");
+        let light = |frame: &[f32]| frame.iter().map(|&c| f64::from(c)).sum::<f64>();
+        let ratio = light(&first) / light(&pixels);
+        assert!((ratio - 1.0).abs() < 0.01, "the frame's light {ratio} of the pixels'");
+        s.camera.position.x += 0.3;
+        frame(renderer, &s);
+        assert_eq!(renderer.vertex_light_computes(), computes + 1, "the camera moved alone");
+        s.lights[0].radius = 0.45;
+        frame(renderer, &s);
+        assert_eq!(renderer.vertex_light_computes(), computes + 2, "the light's radius changed");
+    });
+}
+
 /// A draft (the viewer's frames while in use on a slow device) does not compute the
 /// ground's maps that a moved light or object put out of date: the ground finds its
 /// shadows, and the objects' occlusion, at its pixels, and the shadow maps are rendered at
@@ -699,7 +741,8 @@ fn the_bounce_is_the_f64_gather_of_the_grounds_light() {
 /// scene's warm start gives the cold one's frame, and each stored entry changed on disk
 /// changes it (the light map, which only the bounce at the vertices reads, once the bounce
 /// is computed from it again). Another camera reads the same entries; a moved light makes
-/// new ones.
+/// new ones, and the soft shadows at the vertices (`[shadows] per_vertex`) a new one of
+/// what the vertices hold.
 #[test]
 fn the_grounds_maps_and_bounce_come_from_the_disk_cache_on_a_warm_start() {
     let dir = test_dir("ground-cache");
@@ -718,7 +761,7 @@ fn the_grounds_maps_and_bounce_come_from_the_disk_cache_on_a_warm_start() {
         let mut entries: Vec<(String, u64)> = std::fs::read_dir(&cache)
             .expect("the cache folder")
             .map(|e| e.expect("entry").file_name().into_string().expect("utf-8"))
-            .filter(|file| file.starts_with("ground-") || file.starts_with("vertex-bounce-"))
+            .filter(|file| file.starts_with("ground-") || file.starts_with("vertex-light-"))
             .map(|file| {
                 let (name, key) = file.trim_end_matches(".bin").rsplit_once('-').expect("NAME-KEY");
                 (name.to_owned(), u64::from_str_radix(key, 16).expect("hex key"))
@@ -730,20 +773,20 @@ fn the_grounds_maps_and_bounce_come_from_the_disk_cache_on_a_warm_start() {
     let cold = render(None, "cold.exr");
     let stored = entries();
     let names: Vec<&str> = stored.iter().map(|(name, _)| name.as_str()).collect();
-    let all = ["ground-light", "ground-occlusion", "ground-shadow", "vertex-bounce"];
+    let all = ["ground-light", "ground-occlusion", "ground-shadow", "vertex-light"];
     assert_eq!(names, all);
     assert!(render(None, "warm.exr") == cold, "the warm start drew other bits");
     let disk = DiskCache::at(Some(&cache));
-    let (bounce_key, bounce) = (stored[3].1, disk.load("vertex-bounce", stored[3].1).expect("a whole entry"));
+    let (bounce_key, bounce) = (stored[3].1, disk.load("vertex-light", stored[3].1).expect("a whole entry"));
     for (name, key) in &stored {
         let map = disk.load(name, *key).expect("a whole entry");
         disk.store(name, *key, &vec![0; map.len()]);
         if name == "ground-light" {
-            std::fs::remove_file(cache.join(format!("vertex-bounce-{bounce_key:016x}.bin"))).expect("removed");
+            std::fs::remove_file(cache.join(format!("vertex-light-{bounce_key:016x}.bin"))).expect("removed");
         }
         assert!(render(None, "changed.exr") != cold, "{name} was not read from the disk cache");
         disk.store(name, *key, &map);
-        disk.store("vertex-bounce", bounce_key, &bounce);
+        disk.store("vertex-light", bounce_key, &bounce);
     }
     assert!(render(None, "restored.exr") == cold, "the entries put back drew other bits");
     // The maps do not depend on the view: another camera reads the same entries.
@@ -761,4 +804,14 @@ fn the_grounds_maps_and_bounce_come_from_the_disk_cache_on_a_warm_start() {
     assert!(render(Some(&moved), "moved.exr") != cold);
     let added: Vec<String> = entries().into_iter().filter(|e| !stored.contains(e)).map(|(name, _)| name).collect();
     assert_eq!(added, all);
+    // The soft shadows at the vertices are in the same entry, whose key they change alone.
+    let per_vertex = scene("per-vertex.toml", "bounce = true", "bounce = true\nper_vertex = true");
+    let before = entries();
+    let cold = render(Some(&per_vertex), "per-vertex.exr");
+    let added: Vec<(String, u64)> = entries().into_iter().filter(|e| !before.contains(e)).collect();
+    let [(name, key)] = &added[..] else { panic!("one new entry: {added:?}") };
+    assert_eq!(name, "vertex-light");
+    let bits = disk.load(name, *key).expect("a whole entry");
+    disk.store(name, *key, &vec![0; bits.len()]);
+    assert!(render(Some(&per_vertex), "per-vertex-zeroed.exr") != cold, "the entry was not read");
 }

@@ -258,12 +258,17 @@ impl VertexLight {
         key.extend(bits(&frame.ground));
         key.extend(bits(&frame.ground_albedo));
         let generation = inputs.environment_generation;
-        let shadows = inputs.shadow_generation;
-        key.extend([generation as u32, (generation >> 32) as u32, shadows as u32, (shadows >> 32) as u32]);
-        key.extend([gpu.id as u32, scene.shadow_taps]);
-        key.extend(scene.lights.iter().map(|light| light.radius.to_bits()));
+        key.extend([generation as u32, (generation >> 32) as u32, gpu.id as u32]);
         self.shadowing = (inputs.shadowing.iter()).map(|&bits| vertex_shadowing(scene, generic, bits)).collect();
         key.extend(&self.shadowing);
+        // The shadows', where any are read here: the bounce alone does not follow them.
+        let layers = self.shadowing.iter().map(|&bits| vertex_shadow_layers(bits)).max().unwrap_or(0);
+        let taps = if layers > 0 { VERTEX_SHADOW_TAPS_PER_TAP * scene.shadow_taps } else { 0 };
+        if layers > 0 {
+            let shadows = inputs.shadow_generation;
+            key.extend([shadows as u32, (shadows >> 32) as u32, taps]);
+            key.extend(scene.lights.iter().map(|light| light.radius.to_bits()));
+        }
         for (object, _) in scene.objects.iter().zip(&firsts).filter(|(_, first)| first.is_some()) {
             key.extend(bits(&object.model_matrix().to_cols_array()));
         }
@@ -276,10 +281,10 @@ impl VertexLight {
             reflection_mode: FROM_UNIFORM,
             debug_view: FROM_UNIFORM,
             bounce: 1,
-            shadow_taps: VERTEX_SHADOW_TAPS_PER_TAP * scene.shadow_taps,
-            shadows: 1,
-            soft_shadows: 1,
-            vertex_shadow_layers: MAX_VERTEX_SHADOW_LAYERS as u32,
+            shadow_taps: taps,
+            shadows: u32::from(layers > 0),
+            soft_shadows: u32::from(layers > 0),
+            vertex_shadow_layers: layers,
             ..ForwardConstants::zeroed()
         }
         .specialization();
