@@ -1,12 +1,13 @@
 // What the draw of a finely tessellated mesh reads at its vertices rather than at its
-// pixels: the ground's bounce (bounce.glsl) and the soft lights' shadows. Computed once per
-// change of what they are made of by shaders/vertex_light.comp (src/render/vertex_light.rs)
-// into one buffer that forward.vert reads and interpolates. A soft shadow is PCSS
-// (shadows.glsl) at the vertex, with its tangent plane as the receiver's and more taps than
-// a pixel takes; its penumbra is wider than the mesh's triangles, so interpolating it
-// loses little, and the pixels then run no search nor filter. A hard light's edge is
-// sharper than a triangle, and the tangent plane of a concave mesh lies behind the
-// triangles the map stores: its one tap stays at the pixels.
+// pixels: the ground's bounce (bounce.glsl) and, where `[shadows] per_vertex` asks for them,
+// the soft lights' shadows. Computed once per change of what they are made of by
+// shaders/vertex_light.comp (src/render/vertex_light.rs) into one buffer that forward.vert
+// reads and interpolates. A soft shadow is PCSS (shadows.glsl) at the vertex, with its
+// tangent plane as the receiver's and more taps than a pixel takes; its penumbra is wider
+// than the mesh's triangles, so interpolating it loses little, and the pixels then run no
+// search nor filter. A hard light's edge is sharper than a triangle, and the tangent plane
+// of a concave mesh lies behind the triangles the map stores: its one tap stays at the
+// pixels.
 #ifndef ARGIL_VERTEX_LIGHT_GLSL
 #define ARGIL_VERTEX_LIGHT_GLSL
 #include "bounce.glsl"
