@@ -338,7 +338,8 @@ fn shadow_maps_render_only_when_the_scene_changes() {
 /// `[shadows] per_vertex`: a small sphere in a larger one's soft shadow takes it from its
 /// vertices, found once per change of the shadows (a light's radius too) and not per frame
 /// nor when the camera moves; its frame is the pixels' to within the interpolation of the
-/// penumbra (the light the frame holds the same to 1%), and not the same frame.
+/// penumbra (the light the frame holds the same to 1%), and not the same frame; switched off
+/// and on, the frame follows.
 #[test]
 fn soft_shadows_at_the_vertices_follow_the_shadows_not_the_frames() {
     const SHADOWED: &str = r#"
@@ -368,6 +369,12 @@ material = "ground"
         let light = |frame: &[f32]| frame.iter().map(|&c| f64::from(c)).sum::<f64>();
         let ratio = light(&first) / light(&pixels);
         assert!((ratio - 1.0).abs() < 0.01, "the frame's light {ratio} of the pixels'");
+        // Switched off and on again, as the viewer's checkbox does.
+        s.shadow_per_vertex = false;
+        assert_eq!(frame(renderer, &s), pixels, "off: the pixels' frame");
+        s.shadow_per_vertex = true;
+        assert_eq!(frame(renderer, &s), first, "on again: the vertices' frame, not computed again");
+        assert_eq!(renderer.vertex_light_computes(), computes + 1);
         s.camera.position.x += 0.3;
         frame(renderer, &s);
         assert_eq!(renderer.vertex_light_computes(), computes + 1, "the camera moved alone");
