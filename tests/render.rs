@@ -492,22 +492,27 @@ preset = "plasticine"
 
 /// The shaded image's pipelines come from forward.frag without its debug views, the
 /// generic pipeline from the whole of it with the debug view read from the uniforms: the
-/// default scene is the same image through both.
+/// default scene is the same image through both, with its soft shadows at the pixels or
+/// at the vertices (`[shadows] per_vertex`, which the generic pipeline reads there for
+/// every light).
 #[test]
 fn the_shaded_module_and_the_generic_pipeline_draw_the_same_image() {
-    let scene = argil::scene::Scene::default_scene();
-    let [shaded, generic] = [false, true].map(|generic| {
-        common::gpu().exclusive(|renderer| {
-            renderer.generic = generic;
-            let frame = common::try_render(renderer, &scene, 160, 90);
-            renderer.generic = false;
-            frame.expect("render")
-        })
-    });
-    let (rmse, max) = common::rgb_difference(&shaded.display, &generic.display);
-    // The generic pipeline's branches on uniforms round a few pixels one code value apart
-    // (RMSE 0.005); a term that one module lacks moves lit pixels by several.
-    assert!(rmse < 0.05 && max <= 1, "RMSE {rmse}, max channel difference {max}");
+    let mut scene = argil::scene::Scene::default_scene();
+    for per_vertex in [false, true] {
+        scene.shadow_per_vertex = per_vertex;
+        let [shaded, generic] = [false, true].map(|generic| {
+            common::gpu().exclusive(|renderer| {
+                renderer.generic = generic;
+                let frame = common::try_render(renderer, &scene, 160, 90);
+                renderer.generic = false;
+                frame.expect("render")
+            })
+        });
+        let (rmse, max) = common::rgb_difference(&shaded.display, &generic.display);
+        // The generic pipeline's branches on uniforms round a few pixels one code value apart
+        // (RMSE 0.005); a term that one module lacks moves lit pixels by several.
+        assert!(rmse < 0.05 && max <= 1, "per vertex {per_vertex}: RMSE {rmse}, max channel difference {max}");
+    }
 }
 
 /// A start uploads the default scene with stand-ins for its builtin maps, draws a warm-up
