@@ -820,10 +820,10 @@ fn draw_constants(
     // What a specialised pipeline holds only when the frame uses it; the generic one
     // always holds it and reads the frame's uniforms.
     let held = |used: bool| u32::from(used || !choices.specialize);
-    // Whether a light of `bits` (ObjectPush.shadowing_lights) has a radius.
-    let soft_shadowing = |bits: u32| {
+    // Whether a light of `bits` (ObjectPush.shadowing_lights) has a radius (`soft`), or none.
+    let shadowing_of = |bits: u32, soft: bool| {
         let mut lights = scene.lights.iter().enumerate();
-        lights.any(|(j, light)| bits >> j & 1 != 0 && light.radius > 0.0)
+        lights.any(|(j, light)| bits >> j & 1 != 0 && (light.radius > 0.0) == soft)
     };
     let split_parts = split.map(|s| (s.materials.as_slice(), &s.environment));
     std::iter::once((scene.materials.as_slice(), &scene.environment))
@@ -848,11 +848,11 @@ fn draw_constants(
             let at_vertices = if at_vertices[i] { vertex_shadowing(scene, generic, shadowing[i]) } else { 0 };
             constants.vertex_shadow_layers = vertex_shadow_layers(at_vertices);
             // Beside the shadows it reads elsewhere, a hard light's it looks up at its pixels.
-            let hard = shadowing[i] & !vertex_shadowing(scene, false, shadowing[i]) != 0;
+            let hard = shadowing_of(shadowing[i], false);
             let hard_at_pixels = if ground_shadows { hard_shadows } else { at_vertices != 0 && hard };
             constants.hard_shadows_at_pixels = u32::from(hard_at_pixels);
             constants.shadows = held(shadowing[i] != 0);
-            constants.soft_shadows = held(soft_shadowing(shadowing[i]));
+            constants.soft_shadows = held(shadowing_of(shadowing[i], true));
             constants
         })
         .collect()
