@@ -820,11 +820,7 @@ fn draw_constants(
     // What a specialised pipeline holds only when the frame uses it; the generic one
     // always holds it and reads the frame's uniforms.
     let held = |used: bool| u32::from(used || !choices.specialize);
-    // Whether a light of `bits` (ObjectPush.shadowing_lights) has a radius (`soft`), or none.
-    let shadowing_of = |bits: u32, soft: bool| {
-        let mut lights = scene.lights.iter().enumerate();
-        lights.any(|(j, light)| bits >> j & 1 != 0 && (light.radius > 0.0) == soft)
-    };
+    let soft_lights = scene.soft_lights();
     let split_parts = split.map(|s| (s.materials.as_slice(), &s.environment));
     std::iter::once((scene.materials.as_slice(), &scene.environment))
         .chain(split_parts)
@@ -848,11 +844,11 @@ fn draw_constants(
             let at_vertices = if at_vertices[i] { vertex_shadowing(scene, generic, shadowing[i]) } else { 0 };
             constants.vertex_shadow_layers = vertex_shadow_layers(at_vertices);
             // Beside the shadows it reads elsewhere, a hard light's it looks up at its pixels.
-            let hard = shadowing_of(shadowing[i], false);
+            let hard = shadowing[i] & !soft_lights != 0;
             let hard_at_pixels = if ground_shadows { hard_shadows } else { at_vertices != 0 && hard };
             constants.hard_shadows_at_pixels = u32::from(hard_at_pixels);
             constants.shadows = held(shadowing[i] != 0);
-            constants.soft_shadows = held(shadowing_of(shadowing[i], true));
+            constants.soft_shadows = held(shadowing[i] & soft_lights != 0);
             constants
         })
         .collect()

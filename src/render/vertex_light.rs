@@ -77,8 +77,8 @@ pub fn vertex_shadowing(scene: &Scene, generic: bool, shadowing: u32) -> u32 {
     if !scene.shadow_per_vertex {
         return 0;
     }
-    let soft = (scene.lights.iter().enumerate()).filter(|(_, light)| generic || light.radius > 0.0);
-    soft.fold(0, |bits, (i, _)| bits | 1 << i) & shadowing
+    let read = if generic { u32::MAX } else { scene.soft_lights() };
+    read & shadowing
 }
 
 /// vertex_light.glsl's `VERTEX_SHADOW_LAYERS` of a draw that reads the shadows of the
@@ -330,7 +330,7 @@ impl VertexLight {
         let reading: Vec<(&Object, u32, u32)> = (scene.objects.iter().zip(&self.objects.reading).zip(&self.shadowing))
             .filter_map(|((object, reading), &shadowing)| reading.map(|(first, _)| (object, first, shadowing)))
             .collect();
-        let pushes: Vec<ObjectPush> = (reading.iter()).map(|&(object, first, bits)| push(object, first, bits)).collect();
+        let pushes: Vec<ObjectPush> = reading.iter().map(|&(object, first, bits)| push(object, first, bits)).collect();
         parts.push(bytemuck::cast_slice(&pushes));
         parts.extend(reading.iter().map(|(object, ..)| bytemuck::cast_slice(&scene.meshes[object.mesh].vertices)));
         let key = cache::key(&parts);
@@ -461,7 +461,8 @@ mod tests {
         let bounce = include_str!("../../shaders/lib/bounce.glsl");
         assert!(bounce.contains("struct BounceAtVertex {\n    vec4 channels[3];\n};"));
         let light = include_str!("../../shaders/lib/vertex_light.glsl");
-        let entry = "struct LightAtVertex {\n    BounceAtVertex bounce;\n    vec4 shadows[MAX_VERTEX_SHADOW_LAYERS];\n};";
+        let entry =
+            "struct LightAtVertex {\n    BounceAtVertex bounce;\n    vec4 shadows[MAX_VERTEX_SHADOW_LAYERS];\n};";
         assert!(light.contains(entry));
         assert!(light.contains("const uint MAX_VERTEX_SHADOW_LAYERS = MAX_POINT_LIGHTS / 4;"));
         assert_eq!(BYTES_PER_VERTEX, (3 + 4) * 16);
@@ -503,7 +504,8 @@ mod tests {
         assert_eq!(firsts(&scene, true, &unshadowed), specialised);
         scene.bounce = false;
         assert!(firsts(&scene, false, &unshadowed).iter().all(Option::is_none));
-        assert_eq!(firsts(&scene, true, &unshadowed), specialised, "the generic pipelines are the same with or without");
+        let generic = firsts(&scene, true, &unshadowed);
+        assert_eq!(generic, specialised, "the generic pipelines are the same with or without");
         // The soft light's shadow alone is read there too, but on the ground, when asked for.
         let shadowed = vec![1; scene.objects.len()];
         assert_eq!(firsts(&scene, false, &shadowed), specialised);

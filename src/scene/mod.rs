@@ -173,6 +173,12 @@ impl Scene {
             .map(|(index, _)| index)
     }
 
+    /// The lights with a radius, whose shadows are soft: bit i for light i, as the draws'
+    /// `shadowing_lights` name them.
+    pub fn soft_lights(&self) -> u32 {
+        (self.lights.iter().enumerate()).filter(|(_, light)| light.radius > 0.0).fold(0, |bits, (i, _)| bits | 1 << i)
+    }
+
     /// The ground (see [`Self::ground_index`]).
     pub fn ground(&self) -> Option<&Object> {
         self.ground_index().map(|index| &self.objects[index])
