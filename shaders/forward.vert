@@ -18,15 +18,14 @@ layout(location = 4) out float out_curvature;
 // interpolates the same, and lavapipe's helper invocations read storage buffers as zero,
 // which gave fragment-side uvs wrong derivatives, so wrong mip levels, along triangle edges.
 layout(location = 5) out vec2 out_map_uv[MAP_COUNT];
-// What the other objects take of the environment's light, 1 − object_occlusion, where it
-// is computed at the vertices (OBJECTS_OCCLUSION_FROM_VERTICES, src/scene/occluders.rs's
-// Scene::occlusion_at_vertices): interpolating zeros gives 0 exactly, where ones would
-// round to 1 − 2⁻²⁴ here and there.
-layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
 // What the draw reads at its vertices (vertex_light.glsl), which shaders/vertex_light.comp
 // computed for the object's vertices, from object.vertex_light_first on, when what they
-// are made of changed: the ground's bounce at the mesh's normal and its gradient in the
-// normal, where the draw gathers it there (bounce.glsl), and the soft lights' shadows.
+// are made of changed: what the other objects take of the environment's light, where the
+// draw reads it there (OBJECTS_OCCLUSION_FROM_VERTICES, src/scene/occluders.rs's
+// Scene::occlusion_at_vertices), the ground's bounce at the mesh's normal and its gradient
+// in the normal, where the draw gathers it there (bounce.glsl), and the soft lights'
+// shadows.
+layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
 layout(location = 6 + MAP_COUNT) out vec3 out_bounce;
 layout(location = 7 + MAP_COUNT) out mat3 out_bounce_gradient;
 layout(location = 10 + MAP_COUNT) out vec4 out_vertex_shadows[MAX_VERTEX_SHADOW_LAYERS];
@@ -50,11 +49,10 @@ void main() {
     // have one); under a non-uniform scale it is only an average.
     float scale = pow(abs(determinant(mat3(object.model))), 1.0 / 3.0);
     out_curvature = scale > 0.0 ? in_curvature / scale : 0.0;
-    if (OBJECT_OCCLUSION && OBJECTS_OCCLUSION_FROM == OBJECTS_OCCLUSION_FROM_VERTICES) {
-        // At the mesh's own normal, the side a closed mesh shows.
-        out_objects_take = 1.0 - object_occlusion(world.xyz, unit_or_zero(out_normal), own_occluders());
-    }
     uint light_at = object.vertex_light_first + gl_VertexIndex;
+    if (OBJECT_OCCLUSION && OBJECTS_OCCLUSION_FROM == OBJECTS_OCCLUSION_FROM_VERTICES) {
+        out_objects_take = vertex_light[light_at].objects_take.xyz;
+    }
     if (BOUNCE && BOUNCE_AT_VERTICES) {
         BounceAtVertex gathered = vertex_light[light_at].bounce;
         out_bounce = gathered_irradiance(gathered);

@@ -2,10 +2,12 @@
 // What one object's draw reads at its vertices (vertex_light.glsl): at each vertex of its
 // mesh (set 1, binding 0), moved into the world as forward.vert moves it (the push
 // constants are the draw's, ObjectPush), the ground's bounce at the mesh's normal and its
-// gradient in the normal, and each soft light's shadow, into the object's run of the buffer
+// gradient in the normal, each soft light's shadow, and with OBJECT_OCCLUSION what the
+// other objects' spheres (frame.occluders but the object's own) take of the environment's
+// light, into the object's run of the buffer
 // that forward.vert reads (set 1, binding 1, from object.vertex_light_first on).
 // src/render/vertex_light.rs runs it when what it is made of changes. Set 0 is the forward
-// pass's (FrameData), 2 its environment's, 3 its shadows', 5 its ground maps'.
+// pass's (FrameData, the occluders among it), 2 its environment's, 3 its shadows', 5 its ground maps'.
 #include "vertex_light.glsl"
 
 layout(local_size_x = 64) in;
@@ -38,5 +40,6 @@ void main() {
     for (uint i = 0u; i < VERTEX_SHADOW_LAYERS * 4u && i < frame.counts.x; ++i) {
         light.shadows[i / 4u][i % 4u] = vertex_shadow(i, world, n, vertex);
     }
+    light.objects_take = vec4(1.0 - object_occlusion(world, n, own_occluders()), 0.0);
     light_out[object.vertex_light_first + vertex] = light;
 }

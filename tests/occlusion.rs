@@ -414,6 +414,42 @@ fn objects_occlusion_at_vertices_is_the_occlusion_at_each_pixel() {
     assert_eq!(differences(&a, &b).0, 0, "balls 0.1 apart read the spheres at every pixel");
 }
 
+/// The balls' occlusion by each other, read at their vertices, is computed when what it is
+/// made of changes, not every frame: once for two frames, not when the camera moves, again
+/// when a ball moves, back where it was (the first frame bit for bit), or the environment
+/// changes.
+#[test]
+fn objects_occlusion_at_vertices_is_computed_only_when_the_scene_changes() {
+    let mut s = scene(&studio(&STUDIO_BALLS, "per_vertex = true"));
+    gpu().exclusive(|renderer| {
+        let gpu_scene = renderer.upload(&s).expect("upload");
+        let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
+        let frame = |renderer: &mut argil::render::Renderer, s: &Scene| {
+            let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
+            renderer.read_offscreen(&offscreen, ms).expect("read").hdr
+        };
+        let before = renderer.vertex_light_computes();
+        let first = frame(renderer, &s);
+        assert_eq!(frame(renderer, &s), first);
+        assert_eq!(renderer.vertex_light_computes(), before + 1);
+        s.camera.position.x += 0.5;
+        frame(renderer, &s);
+        assert_eq!(renderer.vertex_light_computes(), before + 1, "the camera moved alone");
+        s.camera.position.x -= 0.5;
+        s.objects[0].position.x += 0.3;
+        assert_ne!(frame(renderer, &s), first);
+        assert_eq!(renderer.vertex_light_computes(), before + 2);
+        s.objects[0].position.x -= 0.3;
+        assert_eq!(frame(renderer, &s), first);
+        assert_eq!(renderer.vertex_light_computes(), before + 3);
+        if let Environment::Studio { intensity, .. } = &mut s.environment {
+            *intensity *= 0.5;
+        }
+        frame(renderer, &s);
+        assert_eq!(renderer.vertex_light_computes(), before + 4);
+    });
+}
+
 /// The occlusion map is computed when what it is made of changes, not every frame: once
 /// for two frames of the same scene, even with a floor frame between, again when an
 /// object moves or the environment changes, not when the camera moves; without

@@ -1,6 +1,8 @@
 // What the draw of a finely tessellated mesh reads at its vertices rather than at its
-// pixels: the ground's bounce (bounce.glsl) and, where `[shadows] per_vertex` asks for them,
-// the soft lights' shadows. Computed once per change of what they are made of by
+// pixels: the ground's bounce (bounce.glsl), where `[shadows] per_vertex` asks for them
+// the soft lights' shadows, and where `[occlusion] per_vertex` does what the other
+// objects take of the environment's light (object_occlusion.glsl). None follows the
+// camera, so each is computed once per change of what it is made of by
 // shaders/vertex_light.comp (src/render/vertex_light.rs) into one buffer that forward.vert
 // reads and interpolates. A soft shadow is PCSS (shadows.glsl) at the vertex, with its
 // tangent plane as the receiver's and more taps than a pixel takes; its penumbra is wider
@@ -12,16 +14,19 @@
 #define ARGIL_VERTEX_LIGHT_GLSL
 #include "bounce.glsl"
 #include "shadows.glsl"
+#include "object_occlusion.glsl"
 
 // Vec4s of the soft lights' visibility that the draw reads at its vertices, lights 4k to
 // 4k + 3 in the kth; 0 where it searches them at its pixels (src/render/forward.rs).
 layout(constant_id = 24) const uint VERTEX_SHADOW_LAYERS = 0u;
 const uint MAX_VERTEX_SHADOW_LAYERS = MAX_POINT_LIGHTS / 4;
 
-// One vertex's entry in the buffer.
+// One vertex's entry in the buffer; `objects_take.xyz` is 1 − object_occlusion, in which
+// interpolated zeros stay exactly 0 where ones would round to 1 − 2⁻²⁴ here and there.
 struct LightAtVertex {
     BounceAtVertex bounce;
     vec4 shadows[MAX_VERTEX_SHADOW_LAYERS];
+    vec4 objects_take;
 };
 
 // The fraction of soft light i that reaches vertex `vertex` at p of unit normal n:

@@ -29,7 +29,7 @@ use super::shaders;
 use super::split::Split;
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
-use super::vertex_light::{gpu_vertex_light_firsts, vertex_shadow_layers, vertex_shadowing};
+use super::vertex_light::{gpu_vertex_light_firsts, light_at_vertices, vertex_shadow_layers, vertex_shadowing};
 use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::occluders::Occluder;
 use crate::scene::{
@@ -375,6 +375,12 @@ impl ForwardPass {
         &self.set_layout
     }
 
+    /// Per object of the scene last prepared, where its draw reads its occlusion by the
+    /// other objects from and which occluders are its own.
+    pub fn object_occlusions(&self) -> Vec<ObjectOcclusion> {
+        self.object_draws.iter().map(|draw| draw.occlusion).collect()
+    }
+
     /// The frame data of set 0, as the last [`Self::prepare`] wrote it.
     pub fn frame_data(&self) -> &FrameData {
         &self.frame_data
@@ -511,29 +517,35 @@ impl ForwardPass {
         let at_vertices = |i: usize| {
             choices.objects && scene.occlusion_at_vertices(occluders, i, gpu.meshes[scene.objects[i].mesh].extent)
         };
-        let vertex_light_firsts = gpu_vertex_light_firsts(scene, !choices.specialize, shadowing, gpu);
-        self.object_draws = (0..scene.objects.len())
-            .map(|i| ObjectDraw {
-                occlusion: ObjectOcclusion {
-                    own: scene.own_occluders(occluders, i),
-                    from: if choices.ground_map == Some(i) {
-                        ObjectsOcclusionFrom::GroundMap
-                    } else if at_vertices(i) {
-                        ObjectsOcclusionFrom::Vertices
-                    } else {
-                        ObjectsOcclusionFrom::Pixels
-                    },
+        let occlusions: Vec<ObjectOcclusion> = (0..scene.objects.len())
+            .map(|i| ObjectOcclusion {
+                own: scene.own_occluders(occluders, i),
+                from: if choices.ground_map == Some(i) {
+                    ObjectsOcclusionFrom::GroundMap
+                } else if at_vertices(i) {
+                    ObjectsOcclusionFrom::Vertices
+                } else {
+                    ObjectsOcclusionFrom::Pixels
                 },
-                shadowing_lights: shadowing[i],
-                vertex_light_first: vertex_light_firsts[i],
+            })
+            .collect();
+        let from: Vec<ObjectsOcclusionFrom> = occlusions.iter().map(|o| o.from).collect();
+        let generic = !choices.specialize;
+        let vertex_light_firsts = gpu_vertex_light_firsts(scene, generic, shadowing, &from, gpu);
+        self.object_draws = (occlusions.iter().zip(shadowing).zip(vertex_light_firsts))
+            .map(|((&occlusion, &shadowing_lights), vertex_light_first)| ObjectDraw {
+                occlusion,
+                shadowing_lights,
+                vertex_light_first,
             })
             .collect();
         let parts = 1 + usize::from(split.is_some());
         let pipelines = if choices.floor {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
-            let from: Vec<ObjectsOcclusionFrom> = self.object_draws.iter().map(|o| o.occlusion.from).collect();
-            let at_vertices: Vec<bool> = vertex_light_firsts.iter().map(Option::is_some).collect();
+            let at_vertices: Vec<bool> = (scene.objects.iter().enumerate())
+                .map(|(i, o)| light_at_vertices(scene, generic, shadowing[i], i, gpu.meshes[o.mesh].extent))
+                .collect();
             let constants = draw_constants(scene, split, &from, shadowing, &at_vertices, choices);
             self.pipelines_for(choices.samples, &constants)?
         };
@@ -857,7 +869,6 @@ fn draw_constants(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::vertex_light::vertex_light_firsts;
 
     /// Every `layout(constant_id = N) const TYPE NAME` of the forward pass's shaders.
     fn shader_constants() -> Vec<(u32, String)> {
@@ -1090,8 +1101,9 @@ mod tests {
             let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };
             let shadowing: Vec<u32> =
                 (0..scene.objects.len()).map(|i| scene.shadowing_lights(i, &lights, |m| extents[m])).collect();
-            let firsts = vertex_light_firsts(scene, !specialize, &shadowing, |m| (extents[m], 1));
-            let at_vertices: Vec<bool> = firsts.iter().map(Option::is_some).collect();
+            let at_vertices: Vec<bool> = (scene.objects.iter().enumerate())
+                .map(|(i, o)| light_at_vertices(scene, !specialize, shadowing[i], i, extents[o.mesh]))
+                .collect();
             draw_constants(scene, None, &from, &shadowing, &at_vertices, &choices)
         };
         let specialised = constants(&scene, true, true);

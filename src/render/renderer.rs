@@ -419,6 +419,7 @@ impl Renderer {
             &inputs,
         )?;
         let (shaded, generic) = (!self.floor, self.generic);
+        let occlusion = self.forward.object_occlusions();
         let vertex_light_inputs = VertexLightInputs {
             light_key: self.ground_maps.light_key(),
             light_content: self.ground_maps.light_content(),
@@ -426,6 +427,7 @@ impl Renderer {
             environment_generation: environment,
             shadow_generation: shadows,
             shadowing: &shadowing,
+            occlusion: &occlusion,
         };
         let (ground_set, one_shot) = (self.ground_maps.set(), &self.one_shot);
         self.vertex_light.prepare(scene, gpu, shaded, generic, &vertex_light_inputs, ground_set, one_shot)?;

@@ -1,15 +1,17 @@
-//! What the draws of finely tessellated meshes read at their vertices
+//! What the objects' draws read at their vertices rather than at their pixels
 //! (shaders/lib/vertex_light.glsl): for each object of a fine mesh
 //! (`Scene::bounce_at_vertices`) but the ground, the ground's bounce gathered at each of its
-//! vertices with its gradient in the normal (bounce.glsl), and each soft light's shadow,
-//! computed by shaders/vertex_light.comp into one buffer that the forward pass's vertex
+//! vertices with its gradient in the normal (bounce.glsl), and each soft light's shadow;
+//! for each object whose occlusion by the others is read at its vertices
+//! (`Scene::occlusion_at_vertices`), what their spheres take of the environment's light.
+//! Computed by shaders/vertex_light.comp into one buffer that the forward pass's vertex
 //! shader reads (set 5, binding 3, beside the ground's maps), and computed again only when
 //! what it is made of changes: the ground's light map, the ground's albedo, the
-//! environment, the shadow maps and the lights' radii, or where the objects stand. Steady
-//! frames record nothing, where the gather and the soft shadows' search and filter would
-//! run every frame (docs/performance.md). A start reads its first computation from the disk
-//! cache, keyed by the frame's data, the light map's own key, the environment's, the
-//! shadows', the objects and their meshes.
+//! environment, the shadow maps and the lights' radii, the occluders, or where the objects
+//! stand. Steady frames record nothing, where the gather, the soft shadows' search and
+//! filter and the occluders' loop would run every frame (docs/performance.md). A start
+//! reads its first computation from the disk cache, keyed by the frame's data, the light
+//! map's own key, the environment's, the shadows', the objects and their meshes.
 
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -35,8 +37,8 @@ use crate::vk::{
 /// vertex_light.glsl's `MAX_VERTEX_SHADOW_LAYERS`: a vec4 holds four lights' shadows.
 const MAX_VERTEX_SHADOW_LAYERS: usize = MAX_POINT_LIGHTS / 4;
 /// Bytes of one vertex's entry, vertex_light.glsl's `LightAtVertex`: the bounce's gather and
-/// gradient, three vec4s, then the shadows' layers.
-const BYTES_PER_VERTEX: u64 = 16 * (3 + MAX_VERTEX_SHADOW_LAYERS as u64);
+/// gradient, three vec4s, then the shadows' layers, then what the occluders take.
+const BYTES_PER_VERTEX: u64 = 16 * (3 + MAX_VERTEX_SHADOW_LAYERS as u64 + 1);
 /// vertex_light.comp's `local_size_x`.
 const WORKGROUP: u32 = 64;
 /// A soft shadow's taps at a vertex, per tap at a pixel (`[shadows] taps`): computed once,
@@ -67,6 +69,9 @@ pub struct VertexLightInputs<'a> {
     pub shadow_generation: u64,
     /// `ShadowPass::receivers`: per object, the lights that may shadow it.
     pub shadowing: &'a [u32],
+    /// `ForwardPass::object_occlusions`: per object, where its draw reads the occlusion by
+    /// the other objects from and which occluders are its own.
+    pub occlusion: &'a [ObjectOcclusion],
 }
 
 /// Of the lights `shadowing` (bit i for light i, `ShadowPass::receivers`) that may shadow
@@ -87,26 +92,36 @@ pub fn vertex_shadow_layers(bits: u32) -> u32 {
     (u32::BITS - bits.leading_zeros()).div_ceil(4)
 }
 
+/// Whether object `index` of `scene`, of mesh size `extent`, reads the bounce and the soft
+/// lights' shadows at its vertices: when its mesh is fine enough
+/// (`Scene::bounce_at_vertices`) and it is not the ground, when the scene bounces light,
+/// when a light of `shadowing` (its lights that may shadow it) casts a shadow read there
+/// ([`vertex_shadowing`]) or when the pipelines are `generic`, which read the bounce's flag
+/// at run time from the same pipelines (the buffer then holds zeros).
+pub fn light_at_vertices(scene: &Scene, generic: bool, shadowing: u32, index: usize, extent: MeshExtent) -> bool {
+    let bounces = generic || scene.bounce_ground().is_some();
+    let shadowed = vertex_shadowing(scene, generic, shadowing) != 0;
+    (bounces || shadowed) && scene.ground_index() != Some(index) && Scene::bounce_at_vertices(extent)
+}
+
 /// Where each of `scene`'s objects' vertices start in the buffer, for the objects that read
-/// anything at their vertices, one after the other: each but the ground whose mesh is fine
-/// enough (`Scene::bounce_at_vertices`), when the scene bounces light, when a light of
-/// `shadowing[i]` casts a shadow read there ([`vertex_shadowing`]) or when the pipelines are
-/// `generic`, which read the bounce's flag at run time from the same pipelines (the buffer
-/// then holds zeros). `mesh(i)` is mesh i's extent and vertex count.
+/// anything at their vertices, one after the other: the bounce and the shadows
+/// ([`light_at_vertices`], object i shadowed by the lights `shadowing[i]`), or the
+/// occlusion by the other objects where `from[i]` says so. `mesh(i)` is mesh i's extent and
+/// vertex count.
 pub fn vertex_light_firsts(
     scene: &Scene,
     generic: bool,
     shadowing: &[u32],
+    from: &[ObjectsOcclusionFrom],
     mesh: impl Fn(usize) -> (MeshExtent, u32),
 ) -> Vec<Option<u32>> {
-    let bounces = generic || scene.bounce_ground().is_some();
-    let ground = scene.ground_index();
     let mut next = 0;
     (scene.objects.iter().enumerate())
         .map(|(i, object)| {
             let (extent, vertices) = mesh(object.mesh);
-            let shadowed = vertex_shadowing(scene, generic, shadowing[i]) != 0;
-            let reads = (bounces || shadowed) && ground != Some(i) && Scene::bounce_at_vertices(extent);
+            let occluded = from[i] == ObjectsOcclusionFrom::Vertices;
+            let reads = occluded || light_at_vertices(scene, generic, shadowing[i], i, extent);
             reads.then(|| {
                 next += vertices;
                 next - vertices
@@ -116,8 +131,14 @@ pub fn vertex_light_firsts(
 }
 
 /// [`vertex_light_firsts`] of the meshes of `gpu`.
-pub fn gpu_vertex_light_firsts(scene: &Scene, generic: bool, shadowing: &[u32], gpu: &GpuScene) -> Vec<Option<u32>> {
-    vertex_light_firsts(scene, generic, shadowing, |m| (gpu.meshes[m].extent, gpu.meshes[m].vertex_count))
+pub fn gpu_vertex_light_firsts(
+    scene: &Scene,
+    generic: bool,
+    shadowing: &[u32],
+    from: &[ObjectsOcclusionFrom],
+    gpu: &GpuScene,
+) -> Vec<Option<u32>> {
+    vertex_light_firsts(scene, generic, shadowing, from, |m| (gpu.meshes[m].extent, gpu.meshes[m].vertex_count))
 }
 
 /// The objects the buffer was laid out for.
@@ -146,6 +167,9 @@ pub struct VertexLight {
     objects: Layout,
     /// Per object, the lights whose shadows it reads at its vertices ([`vertex_shadowing`]).
     shadowing: Vec<u32>,
+    /// Per object, its occlusion by the others, whose spheres it reads at its vertices when
+    /// its draw does.
+    occlusion: Vec<ObjectOcclusion>,
     /// What the buffer was last computed from; empty before the first.
     key: Vec<u32>,
     /// Whether the next recorded frame computes it.
@@ -192,6 +216,7 @@ impl VertexLight {
                 _pool: None,
             },
             shadowing: Vec::new(),
+            occlusion: Vec::new(),
             key: Vec::new(),
             pending: Cell::new(false),
             unsaved: Unsaved::default(),
@@ -226,11 +251,11 @@ impl VertexLight {
     /// drawn with the materials' shaders, `generic` or specialised pipelines) reads it and
     /// what it is made of changed: the ground's light map, the frame's ground and its albedo,
     /// the environment, the shadow maps, the lights' radii and which lights may shadow each
-    /// object (`inputs`), the taps, the meshes' upload and where each reading object
-    /// stands. A new layout of the objects makes a new buffer, pointed at by the forward
-    /// pass's `ground_set`, once the frames in flight are done. The first computation is
-    /// read from the disk cache instead, through `one_shot`, when it holds one of the same
-    /// inputs.
+    /// object, the occluders and which objects read them here (`inputs`), the taps, the
+    /// meshes' upload and where each reading object stands. A new layout of the objects
+    /// makes a new buffer, pointed at by the forward pass's `ground_set`, once the frames in
+    /// flight are done. The first computation is read from the disk cache instead, through
+    /// `one_shot`, when it holds one of the same inputs.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
@@ -242,7 +267,8 @@ impl VertexLight {
         ground_set: vk::DescriptorSet,
         one_shot: &OneShot,
     ) -> Result<()> {
-        let firsts = gpu_vertex_light_firsts(scene, generic, inputs.shadowing, gpu);
+        let from: Vec<ObjectsOcclusionFrom> = inputs.occlusion.iter().map(|o| o.from).collect();
+        let firsts = gpu_vertex_light_firsts(scene, generic, inputs.shadowing, &from, gpu);
         if !shaded || firsts.iter().all(Option::is_none) {
             // No frame reads it; a computation asked for before is moot.
             self.pending.set(false);
@@ -269,6 +295,14 @@ impl VertexLight {
             key.extend([shadows as u32, (shadows >> 32) as u32, taps]);
             key.extend(scene.lights.iter().map(|light| light.radius.to_bits()));
         }
+        // The occluders, where any object reads them here, and each object's own.
+        self.occlusion = inputs.occlusion.to_vec();
+        let occluded = from.contains(&ObjectsOcclusionFrom::Vertices);
+        if occluded {
+            key.extend(bits(bytemuck::cast_slice(&frame.occluders)));
+            key.push(frame.counts[3]);
+            key.extend(self.occlusion.iter().flat_map(|o| [o.own.0 as u32, o.own.1 as u32, o.from as u32]));
+        }
         for (object, _) in scene.objects.iter().zip(&firsts).filter(|(_, first)| first.is_some()) {
             key.extend(bits(&object.model_matrix().to_cols_array()));
         }
@@ -285,6 +319,8 @@ impl VertexLight {
             shadows: u32::from(layers > 0),
             soft_shadows: u32::from(layers > 0),
             vertex_shadow_layers: layers,
+            object_occlusion: u32::from(occluded),
+            objects_occlusion_from: ObjectsOcclusionFrom::Vertices as u32,
             ..ForwardConstants::zeroed()
         }
         .specialization();
@@ -299,20 +335,23 @@ impl VertexLight {
 
     /// Reads the buffer from the disk cache in place of its first computation, if
     /// [`Self::prepare`] asked for that and the cache holds it under the key of `inputs`
-    /// (the frame's data, the shadows' key, and where the frame bounces light the light
-    /// map's and the environment's keys, none without them) and the reading objects of
-    /// `scene`; else has that computation stored under it.
+    /// (the frame's data, the shadows' key, where the frame bounces light the light map's
+    /// key, and where it bounces light or an object reads its occlusion here the
+    /// environment's; none without them) and the reading objects of `scene`; else has that
+    /// computation stored under it.
     fn read_first_from_disk(&mut self, scene: &Scene, inputs: &VertexLightInputs, one_shot: &OneShot) -> Result<()> {
         self.unsaved.miss(None);
         if !(self.pending.get() && self.computes.get() == 0 && self.disk.dir().is_some()) {
             return Ok(());
         }
-        // Without a bounce the shader reads neither the light map nor the environment.
+        // Without a bounce the shader reads no light map, and neither it nor the occluders'
+        // loop the environment.
         let bounces = inputs.maps.frame.ground_albedo[3] > 0.0;
-        let bounced = match (bounces, inputs.light_content, inputs.maps.environment) {
-            (false, ..) => [0, 0],
-            (true, Some(light), Some(environment)) => [light, environment],
-            (true, ..) => return Ok(()),
+        let occluded = self.occlusion.iter().any(|o| o.from == ObjectsOcclusionFrom::Vertices);
+        let light = if bounces { inputs.light_content } else { Some(0) };
+        let environment = if bounces || occluded { inputs.maps.environment } else { Some(0) };
+        let (Some(light), Some(environment)) = (light, environment) else {
+            return Ok(());
         };
         let device = &self.device.info;
         let mut parts: Vec<&[u8]> = vec![
@@ -323,16 +362,16 @@ impl VertexLight {
             include_str!("vertex_light.rs").as_bytes(),
         ];
         let shadows = (inputs.maps.shadows)();
-        let upstream = [bounced[0], bounced[1], shadows].map(u64::to_le_bytes);
+        let upstream = [light, environment, shadows].map(u64::to_le_bytes);
         let upstream = inputs.maps.with_frame(cache::key(&upstream.each_ref().map(|b| &b[..])));
         let upstream = upstream.to_le_bytes();
         parts.push(&upstream);
-        let reading: Vec<(&Object, u32, u32)> = (scene.objects.iter().zip(&self.objects.reading).zip(&self.shadowing))
-            .filter_map(|((object, reading), &shadowing)| reading.map(|(first, _)| (object, first, shadowing)))
+        let reading: Vec<(&Object, ObjectPush)> = (scene.objects.iter().enumerate())
+            .filter_map(|(i, object)| Some((object, self.push(object, i)?)))
             .collect();
-        let pushes: Vec<ObjectPush> = reading.iter().map(|&(object, first, bits)| push(object, first, bits)).collect();
+        let pushes: Vec<ObjectPush> = reading.iter().map(|&(_, push)| push).collect();
         parts.push(bytemuck::cast_slice(&pushes));
-        parts.extend(reading.iter().map(|(object, ..)| bytemuck::cast_slice(&scene.meshes[object.mesh].vertices)));
+        parts.extend(reading.iter().map(|(object, _)| bytemuck::cast_slice(&scene.meshes[object.mesh].vertices)));
         let key = cache::key(&parts);
         let bits = self.disk.load(DISK_ENTRY, key).filter(|b| b.len() as u64 == self.buffer.size);
         let Some(bits) = bits else {
@@ -418,10 +457,8 @@ impl VertexLight {
             d.cmd_bind_descriptor_sets(cmd, compute, layout, 2, &[environment_set, shadow_set], &[]);
             d.cmd_bind_descriptor_sets(cmd, compute, layout, 5, &[ground_set], &[]);
         }
-        let objects = scene.objects.iter().zip(&self.objects.reading).zip(&self.shadowing);
-        for ((object, reading), &shadowing) in objects {
-            let Some((first, set)) = *reading else { continue };
-            let push = push(object, first, shadowing);
+        for ((i, object), reading) in scene.objects.iter().enumerate().zip(&self.objects.reading) {
+            let (Some((_, set)), Some(push)) = (*reading, self.push(object, i)) else { continue };
             let groups = gpu.meshes[object.mesh].vertex_count.div_ceil(WORKGROUP);
             unsafe {
                 d.cmd_bind_descriptor_sets(cmd, compute, layout, 1, &[set], &[]);
@@ -431,17 +468,15 @@ impl VertexLight {
         }
         buffer_barrier(device, cmd, self.buffer.handle, BufferUse::COMPUTE_WRITE, BufferUse::VERTEX_READ);
     }
-}
 
-/// The push constants of `object`'s computation, its vertices' first at `first`, with the
-/// lights `shadowing` whose shadows it reads there: the draw's, without the occlusion the
-/// pass does not read.
-fn push(object: &Object, first: u32, shadowing: u32) -> ObjectPush {
-    let occlusion = ObjectOcclusion {
-        own: (0, 0),
-        from: ObjectsOcclusionFrom::Pixels,
-    };
-    ObjectPush::new(object, occlusion, shadowing, first)
+    /// The push constants of the computation of `object`, object `index` of the scene
+    /// prepared, if it reads the buffer: its draw's, with the lights whose shadows it reads
+    /// at its vertices.
+    fn push(&self, object: &Object, index: usize) -> Option<ObjectPush> {
+        let (first, _) = (*self.objects.reading.get(index)?)?;
+        let (occlusion, shadowing) = (*self.occlusion.get(index)?, *self.shadowing.get(index)?);
+        Some(ObjectPush::new(object, occlusion, shadowing, first))
+    }
 }
 
 #[cfg(test)]
@@ -461,35 +496,37 @@ mod tests {
         let bounce = include_str!("../../shaders/lib/bounce.glsl");
         assert!(bounce.contains("struct BounceAtVertex {\n    vec4 channels[3];\n};"));
         let light = include_str!("../../shaders/lib/vertex_light.glsl");
-        let entry =
-            "struct LightAtVertex {\n    BounceAtVertex bounce;\n    vec4 shadows[MAX_VERTEX_SHADOW_LAYERS];\n};";
-        assert!(light.contains(entry));
+        let entry = ["struct LightAtVertex {", "BounceAtVertex bounce;", "vec4 shadows[MAX_VERTEX_SHADOW_LAYERS];"];
+        let entry = format!("{}\n    vec4 objects_take;\n}};", entry.join("\n    "));
+        assert!(light.contains(&entry));
         assert!(light.contains("const uint MAX_VERTEX_SHADOW_LAYERS = MAX_POINT_LIGHTS / 4;"));
-        assert_eq!(BYTES_PER_VERTEX, (3 + 4) * 16);
+        assert_eq!(BYTES_PER_VERTEX, (3 + 4 + 1) * 16);
     }
 
-    /// The disk cache's key holds what the shader reads: set 0's frame data, the light map
-    /// (its key), the environment's data and irradiance (its key), the shadows' data and
-    /// maps (their key), and the meshes' vertices and the push constants, beside the buffer
-    /// it writes. A shader that reads more needs the key to hold it too.
+    /// The disk cache's key holds what the shader reads: set 0's frame data (the occluders
+    /// among it), the light map (its key), the environment's data, radiance and irradiance
+    /// (its key), the shadows' data and maps (their key), and the meshes' vertices and the
+    /// push constants, beside the buffer it writes. A shader that reads more needs the key
+    /// to hold it too.
     #[test]
     fn the_disk_key_holds_every_resource_the_shader_reads() {
-        let read = [(0, 0), (1, 0), (1, 1), (2, 0), (2, 4), (3, 0), (3, 1), (5, 0)];
+        let read = [(0, 0), (1, 0), (1, 1), (2, 0), (2, 1), (2, 4), (3, 0), (3, 1), (5, 0)];
         assert_eq!(shaders::tests::bindings(shaders::VERTEX_LIGHT_COMP), read);
     }
 
     /// The default scene's ball and ring read at their vertices, one after the other; the
-    /// ground does not, nor anything without a bounce or a soft shadow but in the generic
-    /// pipelines.
+    /// ground does not, nor anything without a bounce, a soft shadow or its occlusion read
+    /// there but in the generic pipelines.
     #[test]
     fn the_fine_meshes_but_the_ground_read_one_after_the_other() {
         let mut scene = Scene::from_toml(DEFAULT_SCENE_TOML, "default", Path::new("")).expect("the default scene");
         scene.shadow_per_vertex = true;
         let vertices = |scene: &Scene, object: usize| scene.meshes[scene.objects[object].mesh].vertices.len() as u32;
         let unshadowed = vec![0; scene.objects.len()];
+        let mesh = |scene: &Scene, m: usize| (scene.meshes[m].extent(), scene.meshes[m].vertices.len() as u32);
+        let at_pixels = vec![ObjectsOcclusionFrom::Pixels; scene.objects.len()];
         let firsts = |scene: &Scene, generic: bool, shadowing: &[u32]| {
-            let mesh = |m: usize| (scene.meshes[m].extent(), scene.meshes[m].vertices.len() as u32);
-            vertex_light_firsts(scene, generic, shadowing, mesh)
+            vertex_light_firsts(scene, generic, shadowing, &at_pixels, |m| mesh(scene, m))
         };
         let ground = scene.ground_index().expect("the default scene has a ground");
         let specialised = firsts(&scene, false, &unshadowed);
@@ -504,6 +541,11 @@ mod tests {
         assert_eq!(firsts(&scene, true, &unshadowed), specialised);
         scene.bounce = false;
         assert!(firsts(&scene, false, &unshadowed).iter().all(Option::is_none));
+        // The ring's occlusion by the ball alone, read at its vertices.
+        let mut from = at_pixels.clone();
+        from[1] = ObjectsOcclusionFrom::Vertices;
+        let occluded = vertex_light_firsts(&scene, false, &unshadowed, &from, |m| mesh(&scene, m));
+        assert_eq!(occluded, [None, Some(0), None]);
         let generic = firsts(&scene, true, &unshadowed);
         assert_eq!(generic, specialised, "the generic pipelines are the same with or without");
         // The soft light's shadow alone is read there too, but on the ground, when asked for.
