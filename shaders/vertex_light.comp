@@ -4,10 +4,10 @@
 // constants are the draw's, ObjectPush), the ground's bounce at the mesh's normal and its
 // gradient in the normal, each soft light's shadow, and with OBJECT_OCCLUSION what the
 // other objects' spheres (frame.occluders but the object's own) take of the environment's
-// light, into the object's run of the buffer
-// that forward.vert reads (set 1, binding 1, from object.vertex_light_first on).
-// src/render/vertex_light.rs runs it when what it is made of changes. Set 0 is the forward
-// pass's (FrameData, the occluders among it), 2 its environment's, 3 its shadows', 5 its ground maps'.
+// light, into the object's run of the buffer that forward.vert reads (set 1, binding 1,
+// from object.vertex_light_first on). src/render/vertex_light.rs runs it when what it is
+// made of changes. Set 0 is the forward pass's (FrameData, the occluders among it), 2 its
+// environment's, 3 its shadows', 5 its ground maps'.
 #include "vertex_light.glsl"
 
 layout(local_size_x = 64) in;

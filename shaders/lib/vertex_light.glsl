@@ -1,8 +1,8 @@
-// What the draw of a finely tessellated mesh reads at its vertices rather than at its
-// pixels: the ground's bounce (bounce.glsl), where `[shadows] per_vertex` asks for them
-// the soft lights' shadows, and where `[occlusion] per_vertex` does what the other
-// objects take of the environment's light (object_occlusion.glsl). None follows the
-// camera, so each is computed once per change of what it is made of by
+// What an object's draw reads at its vertices rather than at its pixels: where its mesh is
+// finely tessellated, the ground's bounce (bounce.glsl) and, where `[shadows] per_vertex`
+// asks for them, the soft lights' shadows; where `[occlusion] per_vertex` reads them there,
+// what the other objects take of the environment's light (object_occlusion.glsl). None
+// follows the camera, so each is computed once per change of what it is made of by
 // shaders/vertex_light.comp (src/render/vertex_light.rs) into one buffer that forward.vert
 // reads and interpolates. A soft shadow is PCSS (shadows.glsl) at the vertex, with its
 // tangent plane as the receiver's and more taps than a pixel takes; its penumbra is wider
