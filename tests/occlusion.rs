@@ -7,7 +7,7 @@ use argil::render::{DebugView, OffscreenTarget};
 use argil::reference::integrator::CameraRays;
 use argil::scene::{Environment, Scene};
 use ash::vk;
-use common::{gpu, render, scene, try_render};
+use common::{draw_hdr, gpu, render, scene, try_render};
 use glam::Vec3;
 
 const SIZE: (u32, u32) = (160, 120);
@@ -424,10 +424,7 @@ fn objects_occlusion_at_vertices_is_computed_only_when_the_scene_changes() {
     gpu().exclusive(|renderer| {
         let gpu_scene = renderer.upload(&s).expect("upload");
         let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
-        let frame = |renderer: &mut argil::render::Renderer, s: &Scene| {
-            let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
-            renderer.read_offscreen(&offscreen, ms).expect("read").hdr
-        };
+        let frame = |renderer: &mut argil::render::Renderer, s: &Scene| draw_hdr(renderer, s, &gpu_scene, &offscreen);
         let before = renderer.vertex_light_computes();
         let first = frame(renderer, &s);
         assert_eq!(frame(renderer, &s), first);

@@ -4,11 +4,11 @@
 mod common;
 
 use argil::reference::integrator::CameraRays;
-use argil::render::OffscreenTarget;
+use argil::render::{OffscreenTarget, Renderer};
 use ash::vk;
 use argil::cache::DiskCache;
-use argil::scene::DEFAULT_SCENE_TOML;
-use common::{argil_with, gpu, render, scene, test_dir};
+use argil::scene::{Scene, DEFAULT_SCENE_TOML};
+use common::{argil_with, draw_hdr, gpu, render, scene, test_dir};
 use glam::DVec3;
 
 /// A grey plane at y = 0 under one light and a uniform environment, seen from above at
@@ -284,10 +284,7 @@ fn shadow_maps_render_only_when_the_scene_changes() {
     gpu().exclusive(|renderer| {
         let gpu_scene = renderer.upload(&s).expect("upload");
         let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
-        let frame = |renderer: &mut argil::render::Renderer, s: &argil::scene::Scene| {
-            let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
-            renderer.read_offscreen(&offscreen, ms).expect("read").hdr
-        };
+        let frame = |renderer: &mut Renderer, s: &Scene| draw_hdr(renderer, s, &gpu_scene, &offscreen);
         let renders = |renderer: &argil::render::Renderer| {
             [
                 renderer.shadow_map_renders(),
@@ -357,10 +354,7 @@ material = "ground"
         let gpu_scene = renderer.upload(&s).expect("upload");
         let extent = vk::Extent2D { width: SIZE.0, height: SIZE.1 };
         let offscreen = OffscreenTarget::new(&renderer.device, extent).expect("target");
-        let frame = |renderer: &mut argil::render::Renderer, s: &argil::scene::Scene| {
-            let ms = renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
-            renderer.read_offscreen(&offscreen, ms).expect("read").hdr
-        };
+        let frame = |renderer: &mut Renderer, s: &Scene| draw_hdr(renderer, s, &gpu_scene, &offscreen);
         let computes = renderer.vertex_light_computes();
         let first = frame(renderer, &s);
         assert_eq!(frame(renderer, &s), first);

@@ -297,7 +297,7 @@ impl VertexLight {
         }
         // The occluders, where any object reads them here, and each object's own.
         self.occlusion = inputs.occlusion.to_vec();
-        let occluded = from.contains(&ObjectsOcclusionFrom::Vertices);
+        let occluded = self.reads_occlusion();
         if occluded {
             key.extend(bits(bytemuck::cast_slice(&frame.occluders)));
             key.push(frame.counts[3]);
@@ -347,9 +347,8 @@ impl VertexLight {
         // Without a bounce the shader reads no light map, and neither it nor the occluders'
         // loop the environment.
         let bounces = inputs.maps.frame.ground_albedo[3] > 0.0;
-        let occluded = self.occlusion.iter().any(|o| o.from == ObjectsOcclusionFrom::Vertices);
         let light = if bounces { inputs.light_content } else { Some(0) };
-        let environment = if bounces || occluded { inputs.maps.environment } else { Some(0) };
+        let environment = if bounces || self.reads_occlusion() { inputs.maps.environment } else { Some(0) };
         let (Some(light), Some(environment)) = (light, environment) else {
             return Ok(());
         };
@@ -467,6 +466,11 @@ impl VertexLight {
             }
         }
         buffer_barrier(device, cmd, self.buffer.handle, BufferUse::COMPUTE_WRITE, BufferUse::VERTEX_READ);
+    }
+
+    /// Whether an object of the scene prepared reads its occlusion by the others here.
+    fn reads_occlusion(&self) -> bool {
+        self.occlusion.iter().any(|o| o.from == ObjectsOcclusionFrom::Vertices)
     }
 
     /// The push constants of the computation of `object`, object `index` of the scene

@@ -9,7 +9,7 @@ use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
-use argil::render::{count_non_finite, OffscreenFrame, Renderer};
+use argil::render::{count_non_finite, GpuScene, OffscreenFrame, OffscreenTarget, Renderer};
 use argil::scratch::Scratch;
 use argil::scene::Scene;
 use argil::vk::{Device, DeviceChoice, DeviceOptions};
@@ -66,6 +66,14 @@ impl Gpu {
 pub fn try_render(renderer: &mut Renderer, scene: &Scene, width: u32, height: u32) -> anyhow::Result<OffscreenFrame> {
     let gpu_scene = renderer.upload(scene)?;
     renderer.render_offscreen(scene, &gpu_scene, vk::Extent2D { width, height }, 1.0)
+}
+
+/// Draws one frame of `scene`, uploaded as `gpu_scene`, into `target` at exposure 1 and
+/// reads its HDR radiance back; the renderer keeps what it made (shadow maps, what is read
+/// at the vertices) for the next frame, as the viewer's does.
+pub fn draw_hdr(renderer: &mut Renderer, scene: &Scene, gpu_scene: &GpuScene, target: &OffscreenTarget) -> Vec<f32> {
+    let ms = renderer.draw_offscreen(scene, gpu_scene, target, 1.0).expect("draw");
+    renderer.read_offscreen(target, ms).expect("read").hdr
 }
 
 /// Renders `scene` at `width`×`height` and checks the frame has no NaN/Inf value.
