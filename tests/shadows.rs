@@ -336,7 +336,7 @@ fn shadow_maps_render_only_when_the_scene_changes() {
 /// vertices, found once per change of the shadows (a light's radius too) and not per frame
 /// nor when the camera moves; its frame is the pixels' to within the interpolation of the
 /// penumbra (the light the frame holds the same to 1%), and not the same frame; switched off
-/// and on, the frame follows.
+/// and on, the frame follows; through many counts of taps, two compute pipelines are kept.
 #[test]
 fn soft_shadows_at_the_vertices_follow_the_shadows_not_the_frames() {
     const SHADOWED: &str = r#"
@@ -375,6 +375,14 @@ material = "ground"
         s.lights[0].radius = 0.45;
         frame(renderer, &s);
         assert_eq!(renderer.vertex_light_computes(), computes + 2, "the light's radius changed");
+        // A slider of taps dragged through its values: each is computed, the pipelines of
+        // the last two are kept.
+        for (n, taps) in [4, 8, 32, 64].into_iter().enumerate() {
+            s.shadow_taps = taps;
+            frame(renderer, &s);
+            assert_eq!(renderer.vertex_light_computes(), computes + 3 + n as u64, "{taps} taps");
+        }
+        assert_eq!(renderer.vertex_light_pipelines(), 2);
     });
 }
 

@@ -325,6 +325,11 @@ impl Renderer {
         self.vertex_light.computes()
     }
 
+    /// How many compute pipelines that pass keeps: two at most, whatever it was computed with.
+    pub fn vertex_light_pipelines(&self) -> usize {
+        self.vertex_light.pipeline_count()
+    }
+
     /// How many times the ground's occlusion map has been made: once per change of the
     /// objects, the ground or the environment, not per frame.
     pub fn ground_occlusion_renders(&self) -> u64 {

@@ -158,8 +158,9 @@ pub struct VertexLight {
     /// The forward pass's sets but for set 1, this pass's own.
     layout: PipelineLayout,
     module: ShaderModule,
-    /// A pipeline for each environment kind and count of taps computed with: a frame in
-    /// flight may still use the one before.
+    /// The pipelines of this specialization and of the one before, which a frame in flight
+    /// may still use (two frames at most are in flight, and a frame's slot is waited for
+    /// before it is prepared): not one for every count of taps a dragged slider passes.
     pipelines: HashMap<Specialization, Pipeline>,
     specialization: Specialization,
     /// Every reading object's vertices' entries, in `vertex_light_firsts` order.
@@ -247,6 +248,11 @@ impl VertexLight {
         self.computes.get()
     }
 
+    /// The compute pipelines kept: this frame's and the one before's.
+    pub fn pipeline_count(&self) -> usize {
+        self.pipelines.len()
+    }
+
     /// Has the next recorded frame compute the buffer when a frame of `scene` (`shaded`:
     /// drawn with the materials' shaders, `generic` or specialised pipelines) reads it and
     /// what it is made of changed: the ground's light map, the frame's ground and its albedo,
@@ -310,7 +316,7 @@ impl VertexLight {
             self.key = key;
             self.pending.set(true);
         }
-        self.specialization = ForwardConstants {
+        let specialization = ForwardConstants {
             environment_kind: environment_kind(&scene.environment),
             reflection_mode: FROM_UNIFORM,
             debug_view: FROM_UNIFORM,
@@ -324,10 +330,12 @@ impl VertexLight {
             ..ForwardConstants::zeroed()
         }
         .specialization();
+        let previous = std::mem::replace(&mut self.specialization, specialization);
         self.read_first_from_disk(scene, inputs, one_shot)?;
         if self.pending.get() && !self.pipelines.contains_key(&self.specialization) {
             let (device, layout, module) = (&self.device, &self.layout, &self.module);
             let pipeline = Pipeline::compute(device, layout, module, &self.specialization, "vertex light")?;
+            self.pipelines.retain(|kept, _| *kept == previous);
             self.pipelines.insert(self.specialization.clone(), pipeline);
         }
         Ok(())
