@@ -22,6 +22,19 @@ const VARIANTS: &[Variant] = &[
         "forward_lean.frag",
         &[("DEBUG_VIEWS", "0"), ("SAMPLED_REFLECTION", "0"), ("SEED_COMPOSITION", "0"), ("SUN_LOBE", "0")],
     ),
+    ("forward.frag", "forward_gbuffer.frag", &[("DEBUG_VIEWS", "0"), ("GBUFFER", "1")]),
+    ("forward.frag", "forward_deferred.frag", &[("DEBUG_VIEWS", "0"), ("DEFERRED", "1")]),
+    (
+        "forward.frag",
+        "forward_deferred_lean.frag",
+        &[
+            ("DEBUG_VIEWS", "0"),
+            ("DEFERRED", "1"),
+            ("SAMPLED_REFLECTION", "0"),
+            ("SEED_COMPOSITION", "0"),
+            ("SUN_LOBE", "0"),
+        ],
+    ),
 ];
 
 const STAGES: &[(&str, shaderc::ShaderKind)] = &[

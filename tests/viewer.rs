@@ -8,7 +8,7 @@ use argil::render::accumulate::Accumulation;
 use argil::render::{DebugView, OffscreenFrame, OffscreenTarget};
 use argil::scene::{DiffuseModel, Scene, SpecularModel, Subsurface};
 use ash::vk;
-use common::{argil, gpu, render, rgb_difference, sampled_sphere_toml, scene, try_render};
+use common::{argil, gpu, render, render_forward, rgb_difference, sampled_sphere_toml, scene, try_render};
 use glam::Vec3;
 
 fn render_view(scene: &Scene, view: DebugView, width: u32, height: u32) -> OffscreenFrame {
@@ -186,11 +186,12 @@ scale = 3
     assert_eq!(plane, [0.0, 0.0, 0.0, 1.0], "plane");
 }
 
-/// On a finite image the NaN highlight shows the shaded image unchanged.
+/// On a finite image the NaN highlight shows the shaded image unchanged: as the forward
+/// pass shades it, which debug views draw with.
 #[test]
 fn nan_highlight_leaves_a_finite_image_alone() {
     let scene = Scene::default_scene();
-    let shaded = render(&scene, 96, 54);
+    let shaded = render_forward(&scene, 96, 54);
     let highlighted = render_view(&scene, DebugView::NanHighlight, 96, 54);
     assert_eq!(shaded.hdr, highlighted.hdr);
 }

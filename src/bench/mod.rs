@@ -333,6 +333,7 @@ fn bench_scene(
         let gpu = renderer.upload(&parsed)?;
         renderer.floor = configuration.floor;
         renderer.generic = configuration.generic;
+        renderer.deferred = !configuration.forward;
         renderer.draft = configuration.draft;
         let mut drag = configuration.moving.and_then(|what| Drag::of(&mut parsed, what, configuration.draft));
         if let Some(drag) = &mut drag {
@@ -404,6 +405,7 @@ fn bench_scene(
     }
     renderer.floor = false;
     renderer.generic = false;
+    renderer.deferred = true;
     renderer.draft = false;
     Ok(())
 }
@@ -550,6 +552,7 @@ fn time_in_turns(
         }
         renderer.floor = as_floor;
         renderer.generic = row.configuration.generic;
+        renderer.deferred = !row.configuration.forward;
         renderer.draft = row.configuration.draft && !as_floor;
         let (wall, work) = (Instant::now(), cpu_time::ProcessTime::now());
         let gpu = renderer

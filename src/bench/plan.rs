@@ -23,6 +23,9 @@ pub const FLOOR: &str = "floor";
 pub const DEFAULTS: &str = "split-sum";
 /// argil's defaults through the generic pipeline: what specialising to the frame saves.
 pub const GENERIC: &str = "generic";
+/// argil's defaults with every object shaded in the forward pass: what shading the solids
+/// once a pixel from the G-buffer saves (src/render/deferred.rs).
+pub const FORWARD_SHADING: &str = "forward-shading";
 /// What a configuration moves before every timed frame, as a drag in the viewer moves it:
 /// what the shadow maps, the ground's maps and the bounce at the vertices cost when they
 /// follow it.
@@ -53,6 +56,8 @@ pub struct Configuration {
     pub floor: bool,
     /// Drawn with the generic pipelines (see `Renderer::generic`).
     pub generic: bool,
+    /// Every object drawn in the forward pass (see `Renderer::deferred`).
+    pub forward: bool,
     /// Draws the scene's own meshes, so its floor frames are the scene's floor
     /// (`Floor::pooled`); a tessellation row's are of other meshes.
     pub own_meshes: bool,
@@ -241,6 +246,7 @@ pub fn configuration_names() -> Vec<String> {
         FLOOR,
         DEFAULTS,
         GENERIC,
+        FORWARD_SHADING,
         "seed",
         REPORT,
         "no-subsurface",
@@ -411,8 +417,9 @@ fn resolutions(name: &str, scaling: bool) -> Vec<vk::Extent2D> {
     match name {
         // Seconds per frame at 1280×720 on lavapipe: 26 s for 1024 lookups.
         "sampled-256" | "sampled-1024" => vec![SMALL],
-        // Cost against pixels: argil's defaults at a smaller and a larger size.
-        DEFAULTS if scaling => vec![HEADLINE, SMALL, LARGE],
+        // Cost against pixels: argil's defaults, and with the solids shaded forward, at a
+        // smaller and a larger size.
+        DEFAULTS | FORWARD_SHADING if scaling => vec![HEADLINE, SMALL, LARGE],
         // What moves, also at the size the viewer draws while a slow device is in use, and
         // its drafts at that size alone.
         _ => match moving(name) {
@@ -437,6 +444,7 @@ fn bench_scene(
                 text: configured(file, c)?.to_toml()?,
                 floor: is_floor(c),
                 generic: is_generic(c),
+                forward: c == FORWARD_SHADING,
                 own_meshes: tessellated(c).is_none(),
                 moving: moving(c).map(|(what, _)| what),
                 draft: moving(c).is_some_and(|(_, draft)| draft),
@@ -511,7 +519,7 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     }
     let name = name.strip_prefix("generic-").unwrap_or(name);
     match name {
-        FLOOR | GENERIC | DEFAULTS => {}
+        FLOOR | GENERIC | FORWARD_SHADING | DEFAULTS => {}
         _ if moving(name).is_some() => {}
         "seed" => set_reflection(&mut file.environment, ReflectionMode::Seed, None),
         REPORT => {

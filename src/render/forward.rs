@@ -27,9 +27,11 @@ use super::material_data::MaterialData;
 use super::occlusion::OcclusionMode;
 use super::shaders;
 use super::split::Split;
+use super::deferred::{DeferredPass, G_ATTACHMENTS};
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use super::vertex_light::{gpu_vertex_light_firsts, light_at_vertices, vertex_shadow_layers, vertex_shadowing};
+use crate::scene::limits::MAX_OBJECTS;
 use crate::scene::map_slots::MAP_COUNT;
 use crate::scene::occluders::Occluder;
 use crate::scene::{
@@ -37,6 +39,7 @@ use crate::scene::{
     Vertex, DEFAULT_SHADOW_TAPS,
 };
 use crate::vk::{
+    transition, ImageUse,
     begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
     Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
 };
@@ -250,8 +253,7 @@ pub struct ForwardPass {
     fragment: ShaderModule,
     shaded_fragment: ShaderModule,
     lean_fragment: ShaderModule,
-    /// By sample count and constants.
-    pipelines: HashMap<(vk::SampleCountFlags, ForwardConstants), Pipeline>,
+    pipelines: HashMap<DrawPipeline, Pipeline>,
     /// `floor.frag`'s pipeline by sample count, created the first time a frame asks for it.
     floor: HashMap<vk::SampleCountFlags, Pipeline>,
     /// The pipeline of each object of the scene last prepared, in `Scene::objects` order:
@@ -259,6 +261,17 @@ pub struct ForwardPass {
     object_pipelines: Vec<vk::Pipeline>,
     /// The same for the right part of a split frame (split.rs); empty without one.
     split_pipelines: Vec<vk::Pipeline>,
+    /// The G-buffer and shading draws' pipelines of each object the frame defers
+    /// (deferred.rs), in `Scene::objects` order; None for the objects it draws forward.
+    deferred_pipelines: Vec<Option<(vk::Pipeline, vk::Pipeline)>>,
+    deferred: DeferredPass,
+    /// The forward sets and the G-buffer's (set 6): the deferred shading draws'.
+    deferred_layout: PipelineLayout,
+    /// forward.frag's builds for the deferred pass: the surfaces', and the shading's, whole
+    /// and lean (`FragmentBuild`).
+    gbuffer_fragment: ShaderModule,
+    deferred_fragment: ShaderModule,
+    deferred_lean_fragment: ShaderModule,
     /// What each object's draw reads besides its object, in `Scene::objects` order, for the
     /// scene last prepared.
     object_draws: Vec<ObjectDraw>,
@@ -309,23 +322,29 @@ impl ForwardPass {
                 )
             })
             .build(device, "material maps set")?;
-        let layout = PipelineLayout::new(
-            device,
-            &[
-                &set_layout,
-                &material_layout,
-                environment_layout,
-                shadow_layout,
-                occlusion_layout,
-                ground_maps_layout,
-            ],
-            std::mem::size_of::<ObjectPush>() as u32,
-            vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-        )?;
+        let sets = [
+            &set_layout,
+            &material_layout,
+            environment_layout,
+            shadow_layout,
+            occlusion_layout,
+            ground_maps_layout,
+        ];
+        let push = std::mem::size_of::<ObjectPush>() as u32;
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let layout = PipelineLayout::new(device, &sets, push, stages)?;
+        let deferred = DeferredPass::new(device, frames_in_flight)?;
+        let deferred_sets: Vec<&DescriptorSetLayout> =
+            sets.iter().copied().chain(std::iter::once(deferred.g_layout())).collect();
+        let deferred_layout = PipelineLayout::new(device, &deferred_sets, push, stages)?;
         let vertex = ShaderModule::new(device, shaders::FORWARD_VERT, "forward.vert")?;
         let fragment = ShaderModule::new(device, shaders::FORWARD_FRAG, "forward.frag")?;
         let shaded_fragment = ShaderModule::new(device, shaders::FORWARD_SHADED_FRAG, "forward_shaded.frag")?;
         let lean_fragment = ShaderModule::new(device, shaders::FORWARD_LEAN_FRAG, "forward_lean.frag")?;
+        let gbuffer_fragment = ShaderModule::new(device, shaders::FORWARD_GBUFFER_FRAG, "forward_gbuffer.frag")?;
+        let deferred_fragment = ShaderModule::new(device, shaders::FORWARD_DEFERRED_FRAG, "forward_deferred.frag")?;
+        let deferred_lean_fragment =
+            ShaderModule::new(device, shaders::FORWARD_DEFERRED_LEAN_FRAG, "forward_deferred_lean.frag")?;
         let pool = DescriptorPool::for_layout(device, &set_layout, frames_in_flight)?;
         let slots = (0..frames_in_flight)
             .map(|_| {
@@ -360,6 +379,12 @@ impl ForwardPass {
             floor: HashMap::new(),
             object_pipelines: Vec::new(),
             split_pipelines: Vec::new(),
+            deferred_pipelines: Vec::new(),
+            deferred,
+            deferred_layout,
+            gbuffer_fragment,
+            deferred_fragment,
+            deferred_lean_fragment,
             object_draws: Vec::new(),
             _pool: pool,
             slots,
@@ -419,42 +444,59 @@ impl ForwardPass {
         subsurface.bind(writer).write(device, set);
     }
 
-    /// The pipelines of `constants` for targets of `samples` samples, in their order.
-    /// Those not made yet are created side by side, one per thread of the current pool
-    /// (rayon's): a software device (lavapipe) compiles each on the calling thread, and the
-    /// frame waits for all of them.
-    fn pipelines_for(
-        &mut self,
-        samples: vk::SampleCountFlags,
-        constants: &[ForwardConstants],
-    ) -> Result<Vec<vk::Pipeline>> {
-        let mut missing: Vec<&ForwardConstants> = Vec::new();
-        for c in constants {
-            if !self.pipelines.contains_key(&(samples, *c)) && !missing.contains(&c) {
-                missing.push(c);
+    /// The pipelines of `draws`, in their order. Those not made yet are created side by
+    /// side, one per thread of the current pool (rayon's): a software device (lavapipe)
+    /// compiles each on the calling thread, and the frame waits for all of them.
+    fn pipelines_for(&mut self, draws: &[DrawPipeline]) -> Result<Vec<vk::Pipeline>> {
+        let mut missing: Vec<&DrawPipeline> = Vec::new();
+        for draw in draws {
+            if !self.pipelines.contains_key(draw) && !missing.contains(&draw) {
+                missing.push(draw);
             }
         }
         if !missing.is_empty() {
             let start = Instant::now();
-            let built = missing
-                .par_iter()
-                .map(|c| {
-                    let specialization = c.specialization();
-                    let name = format!("forward {samples:?} {:?}", specialization.0);
-                    let fragment = match c.fragment_build() {
-                        FragmentBuild::DebugViews => &self.fragment,
-                        FragmentBuild::Shaded => &self.shaded_fragment,
-                        FragmentBuild::Lean => &self.lean_fragment,
-                    };
-                    self.build_pipeline(fragment, samples, &specialization, &name)
-                })
-                .collect::<Result<Vec<_>>>()?;
+            let built = missing.par_iter().map(|draw| self.build_draw_pipeline(draw)).collect::<Result<Vec<_>>>()?;
             self.pipeline_time += start.elapsed();
-            for (c, pipeline) in missing.into_iter().zip(built) {
-                self.pipelines.insert((samples, *c), pipeline);
+            for (draw, pipeline) in missing.into_iter().zip(built) {
+                self.pipelines.insert(*draw, pipeline);
             }
         }
-        Ok(constants.iter().map(|c| self.pipelines[&(samples, *c)].handle).collect())
+        Ok(draws.iter().map(|draw| self.pipelines[draw].handle).collect())
+    }
+
+    fn build_draw_pipeline(&self, draw: &DrawPipeline) -> Result<Pipeline> {
+        match *draw {
+            DrawPipeline::Forward(samples, c) => {
+                let specialization = c.specialization();
+                let name = format!("forward {samples:?} {:?}", specialization.0);
+                let fragment = match c.fragment_build() {
+                    FragmentBuild::DebugViews => &self.fragment,
+                    FragmentBuild::Shaded => &self.shaded_fragment,
+                    FragmentBuild::Lean => &self.lean_fragment,
+                };
+                self.build_pipeline(fragment, samples, &specialization, &name)
+            }
+            DrawPipeline::Surfaces(c, object) => {
+                // DEFERRED_OBJECT, after the constants.
+                let mut specialization = c.specialization();
+                specialization.0.push(object);
+                self.mesh_pipeline(&self.gbuffer_fragment)
+                    .color_formats(&[HDR_FORMAT; G_ATTACHMENTS])
+                    .specialization(specialization)
+                    .build(&self.device, &self.layout, &format!("surfaces of object {object}"))
+            }
+            DrawPipeline::Shading(c) => {
+                let fragment = match c.fragment_build() {
+                    FragmentBuild::Lean => &self.deferred_lean_fragment,
+                    FragmentBuild::Shaded | FragmentBuild::DebugViews => &self.deferred_fragment,
+                };
+                GraphicsPipelineBuilder::new(self.deferred.vertex(), fragment, HDR_FORMAT)
+                    .depth_test_only(DEPTH_FORMAT, vk::CompareOp::EQUAL)
+                    .specialization(c.specialization())
+                    .build(&self.device, &self.deferred_layout, "deferred shading")
+            }
+        }
     }
 
     fn floor_pipeline(&mut self, samples: vk::SampleCountFlags) -> Result<vk::Pipeline> {
@@ -474,6 +516,14 @@ impl ForwardPass {
         specialization: &Specialization,
         name: &str,
     ) -> Result<Pipeline> {
+        self.mesh_pipeline(fragment)
+            .samples(samples)
+            .specialization(specialization.clone())
+            .build(&self.device, &self.layout, name)
+    }
+
+    /// A pipeline of forward.vert and `fragment` drawing the meshes, depth tested.
+    fn mesh_pipeline<'a>(&'a self, fragment: &'a ShaderModule) -> GraphicsPipelineBuilder<'a> {
         let stride = std::mem::size_of::<Vertex>() as u32;
         // Locations 0..=4, as forward.vert declares them.
         GraphicsPipelineBuilder::new(&self.vertex, fragment, HDR_FORMAT)
@@ -489,9 +539,6 @@ impl ForwardPass {
             )
             .depth(DEPTH_FORMAT)
             .dynamic_cull_mode()
-            .samples(samples)
-            .specialization(specialization.clone())
-            .build(&self.device, &self.layout, name)
     }
 
     /// Creates what the draws of `scene`'s materials need (and a `split` frame's right
@@ -540,6 +587,7 @@ impl ForwardPass {
             })
             .collect();
         let parts = 1 + usize::from(split.is_some());
+        self.deferred_pipelines = vec![None; scene.objects.len()];
         let pipelines = if choices.floor {
             vec![self.floor_pipeline(choices.samples)?; parts * scene.objects.len()]
         } else {
@@ -547,7 +595,24 @@ impl ForwardPass {
                 .map(|(i, o)| light_at_vertices(scene, generic, shadowing[i], i, gpu.meshes[o.mesh].extent))
                 .collect();
             let constants = draw_constants(scene, split, &from, shadowing, &at_vertices, choices);
-            self.pipelines_for(choices.samples, &constants)?
+            let deferred: Vec<bool> = (constants.iter().enumerate())
+                .map(|(i, c)| {
+                    let solid = scene.objects.get(i).is_some_and(|o| gpu.meshes[o.mesh].solid.is_some());
+                    choices.deferred && split.is_none() && solid && deferrable(c)
+                })
+                .collect();
+            // A deferred object's two pipelines follow the others, in its order.
+            let mut draws: Vec<DrawPipeline> = (constants.iter().zip(&deferred))
+                .map(|(&c, &deferred)| if deferred { DrawPipeline::Shading(c) } else { DrawPipeline::Forward(choices.samples, c) })
+                .collect();
+            let deferred_objects: Vec<usize> = (0..deferred.len()).filter(|&i| deferred[i]).collect();
+            draws.extend(deferred_objects.iter().map(|&i| DrawPipeline::Surfaces(constants[i], deferred_object(i))));
+            let mut pipelines = self.pipelines_for(&draws)?;
+            let surfaces = pipelines.split_off(constants.len());
+            for (&i, surfaces) in deferred_objects.iter().zip(surfaces) {
+                self.deferred_pipelines[i] = Some((surfaces, pipelines[i]));
+            }
+            pipelines
         };
         // The objects with the scene's materials, then with the split's.
         let (scene_pipelines, split_pipelines) = pipelines.split_at(scene.objects.len());
@@ -605,9 +670,22 @@ impl ForwardPass {
         s.materials.write(bytes)
     }
 
+    /// How many objects the last prepared frame shades from the G-buffer.
+    pub fn deferred_objects(&self) -> usize {
+        self.deferred_pipelines.iter().flatten().count()
+    }
+
+    /// Makes `slot`'s G-buffer for a frame of `extent` that defers objects, or lets it go
+    /// for one that does not (`extent` None); its previous frame is done.
+    pub fn prepare_deferred(&mut self, slot: usize, extent: Option<vk::Extent2D>) -> Result<()> {
+        let deferring = self.deferred_pipelines.iter().any(Option::is_some);
+        self.deferred.prepare(slot, extent.filter(|_| deferring))
+    }
+
     /// Records the pass into `target`, of the sample count `prepare` had. Its colour and
     /// depth must be in attachment layouts; its depth is kept for the skybox. With the
     /// `split` that `prepare` had, each part of the target is drawn with its own pipelines.
+    /// The objects it defers are drawn first, into the G-buffer, and shaded from it.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -624,10 +702,50 @@ impl ForwardPass {
         ground_maps_set: vk::DescriptorSet,
     ) -> Result<()> {
         let d = &self.device.handle;
+        let aspect = target.extent().width as f32 / target.extent().height as f32;
+        let order = draw_order(scene, |mesh| gpu.meshes[mesh].solid, aspect);
+        let deferred = |index: usize| self.deferred_pipelines.get(index).copied().flatten();
+        let shared_sets = [environment_set, shadow_set, occlusion_set, ground_maps_set];
+        let bind_sets = |layout: &PipelineLayout, g_set: Option<vk::DescriptorSet>| unsafe {
+            let graphics = vk::PipelineBindPoint::GRAPHICS;
+            d.cmd_bind_descriptor_sets(cmd, graphics, layout.handle, 0, &[self.slots[slot].set], &[]);
+            d.cmd_bind_descriptor_sets(cmd, graphics, layout.handle, 2, &shared_sets, &[]);
+            if let Some(set) = g_set {
+                d.cmd_bind_descriptor_sets(cmd, graphics, layout.handle, 6, &[set], &[]);
+            }
+        };
+        let deferring = split.is_none() && order.iter().any(|&(index, _)| deferred(index).is_some());
+        if deferring {
+            self.deferred.begin_surfaces(cmd, slot, target.depth)?;
+            bind_sets(&self.layout, None);
+            let mut bound = vk::Pipeline::null();
+            for &(index, cull) in &order {
+                let Some((surfaces, _)) = deferred(index) else { continue };
+                self.draw_object(cmd, scene, gpu, index, cull, surfaces, 0, &mut bound)?;
+            }
+            self.deferred.begin_shading(cmd, slot, target.color, clear)?;
+            bind_sets(&self.deferred_layout, Some(self.deferred.g_set(slot)));
+            for &(index, _) in &order {
+                let Some((_, shading)) = deferred(index) else { continue };
+                let push = self.object_push(&scene.objects[index], index, 0)?;
+                unsafe {
+                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, shading);
+                    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+                    d.cmd_push_constants(cmd, self.deferred_layout.handle, stages, 0, bytemuck::bytes_of(&push));
+                    // The instance is the object's depth in the objects' image.
+                    d.cmd_draw(cmd, 3, 1, 0, deferred_object(index));
+                }
+            }
+            unsafe { d.cmd_end_rendering(cmd) };
+            let (color, depth) = (target.color, target.depth);
+            transition(&self.device, cmd, color.handle, color.aspect, ImageUse::COLOR_ATTACHMENT, ImageUse::COLOR_ATTACHMENT);
+            transition(&self.device, cmd, depth.handle, depth.aspect, ImageUse::DEPTH_ATTACHMENT, ImageUse::DEPTH_ATTACHMENT);
+        }
+        let load = if deferring { vk::AttachmentLoadOp::LOAD } else { vk::AttachmentLoadOp::CLEAR };
         let color = [vk::RenderingAttachmentInfo::default()
             .image_view(target.color.view)
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {
                 color: vk::ClearColorValue { float32: clear },
@@ -635,33 +753,16 @@ impl ForwardPass {
         let depth = vk::RenderingAttachmentInfo::default()
             .image_view(target.depth.view)
             .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .load_op(load)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {
                 depth_stencil: vk::ClearDepthStencilValue { depth: 1.0, stencil: 0 },
             });
         begin_full_rendering(&self.device, cmd, target.extent(), &color, Some(&depth));
-        unsafe {
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.handle,
-                0,
-                &[self.slots[slot].set],
-                &[],
-            );
-            d.cmd_bind_descriptor_sets(
-                cmd,
-                vk::PipelineBindPoint::GRAPHICS,
-                self.layout.handle,
-                2,
-                &[environment_set, shadow_set, occlusion_set, ground_maps_set],
-                &[],
-            );
-        }
-        let aspect = target.extent().width as f32 / target.extent().height as f32;
+        bind_sets(&self.layout, None);
+        let forward = |index: usize| !deferring || deferred(index).is_none();
         match split {
-            None => self.draw_objects(cmd, scene, gpu, aspect, &self.object_pipelines, 0)?,
+            None => self.draw_objects(cmd, scene, gpu, &order, forward, &self.object_pipelines, 0)?,
             Some(split) => {
                 let [left, right] = split.scissors(target.extent());
                 let parts = [
@@ -670,7 +771,7 @@ impl ForwardPass {
                 ];
                 for (scissor, pipelines, first_material) in parts {
                     unsafe { d.cmd_set_scissor(cmd, 0, &[scissor]) };
-                    self.draw_objects(cmd, scene, gpu, aspect, pipelines, first_material)?;
+                    self.draw_objects(cmd, scene, gpu, &order, forward, pipelines, first_material)?;
                 }
             }
         }
@@ -678,58 +779,82 @@ impl ForwardPass {
         Ok(())
     }
 
-    /// Draws every object of `scene` with `pipelines` (one per object), reading its
-    /// material at `first_material` + its index in the materials buffer, in
-    /// [`draw_order`], culling the back faces it allows.
+    /// Draws the objects of `order` that `drawn` accepts with `pipelines` (one per object),
+    /// reading its material at `first_material` + its index in the materials buffer.
+    #[allow(clippy::too_many_arguments)]
     fn draw_objects(
         &self,
         cmd: vk::CommandBuffer,
         scene: &Scene,
         gpu: &GpuScene,
-        aspect: f32,
+        order: &[(usize, vk::CullModeFlags)],
+        drawn: impl Fn(usize) -> bool,
         pipelines: &[vk::Pipeline],
         first_material: usize,
     ) -> Result<()> {
-        let d = &self.device.handle;
         let mut bound = vk::Pipeline::null();
-        for (index, cull) in draw_order(scene, |mesh| gpu.meshes[mesh].solid, aspect) {
-            let object = &scene.objects[index];
+        for &(index, cull) in order.iter().filter(|(index, _)| drawn(*index)) {
             let pipeline = *pipelines
                 .get(index)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
-            let mesh = &gpu.meshes[object.mesh];
-            let draw = *self
-                .object_draws
-                .get(index)
-                .context("object missing: prepare() was not called for this scene")?;
-            let vertex_light_first = draw.vertex_light_first.unwrap_or(0);
-            let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights, vertex_light_first);
-            push.material_index += first_material as u32;
-            unsafe {
-                if pipeline != bound {
-                    d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
-                    bound = pipeline;
-                }
-                d.cmd_bind_descriptor_sets(
-                    cmd,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    self.layout.handle,
-                    1,
-                    &[gpu.material_sets[object.material]],
-                    &[],
-                );
-                d.cmd_push_constants(
-                    cmd,
-                    self.layout.handle,
-                    vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
-                    0,
-                    bytemuck::bytes_of(&push),
-                );
-                d.cmd_set_cull_mode(cmd, cull);
-                d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
-                d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
-                d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
+            self.draw_object(cmd, scene, gpu, index, cull, pipeline, first_material, &mut bound)?;
+        }
+        Ok(())
+    }
+
+    /// Object `index`'s push constants, its material at `first_material` + its index.
+    fn object_push(&self, object: &crate::scene::Object, index: usize, first_material: usize) -> Result<ObjectPush> {
+        let draw = *self
+            .object_draws
+            .get(index)
+            .context("object missing: prepare() was not called for this scene")?;
+        let vertex_light_first = draw.vertex_light_first.unwrap_or(0);
+        let mut push = ObjectPush::new(object, draw.occlusion, draw.shadowing_lights, vertex_light_first);
+        push.material_index += first_material as u32;
+        Ok(push)
+    }
+
+    /// Draws object `index` with `pipeline` (bound unless it is `bound`), culling `cull`.
+    #[allow(clippy::too_many_arguments)]
+    fn draw_object(
+        &self,
+        cmd: vk::CommandBuffer,
+        scene: &Scene,
+        gpu: &GpuScene,
+        index: usize,
+        cull: vk::CullModeFlags,
+        pipeline: vk::Pipeline,
+        first_material: usize,
+        bound: &mut vk::Pipeline,
+    ) -> Result<()> {
+        let d = &self.device.handle;
+        let object = &scene.objects[index];
+        let mesh = &gpu.meshes[object.mesh];
+        let push = self.object_push(object, index, first_material)?;
+        unsafe {
+            if pipeline != *bound {
+                d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, pipeline);
+                *bound = pipeline;
             }
+            d.cmd_bind_descriptor_sets(
+                cmd,
+                vk::PipelineBindPoint::GRAPHICS,
+                self.layout.handle,
+                1,
+                &[gpu.material_sets[object.material]],
+                &[],
+            );
+            d.cmd_push_constants(
+                cmd,
+                self.layout.handle,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                0,
+                bytemuck::bytes_of(&push),
+            );
+            d.cmd_set_cull_mode(cmd, cull);
+            d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
+            d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
+            d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
         }
         Ok(())
     }
@@ -799,6 +924,33 @@ pub struct FrameChoices {
     pub ground_shadows: Option<usize>,
     /// Whether the environment's map has a sun lifted out of it (environment.rs).
     pub sun: bool,
+    /// Whether the solids are shaded once a pixel from their surfaces (deferred.rs): a
+    /// single-sampled frame of the shaded image in specialised pipelines, not split.
+    pub deferred: bool,
+}
+
+/// Whether a draw of these constants can be deferred: the G-buffer holds neither the
+/// soft lights' shadows at the vertices nor a scatter map's change to the material.
+fn deferrable(c: &ForwardConstants) -> bool {
+    c.vertex_shadow_layers == 0 && !c.samples(MapSlot::Scatter)
+}
+
+const _: () = assert!(MAX_OBJECTS < 1 << 16, "deferred.glsl's object depths stay within [0, 1]");
+
+/// Object `index`'s number in the deferred pass: its G-buffer pipeline's `DEFERRED_OBJECT`
+/// and its shading draw's instance (deferred.glsl's object depth), 0 being no object.
+fn deferred_object(index: usize) -> u32 {
+    index as u32 + 1
+}
+
+/// A pipeline of the pass: an object's forward draw into targets of a sample count, a
+/// deferred object's draw of its surfaces into the G-buffer (by its `deferred_object`),
+/// or its shading draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum DrawPipeline {
+    Forward(vk::SampleCountFlags, ForwardConstants),
+    Surfaces(ForwardConstants, u32),
+    Shading(ForwardConstants),
 }
 
 /// What an object's draw reads besides its object: how it reads the other objects'
@@ -900,8 +1052,8 @@ mod tests {
     fn constants_match_the_shaders_ids_and_names() {
         let mut found = shader_constants();
         found.sort();
-        let expected: Vec<(u32, String)> = ForwardConstants::NAMES
-            .iter()
+        // The G-buffer's pipelines add the object's number after them (DrawPipeline::Surfaces).
+        let expected: Vec<(u32, String)> = (ForwardConstants::NAMES.iter().chain(&["DEFERRED_OBJECT"]))
             .enumerate()
             .map(|(i, name)| (i as u32, (*name).to_owned()))
             .collect();
@@ -1096,6 +1248,7 @@ mod tests {
                 ground_map: None,
                 ground_shadows: shadows.then_some(ground),
                 sun: false,
+                deferred: false,
             };
             let extents: Vec<_> = scene.meshes.iter().map(|m| m.extent()).collect();
             let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };

@@ -2,6 +2,7 @@
 
 pub mod accumulate;
 pub mod debug_view;
+pub mod deferred;
 pub mod environment;
 pub mod exposure;
 pub mod forward;

@@ -12,6 +12,7 @@ use ash::vk;
 
 use super::accumulate::{AccumulatePass, Accumulated, Accumulation, View};
 use super::debug_view::DebugView;
+use super::deferred::DeferredPass;
 use super::environment::equirect::Equirect;
 use super::environment::EnvironmentPass;
 use super::exposure::ExposurePass;
@@ -127,6 +128,9 @@ pub struct Renderer {
     /// and every map sampled, instead of specialised to the frame: what the bench compares
     /// the specialised pipelines against.
     pub generic: bool,
+    /// Whether the solids of a frame that can be (`FrameChoices::deferred`) are shaded once a
+    /// pixel from their surfaces (deferred.rs) rather than in the forward pass.
+    pub deferred: bool,
     /// A frame drawn while the viewer is in use on a slow device, at a reduced size: where
     /// the ground's shadow or occlusion map is out of date (a light or an object moved),
     /// the ground finds its soft shadows or the objects' occlusion at its pixels, fewer at
@@ -241,6 +245,7 @@ impl Renderer {
             debug_view: DebugView::Shaded,
             floor: false,
             generic: false,
+            deferred: true,
             draft: false,
             environment_time: Duration::ZERO,
             pipelines_beside_environment: false,
@@ -325,6 +330,11 @@ impl Renderer {
         self.vertex_light.computes()
     }
 
+    /// How many of the last prepared frame's objects are shaded from the G-buffer (deferred.rs).
+    pub fn deferred_objects(&self) -> usize {
+        self.forward.deferred_objects()
+    }
+
     /// How many compute pipelines that pass keeps: two at most, whatever it was computed with.
     pub fn vertex_light_pipelines(&self) -> usize {
         self.vertex_light.pipeline_count()
@@ -384,6 +394,13 @@ impl Renderer {
             ground_shadows: shadow_ground,
             // The environment's, once it is known (prepare_environment_and_pipelines).
             sun: false,
+            deferred: self.deferred
+                && DeferredPass::supported(&self.device)
+                && samples == 1
+                && self.split.is_none()
+                && self.debug_view == DebugView::Shaded
+                && !self.generic
+                && !self.floor,
         };
         // The shadow pass found which objects' draws need shadow code.
         let shadowing = self.shadow.receivers().to_vec();
@@ -407,6 +424,7 @@ impl Renderer {
         let sample_set = self.accumulate.prepare(slot, view, self.accumulation, target)?;
         self.forward
             .prepare(slot, scene, self.split.as_ref(), target.aspect(), sample_set, &occluders, &choices)?;
+        self.forward.prepare_deferred(slot, choices.deferred.then_some(target.extent))?;
         let inputs = MapInputs {
             frame: self.forward.frame_data(),
             shadows: &|| self.shadow.disk_key(scene),

@@ -64,16 +64,21 @@ pub struct DescriptorPool {
 
 impl DescriptorPool {
     pub fn for_layout(device: &Arc<Device>, layout: &DescriptorSetLayout, sets: u32) -> Result<Self> {
-        let sizes: Vec<vk::DescriptorPoolSize> = layout
-            .bindings
+        Self::for_layouts(device, &[layout], sets)
+    }
+
+    /// A pool of `sets` sets of each of `layouts`.
+    pub fn for_layouts(device: &Arc<Device>, layouts: &[&DescriptorSetLayout], sets: u32) -> Result<Self> {
+        let sizes: Vec<vk::DescriptorPoolSize> = layouts
             .iter()
+            .flat_map(|layout| &layout.bindings)
             .map(|&(ty, count)| vk::DescriptorPoolSize {
                 ty,
                 descriptor_count: count * sets,
             })
             .collect();
         let info = vk::DescriptorPoolCreateInfo::default()
-            .max_sets(sets)
+            .max_sets(sets * layouts.len() as u32)
             .pool_sizes(&sizes);
         let handle =
             unsafe { device.handle.create_descriptor_pool(&info, None) }.context("cannot create a descriptor pool")?;

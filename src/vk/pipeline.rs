@@ -118,8 +118,8 @@ pub struct GraphicsPipelineBuilder<'a> {
     specialization: Specialization,
     vertex_stride: u32,
     vertex_attributes: Vec<vk::VertexInputAttributeDescription>,
-    /// None for a depth-only pipeline.
-    color_format: Option<vk::Format>,
+    /// Empty for a depth-only pipeline.
+    color_formats: Vec<vk::Format>,
     depth_format: Option<vk::Format>,
     depth_write: bool,
     depth_compare: vk::CompareOp,
@@ -136,7 +136,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             specialization: Specialization::default(),
             vertex_stride: 0,
             vertex_attributes: Vec::new(),
-            color_format: Some(color_format),
+            color_formats: vec![color_format],
             depth_format: None,
             depth_write: false,
             depth_compare: vk::CompareOp::LESS,
@@ -154,7 +154,7 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             specialization: Specialization::default(),
             vertex_stride: 0,
             vertex_attributes: Vec::new(),
-            color_format: None,
+            color_formats: Vec::new(),
             depth_format: Some(depth_format),
             depth_write: true,
             depth_compare: vk::CompareOp::LESS,
@@ -176,6 +176,20 @@ impl<'a> GraphicsPipelineBuilder<'a> {
                 offset,
             })
             .collect();
+        self
+    }
+
+    /// The colour attachments' formats, in their locations' order, in place of the one.
+    pub fn color_formats(mut self, formats: &[vk::Format]) -> Self {
+        self.color_formats = formats.to_vec();
+        self
+    }
+
+    /// Depth written where `compare` passes.
+    pub fn depth_write_by(mut self, format: vk::Format, compare: vk::CompareOp) -> Self {
+        self.depth_format = Some(format);
+        self.depth_write = true;
+        self.depth_compare = compare;
         self
     }
 
@@ -260,16 +274,15 @@ impl<'a> GraphicsPipelineBuilder<'a> {
             .depth_compare_op(self.depth_compare);
         let blend_attachment =
             vk::PipelineColorBlendAttachmentState::default().color_write_mask(vk::ColorComponentFlags::RGBA);
-        let blend_attachments: Vec<_> = self.color_format.iter().map(|_| blend_attachment).collect();
+        let blend_attachments: Vec<_> = self.color_formats.iter().map(|_| blend_attachment).collect();
         let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
         let mut dynamic_states = vec![vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
         if self.dynamic_cull_mode {
             dynamic_states.push(vk::DynamicState::CULL_MODE);
         }
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-        let color_formats: Vec<vk::Format> = self.color_format.into_iter().collect();
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
-            .color_attachment_formats(&color_formats)
+            .color_attachment_formats(&self.color_formats)
             .depth_attachment_format(self.depth_format.unwrap_or(vk::Format::UNDEFINED));
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stages)

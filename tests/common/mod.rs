@@ -83,6 +83,20 @@ pub fn render(scene: &Scene, width: u32, height: u32) -> OffscreenFrame {
     frame
 }
 
+/// [`render`] with every object drawn in the forward pass (`Renderer::deferred` off): for
+/// comparisons bit for bit with frames the G-buffer does not serve, which the deferred
+/// frame matches only to the last bits of fp32 (tests/deferred.rs).
+pub fn render_forward(scene: &Scene, width: u32, height: u32) -> OffscreenFrame {
+    let frame = gpu().exclusive(|renderer| {
+        renderer.deferred = false;
+        let frame = try_render(renderer, scene, width, height);
+        renderer.deferred = true;
+        frame.expect("render")
+    });
+    assert_eq!(count_non_finite(&frame.hdr), 0, "NaN/Inf values in the rendered frame");
+    frame
+}
+
 pub fn project_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
