@@ -420,7 +420,7 @@ fn render(options: RenderOptions, process_start: Instant) -> Result<()> {
     // samples are made (src/render/warm_up.rs); the others keep their stand-ins.
     let sampled = renderer.sampled_textures(&scene);
     maps.split_off(|texture| !sampled[texture]);
-    let warmed = warm_up(&mut renderer, &mut scene, &mut gpu, maps, display.is_some())?;
+    let warmed = warm_up(&mut renderer, &mut scene, &mut gpu, maps, display.is_some(), extent)?;
     start_interrupted()?;
     let table = if scene.needs_preintegrated_table() {
         PreintegratedTable::get().compute_time()

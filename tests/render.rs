@@ -542,7 +542,7 @@ fn a_frame_after_a_warm_up_with_stand_ins_is_the_frame_of_the_whole_scene() {
                 let (mut scene, maps) = PendingMaps::load(None).expect("the default scene");
                 configure(&mut scene);
                 let mut gpu = renderer.upload(&scene).expect("upload");
-                warm_up(renderer, &mut scene, &mut gpu, maps, false).expect("warm-up");
+                warm_up(renderer, &mut scene, &mut gpu, maps, false, extent).expect("warm-up");
                 renderer.render_accumulated(&scene, &gpu, extent, None, 1).expect("render")
             })
         });

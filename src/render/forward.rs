@@ -597,8 +597,8 @@ impl ForwardPass {
             let constants = draw_constants(scene, split, &from, shadowing, &at_vertices, choices);
             let deferred: Vec<bool> = (constants.iter().enumerate())
                 .map(|(i, c)| {
-                    let solid = scene.objects.get(i).is_some_and(|o| gpu.meshes[o.mesh].solid.is_some());
-                    choices.deferred && split.is_none() && solid && deferrable(c)
+                    let fine = scene.objects.get(i).is_some_and(|o| fine_solid(scene, gpu, o, choices.extent));
+                    choices.deferred && split.is_none() && fine && deferrable(c)
                 })
                 .collect();
             // A deferred object's two pipelines follow the others, in its order.
@@ -927,6 +927,29 @@ pub struct FrameChoices {
     /// Whether the solids are shaded once a pixel from their surfaces (deferred.rs): a
     /// single-sampled frame of the shaded image in specialised pipelines, not split.
     pub deferred: bool,
+    /// The frame's size, which tells how many pixels a solid's triangles cover.
+    pub extent: vk::Extent2D,
+}
+
+/// Below this many pixels a triangle, by [`fine_solid`]'s estimate, a solid is shaded from
+/// the G-buffer. The G-buffer's images cost memory traffic in proportion to the pixels,
+/// the repeated shading it saves falls as the triangles grow: in `argil bench`, the default
+/// scene's ball and ring (about 7 and 8 pixels a triangle by the estimate at 640×360, 28
+/// and 32 at 1280×720, 62 and 72 at 1920×1080) took 80.0 ms of GPU time deferred against
+/// 101.1 forward at 640×360, 251.3 against 242.9 at 1280×720 and 635.1 against 504.7 at
+/// 1920×1080.
+const DEFERRED_MAX_PIXELS_PER_TRIANGLE: f32 = 16.0;
+
+/// Whether `object` is a solid whose triangles are small in a frame of `extent`: its
+/// bounding sphere's outline over half its triangles (those facing the eye) is below
+/// [`DEFERRED_MAX_PIXELS_PER_TRIANGLE`].
+fn fine_solid(scene: &Scene, gpu: &GpuScene, object: &crate::scene::Object, extent: vk::Extent2D) -> bool {
+    let mesh = &gpu.meshes[object.mesh];
+    let Some((centre, radius)) = mesh.solid else { return false };
+    let centre = object.position + centre * object.scale;
+    let pixels = scene.camera.sphere_pixels(extent.height, centre, radius * object.scale);
+    let facing = (mesh.index_count / 3) as f32 / 2.0;
+    pixels < DEFERRED_MAX_PIXELS_PER_TRIANGLE * facing
 }
 
 /// Whether a draw of these constants can be deferred: the G-buffer holds neither the
@@ -1249,6 +1272,7 @@ mod tests {
                 ground_shadows: shadows.then_some(ground),
                 sun: false,
                 deferred: false,
+                extent: vk::Extent2D { width: 1, height: 1 },
             };
             let extents: Vec<_> = scene.meshes.iter().map(|m| m.extent()).collect();
             let lights: Vec<usize> = if shadows { vec![0] } else { Vec::new() };

@@ -131,6 +131,9 @@ pub struct Renderer {
     /// Whether the solids of a frame that can be (`FrameChoices::deferred`) are shaded once a
     /// pixel from their surfaces (deferred.rs) rather than in the forward pass.
     pub deferred: bool,
+    /// The size of frame whose triangles decide which solids are deferred, where it is not
+    /// the target's: a warm-up of a few pixels makes what the frames after it draw with.
+    pub deferral_extent: Option<vk::Extent2D>,
     /// A frame drawn while the viewer is in use on a slow device, at a reduced size: where
     /// the ground's shadow or occlusion map is out of date (a light or an object moved),
     /// the ground finds its soft shadows or the objects' occlusion at its pixels, fewer at
@@ -246,6 +249,7 @@ impl Renderer {
             floor: false,
             generic: false,
             deferred: true,
+            deferral_extent: None,
             draft: false,
             environment_time: Duration::ZERO,
             pipelines_beside_environment: false,
@@ -401,6 +405,7 @@ impl Renderer {
                 && self.debug_view == DebugView::Shaded
                 && !self.generic
                 && !self.floor,
+            extent: self.deferral_extent.unwrap_or(target.extent),
         };
         // The shadow pass found which objects' draws need shadow code.
         let shadowing = self.shadow.receivers().to_vec();

@@ -33,22 +33,22 @@ pub struct WarmUp {
 
 /// Warms `renderer` up for `scene`, uploaded as `gpu` with stand-ins for its builtin
 /// `maps`, and puts the maps in both; `display`: whether the frames that follow are
-/// tone-mapped offscreen (whose pipeline the warm-up then makes too).
+/// tone-mapped offscreen (whose pipeline the warm-up then makes too); `frame_extent`: their
+/// size, which decides which solids they shade from the G-buffer (src/render/deferred.rs).
 pub fn warm_up(
     renderer: &mut Renderer,
     scene: &mut Scene,
     gpu: &mut GpuScene,
     mut maps: PendingMaps,
     display: bool,
+    frame_extent: vk::Extent2D,
 ) -> Result<WarmUp> {
     let start = Instant::now();
     let target = renderer.offscreen_target(WARM_UP_EXTENT, display)?;
-    // The maps begin after the environment's precompute, whose compute keeps both cores
-    // busy, and take the core the driver's compile leaves.
-    renderer.prepare_offscreen(scene, gpu, &target)?;
-    let prepared = Instant::now();
-    maps.begin();
-    let frame = renderer.render_accumulated_into(scene, gpu, &target, 1.0, 1)?;
+    renderer.deferral_extent = Some(frame_extent);
+    let frame = warm_up_frame(renderer, scene, gpu, &target, &mut maps);
+    renderer.deferral_extent = None;
+    let (prepared, frame) = frame?;
     let drawn = Instant::now();
     let stand_ins = maps.stand_ins();
     let making = maps.finish(scene)?;
@@ -62,4 +62,21 @@ pub fn warm_up(
         upload: made.elapsed(),
         making,
     })
+}
+
+/// Prepares and draws the warm-up frame, beginning `maps` between the two; returns when the
+/// preparation ended, and the frame.
+fn warm_up_frame(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    gpu: &GpuScene,
+    target: &super::OffscreenTarget,
+    maps: &mut PendingMaps,
+) -> Result<(Instant, OffscreenFrame)> {
+    // The maps begin after the environment's precompute, whose compute keeps both cores
+    // busy, and take the core the driver's compile leaves.
+    renderer.prepare_offscreen(scene, gpu, target)?;
+    let prepared = Instant::now();
+    maps.begin();
+    Ok((prepared, renderer.render_accumulated_into(scene, gpu, target, 1.0, 1)?))
 }

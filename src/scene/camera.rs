@@ -63,6 +63,20 @@ impl Camera {
     }
 }
 
+impl Camera {
+    /// The pixels of a frame `height` pixels high that the outline of a sphere covers, as
+    /// the disc of its radius at its distance: infinite with the eye inside it.
+    pub fn sphere_pixels(&self, height: u32, centre: Vec3, radius: f32) -> f32 {
+        let distance = (centre - self.position).length();
+        if distance <= radius {
+            return f32::INFINITY;
+        }
+        let tan_half_fov = (self.fov_y_degrees.to_radians() * 0.5).tan();
+        let radius_pixels = radius / (distance * tan_half_fov) * height as f32 * 0.5;
+        std::f32::consts::PI * radius_pixels * radius_pixels
+    }
+}
+
 /// `aspect`, or 1 where it is non-positive or non-finite (a minimised window).
 fn usable_aspect(aspect: f32) -> f32 {
     if aspect.is_finite() && aspect > 0.0 {

@@ -163,7 +163,8 @@ impl FrameLoop {
     pub fn warm_up(&mut self, scene: &mut Scene, mut maps: PendingMaps) -> Result<()> {
         let sampled = self.renderer.sampled_textures(scene);
         self.unsampled = Some(maps.split_off(|texture| !sampled[texture])).filter(|m| !m.is_empty());
-        warm_up(&mut self.renderer, scene, &mut self.gpu, maps, false).map(drop)
+        let frames = self.frame_area().extent;
+        warm_up(&mut self.renderer, scene, &mut self.gpu, maps, false, frames).map(drop)
     }
 
     /// Makes the builtin maps left as stand-ins that the next frame of `scene` samples (as
