@@ -10,10 +10,11 @@ use common::{draw_hdr, gpu, scene};
 
 const SIZE: vk::Extent2D = vk::Extent2D { width: 96, height: 64 };
 
-/// A frame of `s` with the solids deferred or drawn forward, and how many were deferred.
-fn frame(renderer: &mut Renderer, s: &Scene, deferred: bool) -> (Vec<f32>, usize) {
+/// A frame of `s` at `size` with the solids deferred or drawn forward, and how many were
+/// deferred.
+fn frame(renderer: &mut Renderer, s: &Scene, size: vk::Extent2D, deferred: bool) -> (Vec<f32>, usize) {
     let gpu_scene = renderer.upload(s).expect("upload");
-    let target = OffscreenTarget::new(&renderer.device, SIZE).expect("target");
+    let target = OffscreenTarget::new(&renderer.device, size).expect("target");
     renderer.deferred = deferred;
     let hdr = draw_hdr(renderer, s, &gpu_scene, &target);
     let objects = renderer.deferred_objects();
@@ -37,7 +38,8 @@ fn largest_relative_difference(a: &[f32], b: &[f32], floor: f32) -> (f32, usize)
 /// deferred frame is the forward one but for the last bits of arithmetic that the two
 /// shaders' compilers order differently (the surface's own light is added to the bounce
 /// before the rest, not after): at most a few units in the last place of fp32 (1e-6 of the
-/// value allows 8), the background and the ground the same bit for bit. Scenes: the
+/// value allows 8), most channels (the background's, the ground's) the same bit for bit.
+/// Scenes at a size where the solids' triangles are small enough to be deferred: the
 /// default one (split sum, pre-integrated subsurface, maps, the bounce and the objects'
 /// occlusion at the vertices, soft shadows at the pixels), and one that reads what the
 /// G-buffer must carry otherwise: the report's reflection with its noise map, an occlusion
@@ -103,8 +105,8 @@ base_color = [0.7, 0.7, 0.7]
     ];
     gpu().exclusive(|renderer| {
         for (name, s) in &scenes {
-            let (forward, none) = frame(renderer, s, false);
-            let (deferred, objects) = frame(renderer, s, true);
+            let (forward, none) = frame(renderer, s, SIZE, false);
+            let (deferred, objects) = frame(renderer, s, SIZE, true);
             assert_eq!((none, objects), (0, 2), "{name}: the ball and the ring are deferred");
             let (largest, differ) = largest_relative_difference(&deferred, &forward, 1e-6);
             eprintln!("{name}: {differ} of {} channels differ, by at most {largest:.2e} of their value", forward.len());
@@ -115,14 +117,18 @@ base_color = [0.7, 0.7, 0.7]
 }
 
 /// Frames that the G-buffer does not serve draw every object forward: multisampled ones, a
-/// debug view, the generic pipelines; and an object that reads its soft shadows at its
-/// vertices is drawn forward beside the deferred ones.
+/// debug view, the generic pipelines, and one whose solids' triangles are large (the
+/// default scene's ball and ring cover about 28 and 33 pixels a triangle at 1280×720, 0.2
+/// at 96×64); and an object that reads its soft shadows at its vertices is drawn forward
+/// beside the deferred ones.
 #[test]
 fn frames_the_g_buffer_does_not_serve_are_drawn_forward() {
     let default = Scene::from_toml(DEFAULT_SCENE_TOML, "default", std::path::Path::new("")).expect("default");
     gpu().exclusive(|renderer| {
-        let deferred = |renderer: &mut Renderer, s: &Scene| frame(renderer, s, true).1;
+        let deferred = |renderer: &mut Renderer, s: &Scene| frame(renderer, s, SIZE, true).1;
         assert_eq!(deferred(renderer, &default), 2);
+        let headline = vk::Extent2D { width: 1280, height: 720 };
+        assert_eq!(frame(renderer, &default, headline, true).1, 0, "large triangles");
         let mut msaa = default.clone();
         msaa.antialiasing.msaa = 4;
         assert_eq!(deferred(renderer, &msaa), 0, "multisampled");

@@ -1,10 +1,11 @@
 //! The deferred pass's targets: the solids' surfaces at each pixel (the G-buffer that
 //! forward.frag's GBUFFER build writes), and which solid each pixel shows, as a depth that
 //! each solid's shading draw tests for equality. Lavapipe shades a triangle's pixels in
-//! blocks of 4×4, the whole block for each triangle that touches it; the solids' small
-//! triangles had every pixel shaded two to four times at 1280×720. Shaded from the
-//! G-buffer (forward.frag's DEFERRED build), each pixel is shaded once, and only the
-//! surface (its maps and normals) is found per triangle.
+//! blocks of 4×4, the whole block for each triangle that touches it: where a solid's
+//! triangles are small in the frame (forward.rs's `fine_solid`), each pixel was shaded
+//! many times (about nine at 320×180 in the default scene). Shaded from the G-buffer
+//! (forward.frag's DEFERRED build), each pixel is shaded once, and only the surface (its
+//! maps and normals) is found per triangle.
 
 use std::sync::Arc;
 
@@ -113,8 +114,9 @@ impl DeferredPass {
             return Ok(());
         }
         let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+        let color = vk::ImageAspectFlags::COLOR;
         let g = (0..G_ATTACHMENTS)
-            .map(|i| Image::new_2d(&self.device, extent, HDR_FORMAT, usage, vk::ImageAspectFlags::COLOR, &format!("G-buffer {i}")))
+            .map(|i| Image::new_2d(&self.device, extent, HDR_FORMAT, usage, color, &format!("G-buffer {i}")))
             .collect::<Result<Vec<_>>>()?;
         let objects = Image::new_2d(
             &self.device,
@@ -179,9 +181,10 @@ impl DeferredPass {
         let depth = depth_attachment(objects, vk::AttachmentLoadOp::CLEAR, 0.0);
         begin_full_rendering(d, cmd, t.extent, &[], Some(&depth));
         unsafe {
-            d.handle.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, self.objects_pipeline.handle);
+            let graphics = vk::PipelineBindPoint::GRAPHICS;
+            d.handle.cmd_bind_pipeline(cmd, graphics, self.objects_pipeline.handle);
             let set = [self.sets[slot].1];
-            d.handle.cmd_bind_descriptor_sets(cmd, vk::PipelineBindPoint::GRAPHICS, self.objects_layout.handle, 0, &set, &[]);
+            d.handle.cmd_bind_descriptor_sets(cmd, graphics, self.objects_layout.handle, 0, &set, &[]);
             d.handle.cmd_draw(cmd, 3, 1, 0, 0);
             d.handle.cmd_end_rendering(cmd);
         }

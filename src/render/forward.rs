@@ -20,6 +20,7 @@ use gpu_allocator::MemoryLocation;
 use rayon::prelude::*;
 
 use super::debug_view::DebugView;
+use super::deferred::{DeferredPass, G_ATTACHMENTS};
 use super::environment::{environment_kind, reflection_code};
 use super::gpu_scene::{FrameData, GpuScene, ObjectOcclusion, ObjectPush, ObjectsOcclusionFrom};
 use super::ground_maps;
@@ -27,7 +28,6 @@ use super::material_data::MaterialData;
 use super::occlusion::OcclusionMode;
 use super::shaders;
 use super::split::Split;
-use super::deferred::{DeferredPass, G_ATTACHMENTS};
 use super::subsurface::SubsurfaceTable;
 use super::target::{DrawTarget, DEPTH_FORMAT, HDR_FORMAT};
 use super::vertex_light::{gpu_vertex_light_firsts, light_at_vertices, vertex_shadow_layers, vertex_shadowing};
@@ -39,9 +39,9 @@ use crate::scene::{
     Vertex, DEFAULT_SHADOW_TAPS,
 };
 use crate::vk::{
-    transition, ImageUse,
-    begin_full_rendering, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
-    Device, GraphicsPipelineBuilder, OneShot, Pipeline, PipelineLayout, ShaderModule, Specialization,
+    begin_full_rendering, transition, Buffer, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder,
+    DescriptorWriter, Device, GraphicsPipelineBuilder, ImageUse, OneShot, Pipeline, PipelineLayout, ShaderModule,
+    Specialization,
 };
 
 /// A specialization constant's value that leaves the choice to the uniform the shader
@@ -603,7 +603,13 @@ impl ForwardPass {
                 .collect();
             // A deferred object's two pipelines follow the others, in its order.
             let mut draws: Vec<DrawPipeline> = (constants.iter().zip(&deferred))
-                .map(|(&c, &deferred)| if deferred { DrawPipeline::Shading(c) } else { DrawPipeline::Forward(choices.samples, c) })
+                .map(|(&c, &deferred)| {
+                    if deferred {
+                        DrawPipeline::Shading(c)
+                    } else {
+                        DrawPipeline::Forward(choices.samples, c)
+                    }
+                })
                 .collect();
             let deferred_objects: Vec<usize> = (0..deferred.len()).filter(|&i| deferred[i]).collect();
             draws.extend(deferred_objects.iter().map(|&i| DrawPipeline::Surfaces(constants[i], deferred_object(i))));
@@ -737,9 +743,11 @@ impl ForwardPass {
                 }
             }
             unsafe { d.cmd_end_rendering(cmd) };
-            let (color, depth) = (target.color, target.depth);
-            transition(&self.device, cmd, color.handle, color.aspect, ImageUse::COLOR_ATTACHMENT, ImageUse::COLOR_ATTACHMENT);
-            transition(&self.device, cmd, depth.handle, depth.aspect, ImageUse::DEPTH_ATTACHMENT, ImageUse::DEPTH_ATTACHMENT);
+            // The forward draws load what the shading wrote and test the solids' depth.
+            let (color, depth, device) = (target.color, target.depth, &self.device);
+            let (color_use, depth_use) = (ImageUse::COLOR_ATTACHMENT, ImageUse::DEPTH_ATTACHMENT);
+            transition(device, cmd, color.handle, color.aspect, color_use, color_use);
+            transition(device, cmd, depth.handle, depth.aspect, depth_use, depth_use);
         }
         let load = if deferring { vk::AttachmentLoadOp::LOAD } else { vk::AttachmentLoadOp::CLEAR };
         let color = [vk::RenderingAttachmentInfo::default()

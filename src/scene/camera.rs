@@ -61,9 +61,7 @@ impl Camera {
         let near_corner = self.near * (1.0 + tan_half_fov * tan_half_fov * (1.0 + aspect * aspect)).sqrt();
         (centre - self.position).length() > (radius + near_corner) * 1.001
     }
-}
 
-impl Camera {
     /// The pixels of a frame `height` pixels high that the outline of a sphere covers, as
     /// the disc of its radius at its distance: infinite with the eye inside it.
     pub fn sphere_pixels(&self, height: u32, centre: Vec3, radius: f32) -> f32 {
@@ -121,6 +119,20 @@ mod tests {
         // towards the right of the screen.
         let right = ndc(&CAMERA, 1.5, CAMERA.target + Vec3::X * 0.5);
         assert!(right.x > 0.1, "{right}");
+    }
+
+    /// A sphere's outline in pixels is the disc of the radius that a point a radius above
+    /// its centre, across the view, projects to; the eye inside it sees it everywhere.
+    #[test]
+    fn a_spheres_pixels_are_its_projected_disc() {
+        let (centre, radius, height) = (CAMERA.target, 0.4, 720);
+        let view = CAMERA.target - CAMERA.position;
+        let above = centre + view.cross(Vec3::Y).cross(view).normalize() * radius;
+        let radius_pixels = ndc(&CAMERA, 1.0, above).y.abs() * height as f32 * 0.5;
+        let expected = std::f32::consts::PI * radius_pixels * radius_pixels;
+        let pixels = CAMERA.sphere_pixels(height, centre, radius);
+        assert!((pixels / expected - 1.0).abs() < 1e-4, "{pixels} against {expected}");
+        assert_eq!(CAMERA.sphere_pixels(height, CAMERA.position, radius), f32::INFINITY);
     }
 
     #[test]
