@@ -226,10 +226,11 @@ void main() {
     s.m.metallic = g[3].a;
     s.face_normal = g[4].xyz;
     s.map_visibility = g[4].w;
+    // The bounce with the surface's own light already added.
     s.bounced = g[5].rgb;
+    s.emission = vec3(0.0);
     s.noise = g[5].w;
     s.objects_take = g[6].rgb;
-    s.emission = vec3(0.0);
     vec3 environment, n;
     float visibility, light_visibility;
     out_radiance = vec4(reflected(s, environment, visibility, light_visibility, n) + s.emission, 1.0);

@@ -186,25 +186,23 @@ impl<'a> GraphicsPipelineBuilder<'a> {
     }
 
     /// Depth written where `compare` passes.
-    pub fn depth_write_by(mut self, format: vk::Format, compare: vk::CompareOp) -> Self {
-        self.depth_format = Some(format);
-        self.depth_write = true;
-        self.depth_compare = compare;
-        self
+    pub fn depth_write_by(self, format: vk::Format, compare: vk::CompareOp) -> Self {
+        self.depth_state(format, true, compare)
     }
 
     /// Depth test and write, less-than.
-    pub fn depth(mut self, format: vk::Format) -> Self {
-        self.depth_format = Some(format);
-        self.depth_write = true;
-        self.depth_compare = vk::CompareOp::LESS;
-        self
+    pub fn depth(self, format: vk::Format) -> Self {
+        self.depth_state(format, true, vk::CompareOp::LESS)
     }
 
     /// Depth test by `compare` without writing depth.
-    pub fn depth_test_only(mut self, format: vk::Format, compare: vk::CompareOp) -> Self {
+    pub fn depth_test_only(self, format: vk::Format, compare: vk::CompareOp) -> Self {
+        self.depth_state(format, false, compare)
+    }
+
+    fn depth_state(mut self, format: vk::Format, write: bool, compare: vk::CompareOp) -> Self {
         self.depth_format = Some(format);
-        self.depth_write = false;
+        self.depth_write = write;
         self.depth_compare = compare;
         self
     }
