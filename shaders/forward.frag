@@ -173,10 +173,7 @@ vec3 reflected(inout Surface s, out vec3 environment, out float visibility, out 
     environment = environment_light(models, m, s.microsurface_roughness, n, s.n_geometric, v, s.curvature, s.noise,
                                     gl_FragCoord.xy, frame.counts.z, occlusion)
                   * s.map_visibility;
-#ifdef DEFERRED
-    deferred_face_normal = s.face_normal;
-#endif
-    vec3 radiance = point_lights_radiance(models, m, n, s.n_geometric, v, s.position, s.curvature,
+    vec3 radiance = point_lights_radiance(models, m, n, s.n_geometric, v, s.position, s.face_normal, s.curvature,
                                           HORIZON == HORIZON_SEED, light_visibility) + environment;
     return radiance + s.bounced;
 }

@@ -96,22 +96,22 @@ vec3 debug_view_radiance(uint view, ShadingModels models, Material m, vec3 n, ve
         ShadingModels diffuse_only = models;
         diffuse_only.specular = MODEL_NONE;
         diffuse_only.subsurface = SUBSURFACE_NONE;
-        return point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false, ao);
+        return point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, face_normal, curvature, false, ao);
     }
     if (view == DEBUG_VIEW_SPECULAR) {
         ShadingModels specular_only = models;
         specular_only.diffuse = MODEL_NONE;
         specular_only.subsurface = SUBSURFACE_NONE;
-        return point_lights_radiance(specular_only, m, n, n_geometric, v, p, curvature, false, ao);
+        return point_lights_radiance(specular_only, m, n, n_geometric, v, p, face_normal, curvature, false, ao);
     }
     if (view == DEBUG_VIEW_SUBSURFACE) {
         // The subsurface term alone: the report's wrap, or what a redistributing model adds
         // to the diffuse lobe, negative (black) where it takes light away.
         ShadingModels diffuse_only = models;
         diffuse_only.specular = MODEL_NONE;
-        vec3 with_subsurface = point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false, ao);
+        vec3 with_subsurface = point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, face_normal, curvature, false, ao);
         diffuse_only.subsurface = SUBSURFACE_NONE;
-        return with_subsurface - point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, curvature, false, ao);
+        return with_subsurface - point_lights_radiance(diffuse_only, m, n, n_geometric, v, p, face_normal, curvature, false, ao);
     }
     if (view == DEBUG_VIEW_ENVIRONMENT) return environment;
     if (view == DEBUG_VIEW_OCCLUSION) return vec3(visibility);

@@ -23,9 +23,7 @@ vec3 point_light_irradiance(uint i, vec3 p, out vec3 l) {
 layout(constant_id = 20) const bool SHADOWS = true;
 
 #ifdef DEFERRED
-// The deferred pass's pixel's, from the G-buffer (forward.frag): its triangle's normal, and
-// no vertex shadows (a draw that reads them is not deferred).
-vec3 deferred_face_normal;
+// The deferred pass reads no vertex shadows: a draw that reads them is not deferred.
 vec4 in_vertex_shadows[MAX_VERTEX_SHADOW_LAYERS];
 #else
 // The soft lights' shadows at the draw's vertices (vertex_light.glsl), interpolated.
@@ -72,14 +70,10 @@ float point_light_visibility(uint i, vec3 p, vec3 face_normal) {
 // Radiance from the point lights through brdf_cos with the given models and material, or
 // through the report's composition (brdf_cos_seed) when `seed_horizon`; each light
 // micro-shadowed by the occlusion map's visibility `ao` (1 without the map: unchanged).
+// `face_normal` is cross(dFdx(p), dFdy(p)), taken in uniform control flow.
 vec3 point_lights_radiance(ShadingModels models, Material m, vec3 n, vec3 n_geometric, vec3 v, vec3 p,
-                           float curvature, bool seed_horizon, float ao) {
+                           vec3 face_normal, float curvature, bool seed_horizon, float ao) {
     vec3 radiance = vec3(0.0);
-#ifdef DEFERRED
-    vec3 face_normal = deferred_face_normal;
-#else
-    vec3 face_normal = cross(dFdx(p), dFdy(p));
-#endif
     for (uint i = 0; i < frame.counts.x; ++i) {
         vec3 l;
         vec3 irradiance = point_light_irradiance(i, p, l) * point_light_visibility(i, p, face_normal)

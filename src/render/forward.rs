@@ -681,11 +681,11 @@ impl ForwardPass {
         self.deferred_pipelines.iter().flatten().count()
     }
 
-    /// Makes `slot`'s G-buffer for a frame of `extent` that defers objects, or lets it go
-    /// for one that does not (`extent` None); its previous frame is done.
-    pub fn prepare_deferred(&mut self, slot: usize, extent: Option<vk::Extent2D>) -> Result<()> {
-        let deferring = self.deferred_pipelines.iter().any(Option::is_some);
-        self.deferred.prepare(slot, extent.filter(|_| deferring))
+    /// Makes `slot`'s G-buffer for a frame of `extent` if the last prepared frame defers
+    /// objects, or lets it go; its previous frame is done.
+    pub fn prepare_deferred(&mut self, slot: usize, extent: vk::Extent2D) -> Result<()> {
+        let deferring = self.deferred_objects() > 0;
+        self.deferred.prepare(slot, deferring.then_some(extent))
     }
 
     /// Records the pass into `target`, of the sample count `prepare` had. Its colour and
@@ -720,7 +720,8 @@ impl ForwardPass {
                 d.cmd_bind_descriptor_sets(cmd, graphics, layout.handle, 6, &[set], &[]);
             }
         };
-        let deferring = split.is_none() && order.iter().any(|&(index, _)| deferred(index).is_some());
+        // prepare_pipelines defers nothing in a split frame.
+        let deferring = self.deferred_objects() > 0;
         if deferring {
             self.deferred.begin_surfaces(cmd, slot, target.depth)?;
             bind_sets(&self.layout, None);
@@ -768,7 +769,7 @@ impl ForwardPass {
             });
         begin_full_rendering(&self.device, cmd, target.extent(), &color, Some(&depth));
         bind_sets(&self.layout, None);
-        let forward = |index: usize| !deferring || deferred(index).is_none();
+        let forward = |index: usize| deferred(index).is_none();
         match split {
             None => self.draw_objects(cmd, scene, gpu, &order, forward, &self.object_pipelines, 0)?,
             Some(split) => {

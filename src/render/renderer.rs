@@ -429,7 +429,7 @@ impl Renderer {
         let sample_set = self.accumulate.prepare(slot, view, self.accumulation, target)?;
         self.forward
             .prepare(slot, scene, self.split.as_ref(), target.aspect(), sample_set, &occluders, &choices)?;
-        self.forward.prepare_deferred(slot, choices.deferred.then_some(target.extent))?;
+        self.forward.prepare_deferred(slot, target.extent)?;
         let inputs = MapInputs {
             frame: self.forward.frame_data(),
             shadows: &|| self.shadow.disk_key(scene),
