@@ -118,8 +118,8 @@ base_color = [0.7, 0.7, 0.7]
 
 /// Frames that the G-buffer does not serve draw every object forward: multisampled ones, a
 /// debug view, the generic pipelines, and one whose solids' triangles are large (the
-/// default scene's ball and ring cover about 28 and 33 pixels a triangle at 1280×720, 0.2
-/// at 96×64); and an object that reads its soft shadows at its vertices is drawn forward
+/// default scene's ball and ring cover about 111 and 131 pixels a triangle at 2560×1440,
+/// 0.2 at 96×64); and an object that reads its soft shadows at its vertices is drawn forward
 /// beside the deferred ones.
 #[test]
 fn frames_the_g_buffer_does_not_serve_are_drawn_forward() {
@@ -127,8 +127,8 @@ fn frames_the_g_buffer_does_not_serve_are_drawn_forward() {
     gpu().exclusive(|renderer| {
         let deferred = |renderer: &mut Renderer, s: &Scene| frame(renderer, s, SIZE, true).1;
         assert_eq!(deferred(renderer, &default), 2);
-        let headline = vk::Extent2D { width: 1280, height: 720 };
-        assert_eq!(frame(renderer, &default, headline, true).1, 0, "large triangles");
+        let large = vk::Extent2D { width: 2560, height: 1440 };
+        assert_eq!(frame(renderer, &default, large, true).1, 0, "large triangles");
         let mut msaa = default.clone();
         msaa.antialiasing.msaa = 4;
         assert_eq!(deferred(renderer, &msaa), 0, "multisampled");

@@ -143,8 +143,9 @@ impl DeferredPass {
         self.sets[slot].0
     }
 
-    /// Begins the rendering of the solids' surfaces into `slot`'s G-buffer, cleared, with
-    /// `depth` (cleared too).
+    /// Begins the rendering of the solids' surfaces into `slot`'s G-buffer, with `depth`
+    /// cleared. Only the image that says which solid a pixel shows is cleared (to none): the
+    /// others are read only where a solid was drawn.
     pub fn begin_surfaces(&self, cmd: vk::CommandBuffer, slot: usize, depth: &Image) -> Result<()> {
         let t = self.targets(slot)?;
         for image in &t.g {
@@ -153,11 +154,13 @@ impl DeferredPass {
         let color: Vec<vk::RenderingAttachmentInfo> = t
             .g
             .iter()
-            .map(|image| {
+            .enumerate()
+            .map(|(i, image)| {
+                let load = if i == G_OBJECT { vk::AttachmentLoadOp::CLEAR } else { vk::AttachmentLoadOp::DONT_CARE };
                 vk::RenderingAttachmentInfo::default()
                     .image_view(image.view)
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .load_op(load)
                     .store_op(vk::AttachmentStoreOp::STORE)
                     .clear_value(vk::ClearValue::default())
             })
@@ -167,9 +170,17 @@ impl DeferredPass {
         Ok(())
     }
 
-    /// Ends the surfaces' rendering, writes which solid each pixel shows and begins the
-    /// rendering of their light into `color` (cleared to `clear`), the draws testing it.
-    pub fn begin_shading(&self, cmd: vk::CommandBuffer, slot: usize, color: &Image, clear: [f32; 4]) -> Result<()> {
+    /// Ends the surfaces' rendering, writes which solid each pixel of `solids` (the pixels
+    /// they may cover) shows and begins the rendering of their light into `color` (cleared
+    /// to `clear`), the draws testing it.
+    pub fn begin_shading(
+        &self,
+        cmd: vk::CommandBuffer,
+        slot: usize,
+        solids: vk::Rect2D,
+        color: &Image,
+        clear: [f32; 4],
+    ) -> Result<()> {
         let d = &self.device;
         let t = self.targets(slot)?;
         unsafe { d.handle.cmd_end_rendering(cmd) };
@@ -185,6 +196,7 @@ impl DeferredPass {
             d.handle.cmd_bind_pipeline(cmd, graphics, self.objects_pipeline.handle);
             let set = [self.sets[slot].1];
             d.handle.cmd_bind_descriptor_sets(cmd, graphics, self.objects_layout.handle, 0, &set, &[]);
+            d.handle.cmd_set_scissor(cmd, 0, &[solids]);
             d.handle.cmd_draw(cmd, 3, 1, 0, 0);
             d.handle.cmd_end_rendering(cmd);
         }

@@ -730,12 +730,22 @@ impl ForwardPass {
                 let Some((surfaces, _)) = deferred(index) else { continue };
                 self.draw_object(cmd, scene, gpu, index, cull, surfaces, 0, &mut bound)?;
             }
-            self.deferred.begin_shading(cmd, slot, target.color, clear)?;
+            // Each solid's light is drawn over the pixels it may cover, which lavapipe would
+            // otherwise visit over the whole frame, to find the depth test fail.
+            let pixels: Vec<(usize, vk::Rect2D)> = order
+                .iter()
+                .filter(|&&(index, _)| deferred(index).is_some())
+                .map(|&(index, _)| (index, solid_pixels(scene, gpu, index, target.extent())))
+                .filter(|(_, rect)| rect.extent.width > 0 && rect.extent.height > 0)
+                .collect();
+            let solids = pixels.iter().map(|&(_, rect)| rect).reduce(rect_union).unwrap_or_default();
+            self.deferred.begin_shading(cmd, slot, solids, target.color, clear)?;
             bind_sets(&self.deferred_layout, Some(self.deferred.g_set(slot)));
-            for &(index, _) in &order {
+            for &(index, rect) in &pixels {
                 let Some((_, shading)) = deferred(index) else { continue };
                 let push = self.object_push(&scene.objects[index], index, 0)?;
                 unsafe {
+                    d.cmd_set_scissor(cmd, 0, &[rect]);
                     d.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::GRAPHICS, shading);
                     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
                     d.cmd_push_constants(cmd, self.deferred_layout.handle, stages, 0, bytemuck::bytes_of(&push));
@@ -942,12 +952,11 @@ pub struct FrameChoices {
 
 /// Below this many pixels a triangle, by [`fine_solid`]'s estimate, a solid is shaded from
 /// the G-buffer. The G-buffer's images cost memory traffic in proportion to the pixels,
-/// the repeated shading it saves falls as the triangles grow: in `argil bench`, the default
-/// scene's ball and ring (about 7 and 8 pixels a triangle by the estimate at 640×360, 28
-/// and 32 at 1280×720, 62 and 72 at 1920×1080) took 80.0 ms of GPU time deferred against
-/// 101.1 forward at 640×360, 251.3 against 242.9 at 1280×720 and 635.1 against 504.7 at
-/// 1920×1080.
-const DEFERRED_MAX_PIXELS_PER_TRIANGLE: f32 = 16.0;
+/// the repeated shading it saves falls as the triangles grow: the default scene's ball and
+/// ring (about 63 and 74 pixels a triangle by the estimate at 1920×1080, 111 and 131 at
+/// 2560×1440) took 6% less CPU time a frame deferred at 1920×1080, 3% more at 2560×1440
+/// (`argil render --accumulate`, docs/performance.md).
+const DEFERRED_MAX_PIXELS_PER_TRIANGLE: f32 = 96.0;
 
 /// Whether `object` is a solid whose triangles are small in a frame of `extent`: its
 /// bounding sphere's outline over half its triangles (those facing the eye) is below
@@ -959,6 +968,31 @@ fn fine_solid(scene: &Scene, gpu: &GpuScene, object: &crate::scene::Object, exte
     let pixels = scene.camera.sphere_pixels(extent.height, centre, radius * object.scale);
     let facing = (mesh.index_count / 3) as f32 / 2.0;
     pixels < DEFERRED_MAX_PIXELS_PER_TRIANGLE * facing
+}
+
+/// The pixels of a frame of `extent` that solid object `index` may cover: its bounding
+/// sphere's ([`crate::scene::Camera::sphere_pixel_bounds`]).
+fn solid_pixels(scene: &Scene, gpu: &GpuScene, index: usize, extent: vk::Extent2D) -> vk::Rect2D {
+    let object = &scene.objects[index];
+    let whole = vk::Rect2D { offset: vk::Offset2D::default(), extent };
+    let Some((centre, radius)) = gpu.meshes[object.mesh].solid else { return whole };
+    let centre = object.position + centre * object.scale;
+    let (min, max) = scene.camera.sphere_pixel_bounds(extent.width, extent.height, centre, radius * object.scale);
+    vk::Rect2D {
+        offset: vk::Offset2D { x: min.x as i32, y: min.y as i32 },
+        extent: vk::Extent2D { width: max.x - min.x, height: max.y - min.y },
+    }
+}
+
+/// The smallest rectangle holding `a` and `b`.
+fn rect_union(a: vk::Rect2D, b: vk::Rect2D) -> vk::Rect2D {
+    let (x, y) = (a.offset.x.min(b.offset.x), a.offset.y.min(b.offset.y));
+    let right = (a.offset.x + a.extent.width as i32).max(b.offset.x + b.extent.width as i32);
+    let bottom = (a.offset.y + a.extent.height as i32).max(b.offset.y + b.extent.height as i32);
+    vk::Rect2D {
+        offset: vk::Offset2D { x, y },
+        extent: vk::Extent2D { width: (right - x) as u32, height: (bottom - y) as u32 },
+    }
 }
 
 /// Whether a draw of these constants can be deferred: the G-buffer holds neither the

@@ -1,4 +1,4 @@
-use glam::{Mat4, Vec3};
+use glam::{Mat4, UVec2, Vec3, Vec4Swizzles};
 
 /// A right-handed, y-up perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,6 +73,31 @@ impl Camera {
         let radius_pixels = radius / (distance * tan_half_fov) * height as f32 * 0.5;
         std::f32::consts::PI * radius_pixels * radius_pixels
     }
+
+    /// The pixels of a `width` × `height` frame that a sphere's outline may cover, as the
+    /// half-open rectangle [min, max), empty where none: the projected corners of its box
+    /// in view space, a pixel wider on each side for rounding. The whole frame where the
+    /// box reaches the near plane, in front of which projection holds no bound.
+    pub fn sphere_pixel_bounds(&self, width: u32, height: u32, centre: Vec3, radius: f32) -> (UVec2, UVec2) {
+        let size = UVec2::new(width, height);
+        let view_centre = self.view().transform_point3(centre);
+        if view_centre.z + radius > -self.near || !radius.is_finite() {
+            return (UVec2::ZERO, size);
+        }
+        let projection = self.projection(width as f32 / height as f32);
+        let (mut low, mut high) = (glam::Vec2::INFINITY, glam::Vec2::NEG_INFINITY);
+        for corner in 0..8 {
+            let sign = |bit: u32| if corner & bit == 0 { -radius } else { radius };
+            let clip = projection * (view_centre + Vec3::new(sign(1), sign(2), sign(4))).extend(1.0);
+            let ndc = clip.xy() / clip.w;
+            low = low.min(ndc);
+            high = high.max(ndc);
+        }
+        let pixels = |ndc: glam::Vec2| (ndc * 0.5 + 0.5) * size.as_vec2();
+        let clamp = |p: glam::Vec2| p.max(glam::Vec2::ZERO).min(size.as_vec2()).as_uvec2();
+        let (min, max) = (clamp((pixels(low) - 1.0).floor()), clamp((pixels(high) + 1.0).ceil()));
+        (min, max.max(min))
+    }
 }
 
 /// `aspect`, or 1 where it is non-positive or non-finite (a minimised window).
@@ -87,7 +112,7 @@ fn usable_aspect(aspect: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec4Swizzles;
+    use glam::Vec3Swizzles;
 
     /// Normalised device coordinates of a world-space point. In Vulkan, x = -1
     /// is the left of the screen, y = -1 the top, and depth runs 0..1.
@@ -133,6 +158,39 @@ mod tests {
         let pixels = CAMERA.sphere_pixels(height, centre, radius);
         assert!((pixels / expected - 1.0).abs() < 1e-4, "{pixels} against {expected}");
         assert_eq!(CAMERA.sphere_pixels(height, CAMERA.position, radius), f32::INFINITY);
+    }
+
+    /// A sphere's pixel bounds hold every point of it that projects into the frame, within a
+    /// few pixels of its outermost; the whole frame with the eye at its surface, none where
+    /// it lies beside the frame.
+    #[test]
+    fn a_spheres_pixel_bounds_hold_its_outline() {
+        let (width, height) = (1280, 720);
+        let size = glam::Vec2::new(width as f32, height as f32);
+        for (centre, radius) in [(CAMERA.target, 0.4), (Vec3::new(-1.5, 0.0, 2.0), 0.7), (Vec3::new(2.0, 1.0, -3.0), 1.5)] {
+            let (min, max) = CAMERA.sphere_pixel_bounds(width, height, centre, radius);
+            let (mut low, mut high) = (size, glam::Vec2::ZERO);
+            for i in 0..64 {
+                for j in 0..=32 {
+                    let (phi, theta) = (i as f32 / 64.0 * std::f32::consts::TAU, j as f32 / 32.0 * std::f32::consts::PI);
+                    let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+                    let p = (ndc(&CAMERA, width as f32 / height as f32, centre + d * radius).xy() * 0.5 + 0.5) * size;
+                    let p = p.clamp(glam::Vec2::ZERO, size);
+                    assert!(p.cmpge(min.as_vec2()).all() && p.cmple(max.as_vec2()).all(), "{p} outside {min}..{max}");
+                    (low, high) = (low.min(p), high.max(p));
+                }
+            }
+            // The view-space box's corners project a little beyond the outline.
+            let slack = (high - low) * 0.25 + 3.0;
+            assert!((low - min.as_vec2()).cmple(slack).all() && (max.as_vec2() - high).cmple(slack).all(),
+                    "{min}..{max} against the outline's {low}..{high}");
+        }
+        let whole = (UVec2::ZERO, UVec2::new(width, height));
+        assert_eq!(CAMERA.sphere_pixel_bounds(width, height, CAMERA.position + Vec3::X * 0.5, 0.5), whole);
+        let forward = (CAMERA.target - CAMERA.position).normalize();
+        let beside = CAMERA.position + forward * 5.0 + forward.cross(Vec3::Y) * 50.0;
+        let (min, max) = CAMERA.sphere_pixel_bounds(width, height, beside, 0.5);
+        assert!(min.x == max.x || min.y == max.y, "{min}..{max}");
     }
 
     #[test]
