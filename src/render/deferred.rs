@@ -184,14 +184,14 @@ impl DeferredPass {
         Ok(())
     }
 
-    /// Ends the surfaces' rendering, writes which solid each pixel of `solids` (the pixels
-    /// they may cover) shows and begins the rendering of their light into `color` (cleared
-    /// to `clear`), the draws testing it.
+    /// Ends the surfaces' rendering, writes which solid each pixel of the rectangles
+    /// `solids` (those the solids may cover) shows and begins the rendering of their light
+    /// into `color` (cleared to `clear`), the draws testing it.
     pub fn begin_shading(
         &self,
         cmd: vk::CommandBuffer,
         slot: usize,
-        solids: vk::Rect2D,
+        solids: &[vk::Rect2D],
         color: &Image,
         clear: [f32; 4],
     ) -> Result<()> {
@@ -210,8 +210,10 @@ impl DeferredPass {
             d.handle.cmd_bind_pipeline(cmd, graphics, self.objects_pipeline.handle);
             let set = [self.sets[slot].1];
             d.handle.cmd_bind_descriptor_sets(cmd, graphics, self.objects_layout.handle, 0, &set, &[]);
-            d.handle.cmd_set_scissor(cmd, 0, &[solids]);
-            d.handle.cmd_draw(cmd, 3, 1, 0, 0);
+            for &rect in solids {
+                d.handle.cmd_set_scissor(cmd, 0, &[rect]);
+                d.handle.cmd_draw(cmd, 3, 1, 0, 0);
+            }
             d.handle.cmd_end_rendering(cmd);
         }
         transition(d, cmd, objects.handle, objects.aspect, ImageUse::DEPTH_ATTACHMENT, ImageUse::DEPTH_ATTACHMENT);

@@ -732,17 +732,16 @@ impl ForwardPass {
             }
             // Each solid's light is drawn over the pixels it may cover, which lavapipe would
             // otherwise visit over the whole frame, to find the depth test fail.
-            let pixels: Vec<(usize, vk::Rect2D)> = order
+            let shaded: Vec<(usize, vk::Pipeline, vk::Rect2D)> = order
                 .iter()
-                .filter(|&&(index, _)| deferred(index).is_some())
-                .map(|&(index, _)| (index, solid_pixels(scene, gpu, index, target.extent())))
-                .filter(|(_, rect)| rect.extent.width > 0 && rect.extent.height > 0)
+                .filter_map(|&(index, _)| deferred(index).map(|(_, shading)| (index, shading)))
+                .map(|(index, shading)| (index, shading, object_pixels(scene, gpu, index, target.extent())))
+                .filter(|(_, _, rect)| rect.extent.width > 0 && rect.extent.height > 0)
                 .collect();
-            let solids = pixels.iter().map(|&(_, rect)| rect).reduce(rect_union).unwrap_or_default();
-            self.deferred.begin_shading(cmd, slot, solids, target.color, clear)?;
+            let rects: Vec<vk::Rect2D> = shaded.iter().map(|&(_, _, rect)| rect).collect();
+            self.deferred.begin_shading(cmd, slot, &rects, target.color, clear)?;
             bind_sets(&self.deferred_layout, Some(self.deferred.g_set(slot)));
-            for &(index, rect) in &pixels {
-                let Some((_, shading)) = deferred(index) else { continue };
+            for &(index, shading, rect) in &shaded {
                 let push = self.object_push(&scene.objects[index], index, 0)?;
                 unsafe {
                     d.cmd_set_scissor(cmd, 0, &[rect]);
@@ -970,28 +969,21 @@ fn fine_solid(scene: &Scene, gpu: &GpuScene, object: &crate::scene::Object, exte
     pixels < DEFERRED_MAX_PIXELS_PER_TRIANGLE * facing
 }
 
-/// The pixels of a frame of `extent` that solid object `index` may cover: its bounding
-/// sphere's ([`crate::scene::Camera::sphere_pixel_bounds`]).
-fn solid_pixels(scene: &Scene, gpu: &GpuScene, index: usize, extent: vk::Extent2D) -> vk::Rect2D {
+/// The pixels of a frame of `extent` that object `index` may cover: those that both its
+/// bounding sphere and its bounding box may (`Camera::sphere_pixel_bounds`,
+/// `Camera::box_pixel_bounds`), the tighter each for a round and a flat mesh.
+fn object_pixels(scene: &Scene, gpu: &GpuScene, index: usize, extent: vk::Extent2D) -> vk::Rect2D {
     let object = &scene.objects[index];
-    let whole = vk::Rect2D { offset: vk::Offset2D::default(), extent };
-    let Some((centre, radius)) = gpu.meshes[object.mesh].solid else { return whole };
-    let centre = object.position + centre * object.scale;
-    let (min, max) = scene.camera.sphere_pixel_bounds(extent.width, extent.height, centre, radius * object.scale);
+    let e = &gpu.meshes[object.mesh].extent;
+    let at = |p: Vec3| object.position + p * object.scale;
+    let camera = &scene.camera;
+    let sphere = camera.sphere_pixel_bounds(extent.width, extent.height, at(e.centre), e.radius * object.scale);
+    let aabb = camera.box_pixel_bounds(extent.width, extent.height, at(e.low), at(e.high));
+    let (min, max) = (sphere.0.max(aabb.0), sphere.1.min(aabb.1));
+    let max = max.max(min);
     vk::Rect2D {
         offset: vk::Offset2D { x: min.x as i32, y: min.y as i32 },
         extent: vk::Extent2D { width: max.x - min.x, height: max.y - min.y },
-    }
-}
-
-/// The smallest rectangle holding `a` and `b`.
-fn rect_union(a: vk::Rect2D, b: vk::Rect2D) -> vk::Rect2D {
-    let (x, y) = (a.offset.x.min(b.offset.x), a.offset.y.min(b.offset.y));
-    let right = (a.offset.x + a.extent.width as i32).max(b.offset.x + b.extent.width as i32);
-    let bottom = (a.offset.y + a.extent.height as i32).max(b.offset.y + b.extent.height as i32);
-    vk::Rect2D {
-        offset: vk::Offset2D { x, y },
-        extent: vk::Extent2D { width: (right - x) as u32, height: (bottom - y) as u32 },
     }
 }
 

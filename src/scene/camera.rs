@@ -75,20 +75,32 @@ impl Camera {
     }
 
     /// The pixels of a `width` × `height` frame that a sphere's outline may cover, as the
-    /// half-open rectangle [min, max), empty where none: the projected corners of its box
-    /// in view space, a pixel wider on each side for rounding. The whole frame where the
-    /// box reaches the near plane, in front of which projection holds no bound.
+    /// half-open rectangle [min, max), empty where none: those of its box in view space.
     pub fn sphere_pixel_bounds(&self, width: u32, height: u32, centre: Vec3, radius: f32) -> (UVec2, UVec2) {
-        let size = UVec2::new(width, height);
         let view_centre = self.view().transform_point3(centre);
-        if view_centre.z + radius > -self.near || !radius.is_finite() {
+        let corners = box_corners(view_centre - radius, view_centre + radius);
+        self.pixel_bounds(width, height, corners)
+    }
+
+    /// The pixels of a `width` × `height` frame that an axis-aligned box of the world, from
+    /// corner `low` to `high`, may cover, as [`Camera::sphere_pixel_bounds`] has them.
+    pub fn box_pixel_bounds(&self, width: u32, height: u32, low: Vec3, high: Vec3) -> (UVec2, UVec2) {
+        let view = self.view();
+        self.pixel_bounds(width, height, box_corners(low, high).map(|p| view.transform_point3(p)))
+    }
+
+    /// The pixels that the convex hull of `corners` (in view space) may cover: their
+    /// projections' bounds, a pixel wider on each side for rounding; the whole frame where
+    /// one lies short of the near plane, in front of which projection holds no bound.
+    fn pixel_bounds(&self, width: u32, height: u32, corners: [Vec3; 8]) -> (UVec2, UVec2) {
+        let size = UVec2::new(width, height);
+        if corners.iter().any(|p| !(p.z < -self.near) || !p.is_finite()) {
             return (UVec2::ZERO, size);
         }
         let projection = self.projection(width as f32 / height as f32);
         let (mut low, mut high) = (glam::Vec2::INFINITY, glam::Vec2::NEG_INFINITY);
-        for corner in 0..8 {
-            let sign = |bit: u32| if corner & bit == 0 { -radius } else { radius };
-            let clip = projection * (view_centre + Vec3::new(sign(1), sign(2), sign(4))).extend(1.0);
+        for p in corners {
+            let clip = projection * p.extend(1.0);
             let ndc = clip.xy() / clip.w;
             low = low.min(ndc);
             high = high.max(ndc);
@@ -98,6 +110,11 @@ impl Camera {
         let (min, max) = (clamp((pixels(low) - 1.0).floor()), clamp((pixels(high) + 1.0).ceil()));
         (min, max.max(min))
     }
+}
+
+/// The eight corners of the box from `low` to `high`.
+fn box_corners(low: Vec3, high: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|i| Vec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), high, low))
 }
 
 /// `aspect`, or 1 where it is non-positive or non-finite (a minimised window).
@@ -167,12 +184,14 @@ mod tests {
     fn a_spheres_pixel_bounds_hold_its_outline() {
         let (width, height) = (1280, 720);
         let size = glam::Vec2::new(width as f32, height as f32);
-        for (centre, radius) in [(CAMERA.target, 0.4), (Vec3::new(-1.5, 0.0, 2.0), 0.7), (Vec3::new(2.0, 1.0, -3.0), 1.5)] {
+        let spheres = [(CAMERA.target, 0.4), (Vec3::new(-1.5, 0.0, 2.0), 0.7), (Vec3::new(2.0, 1.0, -3.0), 1.5)];
+        for (centre, radius) in spheres {
             let (min, max) = CAMERA.sphere_pixel_bounds(width, height, centre, radius);
             let (mut low, mut high) = (size, glam::Vec2::ZERO);
             for i in 0..64 {
                 for j in 0..=32 {
-                    let (phi, theta) = (i as f32 / 64.0 * std::f32::consts::TAU, j as f32 / 32.0 * std::f32::consts::PI);
+                    let phi = i as f32 / 64.0 * std::f32::consts::TAU;
+                    let theta = j as f32 / 32.0 * std::f32::consts::PI;
                     let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
                     let p = (ndc(&CAMERA, width as f32 / height as f32, centre + d * radius).xy() * 0.5 + 0.5) * size;
                     let p = p.clamp(glam::Vec2::ZERO, size);
@@ -191,6 +210,28 @@ mod tests {
         let beside = CAMERA.position + forward * 5.0 + forward.cross(Vec3::Y) * 50.0;
         let (min, max) = CAMERA.sphere_pixel_bounds(width, height, beside, 0.5);
         assert!(min.x == max.x || min.y == max.y, "{min}..{max}");
+    }
+
+    /// A box's pixel bounds hold its corners' projections and are theirs within the pixel
+    /// of rounding; the whole frame once it reaches behind the eye.
+    #[test]
+    fn a_boxs_pixel_bounds_hold_its_corners() {
+        let (width, height) = (1280, 720);
+        let size = glam::Vec2::new(width as f32, height as f32);
+        let (low, high) = (Vec3::new(-1.0, 0.2, -0.5), Vec3::new(0.5, 0.6, 1.0));
+        let (min, max) = CAMERA.box_pixel_bounds(width, height, low, high);
+        let projected: Vec<glam::Vec2> = box_corners(low, high)
+            .iter()
+            .map(|&p| (ndc(&CAMERA, width as f32 / height as f32, p).xy() * 0.5 + 0.5) * size)
+            .collect();
+        let least = projected.iter().fold(size, |a, &p| a.min(p));
+        let most = projected.iter().fold(glam::Vec2::ZERO, |a, &p| a.max(p));
+        assert!((least - min.as_vec2()).cmpge(glam::Vec2::splat(1.0)).all(), "{min} against {least}");
+        assert!((least - min.as_vec2()).cmple(glam::Vec2::splat(2.0)).all(), "{min} against {least}");
+        assert!((max.as_vec2() - most).cmpge(glam::Vec2::splat(1.0)).all(), "{max} against {most}");
+        assert!((max.as_vec2() - most).cmple(glam::Vec2::splat(2.0)).all(), "{max} against {most}");
+        let behind = CAMERA.box_pixel_bounds(width, height, low, CAMERA.position + 1.0);
+        assert_eq!(behind, (UVec2::ZERO, UVec2::new(width, height)));
     }
 
     #[test]
