@@ -183,8 +183,8 @@ vec3 reflected(inout Surface s, out vec3 environment, out float visibility, out 
 // full fp32, so that the deferred pass shades what the forward pass would (the surface's
 // own light is added to the bounce's before, rather than after), and which object it is.
 layout(location = 0) out vec4 out_g[7];
-// The object's number (forward.rs's deferred_object).
-layout(constant_id = 25) const uint DEFERRED_OBJECT = 0;
+// The object's number (forward.rs's deferred_object), the draw's instance.
+layout(location = 10 + MAP_COUNT + MAX_VERTEX_SHADOW_LAYERS) flat in uint in_deferred_object;
 
 void main() {
     Surface s = surface();
@@ -194,7 +194,7 @@ void main() {
     out_g[3] = vec4(s.m.base_color.rgb, s.m.metallic);
     out_g[4] = vec4(s.face_normal, s.map_visibility);
     out_g[5] = vec4(s.bounced + s.emission, s.noise);
-    out_g[6] = vec4(s.objects_take, deferred_object_depth(DEFERRED_OBJECT));
+    out_g[6] = vec4(s.objects_take, deferred_object_depth(in_deferred_object));
 }
 #elif defined(DEFERRED)
 layout(set = 6, binding = 0) uniform sampler2D g0;

@@ -29,12 +29,17 @@ layout(location = 5 + MAP_COUNT) out vec3 out_objects_take;
 layout(location = 6 + MAP_COUNT) out vec3 out_bounce;
 layout(location = 7 + MAP_COUNT) out mat3 out_bounce_gradient;
 layout(location = 10 + MAP_COUNT) out vec4 out_vertex_shadows[MAX_VERTEX_SHADOW_LAYERS];
+// The draw's instance: the object's number in the deferred pass (deferred.glsl), which
+// the G-buffer's pipelines, shared by the objects of the same constants, write; 0 in the
+// forward draws.
+layout(location = 10 + MAP_COUNT + MAX_VERTEX_SHADOW_LAYERS) flat out uint out_deferred_object;
 
 layout(set = 5, binding = 3, std430) readonly buffer VertexLight {
     LightAtVertex vertex_light[];
 };
 
 void main() {
+    out_deferred_object = gl_InstanceIndex;
     vec4 world = object.model * vec4(in_position, 1.0);
     out_world_position = world.xyz;
     out_normal = object_normal(in_normal);

@@ -116,6 +116,56 @@ base_color = [0.7, 0.7, 0.7]
     });
 }
 
+/// Solids of the same material share their G-buffer pipeline, each draw's instance saying
+/// which solid a pixel shows: the frame is the forward pass's.
+#[test]
+fn solids_of_one_material_share_their_surfaces_pipeline() {
+    const BALLS: &str = r#"
+[camera]
+position = [0.0, 1.0, 4.0]
+target = [0.0, 0.4, 0.0]
+
+[[lights]]
+kind = "point"
+position = [2.0, 4.0, 3.0]
+intensity = [30.0, 30.0, 30.0]
+
+[environment]
+kind = "studio"
+
+[[objects]]
+mesh = "builtin:sphere"
+position = [-0.6, 0.5, 0.0]
+scale = 0.5
+material = "clay"
+
+[[objects]]
+mesh = "builtin:sphere"
+position = [0.6, 0.5, -0.4]
+scale = 0.5
+material = "clay"
+
+[[objects]]
+mesh = "builtin:plane"
+scale = 6.0
+material = "ground"
+
+[materials.clay]
+preset = "plasticine"
+
+[materials.ground]
+base_color = [0.7, 0.7, 0.7]
+"#;
+    let s = scene(BALLS);
+    gpu().exclusive(|renderer| {
+        let (forward, _) = frame(renderer, &s, SIZE, false);
+        let (deferred, objects) = frame(renderer, &s, SIZE, true);
+        assert_eq!((objects, renderer.deferred_surface_pipelines()), (2, 1));
+        let (largest, _) = largest_relative_difference(&deferred, &forward, 1e-6);
+        assert!(largest < 1e-6, "the deferred frame is {largest:e} from the forward one");
+    });
+}
+
 /// Frames that the G-buffer does not serve draw every object forward: multisampled ones, a
 /// debug view, the generic pipelines, and one whose solids' triangles are large (the
 /// default scene's ball and ring cover about 111 and 131 pixels a triangle at 2560×1440,

@@ -477,15 +477,11 @@ impl ForwardPass {
                 };
                 self.build_pipeline(fragment, samples, &specialization, &name)
             }
-            DrawPipeline::Surfaces(c, object) => {
-                // DEFERRED_OBJECT, after the constants.
-                let mut specialization = c.specialization();
-                specialization.0.push(object);
-                self.mesh_pipeline(&self.gbuffer_fragment)
-                    .color_formats(&[HDR_FORMAT; G_ATTACHMENTS])
-                    .specialization(specialization)
-                    .build(&self.device, &self.layout, &format!("surfaces of object {object}"))
-            }
+            DrawPipeline::Surfaces(c) => self
+                .mesh_pipeline(&self.gbuffer_fragment)
+                .color_formats(&[HDR_FORMAT; G_ATTACHMENTS])
+                .specialization(c.specialization())
+                .build(&self.device, &self.layout, "surfaces"),
             DrawPipeline::Shading(c) => {
                 let fragment = match c.fragment_build() {
                     FragmentBuild::Lean => &self.deferred_lean_fragment,
@@ -612,7 +608,7 @@ impl ForwardPass {
                 })
                 .collect();
             let deferred_objects: Vec<usize> = (0..deferred.len()).filter(|&i| deferred[i]).collect();
-            draws.extend(deferred_objects.iter().map(|&i| DrawPipeline::Surfaces(constants[i], deferred_object(i))));
+            draws.extend(deferred_objects.iter().map(|&i| DrawPipeline::Surfaces(constants[i])));
             let mut pipelines = self.pipelines_for(&draws)?;
             let surfaces = pipelines.split_off(constants.len());
             for (&i, surfaces) in deferred_objects.iter().zip(surfaces) {
@@ -681,6 +677,14 @@ impl ForwardPass {
         self.deferred_pipelines.iter().flatten().count()
     }
 
+    /// How many pipelines draw the deferred objects' surfaces: one for the objects of the
+    /// same constants, whose draws' instances tell them apart.
+    pub fn deferred_surface_pipelines(&self) -> usize {
+        let surfaces: std::collections::HashSet<vk::Pipeline> =
+            self.deferred_pipelines.iter().flatten().map(|&(surfaces, _)| surfaces).collect();
+        surfaces.len()
+    }
+
     /// Makes `slot`'s G-buffer for a frame of `extent` if the last prepared frame defers
     /// objects, or lets it go; its previous frame is done.
     pub fn prepare_deferred(&mut self, slot: usize, extent: vk::Extent2D) -> Result<()> {
@@ -728,7 +732,7 @@ impl ForwardPass {
             let mut bound = vk::Pipeline::null();
             for &(index, cull) in &order {
                 let Some((surfaces, _)) = deferred(index) else { continue };
-                self.draw_object(cmd, scene, gpu, index, cull, surfaces, 0, &mut bound)?;
+                self.draw_object(cmd, scene, gpu, (index, deferred_object(index)), cull, surfaces, 0, &mut bound)?;
             }
             // Each solid's light is drawn over the pixels it may cover, which lavapipe would
             // otherwise visit over the whole frame, to find the depth test fail.
@@ -815,7 +819,7 @@ impl ForwardPass {
             let pipeline = *pipelines
                 .get(index)
                 .context("forward pipeline missing: prepare() was not called for this scene")?;
-            self.draw_object(cmd, scene, gpu, index, cull, pipeline, first_material, &mut bound)?;
+            self.draw_object(cmd, scene, gpu, (index, 0), cull, pipeline, first_material, &mut bound)?;
         }
         Ok(())
     }
@@ -832,14 +836,15 @@ impl ForwardPass {
         Ok(push)
     }
 
-    /// Draws object `index` with `pipeline` (bound unless it is `bound`), culling `cull`.
+    /// Draws object `index` as instance `instance` (forward.vert's deferred object) with
+    /// `pipeline` (bound unless it is `bound`), culling `cull`.
     #[allow(clippy::too_many_arguments)]
     fn draw_object(
         &self,
         cmd: vk::CommandBuffer,
         scene: &Scene,
         gpu: &GpuScene,
-        index: usize,
+        (index, instance): (usize, u32),
         cull: vk::CullModeFlags,
         pipeline: vk::Pipeline,
         first_material: usize,
@@ -872,7 +877,7 @@ impl ForwardPass {
             d.cmd_set_cull_mode(cmd, cull);
             d.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.handle], &[0]);
             d.cmd_bind_index_buffer(cmd, mesh.indices.handle, 0, vk::IndexType::UINT32);
-            d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
+            d.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, instance);
         }
         Ok(())
     }
@@ -995,19 +1000,18 @@ fn deferrable(c: &ForwardConstants) -> bool {
 
 const _: () = assert!(MAX_OBJECTS < 1 << 16, "deferred.glsl's object depths stay within [0, 1]");
 
-/// Object `index`'s number in the deferred pass: its G-buffer pipeline's `DEFERRED_OBJECT`
-/// and its shading draw's instance (deferred.glsl's object depth), 0 being no object.
+/// Object `index`'s number in the deferred pass: the instance of its draws into the
+/// G-buffer and of its shading draw (deferred.glsl's object depth), 0 being no object.
 fn deferred_object(index: usize) -> u32 {
     index as u32 + 1
 }
 
 /// A pipeline of the pass: an object's forward draw into targets of a sample count, a
-/// deferred object's draw of its surfaces into the G-buffer (by its `deferred_object`),
-/// or its shading draw.
+/// deferred object's draw of its surfaces into the G-buffer, or its shading draw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum DrawPipeline {
     Forward(vk::SampleCountFlags, ForwardConstants),
-    Surfaces(ForwardConstants, u32),
+    Surfaces(ForwardConstants),
     Shading(ForwardConstants),
 }
 
@@ -1110,8 +1114,7 @@ mod tests {
     fn constants_match_the_shaders_ids_and_names() {
         let mut found = shader_constants();
         found.sort();
-        // The G-buffer's pipelines add the object's number after them (DrawPipeline::Surfaces).
-        let expected: Vec<(u32, String)> = (ForwardConstants::NAMES.iter().chain(&["DEFERRED_OBJECT"]))
+        let expected: Vec<(u32, String)> = (ForwardConstants::NAMES.iter())
             .enumerate()
             .map(|(i, name)| (i as u32, (*name).to_owned()))
             .collect();

@@ -339,6 +339,11 @@ impl Renderer {
         self.forward.deferred_objects()
     }
 
+    /// How many pipelines draw those objects' surfaces into the G-buffer.
+    pub fn deferred_surface_pipelines(&self) -> usize {
+        self.forward.deferred_surface_pipelines()
+    }
+
     /// How many compute pipelines that pass keeps: two at most, whatever it was computed with.
     pub fn vertex_light_pipelines(&self) -> usize {
         self.vertex_light.pipeline_count()
