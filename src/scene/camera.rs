@@ -94,7 +94,7 @@ impl Camera {
     /// one lies short of the near plane, in front of which projection holds no bound.
     fn pixel_bounds(&self, width: u32, height: u32, corners: [Vec3; 8]) -> (UVec2, UVec2) {
         let size = UVec2::new(width, height);
-        if corners.iter().any(|p| !(p.z < -self.near) || !p.is_finite()) {
+        if corners.iter().any(|p| !p.is_finite() || p.z >= -self.near) {
             return (UVec2::ZERO, size);
         }
         let projection = self.projection(width as f32 / height as f32);
