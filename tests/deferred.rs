@@ -4,50 +4,16 @@
 mod common;
 
 use argil::render::{DebugView, OffscreenTarget, Renderer};
-use argil::scene::{Scene, DEFAULT_SCENE_TOML};
+use argil::scene::{Object, Scene, DEFAULT_SCENE_TOML};
 use ash::vk;
 use common::{draw_hdr, gpu, scene};
+use glam::Vec3;
 
 const SIZE: vk::Extent2D = vk::Extent2D { width: 96, height: 64 };
 
-/// A frame of `s` at `size` with the solids deferred or drawn forward, and how many were
-/// deferred.
-fn frame(renderer: &mut Renderer, s: &Scene, size: vk::Extent2D, deferred: bool) -> (Vec<f32>, usize) {
-    let gpu_scene = renderer.upload(s).expect("upload");
-    let target = OffscreenTarget::new(&renderer.device, size).expect("target");
-    renderer.deferred = deferred;
-    let hdr = draw_hdr(renderer, s, &gpu_scene, &target);
-    let objects = renderer.deferred_objects();
-    renderer.deferred = true;
-    (hdr, objects)
-}
-
-/// The largest difference between two frames' channels relative to the larger, over the
-/// channels above `floor`, and the count of channels that differ at all.
-fn largest_relative_difference(a: &[f32], b: &[f32], floor: f32) -> (f32, usize) {
-    assert_eq!(a.len(), b.len());
-    let differ = a.iter().zip(b).filter(|(x, y)| x != y).count();
-    let largest = (a.iter().zip(b))
-        .filter(|(x, y)| x.abs().max(y.abs()) > floor)
-        .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()))
-        .fold(0.0, f32::max);
-    (largest, differ)
-}
-
-/// The G-buffer holds the fp32 values the forward pass's shading starts from, so the
-/// deferred frame is the forward one but for the last bits of arithmetic that the two
-/// shaders' compilers order differently (the surface's own light is added to the bounce
-/// before the rest, not after): at most a few units in the last place of fp32 (1e-6 of the
-/// value allows 8), most channels (the background's, the ground's) the same bit for bit.
-/// Scenes at a size where the solids' triangles are small enough to be deferred: the
-/// default one (split sum, pre-integrated subsurface, maps, the bounce and the objects'
-/// occlusion at the vertices, soft shadows at the pixels), and one that reads what the
-/// G-buffer must carry otherwise: the report's reflection with its noise map, an occlusion
-/// map, emission, a hard light's shadow at the pixels, the objects' occlusion at the
-/// pixels and specular anti-aliasing.
-#[test]
-fn deferred_solids_are_shaded_as_the_forward_pass_shades_them() {
-    const MAPPED: &str = r#"
+/// A scene whose solids' surfaces hold what the G-buffer must carry besides the default
+/// scene's (deferred_solids_are_shaded_as_the_forward_pass_shades_them).
+const MAPPED: &str = r#"
 [camera]
 position = [0.0, 1.2, 4.0]
 target = [0.0, 0.4, 0.0]
@@ -99,6 +65,44 @@ texture = "builtin:clay-lumps"
 [materials.ground]
 base_color = [0.7, 0.7, 0.7]
 "#;
+
+/// A frame of `s` at `size` with the solids deferred or drawn forward, and how many were
+/// deferred.
+fn frame(renderer: &mut Renderer, s: &Scene, size: vk::Extent2D, deferred: bool) -> (Vec<f32>, usize) {
+    let gpu_scene = renderer.upload(s).expect("upload");
+    let target = OffscreenTarget::new(&renderer.device, size).expect("target");
+    renderer.deferred = deferred;
+    let hdr = draw_hdr(renderer, s, &gpu_scene, &target);
+    let objects = renderer.deferred_objects();
+    renderer.deferred = true;
+    (hdr, objects)
+}
+
+/// The largest difference between two frames' channels relative to the larger, over the
+/// channels above `floor`, and the count of channels that differ at all.
+fn largest_relative_difference(a: &[f32], b: &[f32], floor: f32) -> (f32, usize) {
+    assert_eq!(a.len(), b.len());
+    let differ = a.iter().zip(b).filter(|(x, y)| x != y).count();
+    let largest = (a.iter().zip(b))
+        .filter(|(x, y)| x.abs().max(y.abs()) > floor)
+        .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()))
+        .fold(0.0, f32::max);
+    (largest, differ)
+}
+
+/// The G-buffer holds the fp32 values the forward pass's shading starts from, so the
+/// deferred frame is the forward one but for the last bits of arithmetic that the two
+/// shaders' compilers order differently (the surface's own light is added to the bounce
+/// before the rest, not after): at most a few units in the last place of fp32 (1e-6 of the
+/// value allows 8), most channels (the background's, the ground's) the same bit for bit.
+/// Scenes at a size where the solids' triangles are small enough to be deferred: the
+/// default one (split sum, pre-integrated subsurface, maps, the bounce and the objects'
+/// occlusion at the vertices, soft shadows at the pixels), and one that reads what the
+/// G-buffer must carry otherwise: the report's reflection with its noise map, an occlusion
+/// map, emission, a hard light's shadow at the pixels, the objects' occlusion at the
+/// pixels and specular anti-aliasing.
+#[test]
+fn deferred_solids_are_shaded_as_the_forward_pass_shades_them() {
     let scenes = [
         ("default", Scene::from_toml(DEFAULT_SCENE_TOML, "default", std::path::Path::new("")).expect("default")),
         ("mapped", scene(MAPPED)),
@@ -120,43 +124,9 @@ base_color = [0.7, 0.7, 0.7]
 /// which solid a pixel shows: the frame is the forward pass's.
 #[test]
 fn solids_of_one_material_share_their_surfaces_pipeline() {
-    const BALLS: &str = r#"
-[camera]
-position = [0.0, 1.0, 4.0]
-target = [0.0, 0.4, 0.0]
-
-[[lights]]
-kind = "point"
-position = [2.0, 4.0, 3.0]
-intensity = [30.0, 30.0, 30.0]
-
-[environment]
-kind = "studio"
-
-[[objects]]
-mesh = "builtin:sphere"
-position = [-0.6, 0.5, 0.0]
-scale = 0.5
-material = "clay"
-
-[[objects]]
-mesh = "builtin:sphere"
-position = [0.6, 0.5, -0.4]
-scale = 0.5
-material = "clay"
-
-[[objects]]
-mesh = "builtin:plane"
-scale = 6.0
-material = "ground"
-
-[materials.clay]
-preset = "plasticine"
-
-[materials.ground]
-base_color = [0.7, 0.7, 0.7]
-"#;
-    let s = scene(BALLS);
+    // The mapped scene's ring made a second ball of the first one's clay, beside it.
+    let mut s = scene(MAPPED);
+    s.objects[1] = Object { position: Vec3::new(0.6, 0.5, -0.4), ..s.objects[0] };
     gpu().exclusive(|renderer| {
         let (forward, _) = frame(renderer, &s, SIZE, false);
         let (deferred, objects) = frame(renderer, &s, SIZE, true);
