@@ -254,12 +254,14 @@ mod tests {
     use crate::render::shaders::tests::bindings;
 
     /// The G-buffer's images and the one holding the object, as forward.frag writes them and
-    /// its DEFERRED build binds them (set 6, binding i for image i).
+    /// its DEFERRED build binds and reads them (set 6, binding i for image i).
     #[test]
     fn the_g_buffer_is_the_shaders() {
         let glsl = include_str!("../../shaders/forward.frag");
         assert!(glsl.contains(&format!("out vec4 out_g[{G_ATTACHMENTS}];")));
         assert!(glsl.contains(&format!("out_g[{G_OBJECT}] = vec4(s.objects_take, deferred_object_depth(")));
+        assert!(glsl.contains(&format!("if (g[{G_OBJECT}].w != deferred_object_depth(in_deferred_object))")));
+        assert!(glsl.contains(&format!("for (int i = 0; i < {G_ATTACHMENTS}; ++i) g[i] = vec4(0.0);")));
         let set_6: Vec<u32> = (bindings(shaders::FORWARD_DEFERRED_FRAG).into_iter())
             .filter_map(|(set, binding)| (set == 6).then_some(binding))
             .collect();

@@ -967,9 +967,11 @@ const DEFERRED_MAX_PIXELS_PER_TRIANGLE: f32 = 96.0;
 /// [`DEFERRED_MAX_PIXELS_PER_TRIANGLE`].
 fn fine_solid(scene: &Scene, gpu: &GpuScene, object: &crate::scene::Object, extent: vk::Extent2D) -> bool {
     let mesh = &gpu.meshes[object.mesh];
-    let Some((centre, radius)) = mesh.solid else { return false };
-    let centre = object.position + centre * object.scale;
-    let pixels = scene.camera.sphere_pixels(extent.height, centre, radius * object.scale);
+    if mesh.solid.is_none() {
+        return false;
+    }
+    let e = object.world_extent(&mesh.extent);
+    let pixels = scene.camera.sphere_pixels(extent.height, e.centre, e.radius);
     let facing = (mesh.index_count / 3) as f32 / 2.0;
     pixels < DEFERRED_MAX_PIXELS_PER_TRIANGLE * facing
 }
@@ -979,11 +981,10 @@ fn fine_solid(scene: &Scene, gpu: &GpuScene, object: &crate::scene::Object, exte
 /// `Camera::box_pixel_bounds`), the tighter each for a round and a flat mesh.
 fn object_pixels(scene: &Scene, gpu: &GpuScene, index: usize, extent: vk::Extent2D) -> vk::Rect2D {
     let object = &scene.objects[index];
-    let e = &gpu.meshes[object.mesh].extent;
-    let at = |p: Vec3| object.position + p * object.scale;
+    let e = object.world_extent(&gpu.meshes[object.mesh].extent);
     let camera = &scene.camera;
-    let sphere = camera.sphere_pixel_bounds(extent.width, extent.height, at(e.centre), e.radius * object.scale);
-    let aabb = camera.box_pixel_bounds(extent.width, extent.height, at(e.low), at(e.high));
+    let sphere = camera.sphere_pixel_bounds(extent.width, extent.height, e.centre, e.radius);
+    let aabb = camera.box_pixel_bounds(extent.width, extent.height, e.low, e.high);
     let (min, max) = (sphere.0.max(aabb.0), sphere.1.min(aabb.1));
     let max = max.max(min);
     vk::Rect2D {

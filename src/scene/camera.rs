@@ -1,5 +1,7 @@
 use glam::{Mat4, UVec2, Vec3, Vec4Swizzles};
 
+use super::mesh::box_corners;
+
 /// A right-handed, y-up perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -110,11 +112,6 @@ impl Camera {
         let (min, max) = (clamp((pixels(low) - 1.0).floor()), clamp((pixels(high) + 1.0).ceil()));
         (min, max.max(min))
     }
-}
-
-/// The eight corners of the box from `low` to `high`.
-fn box_corners(low: Vec3, high: Vec3) -> [Vec3; 8] {
-    std::array::from_fn(|i| Vec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), high, low))
 }
 
 /// `aspect`, or 1 where it is non-positive or non-finite (a minimised window).

@@ -5,6 +5,7 @@
 
 use glam::{Vec2, Vec3, Vec3Swizzles};
 
+use super::mesh::box_corners;
 use super::Scene;
 
 /// A rectangle of the ground's plane: x and z from `min` to `max`.
@@ -67,9 +68,6 @@ impl Scene {
     }
 }
 
-fn box_corners(low: Vec3, high: Vec3) -> impl Iterator<Item = Vec3> {
-    (0..8).map(move |k| Vec3::select(glam::BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), high, low))
-}
 
 #[cfg(test)]
 mod tests {

@@ -46,7 +46,13 @@ pub struct Mesh {
     pub subdivisions: Option<u32>,
 }
 
-/// A mesh's size in its own units ([`Mesh::extent`]).
+/// The eight corners of the box from `low` to `high`.
+pub fn box_corners(low: Vec3, high: Vec3) -> [Vec3; 8] {
+    std::array::from_fn(|k| Vec3::select(glam::BVec3::new(k & 1 != 0, k & 2 != 0, k & 4 != 0), high, low))
+}
+
+/// A mesh's size in its own units ([`Mesh::extent`]), or an object's in the world's
+/// ([`super::Object::world_extent`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MeshExtent {
     /// Its bounding sphere ([`Mesh::bounding_sphere`]).

@@ -103,6 +103,19 @@ impl Object {
         Mat4::from_translation(self.position) * Mat4::from_scale(Vec3::splat(self.scale))
     }
 
+    /// The extent of its mesh, `mesh` ([`Mesh::extent`]), in the world: scaled, then moved.
+    pub fn world_extent(&self, mesh: &MeshExtent) -> MeshExtent {
+        let at = |p: Vec3| self.position + p * self.scale;
+        MeshExtent {
+            centre: at(mesh.centre),
+            radius: mesh.radius * self.scale,
+            low: at(mesh.low),
+            high: at(mesh.high),
+            longest_edge: mesh.longest_edge * self.scale,
+            convex: mesh.convex,
+        }
+    }
+
     /// The index in `Scene::objects` of the first part of its file object, object `index`
     /// being this one (a model's parts follow each other): the parts of one file object
     /// do not occlude each other's environment light, as one object does not.

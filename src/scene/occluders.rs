@@ -117,9 +117,10 @@ impl Scene {
     /// (3/4)(h/d)² of itself: 5% of the occlusion at the largest edge allowed.
     pub fn occlusion_at_vertices(&self, occluders: &[Occluder], index: usize, extent: MeshExtent) -> bool {
         let o = &self.objects[index];
-        let (centre, radius) = (o.position + extent.centre * o.scale, extent.radius * o.scale);
+        let world = o.world_extent(&extent);
+        let (centre, radius) = (world.centre, world.radius);
         let own = o.first_part(index);
-        let least_gap = extent.longest_edge * o.scale / VERTEX_OCCLUSION_GAP_SHARE;
+        let least_gap = world.longest_edge / VERTEX_OCCLUSION_GAP_SHARE;
         self.occlusion.per_vertex
             && self.ground_index() != Some(index)
             && (occluders.iter().filter(|s| s.object != own))

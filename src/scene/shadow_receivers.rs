@@ -28,9 +28,8 @@ impl Scene {
     pub fn shadowing_lights(&self, receiver: usize, shadowed: &[usize], extent: impl Fn(usize) -> MeshExtent) -> u32 {
         let world = |i: usize| {
             let o = &self.objects[i];
-            let e = extent(o.mesh);
-            let at = |p: Vec3| o.position + p * o.scale;
-            (at(e.low), at(e.high), at(e.centre), e.radius * o.scale, e.convex)
+            let e = o.world_extent(&extent(o.mesh));
+            (e.low, e.high, e.centre, e.radius, e.convex)
         };
         let (low, high, centre, radius, convex) = world(receiver);
         if !convex || self.objects.len() > MAX_SHADOW_RECEIVER_OBJECTS {
