@@ -27,6 +27,7 @@
 #include "bounce.glsl"
 #include "object_occlusion.glsl"
 #include "ground_occlusion.glsl"
+#include "ground_environment.glsl"
 #include "deferred.glsl"
 
 layout(constant_id = 0) const uint DIFFUSE_MODEL = 0;
@@ -170,9 +171,11 @@ vec3 reflected(inout Surface s, out vec3 environment, out float visibility, out 
     // the screen-space visibility already, as glTF 2.0 applies it; the point lights it
     // micro-shadows (lights.glsl) where the material asks.
     light_visibility = m.micro_shadowing != 0.0 ? s.map_visibility : 1.0;
-    environment = environment_light(models, m, s.microsurface_roughness, n, s.n_geometric, v, s.curvature, s.noise,
-                                    gl_FragCoord.xy, frame.counts.z, occlusion)
-                  * s.map_visibility;
+    environment = GROUND_ENVIRONMENT ? ground_environment_light(m, v, occlusion)
+                                     : environment_light(models, m, s.microsurface_roughness, n, s.n_geometric, v,
+                                                         s.curvature, s.noise, gl_FragCoord.xy, frame.counts.z,
+                                                         occlusion);
+    environment *= s.map_visibility;
     vec3 radiance = point_lights_radiance(models, m, n, s.n_geometric, v, s.position, s.face_normal, s.curvature,
                                           HORIZON == HORIZON_SEED, light_visibility) + environment;
     return radiance + s.bounced;

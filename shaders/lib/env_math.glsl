@@ -67,6 +67,21 @@ vec2 octahedral_texel_point(vec2 texel, float side) {
     return (texel - 0.5) * (2.0 / (side - 2.0)) - 1.0;
 }
 
+// Where direction d of the upper hemisphere (y ≥ 0) falls in [0, 1]²: the octahedral map's
+// upper half (Engelhardt & Dachsbacher 2008), |x| + |z| ≤ 1 on the plane y = 0, turned by
+// 45° to fill the square, whose edge is the horizon.
+vec2 hemisphere_uv(vec3 d) {
+    vec2 p = d.xz / (abs(d.x) + abs(d.y) + abs(d.z));
+    return vec2(p.x + p.y, p.x - p.y) * 0.5 + 0.5;
+}
+
+// The unit direction at point uv of [0, 1]²: hemisphere_uv's inverse.
+vec3 hemisphere_direction(vec2 uv) {
+    vec2 s = uv * 2.0 - 1.0;
+    vec2 p = vec2(s.x + s.y, s.x - s.y) * 0.5;
+    return normalize(vec3(p.x, 1.0 - abs(p.x) - abs(p.y), p.y));
+}
+
 // The solid angle of triangle (a, b, c) seen from the origin, given its triple product
 // a·(b×c) (Van Oosterom & Strackee 1983): 2 atan2(a·(b×c), |a||b||c| + (a·b)|c| + (a·c)|b|
 // + (b·c)|a|).

@@ -187,24 +187,8 @@ vec3 diffuse_albedo(uint model, Material m, float n_dot_v) {
     return vec3(0.0);
 }
 
-// Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
-// times irradiance/π (exact for Lambert), the subsurface term through its own SH kernels
-// (less the SH irradiance, so that both sides of the difference are band-limited alike),
-// and the specular lobe as prefiltered radiance around its mean direction (lookups along
-// the plane of incidence, prefiltered_taps) times ∫ f_s cos = F0 A + B, plus a map's sun,
-// which the prefiltered cube leaves out, through the lobe itself. In seed mode the
-// specular lobe is replaced by the report's eq. 17: one lookup along the mirror direction
-// × seed_strength × noise. `noise` modulates the seed mode's lookup: the material's noise
-// map, or 1. `occlusion` (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb;
-// all 1: none) scales the diffuse and subsurface terms by its rgb, and the specular one by
-// the specular occlusion of its visibility a (none at a = 1). `microsurface_roughness` is
-// the material's roughness before specular anti-aliasing widened m.roughness: the
-// prefiltered lookups read the widened lobe, which filters the light over the pixel's
-// normals, but the lobe's albedo (the table's F0 A + B) and its mean direction are the
-// microsurface's, which the pixel's many normals neither shadow nor tilt more.
-vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_roughness, vec3 n, vec3 v,
-                           float curvature, float noise, vec4 occlusion) {
-    float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+// The split sum's diffuse and subsurface light, before occlusion; n_dot_v clamped.
+vec3 split_sum_diffuse(ShadingModels models, Material m, vec3 n, float n_dot_v, float curvature) {
     vec3 radiance = diffuse_albedo(models.diffuse, m, n_dot_v) * env_irradiance_over_pi(n);
     if (subsurface_lights(models, m)) {
         if (models.subsurface == SUBSURFACE_SEED) {
@@ -219,14 +203,13 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
             radiance += diffuse_color(m) * (transferred / PI - env_convolve(n, SH_IRRADIANCE_OVER_PI));
         }
     }
-    float alpha = clamp_alpha(m.roughness * m.roughness);
-    float specular_visibility = 1.0;
-    radiance *= occlusion.rgb;
-    if (occlusion.a < 1.0) specular_visibility = specular_occlusion(n_dot_v, occlusion.a, alpha);
-    if (models.specular == SPECULAR_NONE) return radiance;
-    if (reflection_mode() == REFLECTION_SEED) {
-        return radiance + specular_visibility * env.params.z * noise * env_radiance(seed_reflection(n, v), 0.0);
-    }
+    return radiance;
+}
+
+// The split sum's specular light, before occlusion, of a material with a specular lobe;
+// n_dot_v clamped, alpha the widened lobe's.
+vec3 split_sum_specular(ShadingModels models, Material m, float microsurface_roughness, vec3 n, vec3 v,
+                        float n_dot_v, float alpha) {
     vec4 lobe = brdf_table(lut_layer(models), n_dot_v, microsurface_roughness);
     vec3 f0_a = clamp(specular_f0(m), 0.0, 1.0) * lobe.x;
     vec3 prefiltered = env.radiance.rgb;
@@ -261,7 +244,37 @@ vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_
         }
 #endif
     }
-    return radiance + specular_visibility * (prefiltered * m.specular_color.rgb * (f0_a + lobe.y) + sunlight);
+    return prefiltered * m.specular_color.rgb * (f0_a + lobe.y) + sunlight;
+}
+
+// Split sum (Karis 2013, "Real Shading in Unreal Engine 4"): the diffuse lobe's albedo
+// times irradiance/π (exact for Lambert), the subsurface term through its own SH kernels
+// (less the SH irradiance, so that both sides of the difference are band-limited alike),
+// and the specular lobe as prefiltered radiance around its mean direction (lookups along
+// the plane of incidence, prefiltered_taps) times ∫ f_s cos = F0 A + B, plus a map's sun,
+// which the prefiltered cube leaves out, through the lobe itself. In seed mode the
+// specular lobe is replaced by the report's eq. 17: one lookup along the mirror direction
+// × seed_strength × noise. `noise` modulates the seed mode's lookup: the material's noise
+// map, or 1. `occlusion` (occlusion_map.glsl, times object_occlusion.glsl's factor in rgb;
+// all 1: none) scales the diffuse and subsurface terms by its rgb, and the specular one by
+// the specular occlusion of its visibility a (none at a = 1). `microsurface_roughness` is
+// the material's roughness before specular anti-aliasing widened m.roughness: the
+// prefiltered lookups read the widened lobe, which filters the light over the pixel's
+// normals, but the lobe's albedo (the table's F0 A + B) and its mean direction are the
+// microsurface's, which the pixel's many normals neither shadow nor tilt more.
+vec3 environment_split_sum(ShadingModels models, Material m, float microsurface_roughness, vec3 n, vec3 v,
+                           float curvature, float noise, vec4 occlusion) {
+    float n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+    vec3 radiance = split_sum_diffuse(models, m, n, n_dot_v, curvature);
+    float alpha = clamp_alpha(m.roughness * m.roughness);
+    float specular_visibility = 1.0;
+    radiance *= occlusion.rgb;
+    if (occlusion.a < 1.0) specular_visibility = specular_occlusion(n_dot_v, occlusion.a, alpha);
+    if (models.specular == SPECULAR_NONE) return radiance;
+    if (reflection_mode() == REFLECTION_SEED) {
+        return radiance + specular_visibility * env.params.z * noise * env_radiance(seed_reflection(n, v), 0.0);
+    }
+    return radiance + specular_visibility * split_sum_specular(models, m, microsurface_roughness, n, v, n_dot_v, alpha);
 }
 
 #if SAMPLED_REFLECTION

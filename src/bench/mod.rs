@@ -331,10 +331,7 @@ fn bench_scene(
             continue;
         }
         let gpu = renderer.upload(&parsed)?;
-        renderer.floor = configuration.floor;
-        renderer.generic = configuration.generic;
-        renderer.deferred = !configuration.forward;
-        renderer.draft = configuration.draft;
+        configuration.switch(renderer, configuration.floor, configuration.draft);
         let mut drag = configuration.moving.and_then(|what| Drag::of(&mut parsed, what, configuration.draft));
         if let Some(drag) = &mut drag {
             // The error frame, at the scene as written, as the timed frames are drawn: with
@@ -550,10 +547,7 @@ fn time_in_turns(
         if let Some(drag) = row.drag.as_mut().filter(|_| !as_floor) {
             drag.step(&mut row.scene);
         }
-        renderer.floor = as_floor;
-        renderer.generic = row.configuration.generic;
-        renderer.deferred = !row.configuration.forward;
-        renderer.draft = row.configuration.draft && !as_floor;
+        row.configuration.switch(renderer, as_floor, row.configuration.draft && !as_floor);
         let (wall, work) = (Instant::now(), cpu_time::ProcessTime::now());
         let gpu = renderer
             .draw_offscreen(&row.scene, &row.gpu, &offscreen, 1.0)?

@@ -6,6 +6,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use ash::vk;
 
+use crate::render::Renderer;
 use crate::scene::file::{AntialiasingDef, EnvironmentDef, LightDef, MapDef, ObjectDef, SceneFile};
 use crate::scene::{
     DiffuseModel, Distribution, Geometry, Horizon, MapSlot, ReflectionMode, SpecularModel, Subsurface,
@@ -26,6 +27,9 @@ pub const GENERIC: &str = "generic";
 /// argil's defaults with every object shaded in the forward pass: what shading the solids
 /// once a pixel from the G-buffer saves (src/render/deferred.rs).
 pub const FORWARD_SHADING: &str = "forward-shading";
+/// argil's defaults with the ground's environment light found at each of its pixels: what
+/// reading it from the ground's environment map saves (src/render/ground_maps.rs).
+pub const GROUND_ENVIRONMENT_PER_PIXEL: &str = "ground-environment-per-pixel";
 /// What a configuration moves before every timed frame, as a drag in the viewer moves it:
 /// what the shadow maps, the ground's maps and the bounce at the vertices cost when they
 /// follow it.
@@ -58,6 +62,8 @@ pub struct Configuration {
     pub generic: bool,
     /// Every object drawn in the forward pass (see `Renderer::deferred`).
     pub forward: bool,
+    /// The ground's environment light found at its pixels (see `Renderer::ground_environment`).
+    pub ground_environment_per_pixel: bool,
     /// Draws the scene's own meshes, so its floor frames are the scene's floor
     /// (`Floor::pooled`); a tessellation row's are of other meshes.
     pub own_meshes: bool,
@@ -67,6 +73,18 @@ pub struct Configuration {
     pub draft: bool,
     /// Frame sizes it is timed at; the first is the headline.
     pub resolutions: Vec<vk::Extent2D>,
+}
+
+impl Configuration {
+    /// Switches `renderer` to this configuration's frames, or to the `floor`, drawn as
+    /// drafts where `draft`.
+    pub fn switch(&self, renderer: &mut Renderer, floor: bool, draft: bool) {
+        renderer.floor = floor;
+        renderer.generic = self.generic;
+        renderer.deferred = !self.forward;
+        renderer.ground_environment = !self.ground_environment_per_pixel;
+        renderer.draft = draft;
+    }
 }
 
 /// A scene with its configurations; its references are of `text`: argil's defaults with
@@ -247,6 +265,7 @@ pub fn configuration_names() -> Vec<String> {
         DEFAULTS,
         GENERIC,
         FORWARD_SHADING,
+        GROUND_ENVIRONMENT_PER_PIXEL,
         "seed",
         REPORT,
         "no-subsurface",
@@ -445,6 +464,7 @@ fn bench_scene(
                 floor: is_floor(c),
                 generic: is_generic(c),
                 forward: c == FORWARD_SHADING,
+                ground_environment_per_pixel: c == GROUND_ENVIRONMENT_PER_PIXEL,
                 own_meshes: tessellated(c).is_none(),
                 moving: moving(c).map(|(what, _)| what),
                 draft: moving(c).is_some_and(|(_, draft)| draft),
@@ -519,7 +539,7 @@ pub fn configured(file: &SceneFile, name: &str) -> Result<SceneFile> {
     }
     let name = name.strip_prefix("generic-").unwrap_or(name);
     match name {
-        FLOOR | GENERIC | FORWARD_SHADING | DEFAULTS => {}
+        FLOOR | GENERIC | FORWARD_SHADING | GROUND_ENVIRONMENT_PER_PIXEL | DEFAULTS => {}
         _ if moving(name).is_some() => {}
         "seed" => set_reflection(&mut file.environment, ReflectionMode::Seed, None),
         REPORT => {

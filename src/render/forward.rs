@@ -65,7 +65,8 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// its pixels beside them; whether a light that may shadow the draw's object is soft
 /// (shadows.glsl), which the generic pipeline holds; whether the draw gathers the bounce at
 /// its vertices (bounce.glsl), by its mesh; and the vec4s of soft lights' shadows it reads
-/// at its vertices (vertex_light.glsl).
+/// at its vertices (vertex_light.glsl); and whether the draw reads its environment light
+/// from the ground's environment map (ground_environment.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
@@ -94,11 +95,12 @@ pub struct ForwardConstants {
     pub soft_shadows: u32,
     pub bounce_at_vertices: u32,
     pub vertex_shadow_layers: u32,
+    pub ground_environment: u32,
 }
 
 impl ForwardConstants {
     /// The GLSL names, in field order, checked against the shaders by a test.
-    pub const NAMES: [&'static str; 25] = [
+    pub const NAMES: [&'static str; 26] = [
         "DIFFUSE_MODEL",
         "SPECULAR_MODEL",
         "DISTRIBUTION",
@@ -124,6 +126,7 @@ impl ForwardConstants {
         "SOFT_SHADOWS",
         "BOUNCE_AT_VERTICES",
         "VERTEX_SHADOW_LAYERS",
+        "GROUND_ENVIRONMENT",
     ];
 
     /// The pipeline of material `m` under `environment` in `debug_view`. Specialised, it
@@ -190,6 +193,7 @@ impl ForwardConstants {
             soft_shadows: 1,
             bounce_at_vertices: 0,
             vertex_shadow_layers: 0,
+            ground_environment: 0,
         }
     }
 
@@ -298,7 +302,9 @@ impl ForwardPass {
         occlusion_layout: &DescriptorSetLayout,
         ground_maps_layout: &DescriptorSetLayout,
     ) -> Result<Self> {
-        // The ground's maps are computed from the frame data too (ground_maps.rs).
+        // The ground's maps are computed from the frame data too, its environment map from
+        // its material with the split sum's code, which holds the subsurface table's
+        // reads (ground_maps.rs).
         let set_layout = DescriptorSetLayoutBuilder::default()
             .binding(
                 vk::DescriptorType::UNIFORM_BUFFER,
@@ -306,11 +312,11 @@ impl ForwardPass {
             )
             .binding(
                 vk::DescriptorType::STORAGE_BUFFER,
-                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+                vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE,
             )
             .binding(
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-                vk::ShaderStageFlags::FRAGMENT,
+                vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE,
             )
             .build(device, "forward set")?;
         let placeholder = SubsurfaceTable::placeholder(device, one_shot)?;
@@ -945,6 +951,9 @@ pub struct FrameChoices {
     pub ground_map: Option<usize>,
     /// The object that reads its shadows from the ground's shadow map (ground_maps.rs).
     pub ground_shadows: Option<usize>,
+    /// The object that reads its environment light from the ground's environment map
+    /// (ground_maps.rs).
+    pub ground_environment: Option<usize>,
     /// Whether the environment's map has a sun lifted out of it (environment.rs).
     pub sun: bool,
     /// Whether the solids are shaded once a pixel from their surfaces (deferred.rs): a
@@ -952,6 +961,18 @@ pub struct FrameChoices {
     pub deferred: bool,
     /// The frame's size, which tells how many pixels a solid's triangles cover.
     pub extent: vk::Extent2D,
+}
+
+impl FrameChoices {
+    /// The choices with the environment's sun, whose lobe is too narrow for the ground's
+    /// environment map to hold.
+    pub fn with_sun(self, sun: bool) -> Self {
+        Self {
+            sun,
+            ground_environment: self.ground_environment.filter(|_| !sun),
+            ..self
+        }
+    }
 }
 
 /// Below this many pixels a triangle, by [`fine_solid`]'s estimate, a solid is shaded from
@@ -1068,6 +1089,7 @@ fn draw_constants(
             constants.shadow_taps = scene.shadow_taps;
             let ground_shadows = choices.ground_shadows == Some(i);
             constants.ground_shadows = u32::from(ground_shadows);
+            constants.ground_environment = u32::from(choices.ground_environment == Some(i));
             let at_vertices = if at_vertices[i] { vertex_shadowing(scene, generic, shadowing[i]) } else { 0 };
             constants.vertex_shadow_layers = vertex_shadow_layers(at_vertices);
             // Beside the shadows it reads elsewhere, a hard light's it looks up at its pixels.
@@ -1097,6 +1119,7 @@ mod tests {
             include_str!("../../shaders/lib/vertex_light.glsl"),
             include_str!("../../shaders/lib/shadows.glsl"),
             include_str!("../../shaders/lib/ground_shadow.glsl"),
+            include_str!("../../shaders/lib/ground_environment.glsl"),
             include_str!("../../shaders/lib/lights.glsl"),
         ];
         sources
@@ -1309,6 +1332,7 @@ mod tests {
                 objects: true,
                 ground_map: None,
                 ground_shadows: shadows.then_some(ground),
+                ground_environment: None,
                 sun: false,
                 deferred: false,
                 extent: vk::Extent2D { width: 1, height: 1 },

@@ -17,6 +17,11 @@
 //!   (shaders/lib/ground_shadow.glsl) rather than searching and filtering the lights'
 //!   shadow maps at every one of them. It follows the lights, the ground, the shadow maps
 //!   and the soft shadows' taps.
+//! - the environment map (binding 4): the split sum's diffuse and specular light of the
+//!   ground's material towards each direction of view (shaders/ground_environment.comp),
+//!   which the ground reads at its pixels (shaders/lib/ground_environment.glsl) rather
+//!   than the split sum's tables, lookups and taps at every one of them. It follows the
+//!   ground's material and the environment.
 //!
 //! Each starts cleared to 0, which a frame that does not use the map never reads. A map's
 //! first computation in a renderer is read from the disk cache (src/cache.rs) when this
@@ -25,8 +30,8 @@
 //! default scene costs a start more to compute (its shadow map about 40 ms on lavapipe)
 //! than to read. The key holds the frame's data that the shaders read, the shadows' and
 //! the environment's keys (`ShadowPass::disk_key`, `EnvironmentPass::disk_key`), the
-//! shader and its specialization; an environment without a key (a map) keeps the
-//! occlusion map off the disk.
+//! shader and its specialization, and the environment map's the ground's material; an
+//! environment without a key (a map) keeps the occlusion and environment maps off the disk.
 
 use std::cell::Cell;
 use std::collections::HashMap;
@@ -37,13 +42,15 @@ use ash::vk;
 use bytemuck::Zeroable;
 use rayon::prelude::*;
 
+use super::debug_view::DebugView;
 use super::environment::environment_kind;
 use super::forward::{ForwardConstants, FROM_UNIFORM};
-use super::gpu_scene::{FrameData, MAX_POINT_LIGHTS};
+use super::gpu_scene::{FrameData, ObjectPush, MAX_POINT_LIGHTS};
+use super::material_data::MaterialData;
 use super::shaders;
 use crate::cache::{self, DiskCache, Unsaved};
 use crate::scene::occluders::Occluder;
-use crate::scene::{Environment, MapSlot, Object, Scene};
+use crate::scene::{Environment, MapSlot, Material, Object, ReflectionMode, Scene, Subsurface};
 use crate::vk::{
     transfer, transition_levels, DescriptorPool, DescriptorSetLayout, DescriptorSetLayoutBuilder, DescriptorWriter,
     Device, Image, ImageUse, OneShot, Pipeline, PipelineLayout, Sampler, ShaderModule, Specialization,
@@ -64,12 +71,38 @@ pub const GROUND_SHADOW_SIZE: u32 = 256;
 /// The shadow map's taps for each of a soft shadow's (`[shadows] taps`): a texel stands for
 /// several pixels, each of which would turn its taps by its own angle.
 pub const GROUND_SHADOW_TAPS_PER_TAP: u32 = 4;
+/// Texels on a side of the environment map, over the upper hemisphere's directions: 0.7° to
+/// 1.4° apart. Its bilinear reads of the default scene's ground are within 0.4% of the split
+/// sum at each pixel, 2e-5 at the median (tests/ground_environment.rs). Most of that tail
+/// lies where the split sum's tap count steps from one pixel to the next, which 256²
+/// would not remove: it shrinks the tail by a third where a fixed count of taps shrinks
+/// it by half and more.
+pub const GROUND_ENVIRONMENT_SIZE: u32 = 128;
+/// The roughness below which the ground finds its environment light at its pixels: a
+/// narrower lobe changes faster with the direction of view than the environment map's
+/// texels follow.
+pub const GROUND_ENVIRONMENT_MIN_ROUGHNESS: f32 = 0.5;
 /// Layers of the shadow map: four lights to a layer, one a channel.
 const GROUND_SHADOW_LAYERS: u32 = MAX_POINT_LIGHTS.div_ceil(4) as u32;
+/// A map's texels.
+#[derive(Clone, Copy)]
+struct Texels {
+    format: vk::Format,
+    bytes: u64,
+}
+
 /// fp16: a value to 2⁻¹¹ of itself, which Vulkan requires to filter and store.
-const FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-/// Bytes of a `FORMAT` texel.
-const TEXEL_BYTES: u64 = 8;
+const HALF: Texels = Texels {
+    format: vk::Format::R16G16B16A16_SFLOAT,
+    bytes: 8,
+};
+/// fp32, for the environment map, which holds the light itself: fp16's rounding would be
+/// most of the map's difference from the split sum at each pixel (3e-4 of it, median).
+/// Vulkan requires it to be storable, not filterable.
+const FULL: Texels = Texels {
+    format: vk::Format::R32G32B32A32_SFLOAT,
+    bytes: 16,
+};
 /// The compute shaders' `local_size_x` and `local_size_y`.
 const WORKGROUP: u32 = 8;
 
@@ -102,6 +135,32 @@ pub fn shadow_ground(scene: &Scene, shadows: bool) -> Option<usize> {
     (scene.shadow_ground_map && shadows && soft && above).then_some(index)
 }
 
+/// The object that may read its environment light from the ground's environment map, the
+/// frame's sun aside (a lobe too narrow for the map's directions, which the caller knows
+/// once the environment is): the ground, when `allowed` (the renderer's
+/// `ground_environment`, in a frame specialised to its scene, not split, not the floor),
+/// the environment is a map's or the studio's (a uniform one's light costs a pixel no
+/// lookups) reflected by the split sum, the ground's material samples no map, is rough
+/// enough (`GROUND_ENVIRONMENT_MIN_ROUGHNESS`) and has no pre-integrated subsurface (whose
+/// table the map's disk cache key does not hold), and the camera sees the ground's upper
+/// side.
+pub fn environment_ground(scene: &Scene, allowed: bool) -> Option<usize> {
+    let index = scene.ground_index()?;
+    let ground = &scene.objects[index];
+    let material = &scene.materials[ground.material];
+    let mapped = material.maps.iter().any(|(_, map)| map.is_some());
+    let rough = material.roughness >= GROUND_ENVIRONMENT_MIN_ROUGHNESS;
+    let preintegrated = material.subsurface == Subsurface::PreIntegrated;
+    let split_sum = match &scene.environment {
+        Environment::Studio { reflection, .. } | Environment::Map { reflection, .. } => {
+            reflection.mode == ReflectionMode::SplitSum
+        }
+        Environment::None | Environment::Uniform { .. } => false,
+    };
+    let above = scene.camera.position.y > ground.position.y;
+    (allowed && split_sum && !mapped && rough && !preintegrated && above).then_some(index)
+}
+
 /// Whether a light that casts shadows is hard: its shadow is one lookup at a pixel, whose
 /// edge the ground's map would blur, so the ground that reads the soft ones from its map
 /// looks the hard ones up at its pixels (lights.glsl's `point_light_visibility`).
@@ -114,6 +173,7 @@ pub fn hard_shadows(scene: &Scene) -> bool {
 /// from.
 struct GroundMap {
     image: Image,
+    texels: Texels,
     size: u32,
     compute_set: vk::DescriptorSet,
     module: ShaderModule,
@@ -143,6 +203,7 @@ struct GroundMap {
 impl GroundMap {
     /// A map `size` texels on a side: a 2D image, or a 2D array of `layers` when more than
     /// one.
+    #[allow(clippy::too_many_arguments)]
     fn new(
         device: &Arc<Device>,
         one_shot: &OneShot,
@@ -150,6 +211,7 @@ impl GroundMap {
         shader: &'static [u8],
         size: u32,
         layers: u32,
+        texels: Texels,
         name: &'static str,
     ) -> Result<Self> {
         let module = ShaderModule::new(device, shader, name)?;
@@ -162,9 +224,9 @@ impl GroundMap {
             | vk::ImageUsageFlags::TRANSFER_DST
             | vk::ImageUsageFlags::TRANSFER_SRC;
         let image = if layers > 1 {
-            Image::array_2d(device, extent, layers, FORMAT, usage, name)?
+            Image::array_2d(device, extent, layers, texels.format, usage, name)?
         } else {
-            Image::new_2d(device, extent, FORMAT, usage, vk::ImageAspectFlags::COLOR, name)?
+            Image::new_2d(device, extent, texels.format, usage, vk::ImageAspectFlags::COLOR, name)?
         };
         one_shot.run(|cmd| image.record_clear(cmd, MAP_READ))?;
         DescriptorWriter::default()
@@ -178,6 +240,7 @@ impl GroundMap {
             .write(device, compute_set);
         Ok(Self {
             image,
+            texels,
             size,
             compute_set,
             module,
@@ -249,7 +312,7 @@ impl GroundMap {
             self.unsaved.miss(None);
             return Ok(());
         };
-        let size = transfer::image_size(&self.image, TEXEL_BYTES);
+        let size = transfer::image_size(&self.image, self.texels.bytes);
         // What the map holds once it is read or computed.
         self.content.set(Some(key));
         let Some(bits) = disk.load(&self.entry(), key).filter(|b| b.len() == size) else {
@@ -347,17 +410,25 @@ pub struct GroundMaps {
     _compute_set_layout: DescriptorSetLayout,
     _pools: [DescriptorPool; 2],
     /// The forward pass's set 0 (frame data), set 1 a map's storage image, set 2 the
-    /// environment's, set 3 the shadows'.
+    /// environment's, set 3 the shadows'; the push constants a draw's (`ObjectPush`), of
+    /// which the environment map reads the ground's material.
     layout: PipelineLayout,
     _sampler: Sampler,
     light: GroundMap,
     occlusion: GroundMap,
     shadow: GroundMap,
+    environment: GroundMap,
+    /// The ground's material, which the environment map is computed for.
+    environment_material: u32,
+    /// Whether the device filters the environment map's texels, without which the ground
+    /// finds its environment light at its pixels.
+    environment_filtered: bool,
 }
 
 impl GroundMaps {
-    /// The layout of set 5 of the forward pass, which [`Self::new`] takes over: the three
-    /// maps, and what the draws read at their vertices, which vertex_light.rs computes.
+    /// The layout of set 5 of the forward pass, which [`Self::new`] takes over: the light,
+    /// occlusion and shadow maps, what the draws read at their vertices, which
+    /// vertex_light.rs computes, and the environment map.
     pub fn forward_set_layout(device: &Arc<Device>) -> Result<DescriptorSetLayout> {
         DescriptorSetLayoutBuilder::default()
             // The light map: the bounce's gather at the vertices reads it too (vertex_light.rs).
@@ -374,6 +445,10 @@ impl GroundMaps {
                 vk::ShaderStageFlags::FRAGMENT,
             )
             .binding(vk::DescriptorType::STORAGE_BUFFER, vk::ShaderStageFlags::VERTEX)
+            .binding(
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+                vk::ShaderStageFlags::FRAGMENT,
+            )
             .build(device, "ground maps set")
     }
 
@@ -393,22 +468,30 @@ impl GroundMaps {
             .build(device, "ground map compute set")?;
         let pools = [
             DescriptorPool::for_layout(device, &set_layout, 1)?,
-            DescriptorPool::for_layout(device, &compute_set_layout, 3)?,
+            DescriptorPool::for_layout(device, &compute_set_layout, 4)?,
         ];
         let set = pools[0].allocate(&set_layout)?;
         let layout = PipelineLayout::new(
             device,
             &[frame_layout, &compute_set_layout, environment_layout, shadow_layout],
-            0,
-            vk::ShaderStageFlags::empty(),
+            std::mem::size_of::<ObjectPush>() as u32,
+            vk::ShaderStageFlags::COMPUTE,
         )?;
-        let map = |shader: &'static [u8], size: u32, layers: u32, name: &'static str| {
+        let map = |shader: &'static [u8], size: u32, layers: u32, texels: Texels, name: &'static str| {
             let compute_set = pools[1].allocate(&compute_set_layout)?;
-            GroundMap::new(device, one_shot, compute_set, shader, size, layers, name)
+            GroundMap::new(device, one_shot, compute_set, shader, size, layers, texels, name)
         };
-        let light = map(shaders::GROUND_LIGHT_COMP, GROUND_LIGHT_SIZE, 1, "ground light")?;
-        let occlusion = map(shaders::GROUND_OCCLUSION_COMP, GROUND_OCCLUSION_SIZE, 1, "ground occlusion")?;
-        let shadow = map(shaders::GROUND_SHADOW_COMP, GROUND_SHADOW_SIZE, GROUND_SHADOW_LAYERS, "ground shadow")?;
+        let light = map(shaders::GROUND_LIGHT_COMP, GROUND_LIGHT_SIZE, 1, HALF, "ground light")?;
+        let occlusion = map(shaders::GROUND_OCCLUSION_COMP, GROUND_OCCLUSION_SIZE, 1, HALF, "ground occlusion")?;
+        let layers = GROUND_SHADOW_LAYERS;
+        let shadow = map(shaders::GROUND_SHADOW_COMP, GROUND_SHADOW_SIZE, layers, HALF, "ground shadow")?;
+        let size = GROUND_ENVIRONMENT_SIZE;
+        let environment = map(shaders::GROUND_ENVIRONMENT_COMP, size, 2, FULL, "ground environment")?;
+        let features = unsafe {
+            let instance = &device.instance.handle;
+            instance.get_physical_device_format_properties(device.physical, FULL.format).optimal_tiling_features
+        };
+        let environment_filtered = features.contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR);
         let sampler = Sampler::clamped(device)?;
         let sampled = |writer: DescriptorWriter, binding: u32, map: &GroundMap| {
             writer.image(
@@ -420,7 +503,8 @@ impl GroundMaps {
             )
         };
         let writer = sampled(DescriptorWriter::default(), 0, &light);
-        sampled(sampled(writer, 1, &occlusion), 2, &shadow).write(device, set);
+        let writer = sampled(sampled(writer, 1, &occlusion), 2, &shadow);
+        sampled(writer, 4, &environment).write(device, set);
         Ok(Self {
             device: device.clone(),
             disk: DiskCache::from_env(),
@@ -433,7 +517,15 @@ impl GroundMaps {
             light,
             occlusion,
             shadow,
+            environment,
+            environment_material: 0,
+            environment_filtered,
         })
+    }
+
+    /// Whether the ground can read its environment light from the environment map.
+    pub fn environment_filtered(&self) -> bool {
+        self.environment_filtered
     }
 
     /// Set 5 of the forward pass.
@@ -452,9 +544,10 @@ impl GroundMaps {
     /// occlusion map when `occlusion_ground` (see [`occlusion_ground`]) reads it and the
     /// ground, the frame's `occluders` or the environment (its `environment_generation`)
     /// changed; the shadow map when `shadow_ground` (see [`shadow_ground`]) reads it and
-    /// the ground, the lights, the taps or the shadow maps changed. A map's first
-    /// computation is read from the disk cache instead, through `one_shot`, when it holds
-    /// one of the same `inputs`.
+    /// the ground, the lights, the taps or the shadow maps changed; the environment map
+    /// when `environment_ground` (see [`environment_ground`]) reads it and the ground's
+    /// material or the environment changed. A map's first computation is read from the disk
+    /// cache instead, through `one_shot`, when it holds one of the same `inputs`.
     #[allow(clippy::too_many_arguments)]
     pub fn prepare(
         &mut self,
@@ -463,11 +556,12 @@ impl GroundMaps {
         shadow_generation: u64,
         occlusion_ground: Option<usize>,
         shadow_ground: Option<usize>,
+        environment_ground: Option<usize>,
         environment_generation: u64,
         one_shot: &OneShot,
         inputs: &MapInputs,
     ) -> Result<()> {
-        self.specialize(scene, occlusion_ground, shadow_ground);
+        self.specialize(scene, occlusion_ground, shadow_ground, environment_ground);
         let light_key = scene.bounce_ground().map(|ground| {
             let lights = scene.lights.iter().take(MAX_POINT_LIGHTS);
             let lights = lights.flat_map(|l| [l.position, l.intensity]).flat_map(|v| v.to_array());
@@ -477,15 +571,28 @@ impl GroundMaps {
         let occlusion_key = |index| occlusion_map_key(scene, index, occluders, environment_generation);
         self.occlusion.prepare(occlusion_ground.map(occlusion_key));
         self.shadow.prepare(shadow_ground.map(|index| shadow_map_key(scene, index, shadow_generation)));
+        let specialization = &self.environment.specialization;
+        let environment_key = |index| environment_map_key(scene, index, specialization, environment_generation);
+        self.environment.prepare(environment_ground.map(environment_key));
+        if let Some(index) = environment_ground {
+            self.environment_material = scene.objects[index].material as u32;
+        }
         let (device, disk) = (&self.device, &self.disk);
         let from_shadows = || Some(inputs.with_frame((inputs.shadows)()));
         self.light.read_first_from_disk(device, one_shot, disk, from_shadows)?;
         self.shadow.read_first_from_disk(device, one_shot, disk, from_shadows)?;
         let from_environment = || inputs.environment.map(|key| inputs.with_frame(key));
         self.occlusion.read_first_from_disk(device, one_shot, disk, from_environment)?;
+        let ground_material = |index: usize| &scene.materials[scene.objects[index].material];
+        let material = environment_ground.map(|index| MaterialData::from(ground_material(index)));
+        let from_material = || {
+            let (key, material) = inputs.environment.zip(material)?;
+            Some(inputs.with_frame(cache::key(&[&key.to_le_bytes(), bytemuck::bytes_of(&material)])))
+        };
+        self.environment.read_first_from_disk(device, one_shot, disk, from_material)?;
         // The pipelines of the maps left to compute, on both cores: a warm start makes none.
         let layout = &self.layout;
-        let mut maps = [&mut self.light, &mut self.occlusion, &mut self.shadow];
+        let mut maps = [&mut self.light, &mut self.occlusion, &mut self.shadow, &mut self.environment];
         maps.par_iter_mut().try_for_each(|map| map.make_pipeline(device, layout))
     }
 
@@ -510,10 +617,10 @@ impl GroundMaps {
     /// Stores in the disk cache each map whose first computation it did not hold, once the
     /// frame that computed it is done (the caller has waited for it).
     pub fn store_computed(&self, one_shot: &OneShot) -> Result<()> {
-        for map in [&self.light, &self.occlusion, &self.shadow] {
+        for map in [&self.light, &self.occlusion, &self.shadow, &self.environment] {
             if let Some(key) = map.unsaved.take() {
                 let (device, at) = (&self.device, MAP_READ);
-                let bits = transfer::read_level(device, one_shot, &map.image, 0, TEXEL_BYTES, at)?;
+                let bits = transfer::read_level(device, one_shot, &map.image, 0, map.texels.bytes, at)?;
                 self.disk.store(&map.entry(), key, &bits);
             }
         }
@@ -522,7 +629,13 @@ impl GroundMaps {
 
     /// Specialises the maps that a frame of `scene` reads (`occlusion_ground` and
     /// `shadow_ground` as [`Self::prepare`] takes them) as the frame does.
-    fn specialize(&mut self, scene: &Scene, occlusion_ground: Option<usize>, shadow_ground: Option<usize>) {
+    fn specialize(
+        &mut self,
+        scene: &Scene,
+        occlusion_ground: Option<usize>,
+        shadow_ground: Option<usize>,
+        environment_ground: Option<usize>,
+    ) {
         if scene.bounce_ground().is_some() {
             self.light.specialize(Specialization::default());
         }
@@ -532,6 +645,10 @@ impl GroundMaps {
         if shadow_ground.is_some() {
             let taps = GROUND_SHADOW_TAPS_PER_TAP * scene.shadow_taps;
             self.shadow.specialize(shadow_specialization(taps));
+        }
+        if let Some(index) = environment_ground {
+            let material = &scene.materials[scene.objects[index].material];
+            self.environment.specialize(environment_specialization(material, &scene.environment));
         }
     }
 
@@ -563,6 +680,19 @@ impl GroundMaps {
         self.shadow.renders.get()
     }
 
+    /// Times the environment map was made.
+    pub fn environment_renders(&self) -> u64 {
+        self.environment.renders.get()
+    }
+
+    /// Whether the environment map holds the light of object `ground` of `scene` under the
+    /// environment at `environment_generation`, as a frame would compute it.
+    pub fn environment_map_current(&self, scene: &Scene, ground: usize, environment_generation: u64) -> bool {
+        let material = &scene.materials[scene.objects[ground].material];
+        let specialization = environment_specialization(material, &scene.environment);
+        self.environment.key == environment_map_key(scene, ground, &specialization, environment_generation)
+    }
+
     /// Computes the light map and the shadow map, each if [`Self::prepare`] found it out of
     /// date, from the frame's set 0 (`frame_set`) and shadow set (`shadow_set`); records
     /// nothing otherwise.
@@ -580,20 +710,31 @@ impl GroundMaps {
         self.shadow.record(&self.device, cmd, &self.layout);
     }
 
-    /// Computes the occlusion map if [`Self::prepare`] found it out of date, from the
-    /// frame's set 0 (`frame_set`) and the environment's set (`environment_set`); records
-    /// nothing otherwise.
-    pub fn record_occlusion(
+    /// Computes the occlusion map and the environment map, each if [`Self::prepare`] found
+    /// it out of date, from the frame's set 0 (`frame_set`) and the environment's set
+    /// (`environment_set`); records nothing otherwise.
+    pub fn record_from_environment(
         &self,
         cmd: vk::CommandBuffer,
         frame_set: vk::DescriptorSet,
         environment_set: vk::DescriptorSet,
     ) {
-        if self.occlusion.pending.get() {
+        if self.occlusion.pending.get() || self.environment.pending.get() {
             self.bind(cmd, 0, &[frame_set]);
             self.bind(cmd, 2, &[environment_set]);
         }
+        if self.environment.pending.get() {
+            // The ground's material; the rest of a draw's constants the map does not read.
+            let push = ObjectPush {
+                material_index: self.environment_material,
+                ..bytemuck::Zeroable::zeroed()
+            };
+            let (d, layout) = (&self.device.handle, self.layout.handle);
+            let stages = vk::ShaderStageFlags::COMPUTE;
+            unsafe { d.cmd_push_constants(cmd, layout, stages, 0, bytemuck::bytes_of(&push)) };
+        }
         self.occlusion.record(&self.device, cmd, &self.layout);
+        self.environment.record(&self.device, cmd, &self.layout);
     }
 
     fn bind(&self, cmd: vk::CommandBuffer, first: u32, sets: &[vk::DescriptorSet]) {
@@ -627,6 +768,29 @@ fn occlusion_map_key(scene: &Scene, ground: usize, occluders: &[Occluder], envir
     map_key(&scene.objects[ground], spheres.flat_map(|v| v.to_array()), environment_generation)
 }
 
+/// The environment map's key: the ground's material, the environment's generation and the
+/// map's specialization (the material's models and the environment's kind), over object
+/// `ground`.
+fn environment_map_key(
+    scene: &Scene,
+    ground: usize,
+    specialization: &Specialization,
+    environment_generation: u64,
+) -> Vec<u32> {
+    let object = &scene.objects[ground];
+    let material = MaterialData::from(&scene.materials[object.material]);
+    let mut key = map_key(object, [], environment_generation);
+    key.extend(bytemuck::cast_slice::<MaterialData, u32>(std::slice::from_ref(&material)));
+    key.extend(&specialization.0);
+    key
+}
+
+/// The environment map's pipeline: the ground's draw's constants, for `material` under
+/// `environment`.
+fn environment_specialization(material: &Material, environment: &Environment) -> Specialization {
+    ForwardConstants::new(material, environment, DebugView::Shaded, true, false).specialization()
+}
+
 /// The occlusion map's pipeline: object_occlusion.glsl's code on, for the kind of
 /// `environment`.
 fn occlusion_specialization(environment: &Environment) -> Specialization {
@@ -654,10 +818,10 @@ fn shadow_specialization(taps: u32) -> Specialization {
 mod tests {
     use super::*;
 
-    /// A map's disk cache key holds what its shader reads: set 0's frame data (binding 0),
-    /// the shadows' set 3 (`ShadowPass::disk_key`) or the environment's data, radiance and
-    /// irradiance (`EnvironmentPass::disk_key`), beside the map it writes (set 1). A shader
-    /// that reads more needs its key to hold it too.
+    /// A map's disk cache key holds what its shader reads: set 0's frame data (binding 0) or
+    /// the ground's material (binding 1), the shadows' set 3 (`ShadowPass::disk_key`) or
+    /// the environment's set 2 (`EnvironmentPass::disk_key`, all of it), beside the map it
+    /// writes (set 1). A shader that reads more needs its key to hold it too.
     #[test]
     fn the_disk_keys_hold_every_resource_the_shaders_read() {
         use shaders::tests::bindings;
@@ -665,17 +829,64 @@ mod tests {
         assert_eq!(bindings(shaders::GROUND_LIGHT_COMP), from_shadows);
         assert_eq!(bindings(shaders::GROUND_SHADOW_COMP), from_shadows);
         assert_eq!(bindings(shaders::GROUND_OCCLUSION_COMP), [(0, 0), (1, 0), (2, 0), (2, 1), (2, 4)]);
+        // The material (set 0's binding 1) is in the environment map's key; the subsurface
+        // table (binding 2) is read by pre-integrated subsurface alone, which no ground with
+        // the map has (`environment_ground`).
+        let from_environment = [(0, 1), (0, 2), (1, 0), (2, 0), (2, 2), (2, 3), (2, 4)];
+        assert_eq!(bindings(shaders::GROUND_ENVIRONMENT_COMP), from_environment);
+    }
+
+    /// The ground reads its environment light from the map where the map can stand for the
+    /// split sum at its pixels, and only there.
+    #[test]
+    fn the_ground_reads_the_environment_map_where_it_can() {
+        let default = || {
+            Scene::from_toml(crate::scene::DEFAULT_SCENE_TOML, "default", std::path::Path::new(""))
+                .expect("the default scene")
+        };
+        let ground = default().ground_index().expect("a ground");
+        assert_eq!(environment_ground(&default(), true), Some(ground));
+        assert_eq!(environment_ground(&default(), false), None);
+        type Change = fn(&mut Scene, usize);
+        let changes: [(&str, Change); 6] = [
+            ("smooth", |s, m| s.materials[m].roughness = 0.4),
+            ("pre-integrated", |s, m| s.materials[m].subsurface = Subsurface::PreIntegrated),
+            ("mapped", |s, m| {
+                let fingerprints = s.materials.iter().find_map(|m| m.maps[MapSlot::Detail]);
+                s.materials[m].maps[MapSlot::Detail] = fingerprints;
+            }),
+            ("seed", |s, _| s.environment.reflection_mut().expect("an environment").mode = ReflectionMode::Seed),
+            ("uniform", |s, _| {
+                s.environment = Environment::Uniform {
+                    radiance: glam::Vec3::ONE,
+                    reflection: Default::default(),
+                }
+            }),
+            ("below", |s, _| s.camera.position.y = -2.0),
+        ];
+        for (name, change) in changes {
+            let mut s = default();
+            let material = s.objects[ground].material;
+            change(&mut s, material);
+            assert_eq!(environment_ground(&s, true), None, "{name}");
+        }
     }
 
     #[test]
     fn the_workgroup_and_format_are_the_shaders() {
-        for glsl in [
-            include_str!("../../shaders/ground_light.comp"),
-            include_str!("../../shaders/ground_occlusion.comp"),
-            include_str!("../../shaders/ground_shadow.comp"),
+        for (glsl, texels) in [
+            (include_str!("../../shaders/ground_light.comp"), HALF),
+            (include_str!("../../shaders/ground_occlusion.comp"), HALF),
+            (include_str!("../../shaders/ground_shadow.comp"), HALF),
+            (include_str!("../../shaders/ground_environment.comp"), FULL),
         ] {
             assert!(glsl.contains(&format!("local_size_x = {WORKGROUP}, local_size_y = {WORKGROUP}")));
-            assert!(glsl.contains("rgba16f") && FORMAT == vk::Format::R16G16B16A16_SFLOAT);
+            let (qualifier, bytes) = match texels.format {
+                vk::Format::R16G16B16A16_SFLOAT => ("rgba16f", 8),
+                vk::Format::R32G32B32A32_SFLOAT => ("rgba32f", 16),
+                other => panic!("{other:?}"),
+            };
+            assert!(glsl.contains(&format!("{qualifier}) uniform writeonly")) && texels.bytes == bytes);
         }
     }
 }

@@ -18,7 +18,7 @@ use super::environment::EnvironmentPass;
 use super::exposure::ExposurePass;
 use super::forward::{ForwardConstants, FrameChoices, ForwardPass};
 use super::gpu_scene::GpuScene;
-use super::ground_maps::{occlusion_ground, shadow_ground, GroundMaps, MapInputs};
+use super::ground_maps::{environment_ground, occlusion_ground, shadow_ground, GroundMaps, MapInputs};
 use super::msaa::{sample_flag, supported_samples, MsaaPass};
 use super::occlusion::{OcclusionMode, OcclusionPass};
 use super::shadow::ShadowPass;
@@ -131,6 +131,10 @@ pub struct Renderer {
     /// Whether the solids of a frame that can be (`FrameChoices::deferred`) are shaded once a
     /// pixel from their surfaces (deferred.rs) rather than in the forward pass.
     pub deferred: bool,
+    /// Whether the ground reads its environment light from its environment map where it
+    /// can (`ground_maps::environment_ground`) rather than finding the split sum at each of
+    /// its pixels: what the bench compares.
+    pub ground_environment: bool,
     /// The size of frame whose triangles decide which solids are deferred, where it is not
     /// the target's: a warm-up of a few pixels makes what the frames after it draw with.
     pub deferral_extent: Option<vk::Extent2D>,
@@ -249,6 +253,7 @@ impl Renderer {
             floor: false,
             generic: false,
             deferred: true,
+            ground_environment: true,
             deferral_extent: None,
             draft: false,
             environment_time: Duration::ZERO,
@@ -355,6 +360,12 @@ impl Renderer {
         self.ground_maps.occlusion_renders()
     }
 
+    /// How many times the ground's environment map has been made: once per change of the
+    /// ground's material or the environment, not per frame.
+    pub fn ground_environment_renders(&self) -> u64 {
+        self.ground_maps.environment_renders()
+    }
+
     /// How many times the ground's shadow map has been made: once per change of the lights,
     /// the ground, the shadow maps or the taps, not per frame.
     pub fn ground_shadow_renders(&self) -> u64 {
@@ -392,6 +403,11 @@ impl Renderer {
         let shadow_ground = shadow_ground(scene, self.shadows && !self.floor).filter(|&ground| {
             !self.draft || self.ground_maps.shadow_map_current(scene, ground, self.shadow.generation())
         });
+        let specialized = !self.generic && !self.floor && self.split.is_none();
+        let allowed = self.ground_environment && specialized && self.ground_maps.environment_filtered();
+        let environment_ground = environment_ground(scene, allowed).filter(|&ground| {
+            !self.draft || self.ground_maps.environment_map_current(scene, ground, last_environment)
+        });
         let choices = FrameChoices {
             debug_view: self.debug_view,
             floor: self.floor,
@@ -401,6 +417,8 @@ impl Renderer {
             objects,
             ground_map: ground,
             ground_shadows: shadow_ground,
+            // Without a sun, once it is known (prepare_environment_and_pipelines).
+            ground_environment: environment_ground,
             // The environment's, once it is known (prepare_environment_and_pipelines).
             sun: false,
             deferred: self.deferred
@@ -414,7 +432,7 @@ impl Renderer {
         };
         // The shadow pass found which objects' draws need shadow code.
         let shadowing = self.shadow.receivers().to_vec();
-        self.prepare_environment_and_pipelines(scene, gpu, &occluders, &shadowing, choices)?;
+        let choices = self.prepare_environment_and_pipelines(scene, gpu, &occluders, &shadowing, choices)?;
         self.environment.prepare_skybox(sample_flag(samples))?;
         self.msaa.prepare(slot, target, samples)?;
         self.occlusion_pass.prepare(scene, target.extent, occlusion)?;
@@ -447,6 +465,7 @@ impl Renderer {
             shadows,
             ground,
             shadow_ground,
+            choices.ground_environment,
             environment,
             &self.one_shot,
             &inputs,
@@ -474,7 +493,8 @@ impl Renderer {
     /// too), while this thread waits: where the sun is known before it, the pipelines and
     /// the table are made meanwhile, at a low priority (src/priority.rs), so that the
     /// queue's thread keeps most of its core. The ground's maps make theirs once they know
-    /// which maps the disk cache does not hold (`GroundMaps::prepare`).
+    /// which maps the disk cache does not hold (`GroundMaps::prepare`). Returns `choices`
+    /// with the sun.
     fn prepare_environment_and_pipelines(
         &mut self,
         scene: &Scene,
@@ -482,7 +502,7 @@ impl Renderer {
         occluders: &[Occluder],
         shadowing: &[u32],
         choices: FrameChoices,
-    ) -> Result<()> {
+    ) -> Result<FrameChoices> {
         let start = Instant::now();
         let split = self.split.as_ref();
         let plan = self.environment.plan(scene, split);
@@ -494,13 +514,11 @@ impl Renderer {
         let Some(sun) = beside else {
             self.environment.prepare(scene, plan)?;
             self.environment_time += start.elapsed();
-            let choices = FrameChoices {
-                sun: self.environment.has_sun(),
-                ..choices
-            };
-            return self.forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, &self.one_shot);
+            let choices = choices.with_sun(self.environment.has_sun());
+            self.forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, &self.one_shot)?;
+            return Ok(choices);
         };
-        let choices = FrameChoices { sun, ..choices };
+        let choices = choices.with_sun(sun);
         let pool = low_priority_pool()?;
         let (environment, forward, one_shot) = (&mut self.environment, &mut self.forward, &self.one_shot);
         let make_pipelines = || forward.prepare_pipelines(scene, gpu, split, occluders, shadowing, &choices, one_shot);
@@ -511,7 +529,7 @@ impl Renderer {
         });
         self.environment_time += start.elapsed();
         precomputed.unwrap_or_else(|panic| std::panic::resume_unwind(panic))?;
-        pipelines
+        pipelines.map(|()| choices)
     }
 
     /// Records the whole frame: forward pass and skybox into `target` (or into multisampled
@@ -562,7 +580,7 @@ impl Renderer {
         })?;
         self.timed(cmd, slot, PASS_OCCLUSION, || {
             let frame_set = self.forward.frame_set(slot);
-            self.ground_maps.record_occlusion(cmd, frame_set, self.environment.set());
+            self.ground_maps.record_from_environment(cmd, frame_set, self.environment.set());
             self.occlusion_pass.record(cmd, scene, gpu)
         })?;
         self.timed(cmd, slot, PASS_FORWARD, || {

@@ -35,6 +35,7 @@ pub const GTAO_DENOISE_COMP: &[u8] = spirv!("gtao_denoise.comp");
 pub const GROUND_LIGHT_COMP: &[u8] = spirv!("ground_light.comp");
 pub const GROUND_OCCLUSION_COMP: &[u8] = spirv!("ground_occlusion.comp");
 pub const GROUND_SHADOW_COMP: &[u8] = spirv!("ground_shadow.comp");
+pub const GROUND_ENVIRONMENT_COMP: &[u8] = spirv!("ground_environment.comp");
 pub const VERTEX_LIGHT_COMP: &[u8] = spirv!("vertex_light.comp");
 
 #[cfg(test)]
