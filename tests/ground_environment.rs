@@ -3,10 +3,9 @@
 
 mod common;
 
-use argil::render::{OffscreenTarget, Renderer};
+use argil::render::Renderer;
 use argil::scene::{Environment, Scene};
-use ash::vk;
-use common::{gpu, percentiles, scene, try_render};
+use common::{gpu, percentiles, scene, try_render, CountedFrames};
 
 const SIZE: (u32, u32) = (320, 180);
 
@@ -68,35 +67,23 @@ fn a_smooth_ground_finds_its_environment_light_at_its_pixels() {
 }
 
 /// The map is made when what it is made of changes, not every frame: once for two frames
-/// of the same scene, even with a floor frame between, not when the camera or a light
-/// moves, again when the ground's material or the environment changes.
+/// of the same scene, even with a floor frame between (`CountedFrames::new`), not when the
+/// camera or a light moves, again when the ground's material or the environment changes.
 #[test]
 fn the_grounds_environment_map_is_computed_only_when_the_scene_changes() {
     let mut s = default_scene();
     gpu().exclusive(|renderer| {
-        let gpu_scene = renderer.upload(&s).expect("upload");
-        let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
-        let frame = |renderer: &mut Renderer, s: &Scene| {
-            renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
-            renderer.ground_environment_renders()
-        };
-        let before = renderer.ground_environment_renders();
-        frame(renderer, &s);
-        assert_eq!(frame(renderer, &s), before + 1);
-        renderer.floor = true;
-        frame(renderer, &s);
-        renderer.floor = false;
-        assert_eq!(frame(renderer, &s), before + 1);
+        let frames = CountedFrames::new(renderer, &s, Renderer::ground_environment_renders);
         s.camera.position.x += 0.5;
         s.lights[0].position.y += 0.5;
-        assert_eq!(frame(renderer, &s), before + 1);
+        assert_eq!(frames.draw(renderer, &s), 1);
         let ground = s.ground_index().expect("a ground");
         let material = s.objects[ground].material;
         s.materials[material].roughness = 0.9;
-        assert_eq!(frame(renderer, &s), before + 2);
+        assert_eq!(frames.draw(renderer, &s), 2);
         if let Environment::Studio { rotation_degrees, .. } = &mut s.environment {
             *rotation_degrees += 30.0;
         }
-        assert_eq!(frame(renderer, &s), before + 3);
+        assert_eq!(frames.draw(renderer, &s), 3);
     });
 }

@@ -3,11 +3,11 @@
 
 mod common;
 
-use argil::render::{DebugView, OffscreenTarget};
+use argil::render::{DebugView, OffscreenTarget, Renderer};
 use argil::reference::integrator::CameraRays;
 use argil::scene::{Environment, Scene};
 use ash::vk;
-use common::{draw_hdr, gpu, render, scene, try_render};
+use common::{draw_hdr, gpu, render, scene, try_render, CountedFrames};
 use glam::Vec3;
 
 const SIZE: (u32, u32) = (160, 120);
@@ -448,37 +448,24 @@ fn objects_occlusion_at_vertices_is_computed_only_when_the_scene_changes() {
 }
 
 /// The occlusion map is computed when what it is made of changes, not every frame: once
-/// for two frames of the same scene, even with a floor frame between, again when an
-/// object moves or the environment changes, not when the camera moves; without
+/// for two frames of the same scene, even with a floor frame between (`CountedFrames::new`),
+/// again when an object moves or the environment changes, not when the camera moves; without
 /// `ground_map`, never.
 #[test]
 fn the_grounds_occlusion_map_is_computed_only_when_the_scene_changes() {
     let mut s = scene(&studio_ground(true));
     gpu().exclusive(|renderer| {
-        let gpu_scene = renderer.upload(&s).expect("upload");
-        let offscreen = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
-        let frame = |renderer: &mut argil::render::Renderer, s: &Scene| {
-            renderer.draw_offscreen(s, &gpu_scene, &offscreen, 1.0).expect("draw");
-            renderer.ground_occlusion_renders()
-        };
-        let before = renderer.ground_occlusion_renders();
-        frame(renderer, &s);
-        assert_eq!(frame(renderer, &s), before + 1);
-        // The bench's floor frames between the scene's read no map and leave it as it is.
-        renderer.floor = true;
-        frame(renderer, &s);
-        renderer.floor = false;
-        assert_eq!(frame(renderer, &s), before + 1);
+        let frames = CountedFrames::new(renderer, &s, Renderer::ground_occlusion_renders);
         s.camera.position.x += 0.5;
-        assert_eq!(frame(renderer, &s), before + 1);
+        assert_eq!(frames.draw(renderer, &s), 1);
         s.objects[0].position.x += 0.5;
-        assert_eq!(frame(renderer, &s), before + 2);
+        assert_eq!(frames.draw(renderer, &s), 2);
         if let Environment::Studio { intensity, .. } = &mut s.environment {
             *intensity *= 0.5;
         }
-        assert_eq!(frame(renderer, &s), before + 3);
+        assert_eq!(frames.draw(renderer, &s), 3);
         s.occlusion.ground_map = false;
         s.objects[0].position.x += 0.5;
-        assert_eq!(frame(renderer, &s), before + 3);
+        assert_eq!(frames.draw(renderer, &s), 3);
     });
 }

@@ -64,9 +64,9 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// the soft lights' shadows from the ground's map or its vertices looks hard lights up at
 /// its pixels beside them; whether a light that may shadow the draw's object is soft
 /// (shadows.glsl), which the generic pipeline holds; whether the draw gathers the bounce at
-/// its vertices (bounce.glsl), by its mesh; and the vec4s of soft lights' shadows it reads
-/// at its vertices (vertex_light.glsl); and whether the draw reads its environment light
-/// from the ground's environment map (ground_environment.glsl).
+/// its vertices (bounce.glsl), by its mesh; the vec4s of soft lights' shadows it reads at
+/// its vertices (vertex_light.glsl); and whether the draw reads its environment light from
+/// the ground's environment map (ground_environment.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {

@@ -413,7 +413,7 @@ pub struct GroundMaps {
     /// environment's, set 3 the shadows'; the push constants a draw's (`ObjectPush`), of
     /// which the environment map reads the ground's material.
     layout: PipelineLayout,
-    _sampler: Sampler,
+    _samplers: [Sampler; 2],
     light: GroundMap,
     occlusion: GroundMap,
     shadow: GroundMap,
@@ -492,19 +492,21 @@ impl GroundMaps {
             instance.get_physical_device_format_properties(device.physical, FULL.format).optimal_tiling_features
         };
         let environment_filtered = features.contains(vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR);
-        let sampler = Sampler::clamped(device)?;
-        let sampled = |writer: DescriptorWriter, binding: u32, map: &GroundMap| {
+        // Where the device cannot filter the environment map, which the ground then never
+        // reads, its binding holds a sampler that does not filter.
+        let samplers = [Sampler::clamped(device)?, Sampler::nearest(device)?];
+        let sampled = |writer: DescriptorWriter, binding: u32, map: &GroundMap, filtered: bool| {
             writer.image(
                 binding,
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 map.image.view,
                 vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                sampler.handle,
+                samplers[usize::from(!filtered)].handle,
             )
         };
-        let writer = sampled(DescriptorWriter::default(), 0, &light);
-        let writer = sampled(sampled(writer, 1, &occlusion), 2, &shadow);
-        sampled(writer, 4, &environment).write(device, set);
+        let writer = sampled(DescriptorWriter::default(), 0, &light, true);
+        let writer = sampled(sampled(writer, 1, &occlusion, true), 2, &shadow, true);
+        sampled(writer, 4, &environment, environment_filtered).write(device, set);
         Ok(Self {
             device: device.clone(),
             disk: DiskCache::from_env(),
@@ -513,7 +515,7 @@ impl GroundMaps {
             _compute_set_layout: compute_set_layout,
             _pools: pools,
             layout,
-            _sampler: sampler,
+            _samplers: samplers,
             light,
             occlusion,
             shadow,

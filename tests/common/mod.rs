@@ -76,6 +76,45 @@ pub fn draw_hdr(renderer: &mut Renderer, scene: &Scene, gpu_scene: &GpuScene, ta
     renderer.read_offscreen(target, ms).expect("read").hdr
 }
 
+/// Frames of a scene drawn into a small offscreen target, for tests that count what the
+/// renderer makes once per change of what it is made of (`made`, such as
+/// `Renderer::ground_occlusion_renders`), not per frame.
+pub struct CountedFrames {
+    gpu_scene: GpuScene,
+    target: OffscreenTarget,
+    made: fn(&Renderer) -> u64,
+    before: u64,
+}
+
+impl CountedFrames {
+    /// Uploads `scene` and draws two frames of it, a floor frame of the bench's between
+    /// them (which reads nothing made and leaves it as it is), checking that they made it
+    /// once.
+    pub fn new(renderer: &mut Renderer, scene: &Scene, made: fn(&Renderer) -> u64) -> Self {
+        let gpu_scene = renderer.upload(scene).expect("upload");
+        let target = OffscreenTarget::new(&renderer.device, vk::Extent2D { width: 64, height: 48 }).expect("target");
+        let frames = Self {
+            gpu_scene,
+            target,
+            made,
+            before: made(renderer),
+        };
+        assert_eq!(frames.draw(renderer, scene), 1);
+        renderer.floor = true;
+        frames.draw(renderer, scene);
+        renderer.floor = false;
+        assert_eq!(frames.draw(renderer, scene), 1);
+        frames
+    }
+
+    /// Draws a frame of `scene` (the uploaded one, changed or not) and returns how many
+    /// times the renderer made what is counted since [`Self::new`] began.
+    pub fn draw(&self, renderer: &mut Renderer, scene: &Scene) -> u64 {
+        renderer.draw_offscreen(scene, &self.gpu_scene, &self.target, 1.0).expect("draw");
+        (self.made)(renderer) - self.before
+    }
+}
+
 /// Renders `scene` at `width`×`height` and checks the frame has no NaN/Inf value.
 pub fn render(scene: &Scene, width: u32, height: u32) -> OffscreenFrame {
     let frame = gpu().exclusive(|renderer| try_render(renderer, scene, width, height).expect("render"));
