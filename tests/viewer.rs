@@ -513,9 +513,17 @@ fn column_difference(a: &OffscreenFrame, b: &OffscreenFrame, columns: std::ops::
 #[test]
 fn split_view_draws_each_half_in_its_configuration() {
     let mut scene = Scene::default_scene();
-    // A split frame's ground reads the objects' occlusion at every pixel (its parts may
-    // light the ground differently), so the whole frames do too.
+    // A split frame's ground reads the objects' occlusion and its environment light at every
+    // pixel (its parts may light the ground differently), so the whole frames do too.
     scene.occlusion.ground_map = false;
+    let render = |scene: &Scene, w, h| {
+        gpu().exclusive(|renderer| {
+            renderer.ground_environment = false;
+            let frame = try_render(renderer, scene, w, h);
+            renderer.ground_environment = true;
+            frame.expect("render")
+        })
+    };
     let (w, h, x) = (160u32, 90u32, 70u32);
     // `seed`: the report's reflection; `report`: its horizon and subsurface as well.
     let mut seed = scene.clone();

@@ -138,17 +138,24 @@ pub fn shadow_ground(scene: &Scene, shadows: bool) -> Option<usize> {
 /// The object that may read its environment light from the ground's environment map, the
 /// frame's sun aside (a lobe too narrow for the map's directions, which the caller knows
 /// once the environment is): the ground, when `allowed` (the renderer's
-/// `ground_environment`, in a frame specialised to its scene, not split, not the floor),
+/// `ground_environment`, in a frame that is not split, not the floor; a generic pipeline
+/// specialises where its ground reads the light from, as where it reads the objects'
+/// occlusion from),
 /// the environment is a map's or the studio's (a uniform one's light costs a pixel no
-/// lookups) reflected by the split sum, the ground's material samples no map, is rough
-/// enough (`GROUND_ENVIRONMENT_MIN_ROUGHNESS`) and has no pre-integrated subsurface (whose
+/// lookups) reflected by the split sum, the ground's pipeline samples no map that changes
+/// its material or its normal from pixel to pixel (an occlusion map scales the light the
+/// map holds, an emission map adds its own), the material is rough enough (`GROUND_ENVIRONMENT_MIN_ROUGHNESS`) and has no pre-integrated subsurface (whose
 /// table the map's disk cache key does not hold), and the camera sees the ground's upper
 /// side.
 pub fn environment_ground(scene: &Scene, allowed: bool) -> Option<usize> {
     let index = scene.ground_index()?;
     let ground = &scene.objects[index];
     let material = &scene.materials[ground.material];
-    let mapped = material.maps.iter().any(|(_, map)| map.is_some());
+    let specular_aa = scene.antialiasing.specular;
+    let constants = ForwardConstants::new(material, &scene.environment, DebugView::Shaded, true, specular_aa);
+    let mapped = (MapSlot::ALL.into_iter())
+        .filter(|slot| !matches!(slot, MapSlot::Occlusion | MapSlot::Emission))
+        .any(|slot| constants.samples(slot));
     let rough = material.roughness >= GROUND_ENVIRONMENT_MIN_ROUGHNESS;
     let preintegrated = material.subsurface == Subsurface::PreIntegrated;
     let split_sum = match &scene.environment {
@@ -849,6 +856,13 @@ mod tests {
         let ground = default().ground_index().expect("a ground");
         assert_eq!(environment_ground(&default(), true), Some(ground));
         assert_eq!(environment_ground(&default(), false), None);
+        // An emission map, sampled where the emission is not 0, adds its own light.
+        let mut emissive = default();
+        let material = emissive.objects[ground].material;
+        let normal_map = emissive.materials.iter().find_map(|m| m.maps[MapSlot::Normal]);
+        emissive.materials[material].maps[MapSlot::Emission] = normal_map;
+        emissive.materials[material].emission = glam::Vec3::ONE;
+        assert_eq!(environment_ground(&emissive, true), Some(ground));
         type Change = fn(&mut Scene, usize);
         let changes: [(&str, Change); 6] = [
             ("smooth", |s, m| s.materials[m].roughness = 0.4),

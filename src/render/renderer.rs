@@ -403,8 +403,9 @@ impl Renderer {
         let shadow_ground = shadow_ground(scene, self.shadows && !self.floor).filter(|&ground| {
             !self.draft || self.ground_maps.shadow_map_current(scene, ground, self.shadow.generation())
         });
-        let specialized = !self.generic && !self.floor && self.split.is_none();
-        let allowed = self.ground_environment && specialized && self.ground_maps.environment_filtered();
+        // A split frame's parts light the ground differently; the map holds one light.
+        let whole = !self.floor && self.split.is_none();
+        let allowed = self.ground_environment && whole && self.ground_maps.environment_filtered();
         let environment_ground = environment_ground(scene, allowed).filter(|&ground| {
             !self.draft || self.ground_maps.environment_map_current(scene, ground, last_environment)
         });
