@@ -66,7 +66,7 @@ pub const FROM_UNIFORM: u32 = u32::MAX;
 /// (shadows.glsl), which the generic pipeline holds; whether the draw gathers the bounce at
 /// its vertices (bounce.glsl), by its mesh; the vec4s of soft lights' shadows it reads at
 /// its vertices (vertex_light.glsl); and whether the draw reads its environment light from
-/// the ground's environment map (ground_environment.glsl).
+/// the ground's environment map (ground_environment.glsl), always specialised.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ForwardConstants {
