@@ -140,19 +140,18 @@ pub fn shadow_ground(scene: &Scene, shadows: bool) -> Option<usize> {
 /// once the environment is): the ground, when `allowed` (the renderer's
 /// `ground_environment`, in a frame that is not split, not the floor; a generic pipeline
 /// specialises where its ground reads the light from, as where it reads the objects'
-/// occlusion from),
-/// the environment is a map's or the studio's (a uniform one's light costs a pixel no
-/// lookups) reflected by the split sum, the ground's pipeline samples no map that changes
-/// its material or its normal from pixel to pixel (an occlusion map scales the light the
-/// map holds, an emission map adds its own), the material is rough enough (`GROUND_ENVIRONMENT_MIN_ROUGHNESS`) and has no pre-integrated subsurface (whose
+/// occlusion from), the environment is a map's or the studio's (a uniform one's light
+/// costs a pixel no lookups) reflected by the split sum, the ground's pipeline samples no
+/// map that changes its material or its normal from pixel to pixel (an occlusion map
+/// scales the light the map holds, an emission map adds its own), the material is rough
+/// enough (`GROUND_ENVIRONMENT_MIN_ROUGHNESS`) and has no pre-integrated subsurface (whose
 /// table the map's disk cache key does not hold), and the camera sees the ground's upper
 /// side.
 pub fn environment_ground(scene: &Scene, allowed: bool) -> Option<usize> {
     let index = scene.ground_index()?;
     let ground = &scene.objects[index];
     let material = &scene.materials[ground.material];
-    let specular_aa = scene.antialiasing.specular;
-    let constants = ForwardConstants::new(material, &scene.environment, DebugView::Shaded, true, specular_aa);
+    let constants = ground_constants(material, &scene.environment);
     let mapped = (MapSlot::ALL.into_iter())
         .filter(|slot| !matches!(slot, MapSlot::Occlusion | MapSlot::Emission))
         .any(|slot| constants.samples(slot));
@@ -592,10 +591,9 @@ impl GroundMaps {
         self.shadow.read_first_from_disk(device, one_shot, disk, from_shadows)?;
         let from_environment = || inputs.environment.map(|key| inputs.with_frame(key));
         self.occlusion.read_first_from_disk(device, one_shot, disk, from_environment)?;
-        let ground_material = |index: usize| &scene.materials[scene.objects[index].material];
-        let material = environment_ground.map(|index| MaterialData::from(ground_material(index)));
         let from_material = || {
-            let (key, material) = inputs.environment.zip(material)?;
+            let material = MaterialData::from(&scene.materials[scene.objects[environment_ground?].material]);
+            let key = inputs.environment?;
             Some(inputs.with_frame(cache::key(&[&key.to_le_bytes(), bytemuck::bytes_of(&material)])))
         };
         self.environment.read_first_from_disk(device, one_shot, disk, from_material)?;
@@ -794,10 +792,15 @@ fn environment_map_key(
     key
 }
 
-/// The environment map's pipeline: the ground's draw's constants, for `material` under
-/// `environment`.
+/// The constants of a ground's specialised draw of `material` under `environment`: the maps
+/// it samples, and the environment map's pipeline.
+fn ground_constants(material: &Material, environment: &Environment) -> ForwardConstants {
+    ForwardConstants::new(material, environment, DebugView::Shaded, true, false)
+}
+
+/// The environment map's pipeline: the ground's draw's constants (`ground_constants`).
 fn environment_specialization(material: &Material, environment: &Environment) -> Specialization {
-    ForwardConstants::new(material, environment, DebugView::Shaded, true, false).specialization()
+    ground_constants(material, environment).specialization()
 }
 
 /// The occlusion map's pipeline: object_occlusion.glsl's code on, for the kind of

@@ -68,7 +68,6 @@ impl Scene {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use std::path::Path;
